@@ -1,0 +1,127 @@
+# libdf1 - GNU Makefile (no autotools). See README.
+VERSION := $(shell sed -n 's/^\#define DF1_VERSION_STRING "\(.*\)"/\1/p' include/df1.h)
+MAJOR := $(word 1,$(subst ., ,$(VERSION)))
+MINOR := $(word 2,$(subst ., ,$(VERSION)))
+
+PREFIX ?= /usr/local
+BINDIR ?= $(PREFIX)/bin
+LIBDIR ?= $(PREFIX)/lib
+INCLUDEDIR ?= $(PREFIX)/include
+MANDIR ?= $(PREFIX)/share/man
+PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
+
+CC ?= cc
+CFLAGS ?= -O2 -g
+WERROR ?=
+DF1_CFLAGS = -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE -Wall -Wextra -Wshadow -Wstrict-prototypes \
+	-Wmissing-prototypes -Wpointer-arith -Wformat=2 -Wno-format-nonliteral -Wundef -Wvla \
+	-fvisibility=hidden -Iinclude -Ilib $(WERROR)
+SAN_FLAGS = -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
+
+# B is the build directory: build/ normally, build/san/ for the sanitizer pass.
+B ?= build
+ifeq ($(SAN),1)
+  EXTRA = $(SAN_FLAGS) -O1 -g
+else
+  EXTRA =
+endif
+
+LIBS = -lcsv -lm
+CMOCKA_LIBS = $(shell pkg-config --libs cmocka 2>/dev/null || echo -lcmocka)
+
+LIB_SRCS := $(sort $(wildcard lib/*.c))
+LIB_OBJS := $(LIB_SRCS:%.c=$(B)/%.o)
+LIB_PIC_OBJS := $(LIB_SRCS:%.c=$(B)/pic/%.o)
+TOOL_NAMES := df1read df1write df1mon df1sim
+TOOL_COMMON := $(filter-out $(TOOL_NAMES:%=tools/%.c),$(wildcard tools/*.c))
+TOOL_COMMON_OBJS := $(TOOL_COMMON:%.c=$(B)/%.o)
+TOOLS := $(foreach t,$(TOOL_NAMES),$(if $(wildcard tools/$(t).c),$(B)/bin/$(t)))
+TEST_SRCS := $(sort $(wildcard tests/test_*.c))
+TEST_BINS := $(TEST_SRCS:tests/%.c=$(B)/tests/%)
+TEST_HELPERS := $(filter-out $(TEST_SRCS),$(wildcard tests/*.c))
+TEST_HELPER_OBJS := $(TEST_HELPERS:%.c=$(B)/%.o)
+
+STATIC := $(B)/libdf1.a
+SHARED := $(B)/libdf1.so.$(VERSION)
+
+.PHONY: all check test-run tests install uninstall clean demo bench lint-man check-exports
+all: $(STATIC) $(SHARED) $(TOOLS) $(B)/libdf1.pc
+
+$(B)/%.o: %.c $(wildcard include/*.h lib/*.h tools/*.h tests/*.h)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) $(EXTRA) $(DF1_CFLAGS) -c -o $@ $<
+
+$(B)/pic/%.o: %.c $(wildcard include/*.h lib/*.h)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) $(EXTRA) $(DF1_CFLAGS) -fPIC -c -o $@ $<
+
+$(STATIC): $(LIB_OBJS)
+	@rm -f $@
+	ar rcs $@ $^
+
+$(SHARED): $(LIB_PIC_OBJS) lib/libdf1.map
+	$(CC) $(CFLAGS) $(EXTRA) -shared -Wl,-soname,libdf1.so.$(MAJOR) \
+		-Wl,--version-script=lib/libdf1.map -o $@ $(LIB_PIC_OBJS) $(LIBS)
+	ln -sf libdf1.so.$(VERSION) $(B)/libdf1.so.$(MAJOR)
+	ln -sf libdf1.so.$(MAJOR) $(B)/libdf1.so
+
+$(B)/bin/%: $(B)/tools/%.o $(TOOL_COMMON_OBJS) $(STATIC)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) $(EXTRA) -o $@ $< $(TOOL_COMMON_OBJS) $(STATIC) $(LIBS) -lpthread
+
+$(B)/libdf1.pc: libdf1.pc.in include/df1.h
+	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
+	    -e 's|@INCLUDEDIR@|$(INCLUDEDIR)|' -e 's|@VERSION@|$(VERSION)|' $< > $@
+
+$(B)/tests/%: $(B)/tests/%.o $(TEST_HELPER_OBJS) $(STATIC)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) $(EXTRA) -o $@ $< $(TEST_HELPER_OBJS) $(STATIC) $(CMOCKA_LIBS) $(LIBS) -lpthread
+
+tests: all $(TEST_BINS)
+
+# Run every test binary and shell test; the runner's last line is "N passed, N failed".
+test-run: tests
+	@B=$(B) sh tests/run-tests.sh
+
+check: lint-man check-exports
+	$(MAKE) B=build test-run
+	$(MAKE) B=build/san SAN=1 test-run
+
+check-exports: $(SHARED)
+	@bad=$$(nm -D --defined-only $(SHARED) | awk '{print $$3}' | grep -v '^df1_' | grep -v '^LIBDF1' || true); \
+	if [ -n "$$bad" ]; then echo "exported symbols without df1_ prefix: $$bad"; exit 1; fi; \
+	echo "exports: only df1_* symbols"
+
+lint-man:
+	@sh tests/lint-man.sh
+
+demo: all
+	@sh tools/demo.sh $(B)
+
+bench: all
+	@sh bench/run.sh $(B)
+
+install: all
+	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(INCLUDEDIR) \
+		$(DESTDIR)$(PKGCONFIGDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(MANDIR)/man3 $(DESTDIR)$(MANDIR)/man7
+	install -m 755 $(TOOLS) $(DESTDIR)$(BINDIR)/
+	install -m 644 $(STATIC) $(DESTDIR)$(LIBDIR)/
+	install -m 755 $(SHARED) $(DESTDIR)$(LIBDIR)/
+	ln -sf libdf1.so.$(VERSION) $(DESTDIR)$(LIBDIR)/libdf1.so.$(MAJOR)
+	ln -sf libdf1.so.$(MAJOR) $(DESTDIR)$(LIBDIR)/libdf1.so
+	install -m 644 include/df1.h $(DESTDIR)$(INCLUDEDIR)/
+	install -m 644 $(B)/libdf1.pc $(DESTDIR)$(PKGCONFIGDIR)/
+	for f in man/man1/*.1; do [ -f "$$f" ] && install -m 644 $$f $(DESTDIR)$(MANDIR)/man1/; done; true
+	for f in man/man3/*.3; do [ -f "$$f" ] && install -m 644 $$f $(DESTDIR)$(MANDIR)/man3/; done; true
+	for f in man/man7/*.7; do [ -f "$$f" ] && install -m 644 $$f $(DESTDIR)$(MANDIR)/man7/; done; true
+
+uninstall:
+	rm -f $(TOOL_NAMES:%=$(DESTDIR)$(BINDIR)/%)
+	rm -f $(DESTDIR)$(LIBDIR)/libdf1.a $(DESTDIR)$(LIBDIR)/libdf1.so*
+	rm -f $(DESTDIR)$(INCLUDEDIR)/df1.h $(DESTDIR)$(PKGCONFIGDIR)/libdf1.pc
+	for f in man/man1/*.1; do rm -f $(DESTDIR)$(MANDIR)/man1/$$(basename $$f); done
+	for f in man/man3/*.3; do rm -f $(DESTDIR)$(MANDIR)/man3/$$(basename $$f); done
+	for f in man/man7/*.7; do rm -f $(DESTDIR)$(MANDIR)/man7/$$(basename $$f); done
+
+clean:
+	rm -rf build

@@ -1,0 +1,498 @@
+/*
+ * df1.h - libdf1: the Allen-Bradley DF1 serial protocol (PCCC over RS-232/RS-485
+ * or raw DF1 over TCP) for PLC-5, SLC 500 and MicroLogix controllers.
+ *
+ * The only installed header. Conventions (see libdf1(7)):
+ *  - every int function returns >= 0 on success (0 or a count) and a negative
+ *    DF1_E_* code on failure; df1_strerror()/df1_errname() turn it into text;
+ *  - buffers belong to the caller; the library never prints, exits or aborts;
+ *  - one handle is used by one thread at a time (the poll engine's write queue
+ *    is the one exception, see df1_tag_write()).
+ */
+#ifndef LIBDF1_DF1_H
+#define LIBDF1_DF1_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#define DF1_VERSION_MAJOR 0
+#define DF1_VERSION_MINOR 1
+#define DF1_VERSION_MICRO 0
+#define DF1_VERSION_STRING "0.1.0"
+
+#if defined(__GNUC__)
+#define DF1_API __attribute__((visibility("default")))
+#else
+#define DF1_API
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------------------
+ * Errors. ONE table: name, value, message catalog ID (0 = none), text.
+ * The catalog (IDs 2501-2561) and the STS / EXT STS texts live beside it in
+ * lib/errors.c; df1_error_catalog_id() links the two.
+ * ------------------------------------------------------------------------ */
+#define DF1_ERROR_TABLE(X)                                                        \
+	X(DF1_OK,                0,    0, "success")                                 \
+	X(DF1_E_INVAL,          -1,    0, "invalid argument")                        \
+	X(DF1_E_SYS,            -2, 2551, "system call failed")                      \
+	X(DF1_E_NOMEM,          -3,    0, "out of memory")                           \
+	X(DF1_E_TIMEOUT,        -4, 2508, "command timed out")                       \
+	X(DF1_E_NAK_LIMIT,      -5, 2519, "NAK retry limit exceeded")                \
+	X(DF1_E_ENQ_LIMIT,      -6, 2520, "ENQ retry limit exceeded")                \
+	X(DF1_E_REMOTE,         -7,    0, "PLC replied with an error status")        \
+	X(DF1_E_BCC,            -8, 2507, "response with wrong BCC")                 \
+	X(DF1_E_CRC,            -9, 2506, "response with wrong CRC")                 \
+	X(DF1_E_TOO_LONG,      -10, 2512, "received message too long")               \
+	X(DF1_E_TOO_SHORT,     -11, 2513, "received message too short")              \
+	X(DF1_E_SYMBOL,        -12, 2514, "invalid symbol received after DLE")       \
+	X(DF1_E_ADDR_SYNTAX,   -13, 2503, "invalid address syntax")                  \
+	X(DF1_E_ADDR_RANGE,    -14, 2504, "address is out of range")                 \
+	X(DF1_E_BAD_FUNCTION,  -15, 2505, "response with wrong command code")        \
+	X(DF1_E_INACTIVE,      -16, 2509, "slave station inactive")                  \
+	X(DF1_E_WRONG_MSG,     -17, 2510, "wrong message received")                  \
+	X(DF1_E_BUSY,          -18,    0, "port busy (in use by another process)")   \
+	X(DF1_E_NOTSUP,        -19,    0, "not supported")                           \
+	X(DF1_E_TYPE,          -20,    0, "value does not fit the file type")        \
+	X(DF1_E_RANGE,         -21,    0, "value out of range")                      \
+	X(DF1_E_NOT_OPEN,      -22,    0, "handle is not open")                      \
+	X(DF1_E_CLOSED,        -23, 2551, "connection closed by peer")               \
+	X(DF1_E_CONFIG,        -24,    0, "invalid configuration")                   \
+	X(DF1_E_INTR,          -25,    0, "interrupted")                             \
+	X(DF1_E_NOSPACE,       -26,    0, "buffer too small")                        \
+	X(DF1_E_NAK,           -27, 2511, "received NAK symbol")                     \
+	X(DF1_E_BAD_REPLY,     -28, 2550, "invalid reply message")                   \
+	X(DF1_E_NO_ETX,        -29, 2518, "incomplete message, no ETX received")     \
+	X(DF1_E_NODEV,         -30,    0, "no such device")                          \
+	X(DF1_E_PERM,          -31,    0, "permission denied")
+
+#define DF1_ERROR_ENUM_ITEM(name, value, id, text) name = value,
+enum df1_error { DF1_ERROR_TABLE(DF1_ERROR_ENUM_ITEM) DF1_E_LAST_ = -32 };
+#undef DF1_ERROR_ENUM_ITEM
+
+/* Static strings, never NULL, thread-safe. Unknown codes give "unknown error". */
+DF1_API const char *df1_strerror(int err);
+DF1_API const char *df1_errname(int err);
+/* Catalog ID (2501-2561) that reports this error, or 0. */
+DF1_API int df1_error_catalog_id(int err);
+
+/* STS (M p.8-2/8-3) and EXT STS for CMD 0F (M p.8-4) / DH-485 (M p.8-5). */
+DF1_API const char *df1_sts_text(uint8_t sts);
+DF1_API const char *df1_ext_sts_text(uint8_t ext);
+DF1_API const char *df1_ext_sts_text_dh485(uint8_t ext);
+
+/* ------------------------------------------------------------------------
+ * Message catalog (seeds/004): IDs, mnemonics, severities, formats.
+ * ------------------------------------------------------------------------ */
+enum df1_severity {
+	DF1_SEV_CRITICAL = 0, /* 2552-2559: configuration, the program does not start */
+	DF1_SEV_ERROR = 1,    /* 2501-2511 */
+	DF1_SEV_NOTICE = 2,   /* 2512-2524 */
+	DF1_SEV_COUNTER = 3,  /* 2525-2551, 2560-2561 */
+};
+
+struct df1_catalog_entry {
+	int id;                   /* 2501 .. 2561 */
+	const char *mnemonic;     /* "ERR_COMMAND_TIMEOUT" */
+	enum df1_severity severity;
+	const char *format;       /* printf format as the seed gives it, or NULL for counters */
+	const char *description;  /* one line: what it means */
+};
+
+DF1_API const struct df1_catalog_entry *df1_catalog_by_id(int id);          /* NULL if unknown */
+DF1_API const struct df1_catalog_entry *df1_catalog_by_mnemonic(const char *mn); /* case-insensitive */
+/* Iterate: index 0.. until NULL. */
+DF1_API const struct df1_catalog_entry *df1_catalog_at(size_t index);
+
+/* ------------------------------------------------------------------------
+ * Addresses: [File Type][File Number]:[Element][.Sub | /Bit]  (libdf1(7))
+ * ------------------------------------------------------------------------ */
+enum df1_file_type {
+	DF1_FT_NONE = 0,
+	DF1_FT_O,  /* output,   default file 0 */
+	DF1_FT_I,  /* input,    default file 1 */
+	DF1_FT_S,  /* status,   default file 2 */
+	DF1_FT_B,  /* bit,      default file 3 */
+	DF1_FT_T,  /* timer,    default file 4 */
+	DF1_FT_C,  /* counter,  default file 5 */
+	DF1_FT_R,  /* control,  default file 6 */
+	DF1_FT_N,  /* integer,  default file 7 */
+	DF1_FT_F,  /* float,    default file 8 */
+	DF1_FT_ST, /* string (84 bytes) */
+	DF1_FT_A,  /* ASCII (2 characters per element) */
+	DF1_FT_L,  /* long integer, MicroLogix */
+	DF1_FT_COUNT_
+};
+
+#define DF1_ADDR_NONE (-1)
+#define DF1_ADDR_ASCII_MAX 52
+
+struct df1_addr {
+	enum df1_file_type type;
+	int file;     /* 0..999 */
+	int element;  /* 0..999 (I/O: slot) */
+	int sub;      /* DF1_ADDR_NONE or 0..255: T/C/R word (0 ctl, 1 PRE/LEN, 2 ACC/POS), I/O word */
+	int bit;      /* DF1_ADDR_NONE or 0..15 (32 bits for L) */
+	/* PLC-5 logical ASCII pass-through ("$N7:0"): text without '$', else "" */
+	char ascii[DF1_ADDR_ASCII_MAX];
+};
+
+/* Parse text into *a. DF1_E_ADDR_SYNTAX (2503) or DF1_E_ADDR_RANGE (2504). */
+DF1_API int df1_addr_parse(const char *text, struct df1_addr *a);
+/* Canonical text ("B3:1/5", "T4:0.ACC", "T4:0/DN"); returns length or DF1_E_NOSPACE. */
+DF1_API int df1_addr_format(const struct df1_addr *a, char *buf, size_t cap);
+/* Letters of a file type ("N", "ST") or "?". */
+DF1_API const char *df1_file_type_name(enum df1_file_type t);
+/* Bytes per element on the wire (N 2, F 4, L 4, T/C/R 6, ST 84, A 2 ...). */
+DF1_API int df1_file_type_element_size(enum df1_file_type t);
+/* SLC file type code for 0F/A2 etc. (N 89h, F 8Ah, ST 8Dh, L 91h, O 8Bh, I 8Ch ...). */
+DF1_API int df1_file_type_slc_code(enum df1_file_type t);
+
+/* ------------------------------------------------------------------------
+ * Values
+ * ------------------------------------------------------------------------ */
+#define DF1_STRING_MAX 82
+
+struct df1_tcr {      /* a whole timer, counter or control element */
+	uint16_t ctl;     /* word 0: status bits (EN TT DN / CU CD DN OV UN UA / EN EU DN EM ER UL IN FD) */
+	int16_t pre;      /* word 1: PRE (timer, counter) or LEN (control) */
+	int16_t acc;      /* word 2: ACC (timer, counter) or POS (control) */
+};
+
+enum df1_value_kind {
+	DF1_VAL_INT16, DF1_VAL_INT32, DF1_VAL_FLOAT, DF1_VAL_BIT, DF1_VAL_STRING, DF1_VAL_TCR
+};
+
+struct df1_value {
+	enum df1_value_kind kind;
+	union {
+		int16_t i16;
+		int32_t i32;
+		float f;
+		bool bit;
+		struct { uint16_t len; char text[DF1_STRING_MAX + 1]; } str;
+		struct df1_tcr tcr;
+	} v;
+};
+
+/* The value kind an address reads as: N/B/S/I/O/A words -> INT16 (a /bit -> BIT),
+ * L -> INT32, F -> FLOAT, ST -> STRING, a whole T/C/R element -> TCR. */
+DF1_API enum df1_value_kind df1_addr_value_kind(const struct df1_addr *a);
+/* Named bit positions for T/C/R ("DN" -> 13 for T), or -1. */
+DF1_API int df1_tcr_bit(enum df1_file_type t, const char *name);
+/* Format a value for humans/scripts: ints in decimal, floats in shortest
+ * round-trip form, bits 0/1, strings as text, T/C/R as "PRE=.. ACC=.. EN=1 ...".
+ * Returns the length or DF1_E_NOSPACE. */
+DF1_API int df1_value_format(const struct df1_value *v, enum df1_file_type t, char *buf, size_t cap);
+/* Parse text into a value for address a; checks range/type (DF1_E_TYPE, DF1_E_RANGE). */
+DF1_API int df1_value_parse(const struct df1_addr *a, const char *text, struct df1_value *v);
+
+/* ------------------------------------------------------------------------
+ * The handle: new -> set_* -> open -> read/write/... -> close -> free
+ * ------------------------------------------------------------------------ */
+typedef struct df1 df1_t;
+
+enum df1_duplex { DF1_FULL_DUPLEX = 0, DF1_HALF_DUPLEX_MASTER = 1, DF1_HALF_DUPLEX_SLAVE = 2 };
+enum df1_check { DF1_CHECK_CRC = 0, DF1_CHECK_BCC = 1, DF1_CHECK_AUTO = 2 /* decoder only */ };
+enum df1_plc {
+	DF1_PLC_SLC = 0,        /* SLC 5/03, 5/04, 5/05: 0F/A2 AA AB, 236-byte reads */
+	DF1_PLC_MICROLOGIX = 1, /* as SLC, plus L files */
+	DF1_PLC_SLC502 = 2,     /* SLC 5/01, 5/02: 82-byte packets */
+	DF1_PLC_PLC5 = 3,       /* 0F/68 67 26 */
+	DF1_PLC_PLC2 = 4,       /* 01 / 08 */
+};
+
+/* Less common link options, set with df1_set_option(). */
+enum df1_option {
+	DF1_OPT_DUPLICATE_DETECT = 1,   /* bool, default 1: drop duplicate messages (SRC, CMD, TNS) */
+	DF1_OPT_EMBEDDED_RESPONSES,     /* bool, default 1: accept DLE ACK/NAK inside a frame */
+	DF1_OPT_HD_BCC_INCLUDES_STX,    /* bool, default 0: half-duplex master BCC also sums STX (spec 2.2) */
+	DF1_OPT_ACCEPT_NAK_0F,          /* bool, default 1: also take DLE 0F as NAK (spec 1.1) */
+	DF1_OPT_RS485,                  /* bool, default 0: kernel RS-485 (TIOCSRS485) */
+	DF1_OPT_ECHO_DISCARD,           /* bool, default 0: 2-wire line, drop the echo of our own bytes */
+	DF1_OPT_MAX_PACKET,             /* bytes of data per read/write packet, 0 = per PLC type */
+	DF1_OPT_EOT_WITH_BCC,           /* bool, default 0: tolerate one byte after DLE EOT */
+	DF1_OPT_LOCAL_TCP,              /* bool, df1sim: listen on loopback only (default 1) */
+};
+
+DF1_API int  df1_new(df1_t **out);      /* defaults: 19200 8N1, full duplex, CRC, station 0 */
+DF1_API void df1_free(df1_t *h);        /* closes if open; NULL is a no-op */
+
+/* Settings are stored; setters on an open handle apply at once where they can. */
+DF1_API int df1_set_serial(df1_t *h, int baud, int data_bits, char parity /* 'N' 'E' 'O' */, int stop_bits);
+DF1_API int df1_set_handshake(df1_t *h, bool rts_cts);
+DF1_API int df1_set_duplex(df1_t *h, enum df1_duplex d);
+DF1_API int df1_set_check(df1_t *h, enum df1_check c);
+DF1_API int df1_set_station(df1_t *h, int own_station);          /* SRC of our commands, 0..254 */
+DF1_API int df1_set_plc(df1_t *h, enum df1_plc plc);
+DF1_API int df1_set_timeout_ms(df1_t *h, int ms);        /* ACK / response wait ("Timeout"), 0..360000 */
+DF1_API int df1_set_cmd_timeout_ms(df1_t *h, int ms);    /* whole transaction ("Cmd_Timeout"), 500..5000 */
+DF1_API int df1_set_retries(df1_t *h, int nak_retries, int enq_retries);    /* 0..10 each */
+DF1_API int df1_set_tx_delay_ms(df1_t *h, int ms);       /* before every transmission, 0..65535 */
+DF1_API int df1_set_option(df1_t *h, enum df1_option opt, int value);
+DF1_API int df1_get_option(const df1_t *h, enum df1_option opt);
+
+/* Catalog messages (notices, errors) as they happen. level = enum df1_severity. */
+typedef void (*df1_log_fn)(void *user, int catalog_id, enum df1_severity sev, const char *text);
+DF1_API void df1_set_log(df1_t *h, df1_log_fn fn, void *user);
+/* Every chunk of bytes sent (DF1_DIR_TX) or received (DF1_DIR_RX), with a
+ * monotonic timestamp in microseconds. */
+enum df1_dir { DF1_DIR_RX = 0, DF1_DIR_TX = 1 };
+typedef void (*df1_trace_fn)(void *user, enum df1_dir dir, const uint8_t *bytes, size_t n, uint64_t t_us);
+DF1_API void df1_set_trace(df1_t *h, df1_trace_fn fn, void *user);
+
+/* target: "/dev/ttyUSB0" (termios), "tcp://host:port" (raw DF1 over TCP).
+ * DF1_E_BUSY if another process holds the port, DF1_E_NODEV, DF1_E_PERM, DF1_E_SYS. */
+DF1_API int  df1_open(df1_t *h, const char *target);
+/* Serve or talk on an already open descriptor (a pty, a socket); not closed by df1_close
+ * unless take_ownership. */
+DF1_API int  df1_open_fd(df1_t *h, int fd, bool take_ownership);
+DF1_API void df1_close(df1_t *h);       /* restores the port's settings; keeps config */
+DF1_API bool df1_is_open(const df1_t *h);
+/* A descriptor to watch for cancellation: when it becomes readable, waits end with DF1_E_INTR. */
+DF1_API int  df1_set_cancel_fd(df1_t *h, int fd);
+
+/* Detail of the last error on this handle. */
+struct df1_error_detail {
+	int code;          /* DF1_E_* */
+	int sys_errno;     /* errno for DF1_E_SYS, else 0 */
+	int station;       /* destination station, -1 if none */
+	uint8_t sts;       /* PLC STS byte (DF1_E_REMOTE) */
+	uint8_t ext_sts;   /* EXT STS when sts == 0xF0 */
+	bool has_ext_sts;
+	int catalog_id;    /* the catalog ID reported, or 0 */
+	char message[160]; /* formatted text, e.g. "PLC error: STS F0 EXT 06: address doesn't point..." */
+};
+DF1_API const struct df1_error_detail *df1_last_error(const df1_t *h);
+
+/* ------------------------------------------------------------------------
+ * Reading and writing (master side). station = destination 0..254.
+ * Requests larger than one packet are split transparently.
+ * ------------------------------------------------------------------------ */
+/* Generic: n elements starting at addr, one df1_value per element (or per bit for a /bit). */
+DF1_API int df1_read(df1_t *h, int station, const char *addr, struct df1_value *out, size_t n);
+DF1_API int df1_write(df1_t *h, int station, const char *addr, const struct df1_value *in, size_t n);
+DF1_API int df1_read_addr(df1_t *h, int station, const struct df1_addr *a, struct df1_value *out, size_t n);
+DF1_API int df1_write_addr(df1_t *h, int station, const struct df1_addr *a, const struct df1_value *in, size_t n);
+
+/* Typed helpers: return n or DF1_E_*; DF1_E_TYPE if the file does not hold that type. */
+DF1_API int df1_read_int16(df1_t *h, int station, const char *addr, int16_t *out, size_t n);
+DF1_API int df1_read_int32(df1_t *h, int station, const char *addr, int32_t *out, size_t n);
+DF1_API int df1_read_float(df1_t *h, int station, const char *addr, float *out, size_t n);
+DF1_API int df1_read_bit(df1_t *h, int station, const char *addr, bool *out);
+DF1_API int df1_read_string(df1_t *h, int station, const char *addr, char *out, size_t cap);
+DF1_API int df1_read_tcr(df1_t *h, int station, const char *addr, struct df1_tcr *out, size_t n);
+DF1_API int df1_write_int16(df1_t *h, int station, const char *addr, const int16_t *in, size_t n);
+DF1_API int df1_write_int32(df1_t *h, int station, const char *addr, const int32_t *in, size_t n);
+DF1_API int df1_write_float(df1_t *h, int station, const char *addr, const float *in, size_t n);
+DF1_API int df1_write_bit(df1_t *h, int station, const char *addr, bool value);  /* one bit only */
+DF1_API int df1_write_string(df1_t *h, int station, const char *addr, const char *text);
+DF1_API int df1_write_tcr(df1_t *h, int station, const char *addr, const struct df1_tcr *in, size_t n);
+/* Raw element bytes as they are on the wire (little-endian words). Returns bytes. */
+DF1_API int df1_read_raw(df1_t *h, int station, const char *addr, uint8_t *buf, size_t nbytes);
+DF1_API int df1_write_raw(df1_t *h, int station, const char *addr, const uint8_t *buf, size_t nbytes);
+
+/* Any PCCC command: app bytes after the 6-byte header (FNC + data) out, reply data in.
+ * The library fills DST SRC CMD STS TNS. Returns reply data length or DF1_E_*. */
+DF1_API int df1_command(df1_t *h, int station, uint8_t cmd, const uint8_t *body, size_t body_len,
+                        uint8_t *reply, size_t reply_cap);
+
+/* ------------------------------------------------------------------------
+ * Diagnostics
+ * ------------------------------------------------------------------------ */
+struct df1_diag_status {
+	uint8_t type_code;      /* processor type code (e.g. 0x5B SLC 5/04, 0x9F ML1400, 0x15 PLC-5/40) */
+	char name[32];          /* "SLC 5/04", "MicroLogix 1400", "PLC-5/40", or "unknown (0xNN)" */
+	char series;            /* 'A' .. */
+	int revision;           /* FRN / revision number */
+	int mode;               /* mode code as the controller reports it */
+	char mode_text[24];     /* "run", "program", "test", ... */
+	char bulletin[16];      /* ASCII bulletin name when present */
+	uint8_t raw[64];
+	size_t raw_len;
+};
+DF1_API int df1_diag_status(df1_t *h, int station, struct df1_diag_status *out);
+/* 06/00 echo: sends data, checks it comes back. Returns the length echoed. */
+DF1_API int df1_echo(df1_t *h, int station, const uint8_t *data, size_t n);
+/* Link test: DLE ENQ (full duplex) or a poll (half duplex); 0 if the link answered. */
+DF1_API int df1_link_test(df1_t *h, int station);
+/* 0F/80 change mode (SLC 5/03+, MicroLogix): 1 program, 6 run. */
+DF1_API int df1_change_mode(df1_t *h, int station, int mode);
+
+/* Counters of seeds/004 by catalog ID (2525-2551, 2560, 2561). */
+DF1_API int df1_counter(const df1_t *h, int id, uint64_t *value);
+DF1_API void df1_counters_reset(df1_t *h);
+/* Active station list: 1 active, 0 inactive. */
+DF1_API int df1_station_active(const df1_t *h, int station);
+DF1_API int df1_station_set_active(df1_t *h, int station, bool active);
+
+/* ------------------------------------------------------------------------
+ * Decoding traffic (df1mon, tests): an incremental decoder fed any bytes.
+ * ------------------------------------------------------------------------ */
+enum df1_sym {
+	DF1_SYM_NONE = 0,
+	DF1_SYM_ACK, DF1_SYM_NAK, DF1_SYM_ENQ, DF1_SYM_EOT,
+	DF1_SYM_POLL,   /* DLE ENQ STN BCC (half duplex); station set */
+	DF1_SYM_FRAME,  /* a message frame; data/len are the de-stuffed app bytes */
+	DF1_SYM_ERROR,  /* a malformation: error = catalog ID (2512 2513 2514 2518) */
+};
+
+struct df1_symbol {
+	enum df1_sym kind;
+	bool master_msg;        /* DLE SOH STN DLE STX ... (half-duplex master message) */
+	bool has_station;
+	uint8_t station;        /* poll STN or master-message STN */
+	const uint8_t *data;    /* FRAME: app bytes (DST SRC CMD STS TNS ...); valid until the next feed */
+	size_t len;
+	enum df1_check check;   /* check used for this frame (resolved when AUTO) */
+	bool check_ok;
+	uint16_t check_expected, check_actual;
+	bool embedded;          /* ACK/NAK found inside a frame (embedded response) */
+	int error;              /* ERROR: catalog ID */
+	uint8_t bad_byte;       /* ERROR 2514: the byte after DLE */
+	size_t wire_len;        /* bytes of the wire this symbol took */
+};
+
+struct df1_decoder;
+DF1_API int  df1_decoder_new(struct df1_decoder **out, enum df1_check check);
+DF1_API void df1_decoder_free(struct df1_decoder *d);
+DF1_API void df1_decoder_reset(struct df1_decoder *d);
+/* Consume bytes until one symbol is complete; returns bytes consumed (sym->kind
+ * NONE when all were consumed without completing one). */
+DF1_API size_t df1_decoder_feed(struct df1_decoder *d, const uint8_t *in, size_t n, struct df1_symbol *sym);
+
+/* An application-layer message, decoded for display. */
+struct df1_msg {
+	uint8_t dst, src, cmd, sts, fnc;
+	uint16_t tns;
+	bool is_reply;          /* CMD bit 6 */
+	bool has_fnc;
+	bool has_ext_sts;
+	uint8_t ext_sts;
+	const char *name;       /* "SLC typed read (3 fields)", "echo", ... */
+	bool has_addr;
+	struct df1_addr addr;   /* commands that carry an address */
+	int size;               /* byte size / element count the command asks for, -1 if none */
+	const uint8_t *data;    /* write data (commands) or reply data (replies) */
+	size_t data_len;
+};
+/* Decode app bytes (DST SRC CMD STS TNS ...). DF1_E_TOO_SHORT / DF1_E_BAD_REPLY. */
+DF1_API int df1_msg_decode(const uint8_t *app, size_t n, struct df1_msg *m);
+/* Decode element values of a file type from wire bytes (LE; PLC-5 word range floats swapped). */
+DF1_API int df1_values_decode(enum df1_file_type t, const uint8_t *bytes, size_t n,
+                              struct df1_value *out, size_t max);
+
+/* ------------------------------------------------------------------------
+ * Serving (slave / peer side; df1sim is built on it)
+ * ------------------------------------------------------------------------ */
+struct df1_server_ops {
+	/* Read nbytes of element data starting at a (whole elements, LE words).
+	 * Return 0, or an EXT STS code (e.g. 0x06) to send STS F0. */
+	int (*read)(void *user, int station, const struct df1_addr *a, uint8_t *buf, size_t nbytes);
+	/* Write nbytes; mask is NULL, or per-byte mask for masked / bit writes. */
+	int (*write)(void *user, int station, const struct df1_addr *a, const uint8_t *buf,
+	             const uint8_t *mask, size_t nbytes);
+	/* Diagnostic status reply bytes; return length. Optional (NULL: a generic SLC 5/04). */
+	int (*diag_status)(void *user, int station, uint8_t *buf, size_t cap);
+	/* Change mode; optional. */
+	int (*change_mode)(void *user, int station, int mode);
+	/* Any command not handled above: fill reply data, return length, or -STS. Optional. */
+	int (*command)(void *user, int station, const struct df1_msg *cmd, uint8_t *reply, size_t cap);
+};
+
+/* Which stations this handle answers as (half-duplex slave may serve several). */
+DF1_API int df1_server_add_station(df1_t *h, int station);
+/* Run one step of the responder: wait up to timeout_ms for bytes, handle what
+ * arrived (ACK, poll, command -> reply). Returns commands served (>= 0) or DF1_E_*
+ * (DF1_E_CLOSED when a TCP client went away). */
+DF1_API int df1_serve(df1_t *h, const struct df1_server_ops *ops, void *user, int timeout_ms);
+
+/* Fault injection for simulators and tests (off by default). */
+enum df1_fault {
+	DF1_FAULT_DROP_ACK = 1,   /* do not ACK a received command */
+	DF1_FAULT_CORRUPT_REPLY,  /* send a reply with a wrong BCC/CRC */
+	DF1_FAULT_NAK_COMMAND,    /* answer a good command with NAK */
+	DF1_FAULT_DELAY_REPLY,    /* delay the reply by value ms */
+	DF1_FAULT_SILENT_STATION, /* value = station that does not answer at all */
+	DF1_FAULT_STALE_REPLY,    /* send a reply with an old TNS first */
+	DF1_FAULT_NOISE,          /* garbage bytes between frames */
+};
+/* Probability per event in 1/1000 (0 = off); for DELAY the delay is `value` ms;
+ * for SILENT_STATION `value` is the station number (-1 = none). */
+DF1_API int df1_server_set_fault(df1_t *h, enum df1_fault f, int per_mille, int value);
+DF1_API void df1_server_set_seed(df1_t *h, uint64_t seed);
+/* Pace transmitted bytes as a line at this baud rate (0 = off). */
+DF1_API int df1_set_line_baud(df1_t *h, int baud);
+
+/* ------------------------------------------------------------------------
+ * Configuration files (CSV, libcsv): network and mapping (libdf1(7))
+ * ------------------------------------------------------------------------ */
+enum df1_mode { DF1_MODE_MASTER = 0, DF1_MODE_SLAVE = 1, DF1_MODE_PEER = 2 };
+
+struct df1_net_config {
+	int station;            /* 0..254, default 5 */
+	enum df1_mode mode;     /* default Master */
+	enum df1_plc plc;       /* default PLC5 */
+	enum df1_check check;   /* default CRC */
+	int nak_retries;        /* 0..10, default 3 */
+	int enq_retries;        /* 0..10, default 3 */
+	int cmd_timeout_ms;     /* 500..5000, default 1000 */
+	char port[256];         /* "/dev/ttyS0", "tcp://host:port" (Com_Port 1 -> /dev/ttyS0) */
+	int baud;               /* default 9600 */
+	int data_bits;          /* 5..8, default 8 */
+	int stop_bits;          /* 1..2, default 1 */
+	char parity;            /* 'N' 'E' 'O', default 'N' */
+	int timeout_ms;         /* 0..360000, default 1000 */
+	int tx_delay_ms;        /* 0..65535, default 0 */
+	bool handshake;         /* default No */
+	bool duplex_half;       /* Mode Master/Slave on a multidrop line: half duplex; Peer: full */
+};
+
+/* Report of one problem in a configuration file. */
+struct df1_config_issue {
+	int catalog_id;         /* 2552-2559 (network), 2501-2504 (mapping) */
+	int item;               /* 1-based data row number */
+	int line;               /* line in the file */
+	char text[200];         /* formatted catalog message */
+};
+typedef void (*df1_config_issue_fn)(void *user, const struct df1_config_issue *issue);
+
+DF1_API void df1_net_config_defaults(struct df1_net_config *c);
+/* Load the first (or only) data row of a network CSV. Every invalid value is
+ * reported through fn (may be NULL); returns DF1_E_CONFIG if any. */
+DF1_API int df1_net_config_load(const char *path, struct df1_net_config *c, df1_config_issue_fn fn, void *user);
+/* Apply a network config to a handle (serial settings, link, timeouts, retries...). */
+DF1_API int df1_apply_net_config(df1_t *h, const struct df1_net_config *c);
+
+enum df1_access { DF1_ACCESS_READ = 1, DF1_ACCESS_WRITE = 2, DF1_ACCESS_READWRITE = 3 };
+
+struct df1_tag_config {
+	char name[64];
+	enum df1_access access;
+	char type[16];          /* Type column as written (informational) */
+	int station;            /* 0..254 */
+	enum df1_plc plc;
+	struct df1_addr addr;
+	int count;              /* elements, default 1 */
+	int scan_ms;            /* default 1000 */
+};
+/* Load a mapping CSV. Each valid row calls row_fn; each bad row is reported through
+ * issue_fn and skipped (strict: the load fails with DF1_E_CONFIG). Returns rows loaded. */
+typedef int (*df1_tag_row_fn)(void *user, const struct df1_tag_config *tag);
+DF1_API int df1_map_load(const char *path, bool strict, df1_tag_row_fn row_fn,
+                         df1_config_issue_fn issue_fn, void *user);
+
+/* ------------------------------------------------------------------------
+ * Poll engine (scan list, block coalescing, quality, station health, write queue)
+ * Declarations are added by the poll engine (lib/poll.c); see df1_poll(3).
+ * ------------------------------------------------------------------------ */
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* LIBDF1_DF1_H */

@@ -1,0 +1,90 @@
+/*
+ * df1_int.h - the handle (struct df1) and internal prototypes shared by the
+ * non-pure layers (port, link, client, server, poll). Not installed.
+ */
+#ifndef LIBDF1_DF1_INT_H
+#define LIBDF1_DF1_INT_H
+
+#include <termios.h>
+#include "df1.h"
+#include "frame.h"
+#include "port.h"
+
+#define DF1_LOCAL __attribute__((visibility("hidden")))
+
+/* Counters of seeds/004, indexed by ID - CNT_BASE (2525..2561). */
+#define CNT_BASE 2525
+#define CNT_COUNT (2561 - 2525 + 1)
+
+struct df1_config {
+	int baud, data_bits, stop_bits;
+	char parity;                 /* 'N' 'E' 'O' */
+	bool rts_cts;
+	enum df1_duplex duplex;
+	enum df1_check check;
+	int station;                 /* our own station (SRC) */
+	enum df1_plc plc;
+	int timeout_ms;              /* ACK / response timeout */
+	int cmd_timeout_ms;          /* whole half-duplex transaction */
+	int nak_retries, enq_retries;
+	int tx_delay_ms;
+	bool dup_detect, embedded, hd_bcc_stx, nak_0f, rs485, echo_discard, eot_bcc, local_tcp;
+	int max_packet;              /* 0 = per PLC type */
+	int line_baud;               /* pace transmitted bytes (simulator); 0 = off */
+};
+
+/* Last message accepted from a station: duplicate and stale detection. */
+struct station_state {
+	bool active;                 /* active station list (seeds/004); all start active */
+	bool have_last;
+	uint8_t last_hdr[6];         /* DST SRC CMD STS TNS TNS of the last accepted message */
+};
+
+struct server_state;             /* lib/server.c */
+
+struct df1 {
+	struct df1_config cfg;
+
+	/* port */
+	const struct port_ops *port;
+	int fd;                      /* -1 when closed */
+	bool own_fd;
+	bool have_saved_tios;
+	struct termios saved_tios;
+	int cancel_fd;               /* -1: none */
+
+	/* link */
+	struct frame_decoder dec;
+	uint16_t next_tns;
+	uint8_t last_response;       /* receiver's last response symbol: DF1_ACK or DF1_NAK */
+	struct station_state stations[256];
+	uint8_t rxbuf[512];          /* bytes read from the port not yet fed to the decoder */
+	size_t rx_len, rx_pos;
+	uint8_t echo_buf[FRAME_MAX_WIRE]; /* own transmission to discard on 2-wire lines */
+	size_t echo_len, echo_pos;
+
+	uint64_t counters[CNT_COUNT];
+
+	df1_log_fn log_fn;
+	void *log_user;
+	df1_trace_fn trace_fn;
+	void *trace_user;
+
+	struct df1_error_detail err;
+
+	struct server_state *srv;    /* allocated on first df1_serve() */
+	void *poll;                  /* poll engine state (lib/poll.c) */
+};
+
+/* counters and logging (lib/handle.c) */
+void df1_count(struct df1 *h, int id);                 /* ++counter[id] */
+void df1_count_n(struct df1 *h, int id, uint64_t n);
+/* Log a catalog message: formats the seed's format with the arguments. */
+void df1_log(struct df1 *h, int catalog_id, ...);
+/* Record the last error and return code (for `return df1_fail(h, ...)`). */
+int df1_fail(struct df1 *h, int code, int station, const char *fmt, ...)
+	__attribute__((format(printf, 4, 5)));
+int df1_fail_remote(struct df1 *h, int station, uint8_t sts, uint8_t ext, bool has_ext);
+void df1_clear_error(struct df1 *h);
+
+#endif

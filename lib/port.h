@@ -1,0 +1,43 @@
+/*
+ * port - the byte transport under the link layer: termios serial, TCP client,
+ * pseudo-terminal / any fd. One small vtable; waits are poll() against an
+ * absolute monotonic deadline (never sleep, EINTR never restarts a full timeout).
+ */
+#ifndef LIBDF1_PORT_H
+#define LIBDF1_PORT_H
+
+#include <sys/types.h>
+#include "df1.h"
+
+struct df1;
+
+struct port_ops {
+	const char *name;
+	/* Open target (device path or "tcp://host:port"); 0 or DF1_E_*. */
+	int (*open)(struct df1 *h, const char *target);
+	/* Close; restores termios settings saved at open. */
+	void (*close)(struct df1 *h);
+	/* Read up to cap bytes, waiting until deadline_ms (df1_now_ms() clock).
+	 * Returns bytes (> 0), 0 on deadline, DF1_E_CLOSED, DF1_E_INTR or DF1_E_SYS. */
+	ssize_t (*read)(struct df1 *h, uint8_t *buf, size_t cap, int64_t deadline_ms);
+	/* Write all len bytes (waits for writability up to deadline); len or DF1_E_*. */
+	ssize_t (*write)(struct df1 *h, const uint8_t *buf, size_t len, int64_t deadline_ms);
+	/* Apply serial settings to an open port; NULL if not a serial port. */
+	int (*configure)(struct df1 *h);
+	/* Wait until all output is transmitted (tcdrain); optional. */
+	int (*drain)(struct df1 *h);
+};
+
+extern const struct port_ops port_termios_ops;
+extern const struct port_ops port_tcp_ops;
+extern const struct port_ops port_fd_ops;   /* an fd given by df1_open_fd (pty, socket, pipe) */
+
+/* Monotonic clock in milliseconds / microseconds (CLOCK_MONOTONIC). */
+int64_t df1_now_ms(void);
+uint64_t df1_now_us(void);
+
+/* Helpers for backends: wait for fd readable/writable (and the cancel fd) until deadline.
+ * Returns 1 ready, 0 deadline, DF1_E_INTR (cancel fd readable), DF1_E_SYS. */
+int port_wait(struct df1 *h, int fd, short events, int64_t deadline_ms);
+
+#endif

@@ -1,0 +1,35 @@
+#!/bin/sh
+# Runs every cmocka test binary and every tests/it_*.sh integration script.
+# Last line: "N passed, N failed"; exit status non-zero if anything failed.
+B=${B:-build}
+export B
+export DF1_BIN="$(cd "$B" && pwd)/bin"
+export DF1_SHARED="${DF1_SHARED:-$(cd "$(dirname "$0")/../../shared" 2>/dev/null && pwd)}"
+passed=0
+failed=0
+failures=""
+log_dir="$B/test-logs"
+mkdir -p "$log_dir"
+for t in "$B"/tests/test_*; do
+	[ -x "$t" ] || continue
+	name=$(basename "$t")
+	if "$t" > "$log_dir/$name.log" 2>&1; then
+		passed=$((passed + 1)); echo "PASS $name"
+	else
+		failed=$((failed + 1)); failures="$failures $name"; echo "FAIL $name"
+		tail -n 40 "$log_dir/$name.log"
+	fi
+done
+for t in tests/it_*.sh; do
+	[ -f "$t" ] || continue
+	name=$(basename "$t" .sh)
+	if timeout 600 sh "$t" > "$log_dir/$name.log" 2>&1; then
+		passed=$((passed + 1)); echo "PASS $name"
+	else
+		failed=$((failed + 1)); failures="$failures $name"; echo "FAIL $name"
+		tail -n 40 "$log_dir/$name.log"
+	fi
+done
+[ -n "$failures" ] && echo "failed:$failures"
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
