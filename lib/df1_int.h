@@ -42,6 +42,14 @@ struct station_state {
 
 struct server_state;             /* lib/server.c */
 
+/* Fault injection on the slave/peer side (df1_server_set_fault), indexed by enum df1_fault. */
+#define FAULT_KINDS 8
+struct link_faults {
+	int per_mille[FAULT_KINDS];
+	int value[FAULT_KINDS];
+	uint64_t rng;                /* xorshift64* state, from df1_server_set_seed */
+};
+
 struct df1 {
 	struct df1_config cfg;
 
@@ -72,6 +80,9 @@ struct df1 {
 
 	struct df1_error_detail err;
 
+	/* slave / peer side */
+	bool serve_station[256];     /* stations we answer as (half-duplex slave) */
+	struct link_faults faults;
 	struct server_state *srv;    /* allocated on first df1_serve() */
 	void *poll;                  /* poll engine state (lib/poll.c) */
 };
