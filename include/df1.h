@@ -338,7 +338,7 @@ enum df1_sym {
 	DF1_SYM_ACK, DF1_SYM_NAK, DF1_SYM_ENQ, DF1_SYM_EOT,
 	DF1_SYM_POLL,   /* DLE ENQ STN BCC (half duplex); station set */
 	DF1_SYM_FRAME,  /* a message frame; data/len are the de-stuffed app bytes */
-	DF1_SYM_ERROR,  /* a malformation: error = catalog ID (2512 2513 2514 2518) */
+	DF1_SYM_ERROR,  /* a malformation: error = catalog ID (2512 2513 2514 2518; 2507 bad poll BCC) */
 };
 
 struct df1_symbol {
@@ -358,9 +358,14 @@ struct df1_symbol {
 };
 
 struct df1_decoder;
+/* check: CRC, BCC or AUTO (the first good frame decides). DLE 0F is taken as NAK
+ * and embedded ACK/NAK are accepted, as on a handle's defaults. DF1_E_INVAL, DF1_E_NOMEM. */
 DF1_API int  df1_decoder_new(struct df1_decoder **out, enum df1_check check);
-DF1_API void df1_decoder_free(struct df1_decoder *d);
-DF1_API void df1_decoder_reset(struct df1_decoder *d);
+DF1_API void df1_decoder_free(struct df1_decoder *d);   /* NULL is a no-op */
+DF1_API void df1_decoder_reset(struct df1_decoder *d);  /* back to idle, keeps settings */
+/* Half duplex: DLE ENQ is read as a poll (DLE ENQ STN BCC); off (full duplex,
+ * DLE ENQ alone) by default. Returns 0 or DF1_E_INVAL. */
+DF1_API int  df1_decoder_set_half_duplex(struct df1_decoder *d, bool on);
 /* Consume bytes until one symbol is complete; returns bytes consumed (sym->kind
  * NONE when all were consumed without completing one). */
 DF1_API size_t df1_decoder_feed(struct df1_decoder *d, const uint8_t *in, size_t n, struct df1_symbol *sym);

@@ -27,7 +27,8 @@
 uint8_t  frame_bcc(const uint8_t *data, size_t n);              /* (-sum) & 0xFF */
 uint16_t frame_crc16(uint16_t crc, const uint8_t *data, size_t n); /* CRC-16/ARC step, init 0 */
 
-/* Encoders return the number of wire bytes written, or 0 if cap is too small. */
+/* Encoders return the number of wire bytes written, or 0 if cap is too small,
+ * out is NULL or check is not CRC/BCC. The check bytes are never stuffed. */
 size_t frame_encode_full(enum df1_check check, const uint8_t *app, size_t n, uint8_t *out, size_t cap);
 /* Half-duplex master message DLE SOH STN DLE STX app DLE ETX check.
  * CRC over STN STX data ETX; BCC over STN + data (+ STX when bcc_includes_stx). */
@@ -36,7 +37,7 @@ size_t frame_encode_master(enum df1_check check, uint8_t stn, bool bcc_includes_
 /* Half-duplex slave message: identical to the full-duplex frame. */
 #define frame_encode_slave frame_encode_full
 size_t frame_encode_poll(uint8_t stn, uint8_t *out, size_t cap);   /* DLE ENQ STN BCC */
-/* Two-byte symbols: DLE ACK / NAK / ENQ / EOT. */
+/* Two-byte symbols: sym = DF1_ACK / DF1_NAK / DF1_ENQ / DF1_EOT (others give 0). */
 size_t frame_encode_symbol(uint8_t sym, uint8_t *out, size_t cap);
 
 /* Decoder options */
@@ -44,13 +45,46 @@ size_t frame_encode_symbol(uint8_t sym, uint8_t *out, size_t cap);
 #define FRAME_OPT_HD_BCC_STX      0x02u /* master-message BCC includes STX */
 #define FRAME_OPT_EOT_TRAILER     0x04u /* ignore one byte after DLE EOT */
 #define FRAME_OPT_NO_EMBEDDED     0x08u /* ACK/NAK inside a frame aborts it (2514) */
+#define FRAME_OPT_HALF_DUPLEX     0x10u /* DLE ENQ is a poll: DLE ENQ STN BCC */
 
+/*
+ * Decoder rules (the ones the spec leaves open):
+ *  - Outside a frame, bytes that start no symbol are noise: skipped, added to
+ *    `noise`, never part of a symbol's wire_len. DLE DLE and DLE ETX outside a
+ *    frame are noise too (the second DLE of DLE DLE may start the next symbol,
+ *    so a noise byte 10h cannot swallow the DLE STX that follows it).
+ *  - wire_len covers the symbol's own bytes from its first DLE. An embedded
+ *    ACK/NAK is reported with wire_len 2 and is not counted in its frame's.
+ *    With FRAME_OPT_EOT_TRAILER, DLE EOT is reported at once and one following
+ *    non-DLE byte is dropped silently (in neither wire_len nor noise).
+ *  - DLE followed by an unexpected byte gives ERROR 2514 (bad_byte); inside a
+ *    frame or a header it aborts it. DLE ENQ / DLE EOT inside a frame are such
+ *    bytes. After DLE SOH STN anything but DLE STX is 2514 (bad_byte = the
+ *    byte found).
+ *  - DLE STX or DLE SOH inside a frame reports the old frame as ERROR 2518 and
+ *    starts the new one (its DLE STX/SOH counts toward the new frame); inside a
+ *    poll header it reports 2514 and likewise starts the new frame.
+ *  - A poll (FRAME_OPT_HALF_DUPLEX) whose BCC is wrong is ERROR 2507 with the
+ *    station and check fields set.
+ *  - At DLE ETX + check: more than max_len app bytes is ERROR 2512, fewer than
+ *    FRAME_MIN_DATA is ERROR 2513; else FRAME with its check verdict. The check
+ *    fields (check, check_ok, expected, actual) are filled in all three cases:
+ *    BCC as the byte, CRC as the 16-bit value (wire bytes lo, hi).
+ *  - ERROR symbols of a frame carry the app bytes kept so far in data/len.
+ *  - DF1_CHECK_AUTO: one byte after DLE ETX that makes the BCC good is a BCC
+ *    (locks BCC); otherwise a second byte is taken and a good CRC locks CRC.
+ *    Neither good: if the second byte is DLE (only one check byte plausible:
+ *    the DLE starts the next symbol) or the decoder is locked to BCC, a bad BCC
+ *    is reported, else a bad CRC. While locked to BCC a bad BCC still tries the
+ *    CRC with the next byte, so a chance BCC match on a CRC line does not stick.
+ *    Locked to CRC it behaves as DF1_CHECK_CRC. reset clears the lock.
+ */
 struct frame_decoder {
 	enum df1_check check;      /* configured (may be AUTO) */
 	enum df1_check locked;     /* AUTO: resolved after the first good frame */
 	bool auto_locked;
 	unsigned opts;
-	size_t max_len;            /* app bytes limit (default FRAME_MAX_DATA) */
+	size_t max_len;            /* app bytes limit (default FRAME_MAX_DATA, at most that) */
 	int state;
 	bool in_master;            /* frame began with DLE SOH STN */
 	uint8_t stn;
@@ -58,18 +92,20 @@ struct frame_decoder {
 	int nchk;
 	size_t wire;               /* wire bytes of the current symbol */
 	bool overflow;
+	uint8_t sum;               /* running BCC sum of the covered bytes */
+	uint16_t crc;              /* running CRC of the covered bytes */
+	size_t noise;              /* bytes skipped outside any symbol since init/reset */
 	size_t len;
 	uint8_t buf[FRAME_MAX_DATA];
-	uint8_t out[FRAME_MAX_DATA]; /* the completed frame handed to the caller */
 };
 
 void frame_decoder_init(struct frame_decoder *d, enum df1_check check, unsigned opts);
 void frame_decoder_reset(struct frame_decoder *d);   /* back to idle, keeps config */
-/* Feed bytes; stops as soon as one symbol is complete. Returns bytes consumed;
- * sym->kind is DF1_SYM_NONE if the input ran out first. sym->data points into
- * the decoder and stays valid until the next feed. */
+/* Feed bytes; stops as soon as one symbol is complete. Returns bytes consumed
+ * (> 0 whenever n > 0); sym->kind is DF1_SYM_NONE if the input ran out first.
+ * sym->data points into the decoder and stays valid until the next feed. */
 size_t frame_decoder_feed(struct frame_decoder *d, const uint8_t *in, size_t n, struct df1_symbol *sym);
-/* True while the decoder is inside a frame (a deadline for its end applies). */
+/* True while the decoder is inside a symbol (a deadline for its end applies). */
 bool frame_decoder_busy(const struct frame_decoder *d);
 
 #endif
