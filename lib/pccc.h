@@ -76,11 +76,17 @@ struct pccc_msg {
 	size_t len;
 };
 
-/* Header: DST SRC CMD STS TNS; FNC for CMD 06/0F; EXT STS (+owner) on replies. */
+/* Header: DST SRC CMD STS TNS; FNC for CMD 06/0F; on replies with STS F0 the EXT STS
+ * byte (only for CMD above 08, spec 3.2) and the owner byte after EXT 1A/1B for CMD
+ * 0B/1A/1B (spec 3.4). DF1_E_TOO_SHORT below 6 bytes or a command missing its FNC;
+ * DF1_E_BAD_REPLY for a reply missing its EXT STS or owner byte. */
 int pccc_decode(const uint8_t *app, size_t n, struct pccc_msg *m);
-/* Build a reply header (dst/src swapped, CMD|40h, same TNS) + data. */
+/* Build a reply header (dst/src swapped, CMD|40h, same TNS) + data. ext_sts is written
+ * when sts is F0 and the CMD carries EXT STS; an owner byte (EXT 1A/1B) goes first in data. */
 int pccc_encode_reply(uint8_t *out, size_t cap, const struct pccc_msg *cmd,
                       uint8_t sts, uint8_t ext_sts, const uint8_t *data, size_t n);
+/* Does a reply to this CMD carry EXT STS when STS is F0? (CMD 00-08 do not, spec 3.2) */
+bool pccc_cmd_has_ext_sts(uint8_t cmd);
 
 /* SLC logical address fields: 1 byte for 0..254, FF + LE16 above (M p.104). */
 int pccc_put_field(uint8_t *out, size_t cap, unsigned v);
@@ -99,13 +105,45 @@ int pccc_enc_slc_masked_write(uint8_t *out, size_t cap, const struct pccc_hdr *h
 int pccc_dec_slc_fields(const uint8_t *in, size_t n, bool three_fields, uint8_t *nbytes,
                         unsigned *file, uint8_t *type_code, unsigned *elem, unsigned *sub);
 
-/* PLC-5 system address, logical binary: mask byte + levels (area 0, file, element, sub). */
+/* SLC file type code (89h ...) -> file type; 82h/83h (F2E) read as O/I too. DF1_FT_NONE if unknown. */
+enum df1_file_type pccc_slc_code_file_type(uint8_t code);
+
+/* PLC-5 system address, logical binary (spec 4.1): a mask byte (bit n set = level n+1
+ * follows), then the encoded levels: 1 area (0 = data table), 2 file, 3 element,
+ * 4 sub-element. Values and the mask above 254 take the FF + LE16 escape.
+ * Which levels to send is a choice; all forms mean the same address: */
+enum pccc_plc5_form {
+	PCCC_PLC5_FILE_ELEM = 0, /* LPT: 06 file elem, 0E with a sub-element ("N7:0" -> 06 07 00) */
+	PCCC_PLC5_ALL_LEVELS,    /* area too: 07, 0F with a sub (M p.227 "N7:30" -> 07 00 07 1E) */
+	PCCC_PLC5_FOUR_LEVELS,   /* always 0F, sub 0 when none (KE p.50 "N10:15" -> 0F 00 0A 0F 00) */
+};
+/* a->ascii non-empty: the logical ASCII form; else binary in the FILE_ELEM form.
+ * The bit of a /bit address is not part of a PLC-5 address (it goes in masks). */
 int pccc_enc_plc5_addr(uint8_t *out, size_t cap, const struct df1_addr *a);
-/* Logical ASCII: 00 '$' text 00. */
+int pccc_enc_plc5_addr_form(uint8_t *out, size_t cap, const struct df1_addr *a,
+                            enum pccc_plc5_form form);
+/* Logical ASCII: 00 '$' text 00 (a leading '$' in text is not doubled; <= 51 characters). */
 int pccc_enc_plc5_ascii(uint8_t *out, size_t cap, const char *text_without_dollar);
-/* Decode either form into a (file type from the ASCII text; binary gives file/elem/sub only,
- * type left DF1_FT_NONE). Returns bytes consumed. */
+/* Decode either form into a; returns bytes consumed.
+ * Binary: file/element/sub as encoded (sub DF1_ADDR_NONE when level 4 is absent; an absent
+ * file level is 1, M p.226), type DF1_FT_NONE (the address carries no file type); a mask
+ * of 0 is DF1_E_ADDR_SYNTAX, a 5th level or an area other than 0 DF1_E_ADDR_RANGE.
+ * ASCII: ascii = the text, other fields from df1_addr_parse(); text it rejects still
+ * decodes, with type DF1_FT_NONE and file = element = DF1_ADDR_NONE (answer EXT STS 05).
+ * Truncated input: DF1_E_TOO_SHORT. */
 int pccc_dec_plc5_addr(const uint8_t *in, size_t n, struct df1_addr *a);
+
+/* The body (after FNC) of a PLC-5 command that carries an address. */
+struct pccc_plc5_req {
+	uint16_t pkt_offset;    /* 00 01 67 68: packet offset (words / elements) */
+	uint16_t total;         /* 00 01 67 68: total transaction (words / elements) */
+	struct df1_addr addr;
+	int size;               /* 68: elements (2 bytes); 01: bytes (1 byte); else -1 */
+	const uint8_t *data;    /* 00: words; 67: type/data parameter + data; 26: AND OR; 02: SET RESET */
+	size_t len;
+};
+/* fnc one of 00 01 02 26 67 68; DF1_E_NOTSUP for others. */
+int pccc_dec_plc5_req(uint8_t fnc, const uint8_t *in, size_t n, struct pccc_plc5_req *r);
 
 /* PLC-5 0F/68 typed read, 0F/67 typed write (counts in elements), 0F/01 0F/00 word range,
  * 0F/26 read-modify-write, 0F/02 bit write. addr/alen = an encoded PLC-5 address. */
@@ -140,12 +178,33 @@ int pccc_enc_change_mode(uint8_t *out, size_t cap, const struct pccc_hdr *h, uin
  * (43 == 49 03 == 4A 03 00). Returns bytes. */
 int pccc_enc_typedata(uint8_t *out, size_t cap, unsigned type_id, uint32_t size);
 int pccc_dec_typedata(const uint8_t *in, size_t n, unsigned *type_id, uint32_t *size);
+/* Array header: 9x 09 SIZE.. + element descriptor (shortest). The array size always
+ * goes in extension bytes (99 09 05 42), the form of RTA and of the spec 7.3 vectors;
+ * M's short form (97 09 42) is decoded as well. Returns bytes. */
+int pccc_enc_typed_array(uint8_t *out, size_t cap, unsigned elem_type, uint32_t elem_size, size_t count);
 
-/* Diagnostic status reply data (after the header) -> processor type, series, revision, mode. */
+/* A type/data parameter and the data it describes; an array is unwrapped to its elements. */
+struct pccc_typed {
+	unsigned type_id;       /* element type (PCCC_TD_*) */
+	uint32_t elem_size;     /* bytes per element */
+	bool is_array;
+	size_t count;           /* elements: 1 unless is_array */
+	const uint8_t *data;
+	size_t len;             /* count * elem_size */
+	size_t consumed;        /* descriptor(s) + data */
+};
+/* DF1_E_TOO_SHORT if the data is shorter than declared; DF1_E_BAD_REPLY if malformed. */
+int pccc_dec_typed(const uint8_t *in, size_t n, struct pccc_typed *t);
+
+/* Diagnostic status reply data (after the header) -> processor type, series, revision, mode.
+ * Type byte per AHMI: d[1] EE (SLC, M p.174) -> d[3]; EB (PLC-5, M p.192) or FE (interface
+ * module) -> d[2]; else d[7]. Series letter = bits 5-7 of the series/revision byte (0 = A),
+ * revision = bits 0-4 plus 1 (M p.174: "0 = release 1"). DF1_E_TOO_SHORT without the type. */
 int pccc_dec_diag_status(const uint8_t *data, size_t n, struct df1_diag_status *out);
 /* Name of a processor type code ("SLC 5/04"), or NULL. */
 const char *pccc_processor_name(uint8_t type_code);
-/* Short command name for display: "SLC typed read (A2)", "echo (06/00)". */
+/* Short command name for display: "SLC typed read, 3 fields (0F/A2)", "echo (06/00)";
+ * a reply CMD (bit 6 set) gives "reply (4F)". Never NULL. */
 const char *pccc_command_name(uint8_t cmd, bool has_fnc, uint8_t fnc);
 
 #endif
