@@ -42,6 +42,32 @@ struct station_state {
 
 struct server_state;             /* lib/server.c */
 
+/* Link responder (lib/link.c): replies waiting to be sent or acknowledged. Full duplex
+ * keeps one in flight; a half-duplex slave queues them per station until polled. */
+#define LINK_REPLY_SLOTS 8
+struct link_reply {
+	bool used;
+	bool sent;                   /* transmitted, its ACK not seen yet */
+	bool stale_first;            /* DF1_FAULT_STALE_REPLY: an old-TNS copy goes out first */
+	bool stale_now;              /* full duplex: the frame in flight is that copy */
+	bool corrupt;                /* DF1_FAULT_CORRUPT_REPLY: next transmission has a bad check */
+	uint8_t stn;                 /* half duplex: the station that owes it */
+	uint32_t seq;                /* queue order */
+	int naks, enqs;              /* retries of this reply */
+	int64_t due_ms;              /* DF1_FAULT_DELAY_REPLY: not before this time */
+	int64_t ack_deadline_ms;     /* full duplex: ACK timer */
+	size_t len;
+	uint8_t app[FRAME_MAX_DATA];
+};
+struct link_state {
+	struct link_reply replies[LINK_REPLY_SLOTS];
+	uint32_t seq;
+	int awaiting;                /* half-duplex slave: slot + 1 sent on the last poll, 0 none */
+	bool awaiting_stale;         /* ... and it was the stale copy */
+	bool silenced;               /* full duplex: last frame ignored (SILENT_STATION) */
+	int64_t rx_last_ms;          /* time of the last byte read */
+};
+
 /* Fault injection on the slave/peer side (df1_server_set_fault), indexed by enum df1_fault. */
 #define FAULT_KINDS 8
 struct link_faults {
@@ -60,6 +86,13 @@ struct df1 {
 	bool have_saved_tios;
 	struct termios saved_tios;
 	int cancel_fd;               /* -1: none */
+	int peer_fd;                 /* fd port on a pty master: our own fd on the slave side, so the
+	                              * master never sees POLLHUP when no client has it open (-1) */
+	int saved_fl;                /* fd port: file status flags to restore on close (-1: none) */
+	bool is_socket;              /* write with send(MSG_NOSIGNAL) */
+	bool rs485_changed;          /* termios: restore saved_rs485_flags on close */
+	uint32_t saved_rs485_flags;
+	char port_name[128];         /* device path or host:port, for messages */
 
 	/* link */
 	struct frame_decoder dec;
@@ -70,6 +103,7 @@ struct df1 {
 	size_t rx_len, rx_pos;
 	uint8_t echo_buf[FRAME_MAX_WIRE]; /* own transmission to discard on 2-wire lines */
 	size_t echo_len, echo_pos;
+	struct link_state link;      /* lib/link.c */
 
 	uint64_t counters[CNT_COUNT];
 
@@ -85,6 +119,10 @@ struct df1 {
 	struct link_faults faults;
 	struct server_state *srv;    /* allocated on first df1_serve() */
 	void *poll;                  /* poll engine state (lib/poll.c) */
+	/* Destructors of the state above, set by the module that allocates it; df1_free()
+	 * calls them (or plain free() when NULL). */
+	void (*srv_free)(struct df1 *h);
+	void (*poll_free)(struct df1 *h);
 };
 
 /* counters and logging (lib/handle.c) */

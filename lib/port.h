@@ -37,7 +37,15 @@ int64_t df1_now_ms(void);
 uint64_t df1_now_us(void);
 
 /* Helpers for backends: wait for fd readable/writable (and the cancel fd) until deadline.
- * Returns 1 ready, 0 deadline, DF1_E_INTR (cancel fd readable), DF1_E_SYS. */
+ * Returns 1 ready, 0 deadline, DF1_E_INTR (cancel fd readable), DF1_E_SYS.
+ * fd < 0: a pause only the cancel fd can end. */
 int port_wait(struct df1 *h, int fd, short events, int64_t deadline_ms);
+/* Generic descriptor I/O on h->fd with the read/write contracts above (lib/port.c);
+ * the backends' read/write use them. */
+ssize_t port_read_fd(struct df1 *h, uint8_t *buf, size_t cap, int64_t deadline_ms);
+ssize_t port_write_fd(struct df1 *h, const uint8_t *buf, size_t len, int64_t deadline_ms);
+/* Record a failed system call: df1_fail(h, code, ...) with the message
+ * "<what> <h->port_name>: <strerror(err)>" (sys_errno = err for DF1_E_SYS); returns code. */
+int port_fail_sys(struct df1 *h, int code, int err, const char *what);
 
 #endif

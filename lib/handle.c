@@ -1,0 +1,683 @@
+/*
+ * handle.c - the df1_t handle: allocation and defaults, settings with range
+ * checks (seeds/004 network configuration table), open/close over the port
+ * backends, last-error detail, counters, the active station list, and the
+ * internal logging/error helpers of df1_int.h.
+ *
+ * Invalid settings return DF1_E_CONFIG; the handle keeps the detail: the
+ * seed's critical message ID (2552-2559) and its formatted text where the seed
+ * has one, else catalog ID 0 and a message naming the field and its range.
+ */
+#include "df1_int.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <stdarg.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define STATION_MAX 254
+#define RETRIES_MAX 10
+#define CMD_TIMEOUT_MIN 500
+#define CMD_TIMEOUT_MAX 5000
+#define TIMEOUT_MAX 360000
+#define TX_DELAY_MAX 65535
+#define MAX_PACKET_MAX 250
+#define LINE_BAUD_MAX 4000000
+
+/* ------------------------------------------------------------------------
+ * Errors and logging (internal helpers of df1_int.h)
+ * ------------------------------------------------------------------------ */
+
+/* Format catalog message id with ap into buf; false if the catalog has no format. */
+static bool handle_catalog_vformat(char *buf, size_t cap, int id, va_list ap)
+{
+	const struct df1_catalog_entry *e = df1_catalog_by_id(id);
+
+	if (!e || !e->format) {
+		if (e && e->description)
+			snprintf(buf, cap, "%s", e->description);
+		else
+			snprintf(buf, cap, "message %d", id);
+		return false;
+	}
+	vsnprintf(buf, cap, e->format, ap);
+	return true;
+}
+
+void df1_log(struct df1 *h, int catalog_id, ...)
+{
+	const struct df1_catalog_entry *e;
+	char text[256];
+	va_list ap;
+
+	if (!h || !h->log_fn)
+		return;
+	e = df1_catalog_by_id(catalog_id);
+	va_start(ap, catalog_id);
+	handle_catalog_vformat(text, sizeof text, catalog_id, ap);
+	va_end(ap);
+	h->log_fn(h->log_user, catalog_id, e ? e->severity : DF1_SEV_ERROR, text);
+}
+
+void df1_clear_error(struct df1 *h)
+{
+	if (!h)
+		return;
+	memset(&h->err, 0, sizeof h->err);
+	h->err.station = -1;
+}
+
+int df1_fail(struct df1 *h, int code, int station, const char *fmt, ...)
+{
+	int saved_errno = errno;
+	va_list ap;
+
+	if (!h)
+		return code;
+	memset(&h->err, 0, sizeof h->err);
+	h->err.code = code;
+	h->err.sys_errno = code == DF1_E_SYS ? saved_errno : 0;
+	h->err.station = station;
+	h->err.catalog_id = df1_error_catalog_id(code);
+	if (fmt) {
+		va_start(ap, fmt);
+		vsnprintf(h->err.message, sizeof h->err.message, fmt, ap);
+		va_end(ap);
+	} else {
+		snprintf(h->err.message, sizeof h->err.message, "%s", df1_strerror(code));
+	}
+	errno = saved_errno;
+	return code;
+}
+
+int df1_fail_remote(struct df1 *h, int station, uint8_t sts, uint8_t ext, bool has_ext)
+{
+	if (!h)
+		return DF1_E_REMOTE;
+	memset(&h->err, 0, sizeof h->err);
+	h->err.code = DF1_E_REMOTE;
+	h->err.station = station;
+	h->err.sts = sts;
+	h->err.ext_sts = has_ext ? ext : 0;
+	h->err.has_ext_sts = has_ext;
+	h->err.catalog_id = df1_error_catalog_id(DF1_E_REMOTE);
+	if (has_ext)
+		snprintf(h->err.message, sizeof h->err.message,
+		         "PLC error: STS 0x%02X (%s), EXT STS 0x%02X (%s)", sts, df1_sts_text(sts), ext,
+		         df1_ext_sts_text(ext));
+	else
+		snprintf(h->err.message, sizeof h->err.message, "PLC error: STS 0x%02X (%s)", sts,
+		         df1_sts_text(sts));
+	return DF1_E_REMOTE;
+}
+
+/* DF1_E_CONFIG reported with a critical catalog message (2552-2559), also
+ * passed to the log callback. */
+static int handle_fail_catalog(struct df1 *h, int id, ...)
+{
+	va_list ap;
+
+	memset(&h->err, 0, sizeof h->err);
+	h->err.code = DF1_E_CONFIG;
+	h->err.station = -1;
+	h->err.catalog_id = id;
+	va_start(ap, id);
+	handle_catalog_vformat(h->err.message, sizeof h->err.message, id, ap);
+	va_end(ap);
+	if (h->log_fn) {
+		const struct df1_catalog_entry *e = df1_catalog_by_id(id);
+
+		h->log_fn(h->log_user, id, e ? e->severity : DF1_SEV_CRITICAL, h->err.message);
+	}
+	return DF1_E_CONFIG;
+}
+
+static const struct df1_error_detail handle_null_error = {
+	.code = DF1_E_INVAL,
+	.station = -1,
+	.message = "no handle (NULL)",
+};
+
+const struct df1_error_detail *df1_last_error(const df1_t *h)
+{
+	return h ? &h->err : &handle_null_error;
+}
+
+/* ------------------------------------------------------------------------
+ * Counters and the active station list
+ * ------------------------------------------------------------------------ */
+
+static bool handle_counter_valid(int id)
+{
+	return (id >= 2525 && id <= 2551) || id == 2560 || id == 2561;
+}
+
+void df1_count(struct df1 *h, int id)
+{
+	if (h && id >= CNT_BASE && id < CNT_BASE + CNT_COUNT)
+		h->counters[id - CNT_BASE]++;
+}
+
+void df1_count_n(struct df1 *h, int id, uint64_t n)
+{
+	if (h && id >= CNT_BASE && id < CNT_BASE + CNT_COUNT)
+		h->counters[id - CNT_BASE] += n;
+}
+
+int df1_counter(const df1_t *h, int id, uint64_t *value)
+{
+	if (!h || !value || !handle_counter_valid(id))
+		return DF1_E_INVAL;
+	*value = h->counters[id - CNT_BASE];
+	return 0;
+}
+
+void df1_counters_reset(df1_t *h)
+{
+	if (h)
+		memset(h->counters, 0, sizeof h->counters);
+}
+
+int df1_station_active(const df1_t *h, int station)
+{
+	if (!h || station < 0 || station > STATION_MAX)
+		return DF1_E_INVAL;
+	return h->stations[station].active ? 1 : 0;
+}
+
+int df1_station_set_active(df1_t *h, int station, bool active)
+{
+	if (!h)
+		return DF1_E_INVAL;
+	if (station < 0 || station > STATION_MAX)
+		return df1_fail(h, DF1_E_INVAL, -1, "invalid station %d: must be 0..%d", station,
+		                STATION_MAX);
+	h->stations[station].active = active;
+	return 0;
+}
+
+/* ------------------------------------------------------------------------
+ * Allocation
+ * ------------------------------------------------------------------------ */
+
+/* A valid decoder from the start; the link re-initialises it when the
+ * settings it depends on change (link_setup). */
+static void handle_decoder_init(struct df1 *h)
+{
+	unsigned opts = 0;
+
+	if (h->cfg.nak_0f)
+		opts |= FRAME_OPT_ACCEPT_NAK_0F;
+	if (h->cfg.hd_bcc_stx)
+		opts |= FRAME_OPT_HD_BCC_STX;
+	if (h->cfg.eot_bcc)
+		opts |= FRAME_OPT_EOT_TRAILER;
+	if (!h->cfg.embedded)
+		opts |= FRAME_OPT_NO_EMBEDDED;
+	if (h->cfg.duplex != DF1_FULL_DUPLEX)
+		opts |= FRAME_OPT_HALF_DUPLEX;
+	frame_decoder_init(&h->dec, h->cfg.check, opts);
+}
+
+/* Link-side buffers start empty on every new connection. */
+static void handle_reset_io(struct df1 *h)
+{
+	h->rx_len = h->rx_pos = 0;
+	h->echo_len = h->echo_pos = 0;
+	frame_decoder_reset(&h->dec);
+}
+
+/* First TNS of a handle. A DF1 node drops a message with the same SRC, CMD and
+ * TNS as the last one it took (duplicate detection), so a handle must not start
+ * where the previous one, in this process or the previous run of a tool, ended.
+ * The monotonic clock in microseconds (system-wide, so it also moves between
+ * processes) advances far faster than any link can use TNS values; a per-process
+ * count separates handles made in the same microsecond. */
+static uint16_t handle_tns_seed(void)
+{
+	static atomic_uint made;
+	unsigned int n = atomic_fetch_add(&made, 1u);
+
+	return (uint16_t)(df1_now_us() + 40503u * n);
+}
+
+int df1_new(df1_t **out)
+{
+	struct df1 *h;
+	int i;
+
+	if (!out)
+		return DF1_E_INVAL;
+	*out = NULL;
+	h = calloc(1, sizeof *h);
+	if (!h)
+		return DF1_E_NOMEM;
+	h->cfg.baud = 19200;
+	h->cfg.data_bits = 8;
+	h->cfg.parity = 'N';
+	h->cfg.stop_bits = 1;
+	h->cfg.rts_cts = false;
+	h->cfg.duplex = DF1_FULL_DUPLEX;
+	h->cfg.check = DF1_CHECK_CRC;
+	h->cfg.station = 0;
+	h->cfg.plc = DF1_PLC_SLC;
+	h->cfg.timeout_ms = 1000;
+	h->cfg.cmd_timeout_ms = 1000;
+	h->cfg.nak_retries = 3;
+	h->cfg.enq_retries = 3;
+	h->cfg.tx_delay_ms = 0;
+	h->cfg.dup_detect = true;
+	h->cfg.embedded = true;
+	h->cfg.hd_bcc_stx = false;
+	h->cfg.nak_0f = true;
+	h->cfg.rs485 = false;
+	h->cfg.echo_discard = false;
+	h->cfg.eot_bcc = false;
+	h->cfg.local_tcp = true;
+	h->cfg.max_packet = 0;
+	h->cfg.line_baud = 0;
+
+	h->port = NULL;
+	h->fd = -1;
+	h->cancel_fd = -1;
+	h->peer_fd = -1;
+	h->saved_fl = -1;
+	h->next_tns = handle_tns_seed();
+	h->last_response = DF1_NAK;
+	for (i = 0; i < 256; i++)
+		h->stations[i].active = true;
+	df1_clear_error(h);
+	handle_decoder_init(h);
+	*out = h;
+	return 0;
+}
+
+void df1_free(df1_t *h)
+{
+	if (!h)
+		return;
+	df1_close(h);
+	if (h->srv_free)
+		h->srv_free(h);
+	else
+		free(h->srv);
+	if (h->poll_free)
+		h->poll_free(h);
+	else
+		free(h->poll);
+	free(h);
+}
+
+/* ------------------------------------------------------------------------
+ * Settings
+ * ------------------------------------------------------------------------ */
+
+/* After a change of serial settings: apply them to an open serial port; on
+ * failure put the old settings back (port and stored) and keep the error. */
+static int handle_apply(struct df1 *h, const struct df1_config *old)
+{
+	int r;
+
+	if (!h->port || !h->port->configure)
+		return 0;
+	r = h->port->configure(h);
+	if (r < 0) {
+		struct df1_error_detail e = h->err;
+
+		h->cfg = *old;
+		(void)h->port->configure(h);
+		h->err = e;
+	}
+	return r;
+}
+
+int df1_set_serial(df1_t *h, int baud, int data_bits, char parity, int stop_bits)
+{
+	struct df1_config old;
+
+	if (!h)
+		return DF1_E_INVAL;
+	switch (baud) {
+	case 1200: case 2400: case 4800: case 9600:
+	case 19200: case 38400: case 57600: case 115200:
+		break;
+	default:
+		return df1_fail(h, DF1_E_CONFIG, -1,
+		                "invalid baud rate %d: must be 1200, 2400, 4800, 9600, 19200, 38400, "
+		                "57600 or 115200", baud);
+	}
+	if (data_bits < 5 || data_bits > 8)
+		return df1_fail(h, DF1_E_CONFIG, -1, "invalid data bits %d: must be 5..8", data_bits);
+	if (parity >= 'a' && parity <= 'z')
+		parity = (char)(parity - 'a' + 'A');
+	if (parity != 'N' && parity != 'E' && parity != 'O') {
+		if (parity > ' ' && parity < 0x7F)
+			return df1_fail(h, DF1_E_CONFIG, -1,
+			                "invalid parity '%c': must be N (none), E (even) or O (odd)", parity);
+		return df1_fail(h, DF1_E_CONFIG, -1,
+		                "invalid parity 0x%02X: must be N (none), E (even) or O (odd)",
+		                (unsigned char)parity);
+	}
+	if (stop_bits < 1 || stop_bits > 2)
+		return df1_fail(h, DF1_E_CONFIG, -1, "invalid stop bits %d: must be 1 or 2", stop_bits);
+	old = h->cfg;
+	h->cfg.baud = baud;
+	h->cfg.data_bits = data_bits;
+	h->cfg.parity = parity;
+	h->cfg.stop_bits = stop_bits;
+	return handle_apply(h, &old);
+}
+
+int df1_set_handshake(df1_t *h, bool rts_cts)
+{
+	struct df1_config old;
+
+	if (!h)
+		return DF1_E_INVAL;
+	old = h->cfg;
+	h->cfg.rts_cts = rts_cts;
+	return handle_apply(h, &old);
+}
+
+int df1_set_duplex(df1_t *h, enum df1_duplex d)
+{
+	if (!h)
+		return DF1_E_INVAL;
+	if (d != DF1_FULL_DUPLEX && d != DF1_HALF_DUPLEX_MASTER && d != DF1_HALF_DUPLEX_SLAVE) {
+		char v[16];
+
+		snprintf(v, sizeof v, "%d", (int)d);
+		return handle_fail_catalog(h, 2553, v, "Master", "Slave", "Peer");
+	}
+	h->cfg.duplex = d;
+	return 0;
+}
+
+int df1_set_check(df1_t *h, enum df1_check c)
+{
+	if (!h)
+		return DF1_E_INVAL;
+	if (c != DF1_CHECK_CRC && c != DF1_CHECK_BCC) { /* AUTO is for decoders only */
+		char v[16];
+
+		snprintf(v, sizeof v, "%d", (int)c);
+		return handle_fail_catalog(h, 2556, v, "BCC", "CRC");
+	}
+	h->cfg.check = c;
+	return 0;
+}
+
+int df1_set_station(df1_t *h, int own_station)
+{
+	if (!h)
+		return DF1_E_INVAL;
+	if (own_station < 0 || own_station > STATION_MAX)
+		return handle_fail_catalog(h, 2552, own_station, STATION_MAX + 1);
+	h->cfg.station = own_station;
+	return 0;
+}
+
+int df1_set_plc(df1_t *h, enum df1_plc plc)
+{
+	if (!h)
+		return DF1_E_INVAL;
+	switch (plc) {
+	case DF1_PLC_SLC:
+	case DF1_PLC_MICROLOGIX:
+	case DF1_PLC_SLC502:
+	case DF1_PLC_PLC5:
+	case DF1_PLC_PLC2:
+		h->cfg.plc = plc;
+		return 0;
+	default: {
+		char v[16];
+
+		snprintf(v, sizeof v, "%d", (int)plc);
+		return handle_fail_catalog(h, 2555, v, "SLC", "MicroLogix", "PLC5", "PLC2");
+	}
+	}
+}
+
+int df1_set_timeout_ms(df1_t *h, int ms)
+{
+	if (!h)
+		return DF1_E_INVAL;
+	if (ms < 0 || ms > TIMEOUT_MAX)
+		return df1_fail(h, DF1_E_CONFIG, -1, "invalid timeout %d ms: must be 0..%d ms", ms,
+		                TIMEOUT_MAX);
+	h->cfg.timeout_ms = ms;
+	return 0;
+}
+
+int df1_set_cmd_timeout_ms(df1_t *h, int ms)
+{
+	if (!h)
+		return DF1_E_INVAL;
+	if (ms < CMD_TIMEOUT_MIN || ms > CMD_TIMEOUT_MAX)
+		return handle_fail_catalog(h, 2559, ms, CMD_TIMEOUT_MIN, CMD_TIMEOUT_MAX);
+	h->cfg.cmd_timeout_ms = ms;
+	return 0;
+}
+
+int df1_set_retries(df1_t *h, int nak_retries, int enq_retries)
+{
+	if (!h)
+		return DF1_E_INVAL;
+	if (nak_retries < 0 || nak_retries > RETRIES_MAX)
+		return handle_fail_catalog(h, 2557, nak_retries, RETRIES_MAX);
+	if (enq_retries < 0 || enq_retries > RETRIES_MAX)
+		return handle_fail_catalog(h, 2558, enq_retries, RETRIES_MAX);
+	h->cfg.nak_retries = nak_retries;
+	h->cfg.enq_retries = enq_retries;
+	return 0;
+}
+
+int df1_set_tx_delay_ms(df1_t *h, int ms)
+{
+	if (!h)
+		return DF1_E_INVAL;
+	if (ms < 0 || ms > TX_DELAY_MAX)
+		return df1_fail(h, DF1_E_CONFIG, -1, "invalid TX delay %d ms: must be 0..%d ms", ms,
+		                TX_DELAY_MAX);
+	h->cfg.tx_delay_ms = ms;
+	return 0;
+}
+
+int df1_set_line_baud(df1_t *h, int baud)
+{
+	if (!h)
+		return DF1_E_INVAL;
+	if (baud != 0 && (baud < 50 || baud > LINE_BAUD_MAX))
+		return df1_fail(h, DF1_E_CONFIG, -1,
+		                "invalid line baud rate %d: must be 0 (off) or 50..%d", baud,
+		                LINE_BAUD_MAX);
+	h->cfg.line_baud = baud;
+	return 0;
+}
+
+static const char *handle_option_name(enum df1_option opt)
+{
+	switch (opt) {
+	case DF1_OPT_DUPLICATE_DETECT: return "DUPLICATE_DETECT";
+	case DF1_OPT_EMBEDDED_RESPONSES: return "EMBEDDED_RESPONSES";
+	case DF1_OPT_HD_BCC_INCLUDES_STX: return "HD_BCC_INCLUDES_STX";
+	case DF1_OPT_ACCEPT_NAK_0F: return "ACCEPT_NAK_0F";
+	case DF1_OPT_RS485: return "RS485";
+	case DF1_OPT_ECHO_DISCARD: return "ECHO_DISCARD";
+	case DF1_OPT_MAX_PACKET: return "MAX_PACKET";
+	case DF1_OPT_EOT_WITH_BCC: return "EOT_WITH_BCC";
+	case DF1_OPT_LOCAL_TCP: return "LOCAL_TCP";
+	}
+	return NULL;
+}
+
+/* The bool member behind a bool option, or NULL. */
+static bool *handle_option_flag(struct df1_config *c, enum df1_option opt)
+{
+	switch (opt) {
+	case DF1_OPT_DUPLICATE_DETECT: return &c->dup_detect;
+	case DF1_OPT_EMBEDDED_RESPONSES: return &c->embedded;
+	case DF1_OPT_HD_BCC_INCLUDES_STX: return &c->hd_bcc_stx;
+	case DF1_OPT_ACCEPT_NAK_0F: return &c->nak_0f;
+	case DF1_OPT_RS485: return &c->rs485;
+	case DF1_OPT_ECHO_DISCARD: return &c->echo_discard;
+	case DF1_OPT_EOT_WITH_BCC: return &c->eot_bcc;
+	case DF1_OPT_LOCAL_TCP: return &c->local_tcp;
+	case DF1_OPT_MAX_PACKET: return NULL;
+	}
+	return NULL;
+}
+
+int df1_set_option(df1_t *h, enum df1_option opt, int value)
+{
+	const char *name;
+	struct df1_config old;
+	bool *flag;
+
+	if (!h)
+		return DF1_E_INVAL;
+	name = handle_option_name(opt);
+	if (!name)
+		return df1_fail(h, DF1_E_INVAL, -1, "unknown option %d", (int)opt);
+	old = h->cfg;
+	if (opt == DF1_OPT_MAX_PACKET) {
+		if (value < 0 || value > MAX_PACKET_MAX)
+			return df1_fail(h, DF1_E_CONFIG, -1,
+			                "invalid value %d for option MAX_PACKET: must be 0 (per PLC type) "
+			                "or 1..%d bytes", value, MAX_PACKET_MAX);
+		h->cfg.max_packet = value;
+		return 0;
+	}
+	if (value != 0 && value != 1)
+		return df1_fail(h, DF1_E_CONFIG, -1, "invalid value %d for option %s: must be 0 or 1",
+		                value, name);
+	flag = handle_option_flag(&h->cfg, opt);
+	*flag = value != 0;
+	if (opt == DF1_OPT_RS485)
+		return handle_apply(h, &old);
+	return 0;
+}
+
+int df1_get_option(const df1_t *h, enum df1_option opt)
+{
+	struct df1_config c;
+	bool *flag;
+
+	if (!h || !handle_option_name(opt))
+		return DF1_E_INVAL;
+	if (opt == DF1_OPT_MAX_PACKET)
+		return h->cfg.max_packet;
+	c = h->cfg;
+	flag = handle_option_flag(&c, opt);
+	return flag && *flag ? 1 : 0;
+}
+
+void df1_set_log(df1_t *h, df1_log_fn fn, void *user)
+{
+	if (!h)
+		return;
+	h->log_fn = fn;
+	h->log_user = user;
+}
+
+void df1_set_trace(df1_t *h, df1_trace_fn fn, void *user)
+{
+	if (!h)
+		return;
+	h->trace_fn = fn;
+	h->trace_user = user;
+}
+
+int df1_set_cancel_fd(df1_t *h, int fd)
+{
+	if (!h)
+		return DF1_E_INVAL;
+	if (fd < -1 || (fd >= 0 && fcntl(fd, F_GETFD) < 0))
+		return df1_fail(h, DF1_E_INVAL, -1, "cancel fd %d is not an open descriptor", fd);
+	h->cancel_fd = fd;
+	return 0;
+}
+
+/* ------------------------------------------------------------------------
+ * Open / close
+ * ------------------------------------------------------------------------ */
+
+static void handle_port_reset(struct df1 *h)
+{
+	h->port = NULL;
+	h->fd = -1;
+	h->own_fd = false;
+	h->peer_fd = -1;
+	h->saved_fl = -1;
+	h->is_socket = false;
+	h->have_saved_tios = false;
+	h->rs485_changed = false;
+}
+
+static int handle_open_with(struct df1 *h, const struct port_ops *ops, const char *target)
+{
+	int r = ops->open(h, target);
+
+	if (r < 0) {
+		/* a backend cleans up after itself; make sure nothing is left. A
+		 * descriptor given to df1_open_fd() stays the caller's on failure. */
+		h->own_fd = false;
+		if (h->fd >= 0 && ops->close)
+			ops->close(h);
+		handle_port_reset(h);
+		return r;
+	}
+	h->port = ops;
+	handle_reset_io(h);
+	return 0;
+}
+
+int df1_open(df1_t *h, const char *target)
+{
+	const struct port_ops *ops;
+
+	if (!h)
+		return DF1_E_INVAL;
+	if (!target || !*target)
+		return df1_fail(h, DF1_E_INVAL, -1, "no device given");
+	if (h->port)
+		return df1_fail(h, DF1_E_INVAL, -1, "handle is already open on %s", h->port_name);
+	df1_clear_error(h);
+	handle_port_reset(h);
+	ops = strncmp(target, "tcp:", 4) == 0 ? &port_tcp_ops : &port_termios_ops;
+	return handle_open_with(h, ops, target);
+}
+
+int df1_open_fd(df1_t *h, int fd, bool take_ownership)
+{
+	if (!h)
+		return DF1_E_INVAL;
+	if (h->port)
+		return df1_fail(h, DF1_E_INVAL, -1, "handle is already open on %s", h->port_name);
+	if (fd < 0)
+		return df1_fail(h, DF1_E_INVAL, -1, "invalid descriptor %d", fd);
+	df1_clear_error(h);
+	handle_port_reset(h);
+	h->fd = fd;
+	h->own_fd = take_ownership;
+	return handle_open_with(h, &port_fd_ops, NULL);
+}
+
+void df1_close(df1_t *h)
+{
+	if (!h || !h->port)
+		return;
+	h->port->close(h);
+	handle_port_reset(h);
+	h->rx_len = h->rx_pos = 0;
+	h->echo_len = h->echo_pos = 0;
+}
+
+bool df1_is_open(const df1_t *h)
+{
+	return h && h->port != NULL;
+}
