@@ -44,7 +44,7 @@ TEST_HELPER_OBJS := $(TEST_HELPERS:%.c=$(B)/%.o)
 STATIC := $(B)/libdf1.a
 SHARED := $(B)/libdf1.so.$(VERSION)
 
-.PHONY: all check test-run tests install uninstall clean demo bench lint-man check-exports
+.PHONY: all check test-run tests install uninstall clean demo bench lint-man check-exports deps
 all: $(STATIC) $(SHARED) $(TOOLS) $(B)/libdf1.pc
 
 $(B)/%.o: %.c $(wildcard include/*.h lib/*.h tools/*.h tests/*.h)
@@ -83,7 +83,11 @@ tests: all $(TEST_BINS)
 test-run: tests
 	@B=$(B) sh tests/run-tests.sh
 
-check: lint-man check-exports
+deps:
+	@sh tools/deps.sh
+
+check: deps
+	$(MAKE) lint-man check-exports
 	$(MAKE) B=build test-run
 	$(MAKE) B=build/san SAN=1 test-run
 
@@ -95,10 +99,12 @@ check-exports: $(SHARED)
 lint-man:
 	@sh tests/lint-man.sh
 
-demo: all
+demo: deps
+	$(MAKE) all
 	@sh tools/demo.sh $(B)
 
-bench: all
+bench: deps
+	$(MAKE) all
 	@sh bench/run.sh $(B)
 
 install: all

@@ -1,0 +1,25 @@
+#!/bin/sh
+# Checks the build dependencies; installs the missing Debian packages with
+# apt-get when it can (root, or sudo without a password), else prints the
+# exact command and fails.
+missing=""
+have_header() { printf '#include <%s>\n' "$1" | ${CC:-cc} -E -x c - >/dev/null 2>&1; }
+command -v ${CC:-cc} >/dev/null 2>&1 || missing="$missing build-essential"
+command -v pkg-config >/dev/null 2>&1 || missing="$missing pkg-config"
+have_header csv.h || missing="$missing libcsv-dev"
+have_header stdarg.h && printf '#include <stdarg.h>\n#include <stddef.h>\n#include <setjmp.h>\n#include <cmocka.h>\n' \
+	| ${CC:-cc} -E -x c - >/dev/null 2>&1 || missing="$missing libcmocka-dev"
+command -v mandoc >/dev/null 2>&1 || missing="$missing mandoc"
+[ -z "$missing" ] && exit 0
+cmd="apt-get install -y$missing"
+if [ "$(id -u)" = 0 ]; then
+	echo "deps: installing:$missing" >&2
+	DEBIAN_FRONTEND=noninteractive apt-get install -y -q $missing >&2 && exit 0
+	apt-get update -q >&2 && DEBIAN_FRONTEND=noninteractive apt-get install -y -q $missing >&2 && exit 0
+elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then
+	echo "deps: installing:$missing" >&2
+	sudo -n apt-get install -y -q $missing >&2 && exit 0
+fi
+echo "deps: missing:$missing" >&2
+echo "deps: run: sudo $cmd" >&2
+exit 1
