@@ -1,0 +1,183 @@
+#!/bin/sh
+# df1mon offline modes: --read (pcap, raw dump) and --decode (arguments, stdin).
+# Run from the repository root; DF1_BIN is the directory of the built tools.
+# Data: tests/data/serial-tap-*.pcap (copies of the shared captures) and
+# tests/data/vectors.txt (a copy of spec/vectors.txt).
+BIN=${DF1_BIN:-$(pwd)/build/bin}
+MON="$BIN/df1mon"
+DATA=tests/data
+CAP="$DATA/serial-tap-slc-full-duplex.pcap"
+ONE="$DATA/serial-tap-one-frame.pcap"
+VEC="$DATA/vectors.txt"
+T=$(mktemp -d "${TMPDIR:-/tmp}/it_df1mon.XXXXXX") || exit 1
+trap 'rm -rf "$T"' EXIT INT TERM
+pass=0
+fail=0
+
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
+# expect STATUS DESCRIPTION -- command...: run, keep stdout/stderr in $T/out $T/err
+expect() {
+	want=$1; what=$2; shift 3
+	"$@" > "$T/out" 2> "$T/err"
+	got=$?
+	if [ "$got" -eq "$want" ]; then ok; else
+		bad "$what: exit $got, expected $want"; sed 's/^/  err: /' "$T/err" | head -5
+	fi
+}
+check() { if eval "$2"; then ok; else bad "$1"; fi; }
+# hex text -> bytes on stdout (POSIX awk and printf only)
+hex2bin() {
+	fmt=$(printf '%s\n' "$1" | awk '{
+		s = toupper($0); gsub(/[^0-9A-F]/, "", s); out = ""
+		for (i = 1; i < length(s); i += 2) {
+			v = (index("0123456789ABCDEF", substr(s, i, 1)) - 1) * 16 + index("0123456789ABCDEF", substr(s, i + 1, 1)) - 1
+			out = out sprintf("\\0%03o", v)
+		}
+		print out }')
+	printf "%b" "$fmt"
+}
+# every line a JSON object: starts with {, ends with }, an even number of unescaped quotes
+json_ok() {
+	awk '{
+		if ($0 !~ /^\{".*\}$/) { bad = 1; print "not an object: " $0; next }
+		s = $0; gsub(/\\\\/, "", s); gsub(/\\"/, "", s)
+		n = gsub(/"/, "", s); if (n % 2) { bad = 1; print "odd quotes: " $0 }
+		t = $0; o = gsub(/\{/, "", t); c = gsub(/\}/, "", t); if (o != c) { bad = 1; print "braces: " $0 }
+	} END { exit bad }' "$1"
+}
+
+[ -x "$MON" ] || { echo "no $MON"; exit 1; }
+for f in "$CAP" "$ONE" "$VEC"; do [ -f "$f" ] || { echo "missing $f"; exit 1; }; done
+
+# ---- the serial-tap capture: 134 frames, all good BCC, ENQ runs ----
+expect 0 "read capture" -- "$MON" --read "$CAP"
+cp "$T/out" "$T/cap.txt"
+check "134 frames" '[ "$(grep -c " FRAME " "$T/cap.txt")" -eq 134 ]'
+check "134 good BCC" '[ "$(grep " FRAME " "$T/cap.txt" | grep -c " BCC ok ")" -eq 134 ]'
+check "no bad check" '! grep -q " bad " "$T/cap.txt"'
+check "402 ENQ" '[ "$(grep -c " ENQ$" "$T/cap.txt")" -eq 402 ]'
+check "summary" 'grep -q "^df1mon: 134 frames, 134 good, 0 bad, 402 symbols$" "$T/err"'
+check "first line: write N7:5 = 13385" \
+	'head -n 1 "$T/cap.txt" | grep -q "^ *1 *0\.000000  FRAME  BCC ok .* tns 3901  0F/AA .* N7:5 size 2  = 13385$"'
+nw=$(grep -c " 0F/AA " "$T/cap.txt"); nr=$(grep -c " 0F/A2 " "$T/cap.txt")
+check "writes and reads add up" '[ $((nw + nr)) -eq 134 ] && [ "$nw" -gt 0 ] && [ "$nr" -gt 0 ]'
+check "every write is to N7:5 with a value" '[ "$(grep " 0F/AA " "$T/cap.txt" | grep -c " N7:5 size 2  = -\{0,1\}[0-9][0-9]*$")" -eq "$nw" ]'
+check "every read is of N7:1" '[ "$(grep " 0F/A2 " "$T/cap.txt" | grep -c " N7:1 size 2$")" -eq "$nr" ]'
+check "ENQ about 1 s after the first frame" 'sed -n 2p "$T/cap.txt" | grep -q "^ *2 *1\.00[0-9]*  ENQ$"'
+check "last frame TNS 41D5" 'grep " FRAME " "$T/cap.txt" | tail -n 1 | grep -q "tns 41D5  0F/A2"'
+
+expect 0 "read capture, json" -- "$MON" -f json --read "$CAP"
+cp "$T/out" "$T/cap.json"
+check "json lines parse" 'json_ok "$T/cap.json"'
+check "json 134 frames" '[ "$(grep -c "\"kind\":\"FRAME\"" "$T/cap.json")" -eq 134 ]'
+check "json all check_ok" '[ "$(grep -c "\"check\":\"BCC\",\"check_ok\":true" "$T/cap.json")" -eq 134 ]'
+check "json first write" 'head -n 1 "$T/cap.json" | grep -q "\"t\":0.000000,.*\"cmd\":\"0F\",\"fnc\":\"AA\",.*\"tns\":\"3901\",\"address\":\"N7:5\",\"size\":2,\"values\":\[13385\]"'
+check "json epoch" 'head -n 1 "$T/cap.json" | grep -q "\"epoch\":1539179624\.09[0-9]*"'
+check "json ENQ" 'sed -n 2p "$T/cap.json" | grep -q "^{\"n\":2,\"t\":1\.[0-9]*,\"epoch\":[0-9.]*,\"kind\":\"ENQ\"}$"'
+
+# its one record holds a frame without its DLE ETX BCC (the next record has them)
+expect 1 "one-record capture" -- "$MON" -q --read "$ONE"
+check "one-record: incomplete frame" '[ "$(wc -l < "$T/out")" -eq 1 ] && grep -q "ERROR .*\[2518\] NTC_NO_ETX_RCVD: .*bytes 00 00 0F 00 01 39 AA 02 07 89 05 00 49 34$" "$T/out"'
+check "-q: nothing on stderr" '[ ! -s "$T/err" ]'
+
+# the capture from stdin, and with the check forced
+expect 0 "capture on stdin" -- sh -c "\"$MON\" -q --read - < \"$CAP\""
+check "stdin same output" 'cmp -s "$T/out" "$T/cap.txt"'
+expect 1 "capture read as CRC" -- "$MON" -q --check crc --read "$CAP"
+check "CRC: bad frames" 'grep -q "CRC bad expected" "$T/out"'
+
+# a truncated capture: what is there is decoded, exit 2
+head -c 1000 "$CAP" > "$T/trunc.pcap"
+expect 2 "truncated capture" -- "$MON" --read "$T/trunc.pcap"
+check "truncated: message" 'grep -q "truncated" "$T/err"'
+check "truncated: frames before the cut" 'grep -q " FRAME  BCC ok " "$T/out"'
+printf '\012\015\015\012\000\000\000\000' > "$T/ng.pcapng"
+expect 2 "pcapng refused" -- "$MON" --read "$T/ng.pcapng"
+check "pcapng: says so" 'grep -q "pcapng" "$T/err"'
+
+# ---- every vector, each with its own check and duplex ----
+grep -v '^#' "$VEC" | grep '|' > "$T/vectors"
+nvec=0
+while IFS='|' read -r name chk hex desc; do
+	name=$(echo $name); chk=$(echo $chk)
+	case $chk in bcc|crc) ;; *) chk=auto ;; esac
+	duplex=full
+	case $name in *-hd-*) duplex=half ;; esac
+	nvec=$((nvec + 1))
+	expect 0 "vector $name ($chk, $duplex)" -- "$MON" -q --check "$chk" --duplex "$duplex" --decode "$hex"
+	check "vector $name: one symbol" '[ "$(wc -l < "$T/out")" -eq 1 ]'
+	case $chk in
+	bcc) check "vector $name: BCC ok" 'grep -q " BCC ok " "$T/out"' ;;
+	crc) check "vector $name: CRC ok" 'grep -q " CRC ok " "$T/out"' ;;
+	esac
+	if [ "$duplex" = full ]; then
+		# auto detection finds the same verdict
+		expect 0 "vector $name (auto)" -- "$MON" -q --decode "$hex"
+		# the last byte changed: a bad check, exit 1
+		case $chk in bcc|crc)
+			last=$(printf '%s\n' "$hex" | awk '{print $NF}')
+			flip=$(printf '%s\n' "$last" | tr '0123456789ABCDEFabcdef' '123456789ABCDEF0bcdef0')
+			corrupt=$(printf '%s\n' "$hex" | awk -v f="$flip" '{ $NF = f; print }')
+			expect 1 "vector $name corrupted" -- "$MON" -q --check "$chk" --decode "$corrupt"
+			check "vector $name corrupted: bad" 'grep -q "$(echo "$chk" | tr a-z A-Z) bad expected 0x" "$T/out"'
+			;;
+		esac
+		# the same bytes as a raw dump
+		hex2bin "$hex" > "$T/raw.bin"
+		expect 0 "vector $name raw dump" -- "$MON" -q --check "$chk" --read "$T/raw.bin"
+	fi
+done < "$T/vectors"
+check "all vectors seen" '[ "$nvec" -ge 50 ]'
+
+# all full-duplex frame vectors on stdin, one per line, with comments and blank lines
+{
+	echo "# full-duplex frames from vectors.txt"
+	echo
+	grep -v -e '-hd-' "$T/vectors" | awk -F'|' '{ print $3 "  # " $1 }'
+} > "$T/lines"
+nlines=$(grep -v -e '-hd-' "$T/vectors" | grep -c .)
+expect 0 "stdin lines" -- sh -c "\"$MON\" --decode < \"$T/lines\""
+check "stdin: one line per vector" '[ "$(wc -l < "$T/out")" -eq "$nlines" ]'
+check "stdin: summary" 'grep -q "^df1mon: [0-9]* frames, [0-9]* good, 0 bad, [0-9]* symbols$" "$T/err"'
+
+# a command and its reply: the reply is decoded with the command's file type
+expect 0 "read F8:0 and its reply" -- "$MON" --decode \
+	"10 02 01 00 0F 00 04 00 A2 04 08 8A 00 00 10 03 B4" "10 02 00 01 4F 00 04 00 00 00 C0 3F 10 03 AD"
+check "reply value 1.5" 'sed -n 2p "$T/out" | grep -q "reply to 0F/A2 .* F8:0 size 4  sts 00  = 1.5$"'
+expect 0 "PLC-5 typed read and reply" -- "$MON" -f json --decode \
+	"10 02 01 00 0F 00 06 00 68 00 00 0A 00 06 07 00 0A 00 10 03 61" \
+	"10 02 00 01 4F 00 06 00 99 09 15 42 00 00 01 00 02 00 03 00 04 00 05 00 06 00 07 00 08 00 09 00 10 03 84"
+check "typed read reply values" 'sed -n 2p "$T/out" | grep -q "\"values\":\[0,1,2,3,4,5,6,7,8,9\]"'
+expect 0 "error reply" -- "$MON" -f json --decode "10 02 00 01 4F F0 05 00 06 10 03 B5"
+check "error reply texts" 'grep -q "\"sts\":\"F0\",.*\"ext_sts\":\"06\",\"ext_sts_text\":\"address doesn.t point to something usable\"" "$T/out"'
+check "error reply json" 'json_ok "$T/out"'
+
+# malformed input: exit 1 with an ERROR line
+expect 1 "incomplete frame" -- "$MON" --decode "10 02 01 00 0F 00"
+check "incomplete: 2518" 'grep -q "ERROR .*\[2518\] NTC_NO_ETX_RCVD" "$T/out"'
+expect 1 "invalid symbol" -- "$MON" -f json --decode "10 02 01 00 0F 00 01 00 10 07 10 03 00"
+check "invalid symbol: 2514" 'grep -q "\"kind\":\"ERROR\".*\"error_id\":2514" "$T/out" && json_ok "$T/out"'
+
+# usage and input errors: exit 2
+expect 2 "bad hex" -- "$MON" --decode "10 02 0G"
+check "bad hex: message" 'grep -q "^df1mon: argument 1: bad hex" "$T/err"'
+check "bad hex: nothing decoded" '[ ! -s "$T/out" ]'
+expect 2 "odd digit count" -- "$MON" --decode "10 0"
+expect 2 "bad hex on stdin" -- sh -c "printf '10 06\nzz\n' | \"$MON\" --decode"
+check "bad stdin line named" 'grep -q "stdin: line 2: bad hex" "$T/err"'
+expect 2 "missing file" -- "$MON" --read "$T/no-such-file.pcap"
+check "missing file: message" 'grep -q "^df1mon: .*no-such-file.pcap: No such file or directory$" "$T/err"'
+expect 2 "no mode" -- "$MON"
+expect 2 "two modes" -- "$MON" --decode --read "$CAP"
+expect 2 "bad --check" -- "$MON" --check xyz --decode "10 06"
+check "bad --check: names the option" 'grep -q "^df1mon: --check: invalid value .xyz." "$T/err"'
+expect 2 "bad --format" -- "$MON" -f xml --decode "10 06"
+expect 2 "unknown option" -- "$MON" --bogus
+expect 0 "--help" -- "$MON" --help
+check "--help on stdout" 'grep -q "^Usage: df1mon" "$T/out" && [ ! -s "$T/err" ]'
+expect 0 "--version" -- "$MON" --version
+check "--version" 'grep -q "^df1mon (libdf1) [0-9]" "$T/out"'
+
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]

@@ -1,0 +1,203 @@
+/*
+ * cli - the command-line code shared by df1read, df1write and df1mon
+ * (DESIGN.md 8, STYLE.md 7.9): the common options, parsed with getopt_long
+ * from one table; per-tool option sets and extra options; building and
+ * opening the handle; error reports in the catalog format; -v logging and
+ * -vv frame traces on stderr; SIGINT/SIGTERM through a self-pipe; JSON and
+ * CSV quoting.
+ *
+ * Tools use only include/df1.h. Messages go to stderr as "tool: ...";
+ * stdout carries data only. Exit status: 0 success, 1 communication or PLC
+ * error, 2 usage, address or configuration error.
+ */
+#ifndef DF1_TOOLS_CLI_H
+#define DF1_TOOLS_CLI_H
+
+#include <getopt.h>
+#include <signal.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+#include "df1.h"
+
+struct decode_ctx; /* tools/decode.h */
+
+#define CLI_EXIT_OK 0
+#define CLI_EXIT_FAIL 1    /* communication or PLC error, bad check */
+#define CLI_EXIT_USAGE 2   /* usage, address, configuration, unreadable input */
+#define CLI_CONTINUE (-1)  /* cli_parse: go on and run the tool */
+
+/* The common options. A tool accepts a set of them (bit (1u << id)). */
+enum cli_opt_id {
+	CLI_OPT_DEVICE = 0,  /* -d/--device DEV (env DF1_DEVICE) */
+	CLI_OPT_NET,         /* -N/--net FILE */
+	CLI_OPT_STATION,     /* -a/--station N */
+	CLI_OPT_SRC,         /* --src N */
+	CLI_OPT_BAUD,        /* -b/--baud N */
+	CLI_OPT_PARITY,      /* -P/--parity none|even|odd */
+	CLI_OPT_DATA_BITS,   /* --data-bits N */
+	CLI_OPT_STOP_BITS,   /* --stop-bits N */
+	CLI_OPT_HANDSHAKE,   /* --handshake[=yes|no] */
+	CLI_OPT_DUPLEX,      /* --duplex full|half */
+	CLI_OPT_CHECK,       /* --check crc|bcc (|auto when the tool allows it) */
+	CLI_OPT_PLC,         /* --plc slc|micrologix|slc502|plc5|plc2 */
+	CLI_OPT_TIMEOUT,     /* -o/--timeout MS */
+	CLI_OPT_CMD_TIMEOUT, /* --cmd-timeout MS */
+	CLI_OPT_NAK_RETRIES, /* --nak-retries N */
+	CLI_OPT_ENQ_RETRIES, /* --enq-retries N */
+	CLI_OPT_TX_DELAY,    /* --tx-delay MS */
+	CLI_OPT_RS485,       /* --rs485 */
+	CLI_OPT_FORMAT,      /* -f/--format plain|csv|json */
+	CLI_OPT_VERBOSE,     /* -v (repeatable) */
+	CLI_OPT_QUIET,       /* -q */
+	CLI_OPT_COUNT_
+};
+
+#define CLI_ACCEPT(id) (1ul << (id))
+/* Everything that configures a line, for tools that open a device. */
+#define CLI_ACCEPT_LINK                                                              \
+	(CLI_ACCEPT(CLI_OPT_DEVICE) | CLI_ACCEPT(CLI_OPT_NET) | CLI_ACCEPT(CLI_OPT_STATION) |  \
+	 CLI_ACCEPT(CLI_OPT_SRC) | CLI_ACCEPT(CLI_OPT_BAUD) | CLI_ACCEPT(CLI_OPT_PARITY) |    \
+	 CLI_ACCEPT(CLI_OPT_DATA_BITS) | CLI_ACCEPT(CLI_OPT_STOP_BITS) |                       \
+	 CLI_ACCEPT(CLI_OPT_HANDSHAKE) | CLI_ACCEPT(CLI_OPT_DUPLEX) | CLI_ACCEPT(CLI_OPT_CHECK) | \
+	 CLI_ACCEPT(CLI_OPT_PLC) | CLI_ACCEPT(CLI_OPT_TIMEOUT) | CLI_ACCEPT(CLI_OPT_CMD_TIMEOUT) | \
+	 CLI_ACCEPT(CLI_OPT_NAK_RETRIES) | CLI_ACCEPT(CLI_OPT_ENQ_RETRIES) |                   \
+	 CLI_ACCEPT(CLI_OPT_TX_DELAY) | CLI_ACCEPT(CLI_OPT_RS485))
+#define CLI_ACCEPT_OUTPUT \
+	(CLI_ACCEPT(CLI_OPT_FORMAT) | CLI_ACCEPT(CLI_OPT_VERBOSE) | CLI_ACCEPT(CLI_OPT_QUIET))
+#define CLI_ACCEPT_ALL (CLI_ACCEPT_LINK | CLI_ACCEPT_OUTPUT)
+
+enum cli_format { CLI_FMT_PLAIN = 0, CLI_FMT_CSV = 1, CLI_FMT_JSON = 2 };
+#define CLI_FMT_BIT(f) (1u << (f))
+
+/* Keys of a tool's own long-only options start here (short ones use the letter). */
+#define CLI_KEY_EXTRA 1000
+
+/* A tool's own option. */
+struct cli_extra_opt {
+	const char *name;    /* long name without "--" */
+	int has_arg;         /* no_argument, required_argument, optional_argument */
+	int key;             /* a short letter ('w'), or CLI_KEY_EXTRA + n for long-only */
+	const char *arg;     /* metavariable for --help ("FILE"), NULL without argument */
+	const char *help;    /* one line */
+};
+
+struct cli;
+/* Called for each of the tool's own options; returns CLI_CONTINUE, or an exit status
+ * (having printed the reason). */
+typedef int (*cli_extra_fn)(struct cli *c, int key, const char *arg, void *user);
+
+struct cli_tool {
+	const char *name;                  /* "df1mon": the prefix of every message */
+	const char *synopsis;              /* after "Usage: NAME ", may hold '\n' */
+	const char *summary;               /* one line for --help */
+	unsigned long accepts;             /* CLI_ACCEPT(...) bits */
+	unsigned formats;                  /* CLI_FMT_BIT(...); plain is always accepted */
+	bool check_auto;                   /* --check auto is allowed (decoders) */
+	const struct cli_extra_opt *extra; /* terminated by { NULL }, or NULL */
+	cli_extra_fn on_extra;
+	const char *help_tail;             /* extra text at the end of --help, or NULL */
+	const char *exit_text;             /* the "Exit status:" line of --help, or NULL */
+};
+
+struct cli {
+	const struct cli_tool *tool;
+	const char *name;                  /* tool->name */
+
+	/* line settings; defaults: 19200 8N1 CRC full duplex, station 1, src 0, 1000 ms */
+	const char *device;                /* -d, else DF1_DEVICE, else the network file's port */
+	const char *net_file;
+	bool have_net;
+	struct df1_net_config net;
+	int station;                       /* destination */
+	int src;                           /* our own station */
+	int baud, data_bits, stop_bits;
+	char parity;                       /* 'N' 'E' 'O' */
+	bool handshake;
+	bool half_duplex;
+	enum df1_check check;
+	enum df1_plc plc;
+	int timeout_ms, cmd_timeout_ms;
+	int nak_retries, enq_retries;
+	int tx_delay_ms;
+	bool rs485;
+
+	/* output */
+	enum cli_format format;
+	int verbose;                       /* -v count */
+	bool quiet;
+
+	unsigned long given;               /* CLI_ACCEPT(id) bits of options given on the command line */
+
+	/* operands left after the options */
+	int argc;
+	char **argv;
+
+	/* runtime: trace decoders (one per direction), the trace clock origin */
+	struct df1_decoder *trace_dec[2];
+	struct decode_ctx *trace_ctx;
+	unsigned long trace_n;             /* symbols traced */
+	uint64_t trace_t0;
+	bool trace_have_t0;
+};
+
+/* Set the defaults (tools may change them before cli_parse, e.g. check = AUTO). */
+void cli_init(struct cli *c, const struct cli_tool *t);
+/* Parse argv. Prints --help / --version to stdout (returns 0), usage errors to
+ * stderr (returns 2); loads -N FILE (each issue reported, returns 2 if any).
+ * Returns CLI_CONTINUE when the tool should run; c->argc/argv are the operands. */
+int cli_parse(struct cli *c, int argc, char **argv, void *user);
+void cli_usage(const struct cli *c, FILE *f);
+/* "Try 'NAME --help'." after a usage error; returns CLI_EXIT_USAGE. */
+int cli_usage_error(const struct cli *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* Release what cli_parse / cli_open allocated (not the handle). */
+void cli_cleanup(struct cli *c);
+
+/* Numbers: decimal (or 0x hex) integer in [lo, hi]; on error prints
+ * "NAME: --OPT: invalid value 'x' (expected LO..HI)" and returns CLI_EXIT_USAGE. */
+int cli_parse_int(const struct cli *c, const char *opt, const char *arg, long lo, long hi, int *out);
+
+/* Build the handle from the options (df1_new, setters or the network file, logging
+ * and tracing by -v), then df1_open the device. On error prints
+ * "NAME: DEVICE: [ID] MNEMONIC: text" and returns 1 (open failed) or 2 (configuration);
+ * else 0 with *out set. */
+int cli_open(struct cli *c, df1_t **out);
+/* df1_close + df1_free + cli_cleanup; NULL handle is fine. */
+void cli_close(struct cli *c, df1_t *h);
+
+/* Report a failed operation:
+ *   "df1read: N7:0: station 1: [2508] ERR_COMMAND_TIMEOUT: command timed out"
+ * address may be NULL, station < 0 leaves it out. Returns the exit status for err. */
+int cli_report(const char *tool, const char *address, int station, const df1_t *h, int err);
+/* Exit status for a DF1_E_* code: 2 for address/type/value/configuration errors, else 1. */
+int cli_exit_status(int err);
+/* "[2508] ERR_COMMAND_TIMEOUT" for a catalog ID, else the error name ("DF1_E_REMOTE"). */
+void cli_error_tag(int err, int catalog_id, char *buf, size_t cap);
+
+/* Logging (-v) and tracing (-vv) callbacks; user = struct cli *. */
+void cli_log(void *user, int catalog_id, enum df1_severity sev, const char *text);
+void cli_trace(void *user, enum df1_dir dir, const uint8_t *bytes, size_t n, uint64_t t_us);
+
+/* Signals: SIGINT/SIGTERM set cli_stop and write a byte to a self-pipe whose read end
+ * is returned (and handed to df1_set_cancel_fd by cli_open), so waits end at once.
+ * SIGPIPE is ignored so a closed stdout shows as a write error. Returns the fd or -1. */
+extern volatile sig_atomic_t cli_stop;
+int cli_signals_install(void);
+int cli_signal_fd(void);       /* read end of the self-pipe, or -1 */
+int cli_stop_signal(void);     /* the signal that stopped us, or 0 */
+
+/* JSON: print s as a JSON string (quotes included), escaping control characters,
+ * quotes, backslashes and invalid UTF-8 bytes (as \u00XX). */
+void cli_json_string(FILE *f, const char *s);
+void cli_json_string_n(FILE *f, const char *s, size_t n);
+/* CSV (RFC 4180): print s, quoted when it holds a comma, quote, CR, LF or edge space. */
+void cli_csv_field(FILE *f, const char *s);
+
+/* Hex: "10 02 0F" into buf; returns length written (always NUL-terminated when cap > 0). */
+size_t cli_hex(const uint8_t *b, size_t n, char *buf, size_t cap);
+/* Parse hex text: pairs of digits, separated or not by spaces, tabs, ':' ',' '-',
+ * an optional 0x before a byte. Returns the byte count, or -1 on bad text (an odd
+ * digit count, a non-hex character) with *bad_at set to the offending offset. */
+long cli_parse_hex(const char *text, uint8_t *out, size_t cap, size_t *bad_at);
+
+#endif
