@@ -39,7 +39,7 @@ extern "C" {
 #define DF1_ERROR_TABLE(X)                                                        \
 	X(DF1_OK,                0,    0, "success")                                 \
 	X(DF1_E_INVAL,          -1,    0, "invalid argument")                        \
-	X(DF1_E_SYS,            -2, 2551, "system call failed")                      \
+	X(DF1_E_SYS,            -2,    0, "system call failed")                      \
 	X(DF1_E_NOMEM,          -3,    0, "out of memory")                           \
 	X(DF1_E_TIMEOUT,        -4, 2508, "command timed out")                       \
 	X(DF1_E_NAK_LIMIT,      -5, 2519, "NAK retry limit exceeded")                \
@@ -60,12 +60,12 @@ extern "C" {
 	X(DF1_E_TYPE,          -20,    0, "value does not fit the file type")        \
 	X(DF1_E_RANGE,         -21,    0, "value out of range")                      \
 	X(DF1_E_NOT_OPEN,      -22,    0, "handle is not open")                      \
-	X(DF1_E_CLOSED,        -23, 2551, "connection closed by peer")               \
+	X(DF1_E_CLOSED,        -23,    0, "connection closed by peer")               \
 	X(DF1_E_CONFIG,        -24,    0, "invalid configuration")                   \
 	X(DF1_E_INTR,          -25,    0, "interrupted")                             \
 	X(DF1_E_NOSPACE,       -26,    0, "buffer too small")                        \
 	X(DF1_E_NAK,           -27, 2511, "received NAK symbol")                     \
-	X(DF1_E_BAD_REPLY,     -28, 2550, "invalid reply message")                   \
+	X(DF1_E_BAD_REPLY,     -28,    0, "invalid reply message")                   \
 	X(DF1_E_NO_ETX,        -29, 2518, "incomplete message, no ETX received")     \
 	X(DF1_E_NODEV,         -30,    0, "no such device")                          \
 	X(DF1_E_PERM,          -31,    0, "permission denied")
@@ -494,7 +494,150 @@ DF1_API int df1_map_load(const char *path, bool strict, df1_tag_row_fn row_fn,
 /* ------------------------------------------------------------------------
  * Poll engine (scan list, block coalescing, quality, station health, write queue)
  * Declarations are added by the poll engine (lib/poll.c); see df1_poll(3).
+ *
+ * Tags (df1_tag_add, df1_tag_load_map) are polled by df1_poll(), which runs the
+ * work that is due (one scan of the stations in address order, queued writes in
+ * the free slots between its transactions) and returns. Per station and file,
+ * tags are coalesced into block reads up to the controller's packet limit; a
+ * block that fails with an address error is split until the bad tag is alone.
+ * Station health follows seeds 000/002/004 (retries, watchdog, offline, slow
+ * retry, one-time poll on recovery); see df1_poll(3) for the exact rules.
+ * Thread rule: df1_tag_write() may be called from any thread; everything else
+ * belongs to the thread that runs df1_poll().
  * ------------------------------------------------------------------------ */
+enum df1_quality {
+	DF1_QUALITY_BAD = 0,        /* no usable value (see the reason) */
+	DF1_QUALITY_UNCERTAIN = 1,  /* the last good value, station not answering (not yet offline) */
+	DF1_QUALITY_GOOD = 2,       /* read at the last attempt */
+};
+
+enum df1_quality_reason {
+	DF1_REASON_NONE = 0,            /* GOOD */
+	DF1_REASON_NOT_YET_READ,        /* BAD: no read has completed yet (and write-only tags) */
+	DF1_REASON_COMM_FAILURE,        /* UNCERTAIN (BAD if never read): station did not answer */
+	DF1_REASON_STATION_OFFLINE,     /* BAD: the station's watchdog expired, it is offline */
+	DF1_REASON_PLC_ERROR,           /* BAD: the PLC refused the read (STS / EXT STS kept) */
+	DF1_REASON_CONFIG,              /* BAD: the address cannot be read with this PLC type */
+};
+
+/* "GOOD" "UNCERTAIN" "BAD"; "none" "not_yet_read" "comm_failure" "station_offline"
+ * "plc_error" "config". Static strings, never NULL ("?" when unknown). */
+DF1_API const char *df1_quality_name(enum df1_quality q);
+DF1_API const char *df1_reason_name(enum df1_quality_reason r);
+
+/* A snapshot of one tag (df1_tag_get). */
+struct df1_tag_state {
+	int id;
+	const struct df1_tag_config *config; /* owned by the handle, valid until df1_free() */
+	size_t count;                   /* values (config->count) */
+	const struct df1_value *values; /* owned by the handle; changes only inside df1_poll() */
+	struct df1_value value;         /* copy of values[0] */
+	bool has_value;                 /* a read has completed at least once */
+	enum df1_quality quality;
+	enum df1_quality_reason reason;
+	int64_t last_good_ms;           /* CLOCK_MONOTONIC ms of the last good read, 0 = never */
+	int64_t last_good_wall_ms;      /* CLOCK_REALTIME ms since the epoch, 0 = never */
+	int64_t age_ms;                 /* now - last_good_ms at df1_tag_get(), -1 = never */
+	int last_error;                 /* DF1_E_* of the last failed read, 0 = none */
+	uint8_t sts, ext_sts;           /* PLC STS / EXT STS behind DF1_REASON_PLC_ERROR */
+	uint64_t reads;                 /* good reads of this tag */
+};
+
+/* Add a tag; copies *c. count 1..1000; scan_ms >= 0 (0: every scan), c->name
+ * unique when not empty. Returns the tag id (0, 1, ...) or DF1_E_INVAL /
+ * DF1_E_CONFIG (duplicate name) / DF1_E_NOMEM. Readable tags (DF1_ACCESS_READ
+ * bit) are polled; write-only tags only take df1_tag_write(). */
+DF1_API int df1_tag_add(df1_t *h, const struct df1_tag_config *c);
+/* Add every row of a mapping CSV (df1_map_load). Rows with problems and
+ * duplicate names are reported through issue_fn (may be NULL) and skipped; in
+ * strict mode any problem adds nothing and returns DF1_E_CONFIG.
+ * Returns the number of tags added or DF1_E_*. */
+DF1_API int df1_tag_load_map(df1_t *h, const char *path, bool strict,
+                             df1_config_issue_fn issue_fn, void *user);
+DF1_API int df1_tag_count(const df1_t *h);
+/* Id of the tag with this name, or DF1_E_INVAL. */
+DF1_API int df1_tag_find(const df1_t *h, const char *name);
+/* Fill *st with the tag's current state. 0 or DF1_E_INVAL. */
+DF1_API int df1_tag_get(const df1_t *h, int id, struct df1_tag_state *st);
+
+/* Called from df1_poll() when a tag's value(s), quality or reason change. */
+typedef void (*df1_tag_fn)(void *user, int id, const struct df1_tag_state *st);
+DF1_API int df1_set_tag_callback(df1_t *h, df1_tag_fn fn, void *user);
+
+/* Queued writes. Safe from any thread. n values (1..count of the tag) are
+ * checked against the tag's type now (DF1_E_TYPE, DF1_E_RANGE, DF1_E_INVAL for a
+ * read-only tag) and sent by df1_poll() in the next free slot. Each accepted
+ * write ends exactly once through done(user, tag id, write id, result), called
+ * from the df1_poll() thread: result 0 = written, or the DF1_E_* of the failure.
+ * A failed write is never resent by the engine (DF1_E_TIMEOUT: the PLC may or
+ * may not have executed it). Writes still queued at df1_free() end with
+ * DF1_E_NOT_OPEN. Returns the write id (> 0) or DF1_E_*. */
+typedef void (*df1_write_done_fn)(void *user, int tag_id, int write_id, int result);
+DF1_API int df1_tag_write(df1_t *h, int id, const struct df1_value *v, size_t n,
+                          df1_write_done_fn done, void *user);
+
+/* Run the work that is due: queued writes, then one scan of what is due, with
+ * writes interleaved between its transactions. If nothing was due, wait up to
+ * timeout_ms (-1: until the next due item) for due work or a queued write, run
+ * it and return. Never sleeps otherwise. Returns the transactions done (0 if
+ * none) or DF1_E_NOT_OPEN, DF1_E_INTR (cancel fd), DF1_E_NOMEM, DF1_E_INVAL. */
+DF1_API int df1_poll(df1_t *h, int timeout_ms);
+/* Milliseconds until df1_poll() has due work (0 = now), or -1 when nothing is
+ * scheduled. A descriptor that becomes readable when a write is queued (for an
+ * application's own poll loop; df1_poll() drains it), or DF1_E_*. */
+DF1_API int df1_poll_next_ms(const df1_t *h);
+DF1_API int df1_poll_fd(df1_t *h);
+
+/* Station health (seed 000): a station goes offline when absolute_retries > 0
+ * and more than that many attempts in a row failed, or else when watchdog_ms
+ * passed since its last answer (at a failed attempt). Offline stations are
+ * retried once every watchdog_ms / 2. Defaults 10000 ms, 0.
+ * watchdog_ms 0..86400000, absolute_retries 0..1000. */
+DF1_API int df1_poll_set_watchdog(df1_t *h, int watchdog_ms, int absolute_retries);
+/* Station discovery (seed 002): every address lo..hi without tags is polled
+ * too (a link test in half duplex, an empty echo in full duplex): stations that
+ * answer are probed once per second, absent ones one address per second in
+ * turn. lo = -1 turns it off (default). */
+DF1_API int df1_poll_set_station_range(df1_t *h, int lo, int hi);
+
+struct df1_poll_stats {
+	uint64_t scans;                 /* scans completed */
+	int64_t last_scan_ms;           /* duration of the last scan */
+	int64_t max_scan_ms;
+	unsigned last_scan_transactions; /* reads and probes of the last scan, retries included */
+	uint64_t transactions;          /* all: reads, probes, writes */
+	uint64_t reads, read_failures;  /* block reads (retries included) */
+	uint64_t probes, probe_failures;
+	uint64_t writes, write_failures;
+	uint64_t retries;               /* seed 002 retries of a station that answered */
+	uint64_t splits;                /* blocks split after an address error */
+	unsigned tags, blocks;          /* scan list: tags, block reads per full scan */
+	unsigned stations_offline;
+	unsigned writes_queued;
+};
+DF1_API int df1_poll_stats(const df1_t *h, struct df1_poll_stats *out);
+
+enum df1_station_state {
+	DF1_STATION_UNKNOWN = 0,  /* not polled yet */
+	DF1_STATION_OK,           /* answered the last attempt */
+	DF1_STATION_FAILING,      /* failed, watchdog not expired: its tags UNCERTAIN */
+	DF1_STATION_OFFLINE,      /* watchdog expired: its tags BAD, slow retry */
+	DF1_STATION_ABSENT,       /* discovery: never answered */
+};
+struct df1_station_health {
+	int station;
+	enum df1_station_state state;
+	int tags, blocks;               /* readable tags and block reads of this station */
+	int64_t last_good_ms;           /* CLOCK_MONOTONIC ms of its last answer, 0 = never */
+	int64_t last_attempt_ms;
+	int64_t next_retry_ms;          /* OFFLINE: not before this time */
+	int consecutive_failures;
+	uint64_t attempts, failures;    /* transactions to it (reads, probes, writes) */
+	int last_error;
+};
+/* "unknown" "ok" "failing" "offline" "absent". */
+DF1_API const char *df1_station_state_name(enum df1_station_state s);
+DF1_API int df1_poll_station(const df1_t *h, int station, struct df1_station_health *out);
 
 #ifdef __cplusplus
 }

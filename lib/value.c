@@ -71,29 +71,32 @@ int value_put_string(uint8_t *p84, const char *text)
 	return value_put_string_n(p84, text, strlen(text));
 }
 
-/* The kind and wire size of one element of file type t (0 when t holds no elements). */
+/* The kind and wire size of one element of file type t (0 when t holds no elements).
+ * Sizes come from the one file-type table in addr.c. */
 static size_t value_elem_layout(enum df1_file_type t, enum df1_value_kind *k)
 {
+	int size = df1_file_type_element_size(t);
+
+	if (size <= 0)
+		return 0;
 	switch (t) {
-	case DF1_FT_O: case DF1_FT_I: case DF1_FT_S: case DF1_FT_B:
-	case DF1_FT_N: case DF1_FT_A:
-		*k = DF1_VAL_INT16;
-		return 2;
 	case DF1_FT_L:
 		*k = DF1_VAL_INT32;
-		return 4;
+		break;
 	case DF1_FT_F:
 		*k = DF1_VAL_FLOAT;
-		return 4;
+		break;
 	case DF1_FT_ST:
 		*k = DF1_VAL_STRING;
-		return ST_BYTES;
+		break;
 	case DF1_FT_T: case DF1_FT_C: case DF1_FT_R:
 		*k = DF1_VAL_TCR;
-		return 6;
+		break;
 	default:
-		return 0;
+		*k = DF1_VAL_INT16;
+		break;
 	}
+	return (size_t)size;
 }
 
 int value_decode_element(enum df1_file_type t, const uint8_t *p, size_t n, struct df1_value *v,
