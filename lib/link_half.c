@@ -1,0 +1,510 @@
+/*
+ * link_half.c - DF1 half duplex (spec/protocol.md 2, seeds/004 "Network Reads"
+ * and "Active Station List"): the master's transaction (master message, ACK,
+ * polls until the reply) and the slave that answers it.
+ *
+ * Master decisions:
+ *  - Active Station List: a transaction for an inactive station first sends
+ *    ONE poll; an EOT or any slave message (ACKed, counted stale) makes the
+ *    station active and the transaction goes on; anything else fails at once
+ *    with DF1_E_INACTIVE (2509). A transaction that fails on the link (NAK,
+ *    ENQ limit, command timeout) marks its station inactive; a reply marks it
+ *    active.
+ *  - Master message: the slave must DLE ACK within timeout_ms. A NAK or the
+ *    timeout is a retry (2541, 2521: retransmission); more than nak_retries
+ *    is DF1_E_NAK_LIMIT. Other symbols meanwhile are 2515 and ignored.
+ *  - Polls run from the first poll until cmd_timeout_ms (Cmd_Timeout; DLE EOT
+ *    means "not yet", the message is known to be outstanding). A poll with no
+ *    answer within timeout_ms, a frame with a bad check (not ACKed: the slave
+ *    sends it again, spec 2.3), a broken symbol or a NAK is an ENQ retry
+ *    (2543, 2522); more than enq_retries is DF1_E_ENQ_LIMIT. After an EOT the
+ *    next poll waits HD_REPOLL_GAP_MS (a read with that deadline: anything
+ *    arriving is still handled) so a TCP-attached line is not flooded.
+ *  - Cmd_Timeout: DLE NAK to the line (seeds/004 2545: "a NAK Symbol is sent
+ *    to the remote device to terminate processing"; in half duplex a NAK from
+ *    the master is the global link reset), 2545, 2508, DF1_E_TIMEOUT.
+ *  - Every good slave message is ACKed. Duplicates (same SRC CMD TNS as the
+ *    last message accepted from the polled station) are dropped (2549, 2524),
+ *    other non-matching messages are stale (2548, 2510); polling goes on.
+ *
+ * Slave decisions:
+ *  - Stations answered: h->serve_station[] (df1_server_add_station), or our own
+ *    cfg.station when none was added.
+ *  - A master message with a good check is ACKed and run; a bad one gets no
+ *    answer at all (spec 2.3). A duplicate is ACKed and not run again: its reply
+ *    is still queued and goes out on the next poll. With no reply slot free the
+ *    message is not ACKed (sink full): the master retries.
+ *  - A poll gets the oldest queued reply of that station, or DLE EOT. A reply
+ *    stays queued until the master's ACK, which must come before the master's
+ *    next poll or message (ACKs for other stations are on the line too; slave
+ *    frames in between, such as our own echo on a 2-wire line, do not count);
+ *    an unacknowledged reply is sent again on the next poll, at most
+ *    nak_retries times (2541), then dropped (2542, 2519).
+ *  - DLE NAK from the master: global link reset, every queued reply is dropped.
+ */
+#include "link.h"
+
+#include <string.h>
+
+#include "link_int.h"
+
+#define HD_REPOLL_GAP_MS 10
+
+enum hd_answer {
+	ANS_TIMEOUT = 0, /* nothing within the deadline */
+	ANS_EOT,         /* DLE EOT: nothing to send yet */
+	ANS_REPLY,       /* the reply to our command (copied out) */
+	ANS_SKIP,        /* a good message that is not it: ACKed and dropped */
+	ANS_BAD,         /* bad check, broken symbol, NAK */
+};
+
+/* ------------------------------------------------------------------------
+ * Master
+ * ------------------------------------------------------------------------ */
+
+/* The answer to a poll of stn (or what arrives while waiting after an EOT).
+ * cmd: the outstanding command, or NULL. Returns enum hd_answer or DF1_E_*;
+ * *cause is the catalog ID behind ANS_BAD / ANS_TIMEOUT. */
+static int hd_answer(struct df1 *h, uint8_t stn, const uint8_t *cmd, int64_t deadline_ms,
+                     uint8_t *reply, size_t cap, size_t *len, int *cause)
+{
+	for (;;) {
+		struct df1_symbol s;
+		int r = link_read_symbol(h, deadline_ms, &s);
+
+		if (r < 0)
+			return r;
+		if (r == 0) {
+			*cause = 2508;
+			return ANS_TIMEOUT;
+		}
+		switch (s.kind) {
+		case DF1_SYM_EOT:
+			df1_count(h, 2538); /* CNT_EOTS_RCVD */
+			return ANS_EOT;
+		case DF1_SYM_FRAME:
+			if (s.master_msg)
+				break; /* our own echo or another master: not an answer */
+			if (!s.check_ok) {
+				/* no ACK: the slave sends the same message on the next poll */
+				link_bad_check(h, &s);
+				*cause = s.check == DF1_CHECK_BCC ? 2507 : 2506;
+				return ANS_BAD;
+			}
+			if (link_is_dup(h, stn, s.data, s.len)) {
+				r = link_send_sym(h, DF1_ACK);
+				if (r < 0)
+					return r;
+				df1_count(h, 2526); /* CNT_MSG_PACKETS_RCVD */
+				df1_count(h, 2549); /* CNT_DUPLICATE_MSGS_RCVD */
+				df1_log(h, 2524, (int)stn);
+				return ANS_SKIP;
+			}
+			r = link_send_sym(h, DF1_ACK);
+			if (r < 0)
+				return r;
+			link_remember(h, stn, s.data, s.len);
+			r = link_take_reply(h, cmd, &s, reply, cap, len);
+			if (r < 0)
+				return r;
+			return r == 1 ? ANS_REPLY : ANS_SKIP;
+		case DF1_SYM_ERROR:
+			if (s.master_msg || (s.has_station && s.error == 2507))
+				break; /* a broken master message or poll: our echo, garbled */
+			link_log_error(h, &s);
+			*cause = s.error;
+			return ANS_BAD;
+		case DF1_SYM_NAK:
+			df1_count(h, 2534); /* CNT_NAKS_RCVD */
+			df1_log(h, 2517);
+			*cause = 2517;
+			return ANS_BAD;
+		case DF1_SYM_ACK:
+			df1_count(h, 2536); /* a stray ACK */
+			break;
+		default: /* a poll: our echo or another master */
+			break;
+		}
+	}
+}
+
+static int hd_send_poll(struct df1 *h, uint8_t stn)
+{
+	uint8_t poll[5];
+	size_t n = frame_encode_poll(stn, poll, sizeof poll);
+	int r = link_send_raw(h, poll, n);
+
+	if (r < 0)
+		return r;
+	df1_count(h, 2531); /* CNT_POLL_MSGS_SENT */
+	return 0;
+}
+
+/* Wait for the slave's DLE ACK of our master message: 1 ACK, 0 not (NAK or
+ * timeout, *cause), DF1_E_*. */
+static int hd_wait_ack(struct df1 *h, int64_t deadline_ms, int *cause)
+{
+	for (;;) {
+		struct df1_symbol s;
+		int r = link_read_symbol(h, deadline_ms, &s);
+
+		if (r < 0)
+			return r;
+		if (r == 0) {
+			*cause = 2508;
+			return 0;
+		}
+		switch (s.kind) {
+		case DF1_SYM_ACK:
+			df1_count(h, 2536); /* CNT_ACKS_RCVD */
+			return 1;
+		case DF1_SYM_NAK:
+			df1_count(h, 2534);
+			df1_log(h, 2517);
+			*cause = 2517;
+			return 0;
+		case DF1_SYM_EOT:
+			df1_log(h, 2515, DF1_EOT); /* NTC_ACK_EXPECTED */
+			break;
+		case DF1_SYM_FRAME:
+			if (!s.master_msg)
+				df1_log(h, 2515, DF1_STX);
+			break;
+		case DF1_SYM_ERROR:
+			df1_log(h, 2515, (int)s.bad_byte);
+			break;
+		default:
+			break;
+		}
+	}
+}
+
+/* The Active Station List probe: one poll. 0 (the station answered) or DF1_E_*. */
+static int hd_probe(struct df1 *h, uint8_t stn)
+{
+	size_t len = 0;
+	int cause = 0;
+	int r = hd_send_poll(h, stn);
+
+	if (r < 0)
+		return r;
+	r = hd_answer(h, stn, NULL, df1_now_ms() + link_timeout_ms(h), NULL, 0, &len, &cause);
+	if (r < 0)
+		return r;
+	if (r == ANS_EOT || r == ANS_SKIP) {
+		h->stations[stn].active = true;
+		return 0;
+	}
+	df1_log(h, 2509, (int)stn); /* ERR_INACTIVE_STATION */
+	return df1_fail(h, DF1_E_INACTIVE, stn, "slave station %d inactive", stn);
+}
+
+/* A link failure of a transaction: the station leaves the active list. */
+static int hd_failed(struct df1 *h, uint8_t stn, int code)
+{
+	h->stations[stn].active = false;
+	return code;
+}
+
+int link_half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap)
+{
+	uint8_t wire[FRAME_MAX_WIRE];
+	uint8_t stn = cmd[0];
+	size_t wn = frame_encode_master(link_tx_check(h), stn, h->cfg.hd_bcc_stx, cmd, n, wire,
+	                                sizeof wire);
+	int64_t cmd_deadline, wait = h->cfg.cmd_timeout_ms > 0 ? h->cfg.cmd_timeout_ms
+	                                                        : link_timeout_ms(h);
+	int tries = 0, enqs = 0, cause = 0, r;
+	bool poll_now = true;
+
+	if (wn == 0)
+		return df1_fail(h, DF1_E_INVAL, stn, "command of %zu bytes does not fit a frame", n);
+	if (!h->stations[stn].active) {
+		r = hd_probe(h, stn);
+		if (r < 0)
+			return r;
+	}
+
+	/* 1. the master message, until the slave ACKs it */
+	for (;;) {
+		r = link_send_raw(h, wire, wn);
+		if (r < 0)
+			return r;
+		df1_count(h, 2525); /* CNT_MSG_PACKETS_SENT */
+		if (tries == 0)
+			df1_count(h, 2527); /* CNT_CMD_MSGS_SENT */
+		r = hd_wait_ack(h, df1_now_ms() + link_timeout_ms(h), &cause);
+		if (r < 0)
+			return r;
+		if (r == 1)
+			break;
+		if (tries >= h->cfg.nak_retries) {
+			df1_count(h, 2542); /* CNT_NAK_LIMIT_EXCEEDED */
+			df1_log(h, 2519, h->cfg.nak_retries);
+			return hd_failed(h, stn, df1_fail(h, DF1_E_NAK_LIMIT, stn,
+			                 "station %d did not ACK the command (%d tries)", stn, tries + 1));
+		}
+		tries++;
+		df1_count(h, 2541); /* CNT_NAK_RETRIES */
+		df1_log(h, 2521, tries, cause);
+	}
+
+	/* 2. polls until the reply, the ENQ retry limit or Cmd_Timeout */
+	cmd_deadline = df1_now_ms() + wait;
+	for (;;) {
+		int64_t now = df1_now_ms(), dl;
+		bool polled = poll_now;
+		size_t len = 0;
+		int a;
+
+		if (now >= cmd_deadline) {
+			r = link_send_sym(h, DF1_NAK); /* end the slave's processing (seeds/004) */
+			if (r < 0)
+				return r;
+			df1_count(h, 2545); /* CNT_COMMAND_TIMEOUTS */
+			df1_log(h, 2508);
+			return hd_failed(h, stn, df1_fail(h, DF1_E_TIMEOUT, stn,
+			                 "no reply from station %d within %lld ms", stn, (long long)wait));
+		}
+		if (poll_now) {
+			r = hd_send_poll(h, stn);
+			if (r < 0)
+				return r;
+			dl = now + link_timeout_ms(h);
+		} else {
+			dl = now + HD_REPOLL_GAP_MS;
+		}
+		if (dl > cmd_deadline)
+			dl = cmd_deadline;
+		poll_now = true;
+		a = hd_answer(h, stn, cmd, dl, reply, cap, &len, &cause);
+		if (a < 0)
+			return a;
+		switch (a) {
+		case ANS_REPLY:
+			h->stations[stn].active = true;
+			return (int)len;
+		case ANS_EOT:
+			poll_now = false; /* the message is outstanding: poll again shortly */
+			break;
+		case ANS_SKIP:
+			break;
+		case ANS_TIMEOUT:
+			if (!polled || df1_now_ms() >= cmd_deadline)
+				break; /* the pause after an EOT ended / Cmd_Timeout: see above */
+			/* a poll without an answer */
+			__attribute__((fallthrough));
+		case ANS_BAD:
+		default:
+			if (enqs >= h->cfg.enq_retries) {
+				df1_count(h, 2544); /* CNT_ENQ_LIMIT_EXCEEDED */
+				df1_log(h, 2520, h->cfg.enq_retries);
+				return hd_failed(h, stn, df1_fail(h, DF1_E_ENQ_LIMIT, stn,
+				                 "no valid answer to %d polls of station %d", enqs + 1, stn));
+			}
+			enqs++;
+			df1_count(h, 2543); /* CNT_ENQ_RETRIES */
+			df1_log(h, 2522, enqs, cause);
+			break;
+		}
+	}
+}
+
+int link_half_test(struct df1 *h, uint8_t stn)
+{
+	size_t len = 0;
+	int cause = 0;
+	int r = hd_send_poll(h, stn);
+
+	if (r < 0)
+		return r;
+	r = hd_answer(h, stn, NULL, df1_now_ms() + link_timeout_ms(h), NULL, 0, &len, &cause);
+	if (r < 0)
+		return r;
+	switch (r) {
+	case ANS_EOT:
+	case ANS_SKIP:
+		h->stations[stn].active = true;
+		return 0;
+	case ANS_TIMEOUT:
+		return df1_fail(h, DF1_E_TIMEOUT, stn, "station %d did not answer the poll", stn);
+	default:
+		switch (cause) {
+		case 2506:
+			return df1_fail(h, DF1_E_CRC, stn, "station %d answered with a bad CRC", stn);
+		case 2507:
+			return df1_fail(h, DF1_E_BCC, stn, "station %d answered with a bad BCC", stn);
+		case 2517:
+			return df1_fail(h, DF1_E_NAK, stn, "station %d answered NAK", stn);
+		default:
+			return df1_fail(h, DF1_E_BAD_REPLY, stn, "station %d answered garbage", stn);
+		}
+	}
+}
+
+/* ------------------------------------------------------------------------
+ * Slave
+ * ------------------------------------------------------------------------ */
+
+static bool hd_serves(const struct df1 *h, uint8_t stn, bool any_added)
+{
+	return any_added ? h->serve_station[stn] : stn == (uint8_t)h->cfg.station;
+}
+
+/* A poll for one of our stations: the oldest queued reply, or DLE EOT. */
+static int hd_slave_poll(struct df1 *h, uint8_t stn)
+{
+	struct link_reply *t;
+	int r;
+
+	df1_count(h, 2532); /* CNT_POLL_MSGS_RCVD */
+	for (;;) {
+		t = link_slot_oldest(h, false, stn);
+		if (!t || !t->sent)
+			break;
+		/* sent on an earlier poll and not ACKed: again, up to nak_retries times */
+		if (t->naks < h->cfg.nak_retries) {
+			t->naks++;
+			df1_count(h, 2541); /* CNT_NAK_RETRIES */
+			df1_log(h, 2521, t->naks, 2515);
+			break;
+		}
+		df1_count(h, 2542);
+		df1_log(h, 2519, h->cfg.nak_retries);
+		t->used = false;
+	}
+	if (t && t->due_ms > df1_now_ms())
+		t = NULL; /* DF1_FAULT_DELAY_REPLY: not ready yet */
+	if (!t)
+		return link_send_sym(h, DF1_EOT);
+	h->link.awaiting = (int)(t - h->link.replies) + 1;
+	if (t->stale_first) {
+		t->stale_first = false;
+		h->link.awaiting_stale = true;
+		return link_slot_send(h, t, true, true);
+	}
+	h->link.awaiting_stale = false;
+	r = link_slot_send(h, t, false, !t->sent);
+	t->sent = true;
+	return r;
+}
+
+/* A master message. Returns 1 when the handler ran, 0, or DF1_E_*. */
+static int hd_slave_msg(struct df1 *h, const struct df1_symbol *s, link_handler_fn fn, void *ctx)
+{
+	uint8_t out[FRAME_MAX_DATA];
+	const uint8_t *d = s->data;
+	uint8_t stn = s->station;
+	int r, rlen;
+
+	if (!s->check_ok) {
+		link_bad_check(h, s); /* no answer: the master times out and retries */
+		return 0;
+	}
+	if (link_is_dup(h, stn, d, s->len)) {
+		r = link_send_sym(h, DF1_ACK); /* not run again; its reply is still queued */
+		df1_count(h, 2526);
+		df1_count(h, 2549);
+		df1_log(h, 2524, (int)d[1]);
+		return r < 0 ? r : 0;
+	}
+	if (d[2] & 0x40) {
+		/* a reply: this slave sent no command */
+		r = link_send_sym(h, DF1_ACK);
+		link_remember(h, stn, d, s->len);
+		df1_count(h, 2526);
+		df1_count(h, 2548);
+		df1_log(h, 2510, (int)d[1], (int)d[0], (int)(d[4] | d[5] << 8));
+		return r < 0 ? r : 0;
+	}
+	if (link_fault(h, DF1_FAULT_NAK_COMMAND)) {
+		r = link_send_sym(h, DF1_NAK);
+		return r < 0 ? r : 0;
+	}
+	if (!link_slot_free_exists(h))
+		return 0; /* sink full: no ACK, the master sends it again later */
+	if (!link_fault(h, DF1_FAULT_DROP_ACK)) {
+		r = link_send_sym(h, DF1_ACK);
+		if (r < 0)
+			return r;
+	}
+	link_remember(h, stn, d, s->len);
+	df1_count(h, 2526); /* CNT_MSG_PACKETS_RCVD */
+	df1_count(h, 2528); /* CNT_CMD_MSGS_RCVD */
+	rlen = fn(h, ctx, d, s->len, out, sizeof out);
+	if (rlen > 0 && (size_t)rlen <= sizeof out)
+		(void)link_slot_new(h, stn, out, (size_t)rlen);
+	return 1;
+}
+
+int link_half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms)
+{
+	bool any_added = false;
+	int served = 0;
+
+	for (int i = 0; i < 256; i++)
+		any_added = any_added || h->serve_station[i];
+	for (;;) {
+		struct df1_symbol s;
+		int r, awaiting;
+		bool awaiting_stale;
+
+		if (df1_now_ms() >= deadline_ms)
+			return served;
+		if (served > 0 && h->rx_pos >= h->rx_len && !frame_decoder_busy(&h->dec))
+			return served;
+		r = link_read_symbol(h, deadline_ms, &s);
+		if (r < 0)
+			return r;
+		if (r == 0)
+			return served;
+		/* An ACK is for our reply only before the master moves on (its next
+		 * poll or message); slave frames in between are our own echo. */
+		awaiting = h->link.awaiting;
+		awaiting_stale = h->link.awaiting_stale;
+		if (s.kind == DF1_SYM_ACK || s.kind == DF1_SYM_POLL ||
+		    (s.kind == DF1_SYM_FRAME && s.master_msg)) {
+			h->link.awaiting = 0;
+			h->link.awaiting_stale = false;
+		}
+		r = 0;
+		switch (s.kind) {
+		case DF1_SYM_ACK:
+			if (awaiting > 0) {
+				df1_count(h, 2536); /* CNT_ACKS_RCVD */
+				if (!awaiting_stale)
+					h->link.replies[awaiting - 1].used = false;
+			}
+			break;
+		case DF1_SYM_NAK:
+			/* the master's global link reset (spec 2.1) */
+			df1_count(h, 2534);
+			df1_log(h, 2517);
+			link_slots_clear(h);
+			break;
+		case DF1_SYM_POLL:
+			if (hd_serves(h, s.station, any_added) && !link_fault_silent(h, s.station))
+				r = hd_slave_poll(h, s.station);
+			break;
+		case DF1_SYM_FRAME:
+			/* slave messages on the line are other stations' business */
+			if (s.master_msg && hd_serves(h, s.station, any_added) &&
+			    !link_fault_silent(h, s.station)) {
+				r = hd_slave_msg(h, &s, fn, ctx);
+				if (r > 0) {
+					served++;
+					r = 0;
+				}
+			}
+			break;
+		case DF1_SYM_ERROR:
+			if (s.has_station && hd_serves(h, s.station, any_added))
+				link_log_error(h, &s); /* no answer */
+			break;
+		default:
+			break;
+		}
+		if (r < 0)
+			return r;
+	}
+}

@@ -1,0 +1,50 @@
+/*
+ * link_int.h - what lib/link.c (shared parts, full duplex) and lib/link_half.c
+ * (half-duplex master and slave) share. Not used outside the link module.
+ */
+#ifndef LIBDF1_LINK_INT_H
+#define LIBDF1_LINK_INT_H
+
+#include "df1_int.h"
+#include "link.h"
+
+/* setup */
+unsigned link_decoder_opts(const struct df1 *h);
+int link_setup(struct df1 *h);
+enum df1_check link_tx_check(const struct df1 *h);
+int64_t link_timeout_ms(const struct df1 *h);
+
+/* transmission: DLE sym with its counter (ACK/NAK also set the last response) */
+int link_send_sym(struct df1 *h, uint8_t sym);
+
+/* reception: 1 (sym filled), 0 (deadline passed), DF1_E_* */
+int link_read_symbol(struct df1 *h, int64_t deadline_ms, struct df1_symbol *sym);
+void link_bad_check(struct df1 *h, const struct df1_symbol *s);
+bool link_log_error(struct df1 *h, const struct df1_symbol *s);
+
+/* duplicate detection, per station key */
+bool link_is_dup(const struct df1 *h, uint8_t key, const uint8_t *app, size_t n);
+void link_remember(struct df1 *h, uint8_t key, const uint8_t *app, size_t n);
+/* An accepted (ACKed) message on the master side: 1 = the reply to cmd (copied),
+ * 0 = stale / unsolicited (counted, dropped; always when cmd is NULL), DF1_E_*. */
+int link_take_reply(struct df1 *h, const uint8_t *cmd, const struct df1_symbol *s,
+                    uint8_t *reply, size_t cap, size_t *len);
+
+/* faults */
+bool link_fault(struct df1 *h, enum df1_fault f);
+bool link_fault_silent(struct df1 *h, uint8_t station);
+size_t link_noise_bytes(struct df1 *h, uint8_t *out);
+
+/* reply slots */
+struct link_reply *link_slot_new(struct df1 *h, uint8_t stn, const uint8_t *app, size_t n);
+bool link_slot_free_exists(const struct df1 *h);
+struct link_reply *link_slot_oldest(struct df1 *h, bool all, uint8_t stn);
+void link_slots_clear(struct df1 *h);
+int link_slot_send(struct df1 *h, struct link_reply *r, bool stale, bool first);
+
+/* half duplex (link_half.c) */
+int link_half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap);
+int link_half_test(struct df1 *h, uint8_t station);
+int link_half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms);
+
+#endif
