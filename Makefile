@@ -44,6 +44,9 @@ TEST_HELPER_OBJS := $(TEST_HELPERS:%.c=$(B)/%.o)
 STATIC := $(B)/libdf1.a
 SHARED := $(B)/libdf1.so.$(VERSION)
 
+# keep objects of chained rules (tools, tests) for quick rebuilds
+.SECONDARY:
+
 .PHONY: all check test-run tests install uninstall clean demo bench lint-man check-exports deps
 all: $(STATIC) $(SHARED) $(TOOLS) $(B)/libdf1.pc
 
