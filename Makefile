@@ -119,7 +119,10 @@ install: all
 	ln -sf libdf1.so.$(VERSION) $(DESTDIR)$(LIBDIR)/libdf1.so.$(MAJOR)
 	ln -sf libdf1.so.$(MAJOR) $(DESTDIR)$(LIBDIR)/libdf1.so
 	install -m 644 include/df1.h $(DESTDIR)$(INCLUDEDIR)/
-	install -m 644 $(B)/libdf1.pc $(DESTDIR)$(PKGCONFIGDIR)/
+	# generated here, so that the PREFIX of this install is the one recorded
+	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
+	    -e 's|@INCLUDEDIR@|$(INCLUDEDIR)|' -e 's|@VERSION@|$(VERSION)|' libdf1.pc.in \
+	    > $(DESTDIR)$(PKGCONFIGDIR)/libdf1.pc
 	for f in man/man1/*.1; do [ -f "$$f" ] && install -m 644 $$f $(DESTDIR)$(MANDIR)/man1/; done; true
 	for f in man/man3/*.3; do [ -f "$$f" ] && install -m 644 $$f $(DESTDIR)$(MANDIR)/man3/; done; true
 	for f in man/man7/*.7; do [ -f "$$f" ] && install -m 644 $$f $(DESTDIR)$(MANDIR)/man7/; done; true
