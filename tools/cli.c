@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/time.h>
 #include <unistd.h>
 
 #include "decode.h"
@@ -619,6 +620,14 @@ int cli_report(const char *tool, const char *address, int station, const df1_t *
 	return cli_exit_status(err);
 }
 
+void cli_error_text(const df1_t *h, int err, char *buf, size_t cap)
+{
+	char tag[96], text[256];
+
+	error_parts(h, err, tag, sizeof tag, text, sizeof text);
+	snprintf(buf, cap, "%s: %s", tag, text);
+}
+
 /* ---- the handle ---- */
 
 void cli_log(void *user, int catalog_id, enum df1_severity sev, const char *text)
@@ -810,6 +819,26 @@ int cli_signals_install(void)
 	sa.sa_flags = 0;
 	sigaction(SIGPIPE, &sa, NULL);
 	return sig_pipe[0];
+}
+
+int cli_stop_after_ms(long ms)
+{
+	struct sigaction sa;
+	struct itimerval it;
+
+	if (ms <= 0) {
+		errno = EINVAL;
+		return -1;
+	}
+	memset(&sa, 0, sizeof sa);
+	sa.sa_handler = on_signal;
+	sigemptyset(&sa.sa_mask);
+	if (sigaction(SIGALRM, &sa, NULL) < 0)
+		return -1;
+	memset(&it, 0, sizeof it);
+	it.it_value.tv_sec = ms / 1000;
+	it.it_value.tv_usec = (ms % 1000) * 1000;
+	return setitimer(ITIMER_REAL, &it, NULL);
 }
 
 int cli_signal_fd(void)

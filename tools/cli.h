@@ -169,6 +169,8 @@ void cli_close(struct cli *c, df1_t *h);
  *   "df1read: N7:0: station 1: [2508] ERR_COMMAND_TIMEOUT: command timed out"
  * address may be NULL, station < 0 leaves it out. Returns the exit status for err. */
 int cli_report(const char *tool, const char *address, int station, const df1_t *h, int err);
+/* The same "[2508] ERR_COMMAND_TIMEOUT: text" as cli_report, into buf (for data lines). */
+void cli_error_text(const df1_t *h, int err, char *buf, size_t cap);
 /* Exit status for a DF1_E_* code: 2 for address/type/value/configuration errors, else 1. */
 int cli_exit_status(int err);
 /* "[2508] ERR_COMMAND_TIMEOUT" for a catalog ID, else the error name ("DF1_E_REMOTE"). */
@@ -185,6 +187,10 @@ extern volatile sig_atomic_t cli_stop;
 int cli_signals_install(void);
 int cli_signal_fd(void);       /* read end of the self-pipe, or -1 */
 int cli_stop_signal(void);     /* the signal that stopped us, or 0 */
+/* Stop after ms milliseconds as a signal would (SIGALRM through the same handler and
+ * self-pipe; cli_stop_signal() then returns SIGALRM). Call after cli_signals_install.
+ * Returns 0 or -1 (errno set). */
+int cli_stop_after_ms(long ms);
 
 /* JSON: print s as a JSON string (quotes included), escaping control characters,
  * quotes, backslashes and invalid UTF-8 bytes (as \u00XX). */
