@@ -50,13 +50,22 @@ SHARED := $(B)/libdf1.so.$(VERSION)
 .PHONY: all check test-run tests install uninstall clean demo bench lint-man check-exports deps
 all: $(STATIC) $(SHARED) $(TOOLS) $(B)/libdf1.pc
 
+# V=1 shows the full commands
+ifeq ($(V),1)
+  Q =
+else
+  Q = @
+endif
+
 $(B)/%.o: %.c $(wildcard include/*.h lib/*.h tools/*.h tests/*.h)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS) $(EXTRA) $(DF1_CFLAGS) -c -o $@ $<
+	@$(if $(Q),echo "  CC      $@")
+	$(Q)$(CC) $(CFLAGS) $(EXTRA) $(DF1_CFLAGS) -c -o $@ $<
 
 $(B)/pic/%.o: %.c $(wildcard include/*.h lib/*.h)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS) $(EXTRA) $(DF1_CFLAGS) -fPIC -c -o $@ $<
+	@$(if $(Q),echo "  CC      $@")
+	$(Q)$(CC) $(CFLAGS) $(EXTRA) $(DF1_CFLAGS) -fPIC -c -o $@ $<
 
 $(STATIC): $(LIB_OBJS)
 	@rm -f $@

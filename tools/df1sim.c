@@ -262,15 +262,18 @@ static struct sim_table *table_clone(const struct sim_table *src)
 
 static struct sim_table *table_default(void)
 {
-	static const enum df1_file_type defaults[9] = {
+	/* O0..F8 as every SLC has them, plus ST9 L10 A11 so that every data
+	 * type can be read without a --data file (file number = index). */
+	static const enum df1_file_type defaults[12] = {
 		DF1_FT_O, DF1_FT_I, DF1_FT_S, DF1_FT_B, DF1_FT_T, DF1_FT_C, DF1_FT_R, DF1_FT_N, DF1_FT_F,
+		DF1_FT_ST, DF1_FT_L, DF1_FT_A,
 	};
 	struct sim_table *t = calloc(1, sizeof *t);
 
 	if (!t)
 		return NULL;
 	t->mode = MODE_RUN;
-	for (int i = 0; i < 9; i++) {
+	for (int i = 0; i < 12; i++) {
 		t->files[i] = file_new(defaults[i], ELEMS_DEFAULT);
 		if (!t->files[i]) {
 			table_free(t);
