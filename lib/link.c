@@ -47,7 +47,7 @@
  *  - Faults: DROP_ACK and NAK_COMMAND act on new commands only (duplicates are
  *    ACKed), so one dropped ACK leads to exactly one execution. DROP_ACK leaves
  *    the last response at ACK, as a lost ACK would: an ENQ then gets the ACK.
- *    STALE_REPLY sends a copy of the reply with TNS - 1 first; CORRUPT_REPLY
+ *    STALE_REPLY sends a copy of the reply with TNS - 2 first; CORRUPT_REPLY
  *    inverts the last check byte of the first transmission; NOISE puts 3 random
  *    non-DLE bytes before a reply frame; DELAY_REPLY holds the reply back for
  *    `value` ms while the link keeps answering; SILENT_STATION ignores frames
@@ -522,7 +522,9 @@ int link_slot_send(struct df1 *h, struct link_reply *r, bool stale, bool first)
 
 	memcpy(app, r->app, r->len);
 	if (stale) {
-		uint16_t tns = (uint16_t)((app[4] | app[5] << 8) - 1);
+		/* TNS - 2, not - 1: a master that increments its TNS has just accepted
+		 * TNS - 1, and that copy would be a duplicate, not a stale reply. */
+		uint16_t tns = (uint16_t)((app[4] | app[5] << 8) - 2);
 
 		app[4] = (uint8_t)(tns & 0xFF);
 		app[5] = (uint8_t)(tns >> 8);

@@ -235,7 +235,9 @@ static int termios_open(struct df1 *h, const char *path)
 	r = termios_configure(h);
 	if (r < 0)
 		goto fail;
-	if (tcflush(fd, TCIOFLUSH) < 0) {
+	/* input only: on a pty, flushing output from this side would also drop
+	 * what the peer has not read yet (the previous user's last DLE ACK). */
+	if (tcflush(fd, TCIFLUSH) < 0) {
 		r = port_fail_sys(h, DF1_E_SYS, errno, "tcflush on");
 		goto fail;
 	}
