@@ -545,7 +545,8 @@ struct df1_tag_state {
 
 /* Add a tag; copies *c. count 1..1000; scan_ms >= 0 (0: every scan), c->name
  * unique when not empty. Returns the tag id (0, 1, ...) or DF1_E_INVAL /
- * DF1_E_CONFIG (duplicate name) / DF1_E_NOMEM. Readable tags (DF1_ACCESS_READ
+ * DF1_E_CONFIG (duplicate name) / DF1_E_TYPE, DF1_E_ADDR_RANGE (bits that do not
+ * fit the file or their word) / DF1_E_NOMEM. Readable tags (DF1_ACCESS_READ
  * bit) are polled; write-only tags only take df1_tag_write(). */
 DF1_API int df1_tag_add(df1_t *h, const struct df1_tag_config *c);
 /* Add every row of a mapping CSV (df1_map_load). Rows with problems and
@@ -580,7 +581,8 @@ DF1_API int df1_tag_write(df1_t *h, int id, const struct df1_value *v, size_t n,
  * writes interleaved between its transactions. If nothing was due, wait up to
  * timeout_ms (-1: until the next due item) for due work or a queued write, run
  * it and return. Never sleeps otherwise. Returns the transactions done (0 if
- * none) or DF1_E_NOT_OPEN, DF1_E_INTR (cancel fd), DF1_E_NOMEM, DF1_E_INVAL. */
+ * none) or DF1_E_NOT_OPEN, DF1_E_INTR (cancel fd), DF1_E_NOMEM, DF1_E_INVAL,
+ * DF1_E_SYS. Communication and PLC errors go to tag quality and station health. */
 DF1_API int df1_poll(df1_t *h, int timeout_ms);
 /* Milliseconds until df1_poll() has due work (0 = now), or -1 when nothing is
  * scheduled. A descriptor that becomes readable when a write is queued (for an

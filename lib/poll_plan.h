@@ -1,0 +1,61 @@
+/*
+ * poll_plan.h - the poll engine's pure block planner (lib/poll.c), exposed for unit
+ * tests. No I/O, no clock, no allocation.
+ *
+ * Coalescing rule (df1_poll(3)): items of one station, PLC type, file and file
+ * type are sorted by element and packed greedily from the lowest element: an
+ * item joins the open block when the block then takes no more packets than
+ * before (one packet of `limit` bytes, elements costed by `cost`, unless a
+ * single item is already larger) and the gap it bridges costs no more wire
+ * bytes than one more read transaction would (gap_max bytes). Greedy packing
+ * from the left gives the fewest blocks for these two rules (checked against
+ * an exhaustive search in tests/test_poll.c).
+ * An item marked alone (isolated after an address error, an I/O word, a PLC-5
+ * ASCII address) is a block of its own and is never bridged over.
+ */
+#ifndef LIBDF1_POLL_PLAN_H
+#define LIBDF1_POLL_PLAN_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include "df1.h"
+
+/* Wire bytes of one more read transaction, before DLE stuffing: command frame
+ * (DLE STX, 6 header bytes, FNC and 5 address bytes, DLE ETX, CRC), reply
+ * framing (DLE STX, 6 header bytes, DLE ETX, CRC) and the two DLE ACKs; half
+ * duplex adds DLE SOH STN and one poll (DLE ENQ STN BCC). */
+#define POLL_TX_OVERHEAD_FULL 34
+#define POLL_TX_OVERHEAD_HALF 41
+
+struct poll_item {
+	int station;
+	enum df1_plc plc;
+	enum df1_file_type type;
+	int file;
+	int first, count;       /* elements covered: first .. first + count - 1 */
+	int cost;               /* packet bytes per element (plc_read_elem_cost) */
+	int limit;              /* packet bytes for this item's PLC type (plc_read_limit) */
+	bool alone;
+	int period_ms;
+	int tag;                /* the caller's index, carried along */
+};
+
+struct poll_block {
+	int station;
+	enum df1_plc plc;
+	enum df1_file_type type;
+	int file;
+	int first, count;       /* elements read */
+	bool alone;
+	int period_ms;          /* the shortest period of its members */
+	size_t member0, nmembers; /* items[member0 .. member0 + nmembers) after sorting */
+};
+
+/* Sort items (station, PLC, file, file type, element) and plan blocks into out.
+ * Returns the number of blocks (<= n), or DF1_E_NOSPACE if cap is too small. */
+int poll_plan(struct poll_item *items, size_t n, int gap_max, struct poll_block *out, size_t cap);
+
+/* Transactions a block takes (packets of its PLC type's limit). */
+int poll_block_packets(const struct poll_block *b, const struct poll_item *items);
+
+#endif

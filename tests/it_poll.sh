@@ -1,0 +1,160 @@
+#!/bin/sh
+# it_poll - df1mon --map (the poll engine's live table, tools/mon_map.c) against
+# df1sim: one-shot scans in plain, csv and json; exit status 0 when every
+# readable tag is GOOD, 1 when one is BAD (a missing file, a silent station),
+# 2 for a missing or empty mapping file; rows with problems are reported on
+# stderr and skipped; --counters adds the counter table. Run from the
+# repository root with DF1_BIN=<build/bin>. Skips (passes) when this df1mon
+# was built without --map.
+set -u
+
+BIN=${DF1_BIN:-$(pwd)/build/bin}
+SIM="$BIN/df1sim"
+MON="$BIN/df1mon"
+T=$(mktemp -d "${TMPDIR:-/tmp}/it_poll.XXXXXX") || exit 1
+fails=0
+pid=
+dog=
+
+cleanup() {
+	[ -n "$pid" ] && kill "$pid" 2>/dev/null
+	[ -n "$dog" ] && kill "$dog" 2>/dev/null
+	exec 3<&- 2>/dev/null
+	rm -rf "$T"
+}
+trap cleanup EXIT
+
+ok() { echo "ok   $1"; }
+fail() { echo "FAIL $1"; fails=$((fails + 1)); }
+
+# start ARGS...: df1sim in the background; waits for its ready line (10 s watchdog).
+start() {
+	rm -f "$T/out"
+	mkfifo "$T/out" || exit 1
+	"$SIM" "$@" > "$T/out" 2> "$T/simerr" &
+	pid=$!
+	( sleep 10; kill "$pid" 2>/dev/null ) &
+	dog=$!
+	exec 3< "$T/out"
+	line=
+	IFS= read -r line <&3 || line=
+	kill "$dog" 2>/dev/null
+	wait "$dog" 2>/dev/null
+	dog=
+}
+
+stop() {
+	kill -s TERM "$pid" 2>/dev/null
+	wait "$pid"
+	pid=
+	exec 3<&-
+}
+
+[ -x "$SIM" ] && [ -x "$MON" ] || { echo "FAIL tools not built in $BIN"; exit 1; }
+if ! "$MON" --help 2>&1 | grep -q -- '--map'; then
+	echo "skip: df1mon has no --map"
+	exit 0
+fi
+
+cat > "$T/good.csv" <<'EOF'
+Tag,Command,Type,Station,PLC_Type,Address,Count,Scan_Ms
+Speed,Read,INT,1,SLC,N7:5,1,500
+Levels,Read,FLOAT,1,SLC,F8:0,3,500
+Run,Read,BOOL,1,SLC,B3:0/0,1,500
+Acc,Read,INT,1,SLC,T4:1.PRE,1,500
+Setpoint,Write,INT,1,SLC,N7:100,1,500
+EOF
+{ cat "$T/good.csv"; echo "Missing,Read,INT,1,SLC,N77:0,1,500"; } > "$T/bad.csv"
+{ cat "$T/good.csv"; echo "Far,Read,INT,2,SLC,N7:0,1,500"; } > "$T/silent.csv"
+cat > "$T/rows.csv" <<'EOF'
+Tag,Command,Type,Station,PLC_Type,Address,Count,Scan_Ms
+Speed,Read,INT,1,SLC,N7:5,1,500
+Broken,Read,INT,300,SLC,N7:0,1,500
+Syntax,Read,INT,1,SLC,Q7:0,1,500
+EOF
+printf 'Tag,Command,Type,Station,PLC_Type,Address\nBad,Read,INT,999,SLC,N7:0\n' > "$T/none.csv"
+
+start --pty "$T/plc" --duplex half --station 1,2 --silent 2
+[ "$line" = "$T/plc" ] || { echo "FAIL df1sim did not start: '$line'"; cat "$T/simerr"; exit 1; }
+D="-d $T/plc --duplex half -o 100"
+
+# 1. plain, one scan, every tag GOOD: exit 0
+"$MON" $D --map "$T/good.csv" -1 > "$T/o" 2> "$T/e"
+rc=$?
+if [ "$rc" -eq 0 ] && grep -q '^Speed .* 5 .*GOOD' "$T/o" && grep -q '^Levels .*0\.5,1\.5,2\.5' "$T/o" \
+	&& grep -q '^Acc .*100 .*GOOD' "$T/o" && grep -q '^Setpoint .*write-only' "$T/o" \
+	&& grep -q '^scan 1:' "$T/o" && ! grep -q "$(printf '\033')" "$T/o"; then
+	ok "plain one-shot: values, qualities, exit 0, no ANSI on a pipe"
+else
+	fail "plain one-shot (rc=$rc)"; cat "$T/o" "$T/e"
+fi
+
+# 2. a tag on a missing file: BAD plc_error, exit 1
+"$MON" $D --map "$T/bad.csv" -1 > "$T/o" 2> "$T/e"
+rc=$?
+if [ "$rc" -eq 1 ] && grep -q '^Missing .*BAD plc_error' "$T/o" && grep -q '^Speed .*GOOD' "$T/o"; then
+	ok "bad tag: BAD plc_error, the others GOOD, exit 1"
+else
+	fail "bad tag (rc=$rc)"; cat "$T/o" "$T/e"
+fi
+
+# 3. a silent station: its tag BAD comm_failure after one scan, exit 1
+"$MON" $D --map "$T/silent.csv" -1 > "$T/o" 2> "$T/e"
+rc=$?
+if [ "$rc" -eq 1 ] && grep -q '^Far .*BAD comm_failure' "$T/o" && grep -q '^Speed .*GOOD' "$T/o"; then
+	ok "silent station: BAD comm_failure, exit 1"
+else
+	fail "silent station (rc=$rc)"; cat "$T/o" "$T/e"
+fi
+
+# 4. csv: the header, one row per tag
+"$MON" $D --map "$T/good.csv" -1 -f csv > "$T/o" 2> "$T/e"
+rc=$?
+if [ "$rc" -eq 0 ] && [ "$(head -n 1 "$T/o")" = "t,scan,tag,station,address,value,quality,reason,age_ms" ] \
+	&& [ "$(grep -c ',1,' "$T/o")" -ge 5 ] && grep -q ',Levels,1,F8:0,0\.5 1\.5 2\.5,GOOD,none,' "$T/o"; then
+	ok "csv one-shot"
+else
+	fail "csv one-shot (rc=$rc)"; cat "$T/o" "$T/e"
+fi
+
+# 5. json: one object per tag
+"$MON" $D --map "$T/good.csv" -1 -f json > "$T/o" 2> "$T/e"
+rc=$?
+if [ "$rc" -eq 0 ] && [ "$(wc -l < "$T/o")" -eq 5 ] \
+	&& grep -q '"tag":"Levels","station":1,"address":"F8:0","value":\[0.5,1.5,2.5\],"quality":"GOOD"' "$T/o" \
+	&& grep -q '"tag":"Setpoint".*"value":null' "$T/o"; then
+	ok "json one-shot"
+else
+	fail "json one-shot (rc=$rc)"; cat "$T/o" "$T/e"
+fi
+
+# 6. --counters: the seed counter table and the scan statistics
+"$MON" $D --map "$T/good.csv" -1 --counters > "$T/o" 2> "$T/e"
+rc=$?
+if [ "$rc" -eq 0 ] && grep -q '^2525 CNT_MSG_PACKETS_SENT [1-9]' "$T/o" && grep -q 'transactions per scan' "$T/o"; then
+	ok "--counters"
+else
+	fail "--counters (rc=$rc)"; cat "$T/o" "$T/e"
+fi
+
+# 7. rows with problems are reported and skipped; the rest is polled
+"$MON" $D --map "$T/rows.csv" -1 > "$T/o" 2> "$T/e"
+rc=$?
+if [ "$rc" -eq 0 ] && grep -q '2501' "$T/e" && grep -q '2503' "$T/e" && grep -q '^Speed .*GOOD' "$T/o" \
+	&& ! grep -q '^Broken' "$T/o"; then
+	ok "bad rows reported on stderr and skipped"
+else
+	fail "bad rows (rc=$rc)"; cat "$T/o" "$T/e"
+fi
+
+# 8. configuration errors: exit 2
+"$MON" $D --map "$T/nonexistent.csv" -1 > "$T/o" 2> "$T/e"
+rc=$?
+if [ "$rc" -eq 2 ] && [ -s "$T/e" ] && [ ! -s "$T/o" ]; then ok "missing file: exit 2"; else fail "missing file (rc=$rc)"; cat "$T/e"; fi
+"$MON" $D --map "$T/none.csv" -1 > "$T/o" 2> "$T/e"
+rc=$?
+if [ "$rc" -eq 2 ] && grep -q 'no valid tag' "$T/e"; then ok "no valid tag: exit 2"; else fail "no valid tag (rc=$rc)"; cat "$T/e"; fi
+
+stop
+[ "$fails" -eq 0 ] || { echo "$fails failed"; exit 1; }
+echo "all passed"

@@ -1,0 +1,1054 @@
+/*
+ * test_poll - the poll engine (lib/poll.c): the pure block planner, the API
+ * without I/O, and the engine against df1sim as a separate process
+ * (tests/simproc.c) over pseudo-terminals:
+ *  - coalescing: 40 tags in two files take two reads (df1sim --log), the SLC
+ *    5/02 82-byte limit;
+ *  - a tag on a missing element / file is isolated by splitting, the others
+ *    stay GOOD, the split is kept (also across a re-plan);
+ *  - a station silenced (df1sim --silent, by restarting df1sim) gets two
+ *    retries, then one attempt per scan, goes offline after the absolute retry
+ *    count, is retried once per half watchdog, and on recovery gets back its
+ *    tags' states with a one-time read of every block;
+ *  - queued writes under --drop-ack and --corrupt end exactly once each, are
+ *    executed at most once (exactly once when reported written) and read back;
+ *  - a write from another thread wakes a df1_poll() that waits;
+ *  - station discovery over a range.
+ * Deadlines, never sleeps; counts are asserted, durations only as lower bounds
+ * the engine guarantees (the half-watchdog retry spacing).
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <poll.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/inotify.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "df1.h"
+#include "plc_limits.h"
+#include "poll_plan.h"
+#include "simproc.h"
+
+static int64_t now_ms(void)
+{
+	struct timespec ts;
+
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
+}
+
+/* ------------------------------------------------------------------------
+ * The planner (pure)
+ * ------------------------------------------------------------------------ */
+
+static struct poll_item item(int station, enum df1_plc plc, enum df1_file_type t, int file, int first,
+                             int count, int tag)
+{
+	struct poll_item it;
+	int es = df1_file_type_element_size(t);
+
+	memset(&it, 0, sizeof it);
+	it.station = station;
+	it.plc = plc;
+	it.type = t;
+	it.file = file;
+	it.first = first;
+	it.count = count;
+	it.cost = (int)plc_read_elem_cost(plc, t, (size_t)es, 0);
+	it.limit = (int)plc_read_limit(plc, 0);
+	it.period_ms = 1000;
+	it.tag = tag;
+	return it;
+}
+
+static void test_plan_contiguous_one_block(void **state)
+{
+	struct poll_item it[20];
+	struct poll_block b[20];
+
+	(void)state;
+	for (int i = 0; i < 20; i++)    /* given in reverse: the planner sorts */
+		it[i] = item(1, DF1_PLC_SLC, DF1_FT_N, 7, 19 - i, 1, i);
+	assert_int_equal(poll_plan(it, 20, POLL_TX_OVERHEAD_FULL, b, 20), 1);
+	assert_int_equal(b[0].first, 0);
+	assert_int_equal(b[0].count, 20);
+	assert_int_equal(b[0].nmembers, 20);
+	assert_int_equal(poll_block_packets(&b[0], it), 1);
+}
+
+static void test_plan_gap_rule(void **state)
+{
+	struct poll_item it[2];
+	struct poll_block b[2];
+
+	(void)state;
+	/* gap 17 words = 34 bytes = the full-duplex transaction overhead: bridged */
+	it[0] = item(1, DF1_PLC_SLC, DF1_FT_N, 7, 0, 1, 0);
+	it[1] = item(1, DF1_PLC_SLC, DF1_FT_N, 7, 18, 1, 1);
+	assert_int_equal(poll_plan(it, 2, POLL_TX_OVERHEAD_FULL, b, 2), 1);
+	assert_int_equal(b[0].count, 19);
+	/* gap 18 words = 36 bytes: two reads are cheaper */
+	it[0] = item(1, DF1_PLC_SLC, DF1_FT_N, 7, 0, 1, 0);
+	it[1] = item(1, DF1_PLC_SLC, DF1_FT_N, 7, 19, 1, 1);
+	assert_int_equal(poll_plan(it, 2, POLL_TX_OVERHEAD_FULL, b, 2), 2);
+	/* half duplex costs more per transaction: 20 words (40 bytes) still bridged */
+	it[0] = item(1, DF1_PLC_SLC, DF1_FT_N, 7, 0, 1, 0);
+	it[1] = item(1, DF1_PLC_SLC, DF1_FT_N, 7, 21, 1, 1);
+	assert_int_equal(poll_plan(it, 2, POLL_TX_OVERHEAD_HALF, b, 2), 1);
+	/* floats: a gap of 9 elements is 36 bytes */
+	it[0] = item(1, DF1_PLC_SLC, DF1_FT_F, 8, 0, 1, 0);
+	it[1] = item(1, DF1_PLC_SLC, DF1_FT_F, 8, 10, 1, 1);
+	assert_int_equal(poll_plan(it, 2, POLL_TX_OVERHEAD_FULL, b, 2), 2);
+	/* overlapping items are one block */
+	it[0] = item(1, DF1_PLC_SLC, DF1_FT_N, 7, 0, 10, 0);
+	it[1] = item(1, DF1_PLC_SLC, DF1_FT_N, 7, 5, 2, 1);
+	assert_int_equal(poll_plan(it, 2, POLL_TX_OVERHEAD_FULL, b, 2), 1);
+	assert_int_equal(b[0].count, 10);
+}
+
+static void test_plan_packet_limits(void **state)
+{
+	struct poll_item it[200];
+	struct poll_block b[200];
+	int n;
+
+	(void)state;
+	/* SLC 5/03+: 236 bytes = 118 words per read */
+	for (int i = 0; i < 200; i++)
+		it[i] = item(1, DF1_PLC_SLC, DF1_FT_N, 7, i, 1, i);
+	assert_int_equal(poll_plan(it, 200, POLL_TX_OVERHEAD_FULL, b, 200), 2);
+	assert_int_equal(b[0].count, 118);
+	assert_int_equal(b[1].first, 118);
+	assert_int_equal(b[1].count, 82);
+	/* SLC 5/01-5/02: 82 bytes = 41 words */
+	for (int i = 0; i < 200; i++)
+		it[i] = item(1, DF1_PLC_SLC502, DF1_FT_N, 7, i, 1, i);
+	assert_int_equal(poll_plan(it, 200, POLL_TX_OVERHEAD_FULL, b, 200), 5);
+	for (int k = 0; k < 4; k++)
+		assert_int_equal(b[k].count, 41);
+	/* floats: 59 per read */
+	for (int i = 0; i < 100; i++)
+		it[i] = item(1, DF1_PLC_MICROLOGIX, DF1_FT_F, 8, i, 1, i);
+	assert_int_equal(poll_plan(it, 100, POLL_TX_OVERHEAD_FULL, b, 100), 2);
+	assert_int_equal(b[0].count, 59);
+	/* PLC-5 timers are budgeted 10 bytes: 225 / 10 = 22 per read */
+	for (int i = 0; i < 30; i++)
+		it[i] = item(1, DF1_PLC_PLC5, DF1_FT_T, 4, i, 1, i);
+	assert_int_equal(poll_plan(it, 30, POLL_TX_OVERHEAD_FULL, b, 30), 2);
+	assert_int_equal(b[0].count, 22);
+	/* a PLC-5 string goes one per packet */
+	for (int i = 0; i < 3; i++)
+		it[i] = item(1, DF1_PLC_PLC5, DF1_FT_ST, 9, i, 1, i);
+	assert_int_equal(poll_plan(it, 3, POLL_TX_OVERHEAD_FULL, b, 3), 3);
+	/* a tag bigger than a packet is one block of several packets; a neighbour
+	 * that does not add a packet joins it */
+	it[0] = item(1, DF1_PLC_SLC, DF1_FT_N, 7, 0, 200, 0);
+	it[1] = item(1, DF1_PLC_SLC, DF1_FT_N, 7, 200, 1, 1);
+	n = poll_plan(it, 2, POLL_TX_OVERHEAD_FULL, b, 2);
+	assert_int_equal(n, 1);
+	assert_int_equal(poll_block_packets(&b[0], it), 2);
+	/* the cap is honoured */
+	for (int i = 0; i < 3; i++)
+		it[i] = item(i, DF1_PLC_SLC, DF1_FT_N, 7, 0, 1, i);
+	assert_int_equal(poll_plan(it, 3, POLL_TX_OVERHEAD_FULL, b, 2), DF1_E_NOSPACE);
+}
+
+static void test_plan_keys_and_alone(void **state)
+{
+	struct poll_item it[8];
+	struct poll_block b[8];
+
+	(void)state;
+	it[0] = item(2, DF1_PLC_SLC, DF1_FT_N, 7, 0, 1, 0);
+	it[1] = item(1, DF1_PLC_SLC, DF1_FT_N, 7, 1, 1, 1);
+	it[2] = item(1, DF1_PLC_SLC, DF1_FT_N, 10, 2, 1, 2);
+	it[3] = item(1, DF1_PLC_SLC, DF1_FT_N, 7, 2, 1, 3);
+	it[4] = item(1, DF1_PLC_SLC, DF1_FT_N, 7, 3, 1, 4);
+	it[4].alone = true;     /* e.g. isolated after an address error */
+	it[5] = item(1, DF1_PLC_SLC, DF1_FT_N, 7, 4, 1, 5);
+	assert_int_equal(poll_plan(it, 6, POLL_TX_OVERHEAD_FULL, b, 8), 5);
+	/* station 1 N7:1..2, N7:3 alone, N7:4, N10:2, station 2 N7:0 */
+	assert_int_equal(b[0].station, 1);
+	assert_int_equal(b[0].first, 1);
+	assert_int_equal(b[0].count, 2);
+	assert_int_equal(b[0].nmembers, 2);
+	assert_true(b[1].alone);
+	assert_int_equal(b[1].first, 3);
+	assert_int_equal(b[2].first, 4);
+	assert_int_equal(b[3].file, 10);
+	assert_int_equal(b[4].station, 2);
+	/* members are the sorted items, in place */
+	assert_int_equal(it[b[1].member0].tag, 4);
+	/* the block takes the shortest period of its members */
+	it[0] = item(1, DF1_PLC_SLC, DF1_FT_N, 7, 0, 1, 0);
+	it[1] = item(1, DF1_PLC_SLC, DF1_FT_N, 7, 1, 1, 1);
+	it[1].period_ms = 100;
+	assert_int_equal(poll_plan(it, 2, POLL_TX_OVERHEAD_FULL, b, 8), 1);
+	assert_int_equal(b[0].period_ms, 100);
+}
+
+/* The fewest blocks for sorted single-file items under the same two rules
+ * (dynamic programming over contiguous runs), to check the greedy planner. */
+static int plan_minimum(const struct poll_item *it, int n, int gap_max)
+{
+	int best[256];
+
+	best[0] = 0;
+	for (int j = 1; j <= n; j++) {
+		best[j] = 1 << 20;
+		for (int i = j - 1; i >= 0; i--) {
+			long first = it[i].first, end = 0;
+			bool ok = true;
+
+			for (int k = i; k < j; k++) {
+				long e = (long)it[k].first + it[k].count;
+
+				if (k > i && (long)it[k].first - end > 0 &&
+				    ((long)it[k].first - end) * it[k].cost > gap_max)
+					ok = false;
+				if (e > end)
+					end = e;
+			}
+			if ((end - first) * it[i].cost > it[i].limit)
+				ok = false;
+			if (ok && best[i] + 1 < best[j])
+				best[j] = best[i] + 1;
+		}
+	}
+	return best[n];
+}
+
+static void test_plan_greedy_is_minimal(void **state)
+{
+	unsigned seed = (unsigned)time(NULL);
+	struct poll_item it[64];
+	struct poll_block b[64];
+
+	(void)state;
+	print_message("seed %u\n", seed);
+	for (int round = 0; round < 500; round++) {
+		int n = 1 + (int)(rand_r(&seed) % 60), maxc = 1 + (int)(rand_r(&seed) % 30);
+
+		for (int i = 0; i < n; i++)
+			it[i] = item(1, DF1_PLC_SLC502, DF1_FT_N, 7, (int)(rand_r(&seed) % 300),
+			             1 + (int)(rand_r(&seed) % (unsigned)maxc), i);
+		int got = poll_plan(it, (size_t)n, POLL_TX_OVERHEAD_FULL, b, 64);
+		/* it[] is sorted now */
+		int want = plan_minimum(it, n, POLL_TX_OVERHEAD_FULL);
+
+		if (got != want)
+			fail_msg("seed %u round %d: %d blocks, minimum %d", seed, round, got, want);
+		for (int k = 0; k < got; k++)
+			assert_true(b[k].count * 2 <= 82 || b[k].nmembers == 1);
+	}
+}
+
+/* ------------------------------------------------------------------------
+ * The API without I/O
+ * ------------------------------------------------------------------------ */
+
+static struct df1_tag_config tagcfg(const char *name, int station, const char *addr, int count,
+                                    int scan_ms, enum df1_access acc, enum df1_plc plc)
+{
+	struct df1_tag_config c;
+
+	memset(&c, 0, sizeof c);
+	snprintf(c.name, sizeof c.name, "%s", name);
+	c.access = acc;
+	c.station = station;
+	c.plc = plc;
+	assert_int_equal(df1_addr_parse(addr, &c.addr), 0);
+	c.count = count;
+	c.scan_ms = scan_ms;
+	return c;
+}
+
+static int add(df1_t *h, const char *name, int station, const char *addr, int count, int scan_ms,
+               enum df1_access acc)
+{
+	struct df1_tag_config c = tagcfg(name, station, addr, count, scan_ms, acc, DF1_PLC_SLC);
+	int id = df1_tag_add(h, &c);
+
+	if (id < 0)
+		fail_msg("df1_tag_add %s %s: %s: %s", name, addr, df1_errname(id),
+		         df1_last_error(h)->message);
+	return id;
+}
+
+static struct {
+	int calls;
+	int result;
+	int wid;
+} done_rec;
+
+static void on_done_rec(void *user, int tag, int wid, int result)
+{
+	(void)user;
+	(void)tag;
+	done_rec.calls++;
+	done_rec.result = result;
+	done_rec.wid = wid;
+}
+
+static void test_api_tags(void **state)
+{
+	df1_t *h;
+	struct df1_tag_config c;
+	struct df1_tag_state st;
+	struct df1_value v;
+	int a, b, w;
+
+	(void)state;
+	assert_int_equal(df1_new(&h), 0);
+	assert_int_equal(df1_tag_count(h), 0);
+	a = add(h, "A", 1, "N7:0", 2, 100, DF1_ACCESS_READ);
+	b = add(h, "B", 2, "B3:0/3", 1, 0, DF1_ACCESS_READWRITE);
+	w = add(h, "W", 2, "F8:1", 1, 100, DF1_ACCESS_WRITE);
+	assert_int_equal(a, 0);
+	assert_int_equal(b, 1);
+	assert_int_equal(df1_tag_count(h), 3);
+	assert_int_equal(df1_tag_find(h, "B"), 1);
+	assert_int_equal(df1_tag_find(h, "nope"), DF1_E_INVAL);
+	/* invalid configurations */
+	c = tagcfg("A", 1, "N7:5", 1, 100, DF1_ACCESS_READ, DF1_PLC_SLC);
+	assert_int_equal(df1_tag_add(h, &c), DF1_E_CONFIG);            /* duplicate name */
+	c = tagcfg("C", 255, "N7:5", 1, 100, DF1_ACCESS_READ, DF1_PLC_SLC);
+	assert_int_equal(df1_tag_add(h, &c), DF1_E_INVAL);
+	c = tagcfg("C", 1, "N7:5", 0, 100, DF1_ACCESS_READ, DF1_PLC_SLC);
+	assert_int_equal(df1_tag_add(h, &c), DF1_E_INVAL);
+	c = tagcfg("C", 1, "F8:0", 1, 100, DF1_ACCESS_READ, DF1_PLC_SLC);
+	c.addr.bit = 3;
+	assert_int_equal(df1_tag_add(h, &c), DF1_E_TYPE);              /* no bits in F */
+	assert_int_equal(df1_tag_count(h), 3);
+	/* initial state */
+	assert_int_equal(df1_tag_get(h, a, &st), 0);
+	assert_int_equal(st.quality, DF1_QUALITY_BAD);
+	assert_int_equal(st.reason, DF1_REASON_NOT_YET_READ);
+	assert_false(st.has_value);
+	assert_int_equal(st.age_ms, -1);
+	assert_int_equal(st.count, 2);
+	assert_string_equal(st.config->name, "A");
+	assert_int_equal(st.value.kind, DF1_VAL_INT16);
+	assert_int_equal(df1_tag_get(h, 3, &st), DF1_E_INVAL);
+	assert_string_equal(df1_quality_name(DF1_QUALITY_UNCERTAIN), "UNCERTAIN");
+	assert_string_equal(df1_reason_name(DF1_REASON_STATION_OFFLINE), "station_offline");
+	assert_string_equal(df1_station_state_name(DF1_STATION_OFFLINE), "offline");
+	/* writes: checked at once */
+	memset(&v, 0, sizeof v);
+	v.kind = DF1_VAL_INT16;
+	assert_int_equal(df1_tag_write(h, a, &v, 1, NULL, NULL), DF1_E_INVAL);   /* read-only */
+	assert_int_equal(df1_tag_write(h, b, &v, 1, NULL, NULL), DF1_E_TYPE);    /* a bit */
+	assert_int_equal(df1_tag_write(h, 99, &v, 1, NULL, NULL), DF1_E_INVAL);
+	v.kind = DF1_VAL_STRING;
+	assert_int_equal(df1_tag_write(h, w, &v, 1, NULL, NULL), DF1_E_TYPE);
+	v.kind = DF1_VAL_FLOAT;
+	v.v.f = 2.5f;
+	assert_int_equal(df1_tag_write(h, w, &v, 2, NULL, NULL), DF1_E_INVAL);   /* count 1 */
+	/* not open: df1_poll refuses, the write stays queued and fails once at df1_free */
+	done_rec.calls = 0;
+	assert_true(df1_tag_write(h, w, &v, 1, on_done_rec, NULL) > 0);
+	assert_int_equal(df1_poll(h, 0), DF1_E_NOT_OPEN);
+	assert_int_equal(done_rec.calls, 0);
+	assert_int_equal(df1_poll_set_watchdog(h, -1, 0), DF1_E_INVAL);
+	assert_int_equal(df1_poll_set_watchdog(h, 1000, 1001), DF1_E_INVAL);
+	assert_int_equal(df1_poll_set_station_range(h, 5, 3), DF1_E_INVAL);
+	assert_int_equal(df1_poll_set_station_range(h, -1, 0), 0);
+	assert_int_equal(df1_poll_next_ms(h), 0);   /* a write is queued */
+	assert_true(df1_poll_fd(h) >= 0);
+	df1_free(h);
+	assert_int_equal(done_rec.calls, 1);
+	assert_int_equal(done_rec.result, DF1_E_NOT_OPEN);
+}
+
+static int issues_seen;
+
+static void on_issue(void *user, const struct df1_config_issue *is)
+{
+	(void)user;
+	(void)is;
+	issues_seen++;
+}
+
+static void test_api_load_map(void **state)
+{
+	const char *dir = getenv("DF1_TEST_DATA") ? getenv("DF1_TEST_DATA") : "tests/data";
+	char valid[256], invalid[256];
+	df1_t *h;
+	int n;
+
+	(void)state;
+	snprintf(valid, sizeof valid, "%s/map_valid.csv", dir);
+	snprintf(invalid, sizeof invalid, "%s/map_invalid.csv", dir);
+	assert_int_equal(df1_new(&h), 0);
+	issues_seen = 0;
+	n = df1_tag_load_map(h, valid, true, on_issue, NULL);
+	assert_true(n > 0);
+	assert_int_equal(issues_seen, 0);
+	assert_int_equal(df1_tag_count(h), n);
+	assert_true(df1_tag_find(h, "Pump1_Speed") >= 0);
+	/* the same file again: every name is a duplicate; strict adds nothing */
+	issues_seen = 0;
+	assert_int_equal(df1_tag_load_map(h, valid, true, on_issue, NULL), DF1_E_CONFIG);
+	assert_int_equal(issues_seen, n);
+	assert_int_equal(df1_tag_count(h), n);
+	/* strict with bad rows: nothing added */
+	issues_seen = 0;
+	assert_int_equal(df1_tag_load_map(h, invalid, true, on_issue, NULL), DF1_E_CONFIG);
+	assert_true(issues_seen > 0);
+	assert_int_equal(df1_tag_count(h), n);
+	assert_true(df1_tag_load_map(h, "/nonexistent/map.csv", false, NULL, NULL) < 0);
+	df1_free(h);
+}
+
+/* ------------------------------------------------------------------------
+ * Against df1sim
+ * ------------------------------------------------------------------------ */
+
+struct fix {
+	struct simproc sim;
+	df1_t *h;
+};
+
+static int fix_setup(void **state)
+{
+	struct fix *f = calloc(1, sizeof *f);
+
+	if (!f)
+		return -1;
+	*state = f;
+	return 0;
+}
+
+static int fix_teardown(void **state)
+{
+	struct fix *f = *state;
+
+	if (f->h)
+		df1_free(f->h);
+	simproc_stop(&f->sim, false);
+	free(f);
+	return 0;
+}
+
+static void sim_start(struct fix *f, const char *const *args)
+{
+	if (simproc_start(&f->sim, false, NULL, true, args) != 0)
+		fail_msg("df1sim did not start");
+}
+
+static void client_open(struct fix *f, bool half, int timeout_ms, int nak, int enq)
+{
+	int rc;
+
+	if (!f->h) {
+		assert_int_equal(df1_new(&f->h), 0);
+		assert_int_equal(df1_set_duplex(f->h, half ? DF1_HALF_DUPLEX_MASTER : DF1_FULL_DUPLEX), 0);
+		assert_int_equal(df1_set_timeout_ms(f->h, timeout_ms), 0);
+		assert_int_equal(df1_set_retries(f->h, nak, enq), 0);
+	}
+	rc = df1_open(f->h, f->sim.target);
+	if (rc < 0)
+		fail_msg("df1_open %s: %s", f->sim.target, df1_last_error(f->h)->message);
+}
+
+/* Restart df1sim (a new pty) with other options; the handle is reopened on it. */
+static void sim_restart(struct fix *f, const char *const *args)
+{
+	df1_close(f->h);
+	simproc_stop(&f->sim, false);
+	sim_start(f, args);
+	if (df1_open(f->h, f->sim.target) < 0)
+		fail_msg("df1_open %s: %s", f->sim.target, df1_last_error(f->h)->message);
+}
+
+/* Lines of df1sim's --log that hold every needle (NULL-terminated). */
+static int log_count(struct fix *f, const char *n1, const char *n2)
+{
+	char *text = simproc_slurp(f->sim.log, NULL), *line, *save = NULL;
+	int n = 0;
+
+	if (!text)
+		return -1;
+	for (line = strtok_r(text, "\n", &save); line; line = strtok_r(NULL, "\n", &save))
+		if (strstr(line, n1) && (!n2 || strstr(line, n2)))
+			n++;
+	free(text);
+	return n;
+}
+
+/* df1sim logs a command after its reply went out, so the line may come a moment
+ * after the reply reached us: wait (inotify on the log, 5 s deadline) until at
+ * least `want` lines. */
+static int log_wait(struct fix *f, const char *n1, const char *n2, int want)
+{
+	int64_t dl = now_ms() + 5000;
+	int fd = inotify_init1(IN_CLOEXEC | IN_NONBLOCK), n;
+
+	if (fd >= 0 && inotify_add_watch(fd, f->sim.log, IN_MODIFY) < 0) {
+		close(fd);
+		fd = -1;
+	}
+	while ((n = log_count(f, n1, n2)) < want && now_ms() < dl) {
+		struct pollfd p = { fd, POLLIN, 0 };
+		char buf[4096];
+
+		if (fd < 0 || poll(&p, 1, (int)(dl - now_ms())) <= 0)
+			break;
+		while (read(fd, buf, sizeof buf) > 0)
+			;
+	}
+	if (fd >= 0)
+		close(fd);
+	return n;
+}
+
+static void poll_ok(struct fix *f, int timeout_ms)
+{
+	int rc = df1_poll(f->h, timeout_ms);
+
+	if (rc < 0)
+		fail_msg("df1_poll: %s: %s", df1_errname(rc), df1_last_error(f->h)->message);
+}
+
+/* Poll until pred holds or ms pass (then fail with what). */
+#define POLL_UNTIL(f, ms, cond, what)                                                \
+	do {                                                                          \
+		int64_t dl_ = now_ms() + (ms);                                        \
+		while (!(cond)) {                                                     \
+			if (now_ms() > dl_)                                           \
+				fail_msg("timed out waiting for %s", what);           \
+			poll_ok((f), 100);                                            \
+		}                                                                     \
+	} while (0)
+
+static struct df1_tag_state tagst(df1_t *h, int id)
+{
+	struct df1_tag_state st;
+
+	assert_int_equal(df1_tag_get(h, id, &st), 0);
+	return st;
+}
+
+static struct df1_station_health sth(df1_t *h, int station)
+{
+	struct df1_station_health s;
+
+	assert_int_equal(df1_poll_station(h, station, &s), 0);
+	return s;
+}
+
+static struct df1_poll_stats pstats(df1_t *h)
+{
+	struct df1_poll_stats s;
+
+	assert_int_equal(df1_poll_stats(h, &s), 0);
+	return s;
+}
+
+static bool all_good(df1_t *h, int first, int n)
+{
+	for (int id = first; id < first + n; id++)
+		if (tagst(h, id).quality != DF1_QUALITY_GOOD)
+			return false;
+	return true;
+}
+
+/* Run exactly one scan (and whatever writes are queued). */
+static void one_scan(struct fix *f)
+{
+	uint64_t s0 = pstats(f->h).scans;
+
+	POLL_UNTIL(f, 10000, pstats(f->h).scans > s0, "a scan");
+}
+
+static void test_coalesce_two_files(void **state)
+{
+	struct fix *f = *state;
+	static const char *const args[] = { NULL };
+	char name[16], addr[16];
+	struct df1_poll_stats ps;
+	int id0;
+
+	sim_start(f, args);
+	client_open(f, false, 500, 3, 3);
+	id0 = df1_tag_count(f->h);
+	for (int i = 0; i < 20; i++) {
+		snprintf(name, sizeof name, "n%d", i);
+		snprintf(addr, sizeof addr, "N7:%d", 2 * i);      /* every other word: gaps of 1 */
+		add(f->h, name, 1, addr, 1, 1000, DF1_ACCESS_READ);
+		snprintf(name, sizeof name, "f%d", i);
+		snprintf(addr, sizeof addr, "F8:%d", 19 - i);
+		add(f->h, name, 1, addr, 1, 1000, DF1_ACCESS_READ);
+	}
+	one_scan(f);
+	ps = pstats(f->h);
+	assert_int_equal(ps.blocks, 2);
+	assert_int_equal(ps.last_scan_transactions, 2);
+	assert_int_equal(ps.reads, 2);
+	assert_int_equal(ps.read_failures, 0);
+	/* the frame log: one read per file, nothing else */
+	assert_int_equal(log_wait(f, "cmd=0F/A2", NULL, 2), 2);
+	assert_int_equal(log_wait(f, "cmd=0F/A2 addr=N7:0 count=39", NULL, 1), 1);
+	assert_int_equal(log_wait(f, "cmd=0F/A2 addr=F8:0 count=20", NULL, 1), 1);
+	/* df1sim's table: N n = n, F n = n + 0.5 */
+	for (int i = 0; i < 20; i++) {
+		struct df1_tag_state n = tagst(f->h, id0 + 2 * i), fl = tagst(f->h, id0 + 2 * i + 1);
+
+		assert_int_equal(n.quality, DF1_QUALITY_GOOD);
+		assert_int_equal(n.value.kind, DF1_VAL_INT16);
+		assert_int_equal(n.value.v.i16, 2 * i);
+		assert_int_equal(fl.quality, DF1_QUALITY_GOOD);
+		assert_true(fl.value.v.f == (float)(19 - i) + 0.5f);
+		assert_true(n.last_good_wall_ms > 0 && n.age_ms >= 0);
+	}
+}
+
+static void test_coalesce_slc502_limit(void **state)
+{
+	struct fix *f = *state;
+	static const char *const args[] = { "--duplex", "half", "--plc", "slc502", NULL };
+	char name[16], addr[16];
+
+	sim_start(f, args);
+	client_open(f, true, 500, 3, 3);
+	for (int i = 0; i < 60; i++) {
+		struct df1_tag_config c;
+
+		snprintf(name, sizeof name, "t%d", i);
+		snprintf(addr, sizeof addr, "N7:%d", i);
+		c = tagcfg(name, 1, addr, 1, 1000, DF1_ACCESS_READ, DF1_PLC_SLC502);
+		assert_true(df1_tag_add(f->h, &c) >= 0);
+	}
+	one_scan(f);
+	/* 120 bytes at 82 per packet: 41 + 19 words */
+	assert_int_equal(pstats(f->h).last_scan_transactions, 2);
+	assert_int_equal(log_wait(f, "cmd=0F/A2", NULL, 2), 2);
+	assert_int_equal(log_wait(f, "addr=N7:0 count=41", NULL, 1), 1);
+	assert_int_equal(log_wait(f, "addr=N7:41 count=19", NULL, 1), 1);
+	assert_true(all_good(f->h, 0, 60));
+	assert_int_equal(tagst(f->h, 59).value.v.i16, 59);
+}
+
+static void test_bad_tag_isolated(void **state)
+{
+	struct fix *f = *state;
+	static const char *const args[] = { NULL };
+	struct df1_poll_stats ps;
+	struct df1_tag_state bad, nofile;
+	char name[16], addr[16];
+	int ids[6], idbad, idnofile;
+
+	sim_start(f, args);
+	client_open(f, false, 500, 3, 3);
+	for (int i = 0; i < 6; i++) {
+		snprintf(name, sizeof name, "g%d", i);
+		snprintf(addr, sizeof addr, "N7:%d", 250 + i);
+		ids[i] = add(f->h, name, 1, addr, 1, 1000, DF1_ACCESS_READ);
+	}
+	/* df1sim's N7 has 256 elements: N7:258 is past the end, 2 words after the
+	 * last good tag, so the planner bridges to it */
+	idbad = add(f->h, "bad", 1, "N7:258", 1, 1000, DF1_ACCESS_READ);
+	idnofile = add(f->h, "nofile", 1, "N77:0", 1, 1000, DF1_ACCESS_READ);
+	one_scan(f);
+	ps = pstats(f->h);
+	/* [250..258] fails -> [250..252] ok, [253..258] fails -> [253..254] ok,
+	 * [255..258] fails -> [255] ok, [258] fails; N77:0 fails */
+	assert_int_equal(ps.splits, 3);
+	assert_int_equal(ps.reads, 8);
+	assert_int_equal(ps.read_failures, 5);
+	for (int i = 0; i < 6; i++) {
+		struct df1_tag_state st = tagst(f->h, ids[i]);
+
+		assert_int_equal(st.quality, DF1_QUALITY_GOOD);
+		assert_int_equal(st.value.v.i16, 250 + i);
+	}
+	bad = tagst(f->h, idbad);
+	assert_int_equal(bad.quality, DF1_QUALITY_BAD);
+	assert_int_equal(bad.reason, DF1_REASON_PLC_ERROR);
+	assert_int_equal(bad.last_error, DF1_E_REMOTE);
+	assert_int_equal(bad.sts, 0xF0);
+	assert_true(bad.ext_sts == 0x07 || bad.ext_sts == 0x0A);
+	nofile = tagst(f->h, idnofile);
+	assert_int_equal(nofile.quality, DF1_QUALITY_BAD);
+	assert_int_equal(nofile.reason, DF1_REASON_PLC_ERROR);
+	/* the station answered all along */
+	assert_int_equal(sth(f->h, 1).state, DF1_STATION_OK);
+
+	/* the split is remembered: the next scan reads the five blocks, no new split */
+	one_scan(f);
+	ps = pstats(f->h);
+	assert_int_equal(ps.splits, 3);
+	assert_int_equal(ps.last_scan_transactions, 5);
+	assert_int_equal(ps.read_failures, 7);
+	assert_true(all_good(f->h, ids[0], 6));
+
+	/* a new tag re-plans: the bad tag stays alone, the good ones merge again */
+	add(f->h, "g6", 1, "N7:249", 1, 1000, DF1_ACCESS_READ);
+	one_scan(f);
+	ps = pstats(f->h);
+	assert_int_equal(ps.splits, 3);
+	assert_int_equal(ps.blocks, 3);                 /* N7:249..255, N7:258, N77:0 */
+	/* only the block with the new tag was due: one read of N7:249..255 */
+	assert_int_equal(ps.last_scan_transactions, 1);
+	assert_int_equal(log_wait(f, "cmd=0F/A2 addr=N7:249 count=7", NULL, 1), 1);
+	assert_true(all_good(f->h, ids[0], 6));
+	assert_int_equal(tagst(f->h, idbad).quality, DF1_QUALITY_BAD);
+}
+
+/* Station 2 silenced, offline, retried slowly, restored (seeds 000, 002, 004). */
+static void test_station_silenced_and_restored(void **state)
+{
+	struct fix *f = *state;
+	static const char *const normal[] = { "--duplex", "half", "--station", "1,2", NULL };
+	static const char *const silent[] = { "--duplex", "half", "--station", "1,2", "--silent", "2", NULL };
+	int s1, s2, slow, bad;
+	struct df1_station_health a, b;
+	struct df1_poll_stats p0, p1;
+	struct df1_tag_state st;
+	int64_t t_restore, prev_attempt;
+	uint64_t s1_reads;
+	int offline_tries = 0;
+
+	sim_start(f, normal);
+	client_open(f, true, 100, 1, 1);
+	/* offline after more than 3 failed attempts in a row; slow retry every 1000 ms */
+	assert_int_equal(df1_poll_set_watchdog(f->h, 2000, 3), 0);
+	s1 = add(f->h, "s1", 1, "N7:0", 5, 100, DF1_ACCESS_READ);
+	s2 = add(f->h, "s2", 2, "N7:10", 5, 100, DF1_ACCESS_READ);
+	slow = add(f->h, "slow", 2, "F8:0", 1, 600000, DF1_ACCESS_READ);
+	bad = add(f->h, "bad", 2, "N77:0", 1, 100, DF1_ACCESS_READ);
+	POLL_UNTIL(f, 10000, all_good(f->h, s1, 3) && tagst(f->h, bad).reason == DF1_REASON_PLC_ERROR,
+	           "every tag read");
+	assert_int_equal(sth(f->h, 2).state, DF1_STATION_OK);
+
+	/* silence station 2 */
+	sim_restart(f, silent);
+	a = sth(f->h, 2);
+	p0 = pstats(f->h);
+	POLL_UNTIL(f, 10000, sth(f->h, 2).attempts > a.attempts, "an attempt at station 2");
+	b = sth(f->h, 2);
+	p1 = pstats(f->h);
+	/* it answered last scan: the attempt and two retries (seed 002) */
+	assert_int_equal(b.attempts - a.attempts, 3);
+	assert_int_equal(p1.retries - p0.retries, 2);
+	assert_int_equal(b.state, DF1_STATION_FAILING);
+	assert_int_equal(b.consecutive_failures, 3);
+	st = tagst(f->h, s2);
+	assert_int_equal(st.quality, DF1_QUALITY_UNCERTAIN);
+	assert_int_equal(st.reason, DF1_REASON_COMM_FAILURE);
+	assert_true(st.has_value);
+	assert_int_equal(st.values[4].v.i16, 14);               /* the last good value is kept */
+	assert_int_equal(tagst(f->h, slow).quality, DF1_QUALITY_GOOD);  /* not due yet */
+	assert_int_equal(tagst(f->h, s1).quality, DF1_QUALITY_GOOD);
+
+	/* the next scan: a single attempt, and 4 > 3 failures: offline */
+	a = b;
+	POLL_UNTIL(f, 10000, sth(f->h, 2).attempts > a.attempts, "the next attempt at station 2");
+	b = sth(f->h, 2);
+	assert_int_equal(b.attempts - a.attempts, 1);
+	assert_int_equal(b.state, DF1_STATION_OFFLINE);
+	assert_int_equal(pstats(f->h).stations_offline, 1);
+	for (int id = s2; id <= bad; id++) {
+		st = tagst(f->h, id);
+		assert_int_equal(st.quality, DF1_QUALITY_BAD);
+		assert_int_equal(st.reason, DF1_REASON_STATION_OFFLINE);
+	}
+
+	/* offline: one attempt per half watchdog (1000 ms), station 1 unaffected */
+	prev_attempt = b.last_attempt_ms;
+	s1_reads = tagst(f->h, s1).reads;
+	a = b;
+	while (offline_tries < 2) {
+		POLL_UNTIL(f, 15000, sth(f->h, 2).attempts > a.attempts, "a slow retry");
+		b = sth(f->h, 2);
+		assert_int_equal(b.attempts - a.attempts, 1);
+		assert_int_equal(b.state, DF1_STATION_OFFLINE);
+		if (b.last_attempt_ms - prev_attempt < 1000)
+			fail_msg("slow retry %lld ms after the previous attempt (half watchdog 1000)",
+			         (long long)(b.last_attempt_ms - prev_attempt));
+		prev_attempt = b.last_attempt_ms;
+		a = b;
+		offline_tries++;
+	}
+	assert_true(tagst(f->h, s1).reads > s1_reads);
+	assert_int_equal(tagst(f->h, s1).quality, DF1_QUALITY_GOOD);
+
+	/* restore: the station answers its next slow retry */
+	sim_restart(f, normal);
+	t_restore = now_ms();
+	POLL_UNTIL(f, 15000, sth(f->h, 2).state == DF1_STATION_OK, "station 2 back");
+	/* the one-time poll: every block read at once, the 10-minute one too */
+	st = tagst(f->h, s2);
+	assert_int_equal(st.quality, DF1_QUALITY_GOOD);
+	assert_true(st.last_good_ms >= t_restore);
+	st = tagst(f->h, slow);
+	assert_int_equal(st.quality, DF1_QUALITY_GOOD);
+	assert_true(st.last_good_ms >= t_restore);
+	assert_true(st.value.v.f == 0.5f);
+	/* the bad tag is back to what it was before the failure */
+	st = tagst(f->h, bad);
+	assert_int_equal(st.quality, DF1_QUALITY_BAD);
+	assert_int_equal(st.reason, DF1_REASON_PLC_ERROR);
+	assert_int_equal(pstats(f->h).stations_offline, 0);
+	assert_int_equal(sth(f->h, 2).consecutive_failures, 0);
+}
+
+/* The time watchdog: a station that never answers is BAD COMM_FAILURE while it
+ * fails, and offline (BAD STATION_OFFLINE) only once watchdog_ms have passed
+ * since the first attempt. */
+static void test_watchdog_time(void **state)
+{
+	struct fix *f = *state;
+	static const char *const args[] = { "--duplex", "half", "--station", "1,2", "--silent", "2", NULL };
+	struct df1_tag_state st;
+	int64_t t0;
+	int s1, s2;
+
+	sim_start(f, args);
+	client_open(f, true, 100, 1, 1);
+	assert_int_equal(df1_poll_set_watchdog(f->h, 1500, 0), 0);
+	s1 = add(f->h, "s1", 1, "N7:0", 1, 100, DF1_ACCESS_READ);
+	s2 = add(f->h, "s2", 2, "N7:0", 1, 100, DF1_ACCESS_READ);
+	t0 = now_ms();
+	POLL_UNTIL(f, 10000, sth(f->h, 2).state == DF1_STATION_FAILING, "station 2 failing");
+	st = tagst(f->h, s2);
+	assert_int_equal(st.quality, DF1_QUALITY_BAD);          /* never read: no value */
+	assert_int_equal(st.reason, DF1_REASON_COMM_FAILURE);
+	assert_int_equal(st.last_error == DF1_E_NAK_LIMIT || st.last_error == DF1_E_INACTIVE ||
+	                 st.last_error == DF1_E_TIMEOUT, 1);
+	POLL_UNTIL(f, 15000, sth(f->h, 2).state == DF1_STATION_OFFLINE, "station 2 offline");
+	if (now_ms() - t0 < 1500)
+		fail_msg("offline %lld ms after the first attempt (watchdog 1500)",
+		         (long long)(now_ms() - t0));
+	assert_true(sth(f->h, 2).consecutive_failures >= 2);
+	st = tagst(f->h, s2);
+	assert_int_equal(st.quality, DF1_QUALITY_BAD);
+	assert_int_equal(st.reason, DF1_REASON_STATION_OFFLINE);
+	assert_int_equal(tagst(f->h, s1).quality, DF1_QUALITY_GOOD);
+	assert_int_equal(sth(f->h, 1).state, DF1_STATION_OK);
+}
+
+/* ---- queued writes ---- */
+
+#define NWRITES 40
+
+struct wctx {
+	df1_t *h;
+	int ids[NWRITES];
+	int wid[NWRITES];
+	atomic_int calls[NWRITES];
+	int result[NWRITES];
+	atomic_int done;
+	int delay_ms;
+};
+
+static void on_write(void *user, int tag, int wid, int result)
+{
+	struct wctx *w = user;
+
+	for (int i = 0; i < NWRITES; i++) {
+		if (w->ids[i] == tag) {
+			assert_int_equal(w->wid[i], wid);
+			atomic_fetch_add(&w->calls[i], 1);
+			w->result[i] = result;
+		}
+	}
+	atomic_fetch_add(&w->done, 1);
+}
+
+static void *writer(void *arg)
+{
+	struct wctx *w = arg;
+
+	for (int i = 0; i < NWRITES; i++) {
+		struct df1_value v;
+
+		memset(&v, 0, sizeof v);
+		v.kind = DF1_VAL_INT16;
+		v.v.i16 = (int16_t)(1000 + i);
+		if (i == 0 && w->delay_ms > 0) {
+			/* wake-up test: write while the poll thread waits */
+			struct timespec ts = { 0, (long)w->delay_ms * 1000000L };
+
+			nanosleep(&ts, NULL);
+		}
+		w->wid[i] = df1_tag_write(w->h, w->ids[i], &v, 1, on_write, w);
+		if (w->wid[i] <= 0)
+			atomic_fetch_add(&w->done, 1);  /* counted: the test then fails on it */
+	}
+	return NULL;
+}
+
+static bool link_err(int rc)
+{
+	return rc == DF1_E_TIMEOUT || rc == DF1_E_NAK_LIMIT || rc == DF1_E_ENQ_LIMIT ||
+	       rc == DF1_E_INACTIVE || rc == DF1_E_BAD_REPLY;
+}
+
+/* Every write reported written shows in its tag. */
+static bool read_back(df1_t *h, const struct wctx *w)
+{
+	for (int i = 0; i < NWRITES; i++)
+		if (w->result[i] == 0 && tagst(h, w->ids[i]).value.v.i16 != 1000 + i)
+			return false;
+	return true;
+}
+
+static void test_writes_under_faults_exactly_once(void **state)
+{
+	struct fix *f = *state;
+	static const char *const args[] = { "--drop-ack", "15", "--corrupt", "15", "--seed", "7", NULL };
+	static struct wctx w;
+	pthread_t th;
+	char name[16], addr[16], needle[48];
+	int written = 0;
+
+	sim_start(f, args);
+	client_open(f, false, 200, 3, 3);
+	memset(&w, 0, sizeof w);
+	w.h = f->h;
+	for (int i = 0; i < NWRITES; i++) {
+		snprintf(name, sizeof name, "w%d", i);
+		snprintf(addr, sizeof addr, "N7:%d", 100 + i);
+		w.ids[i] = add(f->h, name, 1, addr, 1, 300, DF1_ACCESS_READWRITE);
+	}
+	POLL_UNTIL(f, 20000, all_good(f->h, w.ids[0], NWRITES), "the first read");
+	assert_int_equal(pthread_create(&th, NULL, writer, &w), 0);
+	{
+		int64_t dl = now_ms() + 60000;
+
+		while (atomic_load(&w.done) < NWRITES) {
+			if (now_ms() > dl)
+				fail_msg("only %d of %d writes ended", atomic_load(&w.done), NWRITES);
+			poll_ok(f, 100);
+		}
+	}
+	pthread_join(th, NULL);
+	for (int i = 0; i < NWRITES; i++) {
+		assert_true(w.wid[i] > 0);
+		assert_int_equal(atomic_load(&w.calls[i]), 1);         /* reported once */
+		if (w.result[i] == 0)
+			written++;
+		else if (!link_err(w.result[i]))
+			fail_msg("write %d ended with %s", i, df1_errname(w.result[i]));
+	}
+	assert_true(written >= NWRITES / 2);
+	assert_int_equal(pstats(f->h).writes, NWRITES);
+	/* read back: the tags show the values written */
+	POLL_UNTIL(f, 20000, read_back(f->h, &w), "the values read back");
+	/* df1sim executed each write once at most, exactly once when reported written */
+	for (int i = 0; i < NWRITES; i++) {
+		int n;
+
+		snprintf(needle, sizeof needle, "cmd=0F/AA addr=N7:%d count", 100 + i);
+		n = log_wait(f, needle, NULL, w.result[i] == 0 ? 1 : 0);
+		if (w.result[i] == 0)
+			assert_int_equal(n, 1);
+		else
+			assert_true(n <= 1);
+	}
+}
+
+static void test_write_wakes_poll(void **state)
+{
+	struct fix *f = *state;
+	static const char *const args[] = { NULL };
+	static struct wctx w;
+	pthread_t th;
+	int64_t t0, took;
+	int n = 0;
+
+	sim_start(f, args);
+	client_open(f, false, 500, 3, 3);
+	memset(&w, 0, sizeof w);
+	w.h = f->h;
+	for (int i = 0; i < NWRITES; i++)
+		w.ids[i] = -1;
+	w.ids[0] = add(f->h, "x", 1, "N7:50", 1, 600000, DF1_ACCESS_READWRITE);
+	POLL_UNTIL(f, 10000, all_good(f->h, w.ids[0], 1), "the first read");
+	assert_true(df1_poll_next_ms(f->h) > 1000);     /* nothing due for 10 minutes */
+	/* a writer thread queues one write 200 ms from now; df1_poll waits up to 20 s */
+	w.delay_ms = 200;
+	{
+		/* only one write: the other ids are -1 and are refused at once */
+		assert_int_equal(pthread_create(&th, NULL, writer, &w), 0);
+		t0 = now_ms();
+		while (atomic_load(&w.calls[0]) == 0 && now_ms() - t0 < 20000) {
+			int r = df1_poll(f->h, 20000);
+
+			assert_true(r >= 0);
+			n += r;
+		}
+		took = now_ms() - t0;
+		pthread_join(th, NULL);
+	}
+	assert_int_equal(atomic_load(&w.calls[0]), 1);
+	assert_int_equal(w.result[0], 0);
+	assert_true(n >= 1);
+	if (took >= 15000)
+		fail_msg("the queued write did not wake df1_poll (%lld ms)", (long long)took);
+	/* and the value is read back at once (its block was made due) */
+	POLL_UNTIL(f, 10000, tagst(f->h, w.ids[0]).value.v.i16 == 1000, "the read back");
+}
+
+static void test_discovery(void **state)
+{
+	struct fix *f = *state;
+	static const char *const args[] = { "--duplex", "half", "--station", "1,3,5", NULL };
+	int64_t dl;
+	int id;
+
+	sim_start(f, args);
+	client_open(f, true, 100, 1, 1);
+	id = add(f->h, "s1", 1, "N7:0", 1, 100, DF1_ACCESS_READ);
+	assert_int_equal(df1_poll_set_station_range(f->h, 1, 6), 0);
+	dl = now_ms() + 30000;
+	while (sth(f->h, 3).state != DF1_STATION_OK || sth(f->h, 5).state != DF1_STATION_OK) {
+		struct df1_poll_stats a = pstats(f->h), b;
+		int present = (sth(f->h, 3).state == DF1_STATION_OK) + (sth(f->h, 5).state == DF1_STATION_OK);
+
+		if (now_ms() > dl)
+			fail_msg("stations 3 and 5 not found");
+		poll_ok(f, 100);
+		b = pstats(f->h);
+		/* a scan probes the stations found so far and at most one other address */
+		assert_true(b.probes - a.probes <= 3 * (uint64_t)present + 1);
+	}
+	assert_int_equal(sth(f->h, 2).state, DF1_STATION_ABSENT);
+	assert_int_equal(sth(f->h, 4).state, DF1_STATION_ABSENT);
+	assert_int_equal(sth(f->h, 3).tags, 0);
+	assert_int_equal(tagst(f->h, id).quality, DF1_QUALITY_GOOD);
+	assert_int_equal(sth(f->h, 1).consecutive_failures, 0);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_plan_contiguous_one_block),
+		cmocka_unit_test(test_plan_gap_rule),
+		cmocka_unit_test(test_plan_packet_limits),
+		cmocka_unit_test(test_plan_keys_and_alone),
+		cmocka_unit_test(test_plan_greedy_is_minimal),
+		cmocka_unit_test(test_api_tags),
+		cmocka_unit_test(test_api_load_map),
+		cmocka_unit_test_setup_teardown(test_coalesce_two_files, fix_setup, fix_teardown),
+		cmocka_unit_test_setup_teardown(test_coalesce_slc502_limit, fix_setup, fix_teardown),
+		cmocka_unit_test_setup_teardown(test_bad_tag_isolated, fix_setup, fix_teardown),
+		cmocka_unit_test_setup_teardown(test_station_silenced_and_restored, fix_setup, fix_teardown),
+		cmocka_unit_test_setup_teardown(test_watchdog_time, fix_setup, fix_teardown),
+		cmocka_unit_test_setup_teardown(test_writes_under_faults_exactly_once, fix_setup, fix_teardown),
+		cmocka_unit_test_setup_teardown(test_write_wakes_poll, fix_setup, fix_teardown),
+		cmocka_unit_test_setup_teardown(test_discovery, fix_setup, fix_teardown),
+	};
+
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,34 @@
+/*
+ * mon_map - df1mon --map: poll the tags of a mapping CSV with the poll engine
+ * and show them (tools/mon_map.c). Uses only include/df1.h.
+ */
+#ifndef DF1_TOOLS_MON_MAP_H
+#define DF1_TOOLS_MON_MAP_H
+
+#include <signal.h>
+#include <stdbool.h>
+#include "df1.h"
+
+#define MON_MAP_PLAIN 0
+#define MON_MAP_CSV 1
+#define MON_MAP_JSON 2
+
+/*
+ * Load csv_path into the open handle h (df1_tag_load_map, rows with problems
+ * reported on stderr and skipped) and poll until *stop:
+ *  - format 0 (plain): a table TAG STN ADDRESS VALUE QUALITY AGE after every
+ *    scan, the screen cleared first (ANSI) only when stdout is a terminal, then
+ *    a line of scan statistics;
+ *  - format 1 (csv): "t,scan,tag,station,address,value,quality,reason,age_ms",
+ *    one row per tag per scan; format 2 (json): one JSON object per tag per scan;
+ *  - once: one scan, then exit;
+ *  - counters: the seed counter table (ID MNEMONIC VALUE) and the scan statistics
+ *    every interval_ms and at exit (on a terminal: with every redraw); in csv
+ *    as "# " comment lines, in json as {"t":..,"counters":[...]} objects.
+ * Returns the exit status: 0; 1 communication error, or a readable tag BAD at
+ * the end of a one-shot scan; 2 configuration error (file, no valid tag).
+ */
+int mon_map_run(df1_t *h, const char *csv_path, int format, bool once, bool counters, int interval_ms,
+                volatile sig_atomic_t *stop);
+
+#endif
