@@ -80,18 +80,15 @@
 #include <string.h>
 
 #include "link.h"
+#include "plc_limits.h"
 #include "pccc.h"
 #include "value.h"
 
-/* Data bytes per packet (spec 6). */
-#define SLC_READ_MAX 236
-#define SLC_WRITE_MAX 234
-#define SLC502_MAX 82
-#define PLC2_MAX 244
-#define PLC5_PACKET_MAX 240
-#define PLC5_TD_MARGIN 8        /* worst-case type/data parameter + element descriptor */
-#define PLC5_TCR_READ_SIZE 10   /* KF2 p.130: "timer elements return five words" */
-#define PACKET_HARD_MAX 244     /* DF1_OPT_MAX_PACKET is clamped here */
+/* Data bytes per packet (spec 6): lib/plc_limits.h. */
+#define PLC5_PACKET_MAX PLC_PLC5_PACKET_MAX
+#define PLC5_TD_MARGIN PLC_PLC5_TD_MARGIN
+#define PLC5_TCR_READ_SIZE PLC_PLC5_TCR_READ
+#define PACKET_HARD_MAX PLC_PACKET_HARD_MAX
 #define ECHO_MAX 243            /* KF2 p.89 */
 
 /* Typed reads and writes of the PLC-5 use plain LE floats (spec 5, RTA). */
@@ -221,18 +218,7 @@ static void span_at(const struct span *s, size_t i, struct df1_addr *out)
 /* Data bytes per packet for the SLC and PLC-2 commands. */
 static size_t client_limit(const struct df1 *h, bool write)
 {
-	if (h->cfg.max_packet > 0)
-		return h->cfg.max_packet < PACKET_HARD_MAX ? (size_t)h->cfg.max_packet : PACKET_HARD_MAX;
-	switch (h->cfg.plc) {
-	case DF1_PLC_SLC502:
-		return SLC502_MAX;
-	case DF1_PLC_PLC2:
-		return PLC2_MAX;
-	case DF1_PLC_PLC5:
-		return PLC5_PACKET_MAX;
-	default:
-		return write ? SLC_WRITE_MAX : SLC_READ_MAX;
-	}
+	return plc_packet_max(h->cfg.plc, write, h->cfg.max_packet);
 }
 
 /* ------------------------------------------------------------------------

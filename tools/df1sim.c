@@ -138,6 +138,7 @@ struct sim_file {
 	int nelem;
 	size_t esize;
 	uint8_t *data;          /* nelem * esize bytes, SLC wire layout */
+	bool optional;          /* ST9 L10 A11 of the default table: --data may retype them */
 };
 
 struct sim_table {
@@ -279,6 +280,7 @@ static struct sim_table *table_default(void)
 			table_free(t);
 			return NULL;
 		}
+		t->files[i]->optional = i >= 9;
 	}
 	return t;
 }
@@ -421,6 +423,11 @@ static bool data_line(struct sim_table *t, char *line, char *err, size_t cap)
 		return false;
 	}
 	f = t->files[a.file];
+	if (f && f->type != a.type && f->optional) {
+		/* e.g. N9, the SLC's common interface file for PLC-2 commands */
+		file_free(f);
+		f = t->files[a.file] = NULL;
+	}
 	if (f && f->type != a.type) {
 		snprintf(err, cap, "%s: file %d already holds type %s", addr_text, a.file,
 		         df1_file_type_name(f->type));
