@@ -781,6 +781,60 @@ void cli_close(struct cli *c, df1_t *h)
 	cli_cleanup(c);
 }
 
+/* ---- addresses ---- */
+
+bool cli_is_tcr(enum df1_file_type t)
+{
+	return t == DF1_FT_T || t == DF1_FT_C || t == DF1_FT_R;
+}
+
+bool cli_is_io(enum df1_file_type t)
+{
+	return t == DF1_FT_I || t == DF1_FT_O;
+}
+
+bool cli_addr_step(const struct df1_addr *a, size_t i, struct df1_addr *out)
+{
+	char buf[CLI_ADDR_TEXT_MAX];
+
+	*out = *a;
+	out->ascii[0] = '\0';
+	if (i > 1000000)
+		return false;
+	if (a->bit != DF1_ADDR_NONE) {
+		long g = (long)a->bit + (long)i;
+		long nb = a->type == DF1_FT_L ? 32 : 16;
+
+		if (cli_is_tcr(a->type)) {
+			out->bit = (int)g;
+		} else if (cli_is_io(a->type) && a->sub != DF1_ADDR_NONE) {
+			out->sub = a->sub + (int)(g / nb);
+			out->bit = (int)(g % nb);
+		} else {
+			out->element = a->element + (int)(g / nb);
+			out->bit = (int)(g % nb);
+		}
+	} else if (cli_is_io(a->type) && a->sub != DF1_ADDR_NONE) {
+		out->sub = a->sub + (int)i;
+	} else {
+		out->element = a->element + (int)i;
+	}
+	return df1_addr_format(out, buf, sizeof buf) > 0;
+}
+
+int cli_address_error(const struct cli *c, int item, const char *text, int err, size_t n)
+{
+	int id = err == DF1_E_ADDR_RANGE ? 2504 : 2503;
+	const struct df1_catalog_entry *e = df1_catalog_by_id(id);
+
+	fprintf(stderr, "%s: %s: [%d] %s: Item: %d, ", c->name, text, id, e ? e->mnemonic : "?", item);
+	if (id == 2504)
+		fprintf(stderr, "Address is out of range (%s, len=%zu)\n", text, n);
+	else
+		fprintf(stderr, "Invalid Address Syntax (%s)\n", text);
+	return CLI_EXIT_USAGE;
+}
+
 /* ---- signals ---- */
 
 volatile sig_atomic_t cli_stop;
@@ -849,6 +903,21 @@ int cli_signal_fd(void)
 int cli_stop_signal(void)
 {
 	return (int)stop_signal;
+}
+
+const char *cli_signal_name(int sig)
+{
+	return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "a signal";
+}
+
+void cli_raise_stop_signal(void)
+{
+	int sig = cli_stop ? cli_stop_signal() : 0;
+
+	if (sig) {
+		fflush(stderr);
+		raise(sig);
+	}
 }
 
 /* ---- JSON, CSV, hex ---- */
@@ -927,17 +996,8 @@ void cli_json_string(FILE *f, const char *s)
 	cli_json_string_n(f, s ? s : "", s ? strlen(s) : 0);
 }
 
-void cli_csv_field(FILE *f, const char *s)
+void cli_csv_quoted(FILE *f, const char *s)
 {
-	size_t n;
-
-	if (!s)
-		s = "";
-	n = strlen(s);
-	if (!strpbrk(s, ",\"\r\n") && !(n && (s[0] == ' ' || s[n - 1] == ' '))) {
-		fputs(s, f);
-		return;
-	}
 	fputc('"', f);
 	for (; *s; s++) {
 		if (*s == '"')
@@ -945,6 +1005,19 @@ void cli_csv_field(FILE *f, const char *s)
 		fputc(*s, f);
 	}
 	fputc('"', f);
+}
+
+void cli_csv_field(FILE *f, const char *s)
+{
+	size_t n;
+
+	if (!s)
+		s = "";
+	n = strlen(s);
+	if (!strpbrk(s, ",\"\r\n") && !(n && (s[0] == ' ' || s[n - 1] == ' ')))
+		fputs(s, f);
+	else
+		cli_csv_quoted(f, s);
 }
 
 size_t cli_hex(const uint8_t *b, size_t n, char *buf, size_t cap)

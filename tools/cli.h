@@ -4,7 +4,7 @@
  * from one table; per-tool option sets and extra options; building and
  * opening the handle; error reports in the catalog format; -v logging and
  * -vv frame traces on stderr; SIGINT/SIGTERM through a self-pipe; JSON and
- * CSV quoting.
+ * CSV quoting; operand addresses (value i of an operand, address errors).
  *
  * Tools use only include/df1.h. Messages go to stderr as "tool: ...";
  * stdout carries data only. Exit status: 0 success, 1 communication or PLC
@@ -192,12 +192,36 @@ int cli_stop_signal(void);     /* the signal that stopped us, or 0 */
  * Returns 0 or -1 (errno set). */
 int cli_stop_after_ms(long ms);
 
+/* Addresses of operands (df1read, df1write). */
+#define CLI_ADDR_TEXT_MAX 80                /* an address's text with its NUL */
+bool cli_is_tcr(enum df1_file_type t);   /* T, C, R */
+bool cli_is_io(enum df1_file_type t);    /* I, O */
+/* The address of value i of an operand starting at a, as the library counts:
+ * elements; bits run on into the next word, except T/C/R bits; I/O words with a
+ * word number advance the word. out's ascii is cleared. false if it leaves the
+ * address space. */
+bool cli_addr_step(const struct df1_addr *a, size_t i, struct df1_addr *out);
+/* A bad operand address, item counted from 1; err DF1_E_ADDR_RANGE (n values) or
+ * any other for syntax:
+ *   "df1read: N7:x: [2503] ERR_ADDRESS_SYNTAX: Item: 2, Invalid Address Syntax (N7:x)"
+ * Returns CLI_EXIT_USAGE. */
+int cli_address_error(const struct cli *c, int item, const char *text, int err, size_t n);
+
+/* "SIGINT", "SIGTERM", else "a signal". */
+const char *cli_signal_name(int sig);
+/* When a signal stopped us (cli_stop), end as that signal would have (SA_RESETHAND
+ * restored its default action), so that a calling shell script stops too. Returns
+ * only when there was none, or its action does not end the process. */
+void cli_raise_stop_signal(void);
+
 /* JSON: print s as a JSON string (quotes included), escaping control characters,
  * quotes, backslashes and invalid UTF-8 bytes (as \u00XX). */
 void cli_json_string(FILE *f, const char *s);
 void cli_json_string_n(FILE *f, const char *s, size_t n);
 /* CSV (RFC 4180): print s, quoted when it holds a comma, quote, CR, LF or edge space. */
 void cli_csv_field(FILE *f, const char *s);
+/* CSV: print s quoted whatever it holds (quotes doubled). */
+void cli_csv_quoted(FILE *f, const char *s);
 
 /* Hex: "10 02 0F" into buf; returns length written (always NUL-terminated when cap > 0). */
 size_t cli_hex(const uint8_t *b, size_t n, char *buf, size_t cap);

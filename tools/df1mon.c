@@ -629,12 +629,7 @@ static bool mon_sleep(long ms)
 
 static const char *signal_name(int sig)
 {
-	switch (sig) {
-	case SIGINT: return "SIGINT";
-	case SIGTERM: return "SIGTERM";
-	case SIGALRM: return "--duration";
-	default: return "a signal";
-	}
+	return sig == SIGALRM ? "--duration" : cli_signal_name(sig);
 }
 
 /* A stop by a signal (not by --duration's timer): reported as an interruption. */

@@ -18,7 +18,6 @@
  * stdout stays empty and the exit status is 1.
  */
 #include <errno.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,8 +25,6 @@
 #include "cli.h"
 #include "df1.h"
 
-#define MAX_ELEMENT 999
-#define ADDR_TEXT_MAX 80
 #define VALUE_TEXT_MAX 200
 
 /* How an operand's values come out of its block. */
@@ -41,7 +38,7 @@ enum extract {
 
 struct item {
 	const char *text;           /* the address as typed (operand up to ',') */
-	char text_buf[ADDR_TEXT_MAX];
+	char text_buf[CLI_ADDR_TEXT_MAX];
 	struct df1_addr a;
 	size_t n;                   /* values */
 	enum extract ex;
@@ -94,48 +91,6 @@ static const struct cli_tool read_tool = {
  * Addresses
  * ------------------------------------------------------------------------ */
 
-static bool is_tcr(enum df1_file_type t)
-{
-	return t == DF1_FT_T || t == DF1_FT_C || t == DF1_FT_R;
-}
-
-static bool is_io(enum df1_file_type t)
-{
-	return t == DF1_FT_I || t == DF1_FT_O;
-}
-
-/* The address of value i of an operand starting at a (as the library counts:
- * elements; bits run on into the next word, except T/C/R bits; I/O words with a
- * word number advance the word). false if it leaves the address space. */
-static bool addr_step(const struct df1_addr *a, size_t i, struct df1_addr *out)
-{
-	char buf[ADDR_TEXT_MAX];
-
-	*out = *a;
-	out->ascii[0] = '\0';
-	if (i > 1000000)
-		return false;
-	if (a->bit != DF1_ADDR_NONE) {
-		long g = (long)a->bit + (long)i;
-		long nb = a->type == DF1_FT_L ? 32 : 16;
-
-		if (is_tcr(a->type)) {
-			out->bit = (int)g;
-		} else if (is_io(a->type) && a->sub != DF1_ADDR_NONE) {
-			out->sub = a->sub + (int)(g / nb);
-			out->bit = (int)(g % nb);
-		} else {
-			out->element = a->element + (int)(g / nb);
-			out->bit = (int)(g % nb);
-		}
-	} else if (is_io(a->type) && a->sub != DF1_ADDR_NONE) {
-		out->sub = a->sub + (int)i;
-	} else {
-		out->element = a->element + (int)i;
-	}
-	return df1_addr_format(out, buf, sizeof buf) > 0;
-}
-
 /* Text of value i's address: canonical, "$" kept for PLC-5 logical ASCII. */
 static void addr_text(const struct df1_addr *a, size_t i, char *buf, size_t cap)
 {
@@ -145,27 +100,13 @@ static void addr_text(const struct df1_addr *a, size_t i, char *buf, size_t cap)
 		snprintf(buf, cap, "$%s", a->ascii);
 		return;
 	}
-	if (!addr_step(a, i, &s) || df1_addr_format(&s, buf + (a->ascii[0] ? 1 : 0),
-	                                           cap - (a->ascii[0] ? 1 : 0)) < 0) {
+	if (!cli_addr_step(a, i, &s) || df1_addr_format(&s, buf + (a->ascii[0] ? 1 : 0),
+	                                               cap - (a->ascii[0] ? 1 : 0)) < 0) {
 		snprintf(buf, cap, "?");
 		return;
 	}
 	if (a->ascii[0])
 		buf[0] = '$';
-}
-
-/* "df1read: N7:x: [2503] ERR_ADDRESS_SYNTAX: Item: 2, Invalid Address Syntax (N7:x)" */
-static int address_error(const struct cli *c, int item, const char *text, int err, size_t n)
-{
-	int id = err == DF1_E_ADDR_RANGE ? 2504 : 2503;
-	const struct df1_catalog_entry *e = df1_catalog_by_id(id);
-
-	fprintf(stderr, "%s: %s: [%d] %s: Item: %d, ", c->name, text, id, e ? e->mnemonic : "?", item);
-	if (id == 2504)
-		fprintf(stderr, "Address is out of range (%s, len=%zu)\n", text, n);
-	else
-		fprintf(stderr, "Invalid Address Syntax (%s)\n", text);
-	return CLI_EXIT_USAGE;
 }
 
 /* One operand: ADDRESS[,COUNT]. */
@@ -181,7 +122,7 @@ static int parse_operand(struct rd *r, size_t idx, const char *arg)
 	it->block = -1;
 	it->n = 1;
 	if (alen >= sizeof it->text_buf)
-		return address_error(&r->cli, (int)idx + 1, arg, DF1_E_ADDR_SYNTAX, 1);
+		return cli_address_error(&r->cli, (int)idx + 1, arg, DF1_E_ADDR_SYNTAX, 1);
 	memcpy(it->text_buf, arg, alen);
 	it->text_buf[alen] = '\0';
 	it->text = it->text_buf;
@@ -201,10 +142,10 @@ static int parse_operand(struct rd *r, size_t idx, const char *arg)
 	}
 	rc = df1_addr_parse(it->text, &it->a);
 	if (rc < 0)
-		return address_error(&r->cli, (int)idx + 1, it->text, rc, it->n);
+		return cli_address_error(&r->cli, (int)idx + 1, it->text, rc, it->n);
 	/* every value's address must exist: N7:998,5 runs past element 999 */
-	if (!addr_step(&it->a, it->n - 1, &last))
-		return address_error(&r->cli, (int)idx + 1, it->text, DF1_E_ADDR_RANGE, it->n);
+	if (!cli_addr_step(&it->a, it->n - 1, &last))
+		return cli_address_error(&r->cli, (int)idx + 1, it->text, DF1_E_ADDR_RANGE, it->n);
 	return CLI_CONTINUE;
 }
 
@@ -217,12 +158,12 @@ static void plan_item(struct item *it)
 	const struct df1_addr *a = &it->a;
 
 	it->ex = EX_DIRECT;
-	if (a->ascii[0] || is_io(a->type) || a->type == DF1_FT_NONE)
+	if (a->ascii[0] || cli_is_io(a->type) || a->type == DF1_FT_NONE)
 		return;
 	if (a->bit == DF1_ADDR_NONE) {
 		if (a->sub == DF1_ADDR_NONE)
 			it->ex = EX_ELEM;
-		else if (is_tcr(a->type))
+		else if (cli_is_tcr(a->type))
 			it->ex = EX_TCR_WORD;
 		else
 			return;
@@ -230,7 +171,7 @@ static void plan_item(struct item *it)
 		it->hi = a->element + (int)it->n - 1;
 		return;
 	}
-	if (is_tcr(a->type)) {
+	if (cli_is_tcr(a->type)) {
 		it->ex = EX_TCR_BITS;
 		it->lo = it->hi = a->element;
 		return;
@@ -539,17 +480,6 @@ static void json_tcr(FILE *f, const char *text)
 	fputc('}', f);
 }
 
-static void csv_quoted(FILE *f, const char *s)
-{
-	fputc('"', f);
-	for (; *s; s++) {
-		if (*s == '"')
-			fputc('"', f);
-		fputc(*s, f);
-	}
-	fputc('"', f);
-}
-
 static int print_all(struct rd *r)
 {
 	FILE *f = stdout;
@@ -565,7 +495,7 @@ static int print_all(struct rd *r)
 
 		for (size_t i = 0; i < it->n; i++) {
 			const struct df1_value *v = &it->vals[i];
-			char text[VALUE_TEXT_MAX], addr[ADDR_TEXT_MAX];
+			char text[VALUE_TEXT_MAX], addr[CLI_ADDR_TEXT_MAX];
 			int len = df1_value_format(v, it->a.type, text, sizeof text);
 
 			if (len < 0)
@@ -580,7 +510,7 @@ static int print_all(struct rd *r)
 				cli_csv_field(f, addr);
 				fputc(',', f);
 				if (v->kind == DF1_VAL_STRING || v->kind == DF1_VAL_TCR)
-					csv_quoted(f, text);
+					cli_csv_quoted(f, text);
 				else
 					fputs(text, f);
 				fputc('\n', f);
@@ -628,17 +558,12 @@ static void free_all(struct rd *r)
 	r->blocks = NULL;
 }
 
-static const char *signal_name(int sig)
-{
-	return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "a signal";
-}
-
 int main(int argc, char **argv)
 {
 	static struct rd r;
 	const char *failed_at = NULL;
 	df1_t *h = NULL;
-	int status, rc, sig;
+	int status, rc;
 
 	cli_init(&r.cli, &read_tool);
 	status = cli_parse(&r.cli, argc, argv, &r);
@@ -681,7 +606,7 @@ int main(int argc, char **argv)
 	rc = read_all(&r, h, &failed_at);
 	if (rc == DF1_E_INTR || cli_stop) {
 		fprintf(stderr, "%s: %s%sinterrupted by %s; nothing printed\n", r.cli.name,
-		        failed_at ? failed_at : "", failed_at ? ": " : "", signal_name(cli_stop_signal()));
+		        failed_at ? failed_at : "", failed_at ? ": " : "", cli_signal_name(cli_stop_signal()));
 		status = CLI_EXIT_FAIL;
 		goto out;
 	}
@@ -700,12 +625,6 @@ int main(int argc, char **argv)
 out:
 	cli_close(&r.cli, h);   /* restores the port's settings */
 	free_all(&r);
-	sig = cli_stop ? cli_stop_signal() : 0;
-	if (sig) {
-		/* end as the signal would have (SA_RESETHAND restored the default action),
-		 * so that a calling shell script stops too */
-		fflush(stderr);
-		raise(sig);
-	}
+	cli_raise_stop_signal();
 	return status;
 }

@@ -22,7 +22,6 @@
  *   df1write: written: N7:0 N7:1; not written: F8:0 ST9:0
  */
 #include <errno.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -30,7 +29,6 @@
 #include "cli.h"
 #include "df1.h"
 
-#define ADDR_TEXT_MAX 80
 #define SMALL_PACKET 82     /* the smallest packet of any controller (SLC 5/01, 5/02) */
 
 enum wstate {
@@ -42,7 +40,7 @@ enum wstate {
 
 struct witem {
 	const char *arg;            /* the operand as typed */
-	char text[ADDR_TEXT_MAX];   /* its address part, as typed */
+	char text[CLI_ADDR_TEXT_MAX];   /* its address part, as typed */
 	struct df1_addr a;
 	size_t n;
 	struct df1_value *vals;
@@ -82,60 +80,6 @@ static const struct cli_tool write_tool = {
  * Addresses and values
  * ------------------------------------------------------------------------ */
 
-static bool is_tcr(enum df1_file_type t)
-{
-	return t == DF1_FT_T || t == DF1_FT_C || t == DF1_FT_R;
-}
-
-static bool is_io(enum df1_file_type t)
-{
-	return t == DF1_FT_I || t == DF1_FT_O;
-}
-
-/* The address of value i of an operand starting at a, as the library counts
- * (see df1read.c); false when it leaves the address space. */
-static bool addr_step(const struct df1_addr *a, size_t i, struct df1_addr *out)
-{
-	char buf[ADDR_TEXT_MAX];
-
-	*out = *a;
-	out->ascii[0] = '\0';
-	if (i > 1000000)
-		return false;
-	if (a->bit != DF1_ADDR_NONE) {
-		long g = (long)a->bit + (long)i;
-		long nb = a->type == DF1_FT_L ? 32 : 16;
-
-		if (is_tcr(a->type)) {
-			out->bit = (int)g;
-		} else if (is_io(a->type) && a->sub != DF1_ADDR_NONE) {
-			out->sub = a->sub + (int)(g / nb);
-			out->bit = (int)(g % nb);
-		} else {
-			out->element = a->element + (int)(g / nb);
-			out->bit = (int)(g % nb);
-		}
-	} else if (is_io(a->type) && a->sub != DF1_ADDR_NONE) {
-		out->sub = a->sub + (int)i;
-	} else {
-		out->element = a->element + (int)i;
-	}
-	return df1_addr_format(out, buf, sizeof buf) > 0;
-}
-
-static int address_error(const struct cli *c, int item, const char *text, int err, size_t n)
-{
-	int id = err == DF1_E_ADDR_RANGE ? 2504 : 2503;
-	const struct df1_catalog_entry *e = df1_catalog_by_id(id);
-
-	fprintf(stderr, "%s: %s: [%d] %s: Item: %d, ", c->name, text, id, e ? e->mnemonic : "?", item);
-	if (id == 2504)
-		fprintf(stderr, "Address is out of range (%s, len=%zu)\n", text, n);
-	else
-		fprintf(stderr, "Invalid Address Syntax (%s)\n", text);
-	return CLI_EXIT_USAGE;
-}
-
 /* What a value of this kind must look like, for messages. */
 static const char *value_hint(const struct df1_addr *a, enum df1_value_kind k)
 {
@@ -174,12 +118,12 @@ static int parse_operand(struct wr *w, size_t idx, const char *arg)
 		return cli_usage_error(&w->cli, "%s: expected ADDRESS=VALUE[,VALUE...]", arg);
 	alen = (size_t)(eq - arg);
 	if (alen >= sizeof it->text)
-		return address_error(&w->cli, (int)idx + 1, arg, DF1_E_ADDR_SYNTAX, 1);
+		return cli_address_error(&w->cli, (int)idx + 1, arg, DF1_E_ADDR_SYNTAX, 1);
 	memcpy(it->text, arg, alen);
 	it->text[alen] = '\0';
 	rc = df1_addr_parse(it->text, &it->a);
 	if (rc < 0)
-		return address_error(&w->cli, (int)idx + 1, it->text, rc, 1);
+		return cli_address_error(&w->cli, (int)idx + 1, it->text, rc, 1);
 	v = eq + 1;
 
 	/* count the values */
@@ -191,8 +135,8 @@ static int parse_operand(struct wr *w, size_t idx, const char *arg)
 			if (*p == ',')
 				cap++;
 	}
-	if (!addr_step(&it->a, cap - 1, &last))
-		return address_error(&w->cli, (int)idx + 1, it->text, DF1_E_ADDR_RANGE, cap);
+	if (!cli_addr_step(&it->a, cap - 1, &last))
+		return cli_address_error(&w->cli, (int)idx + 1, it->text, DF1_E_ADDR_RANGE, cap);
 	it->vals = calloc(cap, sizeof *it->vals);
 	if (!it->vals) {
 		fprintf(stderr, "%s: out of memory\n", w->cli.name);
@@ -213,7 +157,7 @@ static int parse_operand(struct wr *w, size_t idx, const char *arg)
 		}
 		memcpy(text, v, len);
 		text[len] = '\0';
-		addr_step(&it->a, i, &ai);
+		cli_addr_step(&it->a, i, &ai);
 		rc = df1_value_parse(&ai, text, &it->vals[i]);
 		if (rc == 0 && it->vals[i].kind != DF1_VAL_STRING && strspn(text, " \t") == len)
 			rc = DF1_E_TYPE;        /* an empty item: "N7:0=1,,3" */
@@ -250,9 +194,9 @@ static bool one_packet(const struct witem *it)
 		return true;
 	if (a->bit != DF1_ADDR_NONE) {
 		int nb = a->type == DF1_FT_L && a->sub == DF1_ADDR_NONE ? 32 : 16;
-		return is_tcr(a->type) || (a->bit + (int)it->n - 1) / nb == 0;
+		return cli_is_tcr(a->type) || (a->bit + (int)it->n - 1) / nb == 0;
 	}
-	if (is_tcr(a->type) && a->sub != DF1_ADDR_NONE)
+	if (cli_is_tcr(a->type) && a->sub != DF1_ADDR_NONE)
 		return false;           /* one command per element */
 	return it->n * (size_t)df1_file_type_element_size(a->type) <= SMALL_PACKET;
 }
@@ -320,11 +264,6 @@ static void report_progress(const struct wr *w)
 	fputc('\n', stderr);
 }
 
-static const char *signal_name(int sig)
-{
-	return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "a signal";
-}
-
 static void free_all(struct wr *w)
 {
 	for (size_t i = 0; i < w->nitems; i++)
@@ -337,7 +276,7 @@ int main(int argc, char **argv)
 {
 	static struct wr w;
 	df1_t *h = NULL;
-	int status = CLI_EXIT_OK, rc = 0, sig;
+	int status = CLI_EXIT_OK, rc = 0;
 	size_t done = 0;
 	struct witem *failed = NULL;
 
@@ -391,9 +330,9 @@ int main(int argc, char **argv)
 	if (cli_stop && (!failed || rc == DF1_E_INTR || rc == DF1_E_SYS)) {
 		if (failed)
 			fprintf(stderr, "%s: %s: interrupted by %s\n", w.cli.name, failed->text,
-			        signal_name(cli_stop_signal()));
+			        cli_signal_name(cli_stop_signal()));
 		else
-			fprintf(stderr, "%s: interrupted by %s\n", w.cli.name, signal_name(cli_stop_signal()));
+			fprintf(stderr, "%s: interrupted by %s\n", w.cli.name, cli_signal_name(cli_stop_signal()));
 		report_progress(&w);
 		status = CLI_EXIT_FAIL;
 	} else if (failed) {
@@ -407,11 +346,6 @@ int main(int argc, char **argv)
 	}
 	cli_close(&w.cli, h);   /* restores the port's settings */
 	free_all(&w);
-	sig = cli_stop ? cli_stop_signal() : 0;
-	if (sig) {
-		/* end as the signal would have, so that a calling shell script stops too */
-		fflush(stderr);
-		raise(sig);
-	}
+	cli_raise_stop_signal();
 	return status;
 }

@@ -11,6 +11,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "cli.h"
+
 #define MM_PROG "df1mon"
 #define MM_POLL_MS 200          /* df1_poll() wait: how soon *stop is seen */
 #define MM_VALUE_WIDTH 40       /* plain: longer values are cut with "..." */
@@ -57,24 +59,6 @@ static void mm_json_string(FILE *f, const char *s)
 			fprintf(f, "\\u%04x", c);
 		else
 			fputc(c, f);
-	}
-	fputc('"', f);
-}
-
-static void mm_csv_field(FILE *f, const char *s)
-{
-	size_t n = strlen(s);
-	bool quote = strpbrk(s, ",\"\r\n") != NULL || (n && (s[0] == ' ' || s[n - 1] == ' '));
-
-	if (!quote) {
-		fputs(s, f);
-		return;
-	}
-	fputc('"', f);
-	for (; *s; s++) {
-		if (*s == '"')
-			fputc('"', f);
-		fputc(*s, f);
 	}
 	fputc('"', f);
 }
@@ -268,11 +252,11 @@ static void mm_records(struct mm *m)
 		if (m->format == MON_MAP_CSV) {
 			mm_values_text(&st, " ", v, sizeof v);
 			fprintf(f, "%.3f,%llu,", mm_elapsed(m), (unsigned long long)m->scan);
-			mm_csv_field(f, st.config->name);
+			cli_csv_field(f, st.config->name);
 			fprintf(f, ",%d,", st.config->station);
-			mm_csv_field(f, a);
+			cli_csv_field(f, a);
 			fputc(',', f);
-			mm_csv_field(f, st.has_value ? v : "");
+			cli_csv_field(f, st.has_value ? v : "");
 			fprintf(f, ",%s,%s,", df1_quality_name(st.quality), df1_reason_name(st.reason));
 			if (st.age_ms >= 0)
 				fprintf(f, "%lld", (long long)st.age_ms);
