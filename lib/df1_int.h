@@ -135,5 +135,7 @@ int df1_fail(struct df1 *h, int code, int station, const char *fmt, ...)
 	__attribute__((format(printf, 4, 5)));
 int df1_fail_remote(struct df1 *h, int station, uint8_t sts, uint8_t ext, bool has_ext);
 void df1_clear_error(struct df1 *h);
+/* The frame decoder's FRAME_OPT_* for the handle's configuration (lib/handle.c). */
+unsigned handle_decoder_opts(const struct df1 *h);
 
 #endif

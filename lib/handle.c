@@ -204,9 +204,7 @@ int df1_station_set_active(df1_t *h, int station, bool active)
  * Allocation
  * ------------------------------------------------------------------------ */
 
-/* A valid decoder from the start; the link re-initialises it when the
- * settings it depends on change (link_setup). */
-static void handle_decoder_init(struct df1 *h)
+unsigned handle_decoder_opts(const struct df1 *h)
 {
 	unsigned opts = 0;
 
@@ -220,7 +218,14 @@ static void handle_decoder_init(struct df1 *h)
 		opts |= FRAME_OPT_NO_EMBEDDED;
 	if (h->cfg.duplex != DF1_FULL_DUPLEX)
 		opts |= FRAME_OPT_HALF_DUPLEX;
-	frame_decoder_init(&h->dec, h->cfg.check, opts);
+	return opts;
+}
+
+/* A valid decoder from the start; the link re-initialises it when the
+ * settings it depends on change (link_setup). */
+static void handle_decoder_init(struct df1 *h)
+{
+	frame_decoder_init(&h->dec, h->cfg.check, handle_decoder_opts(h));
 }
 
 /* Link-side buffers start empty on every new connection. */

@@ -63,23 +63,6 @@
  * Setup
  * ------------------------------------------------------------------------ */
 
-unsigned link_decoder_opts(const struct df1 *h)
-{
-	unsigned opts = 0;
-
-	if (h->cfg.nak_0f)
-		opts |= FRAME_OPT_ACCEPT_NAK_0F;
-	if (h->cfg.hd_bcc_stx)
-		opts |= FRAME_OPT_HD_BCC_STX;
-	if (h->cfg.eot_bcc)
-		opts |= FRAME_OPT_EOT_TRAILER;
-	if (!h->cfg.embedded)
-		opts |= FRAME_OPT_NO_EMBEDDED;
-	if (h->cfg.duplex != DF1_FULL_DUPLEX)
-		opts |= FRAME_OPT_HALF_DUPLEX;
-	return opts;
-}
-
 /* The decoder follows the configuration (the setters may change it at any time). */
 int link_setup(struct df1 *h)
 {
@@ -87,7 +70,7 @@ int link_setup(struct df1 *h)
 
 	if (!h->port || h->fd < 0)
 		return df1_fail(h, DF1_E_NOT_OPEN, -1, "handle is not open");
-	opts = link_decoder_opts(h);
+	opts = handle_decoder_opts(h);
 	if (h->dec.max_len == 0 || h->dec.check != h->cfg.check || h->dec.opts != opts)
 		frame_decoder_init(&h->dec, h->cfg.check, opts);
 	if (h->last_response != DF1_ACK && h->last_response != DF1_NAK)
@@ -413,6 +396,39 @@ void link_remember(struct df1 *h, uint8_t key, const uint8_t *app, size_t n)
 	st->have_last = true;
 }
 
+/* A duplicate: ACKed again and dropped (2526, 2549, 2524), counted even when
+ * the ACK cannot be sent. Returns the ACK's result. */
+int link_ack_dup(struct df1 *h, const struct df1_symbol *s)
+{
+	int r = link_send_sym(h, DF1_ACK);
+
+	df1_count(h, 2526); /* CNT_MSG_PACKETS_RCVD */
+	df1_count(h, 2549); /* CNT_DUPLICATE_MSGS_RCVD */
+	df1_log(h, 2524, (int)s->data[1]);
+	return r;
+}
+
+int link_serve_screen(struct df1 *h, uint8_t key, const struct df1_symbol *s)
+{
+	const uint8_t *d = s->data;
+	int r;
+
+	if (link_is_dup(h, key, d, s->len)) {
+		r = link_ack_dup(h, s);
+		return r < 0 ? r : 0;
+	}
+	if (d[2] & 0x40) {
+		/* a reply, and the responder has no command outstanding: stale */
+		r = link_send_sym(h, DF1_ACK);
+		link_remember(h, key, d, s->len);
+		df1_count(h, 2526); /* CNT_MSG_PACKETS_RCVD */
+		df1_count(h, 2548); /* CNT_STALE_MSGS_RCVD */
+		df1_log(h, 2510, (int)d[1], (int)d[0], (int)(d[4] | d[5] << 8));
+		return r < 0 ? r : 0;
+	}
+	return 1;
+}
+
 /* A message the master accepted (already ACKed): the reply it waits for?
  * Returns 1 (matched: copied to reply, *len set), 0 (stale or unsolicited:
  * counted and dropped) or DF1_E_* (wrong CMD, reply buffer too small). */
@@ -736,10 +752,7 @@ static int fd_link_test(struct df1 *h)
 			} else if (!s.check_ok) {
 				r = fd_reject(h, &s);
 			} else if (link_is_dup(h, s.data[1], s.data, s.len)) {
-				r = link_send_sym(h, DF1_ACK);
-				df1_count(h, 2526);
-				df1_count(h, 2549);
-				df1_log(h, 2524, (int)s.data[1]);
+				r = link_ack_dup(h, &s);
 			} else {
 				size_t len;
 
@@ -856,22 +869,9 @@ static int fd_serve_frame(struct df1 *h, const struct df1_symbol *s, link_handle
 		return 0;
 	}
 	h->link.silenced = false;
-	if (link_is_dup(h, d[1], d, s->len)) {
-		r = link_send_sym(h, DF1_ACK);
-		df1_count(h, 2526);
-		df1_count(h, 2549);
-		df1_log(h, 2524, (int)d[1]);
-		return r < 0 ? r : 0;
-	}
-	if (d[2] & 0x40) {
-		/* a reply, and the responder has no command outstanding: stale */
-		r = link_send_sym(h, DF1_ACK);
-		link_remember(h, d[1], d, s->len);
-		df1_count(h, 2526);
-		df1_count(h, 2548);
-		df1_log(h, 2510, (int)d[1], (int)d[0], (int)(d[4] | d[5] << 8));
-		return r < 0 ? r : 0;
-	}
+	r = link_serve_screen(h, d[1], s);
+	if (r <= 0)
+		return r;
 	if (link_fault(h, DF1_FAULT_NAK_COMMAND)) {
 		r = link_send_sym(h, DF1_NAK);
 		return r < 0 ? r : 0;

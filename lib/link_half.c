@@ -179,22 +179,31 @@ static int hd_wait_ack(struct df1 *h, int64_t deadline_ms, int *cause)
 	}
 }
 
-/* The Active Station List probe: one poll. 0 (the station answered) or DF1_E_*. */
-static int hd_probe(struct df1 *h, uint8_t stn)
+/* One poll of stn with no command outstanding: enum hd_answer (*cause as
+ * hd_answer's) or DF1_E_*. An EOT or a slave message makes stn active. */
+static int hd_poll_once(struct df1 *h, uint8_t stn, int *cause)
 {
 	size_t len = 0;
-	int cause = 0;
 	int r = hd_send_poll(h, stn);
 
 	if (r < 0)
 		return r;
-	r = hd_answer(h, stn, NULL, df1_now_ms() + link_timeout_ms(h), NULL, 0, &len, &cause);
+	r = hd_answer(h, stn, NULL, df1_now_ms() + link_timeout_ms(h), NULL, 0, &len, cause);
+	if (r == ANS_EOT || r == ANS_SKIP)
+		h->stations[stn].active = true;
+	return r;
+}
+
+/* The Active Station List probe: one poll. 0 (the station answered) or DF1_E_*. */
+static int hd_probe(struct df1 *h, uint8_t stn)
+{
+	int cause = 0;
+	int r = hd_poll_once(h, stn, &cause);
+
 	if (r < 0)
 		return r;
-	if (r == ANS_EOT || r == ANS_SKIP) {
-		h->stations[stn].active = true;
+	if (r == ANS_EOT || r == ANS_SKIP)
 		return 0;
-	}
 	df1_log(h, 2509, (int)stn); /* ERR_INACTIVE_STATION */
 	return df1_fail(h, DF1_E_INACTIVE, stn, "slave station %d inactive", stn);
 }
@@ -312,19 +321,14 @@ int link_half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *rep
 
 int link_half_test(struct df1 *h, uint8_t stn)
 {
-	size_t len = 0;
 	int cause = 0;
-	int r = hd_send_poll(h, stn);
+	int r = hd_poll_once(h, stn, &cause);
 
-	if (r < 0)
-		return r;
-	r = hd_answer(h, stn, NULL, df1_now_ms() + link_timeout_ms(h), NULL, 0, &len, &cause);
 	if (r < 0)
 		return r;
 	switch (r) {
 	case ANS_EOT:
 	case ANS_SKIP:
-		h->stations[stn].active = true;
 		return 0;
 	case ANS_TIMEOUT:
 		return df1_fail(h, DF1_E_TIMEOUT, stn, "station %d did not answer the poll", stn);
@@ -401,22 +405,10 @@ static int hd_slave_msg(struct df1 *h, const struct df1_symbol *s, link_handler_
 		link_bad_check(h, s); /* no answer: the master times out and retries */
 		return 0;
 	}
-	if (link_is_dup(h, stn, d, s->len)) {
-		r = link_send_sym(h, DF1_ACK); /* not run again; its reply is still queued */
-		df1_count(h, 2526);
-		df1_count(h, 2549);
-		df1_log(h, 2524, (int)d[1]);
-		return r < 0 ? r : 0;
-	}
-	if (d[2] & 0x40) {
-		/* a reply: this slave sent no command */
-		r = link_send_sym(h, DF1_ACK);
-		link_remember(h, stn, d, s->len);
-		df1_count(h, 2526);
-		df1_count(h, 2548);
-		df1_log(h, 2510, (int)d[1], (int)d[0], (int)(d[4] | d[5] << 8));
-		return r < 0 ? r : 0;
-	}
+	/* a duplicate is not run again: its reply is still queued */
+	r = link_serve_screen(h, stn, s);
+	if (r <= 0)
+		return r;
 	if (link_fault(h, DF1_FAULT_NAK_COMMAND)) {
 		r = link_send_sym(h, DF1_NAK);
 		return r < 0 ? r : 0;

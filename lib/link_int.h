@@ -9,7 +9,6 @@
 #include "link.h"
 
 /* setup */
-unsigned link_decoder_opts(const struct df1 *h);
 int link_setup(struct df1 *h);
 enum df1_check link_tx_check(const struct df1 *h);
 int64_t link_timeout_ms(const struct df1 *h);
@@ -25,6 +24,13 @@ bool link_log_error(struct df1 *h, const struct df1_symbol *s);
 /* duplicate detection, per station key */
 bool link_is_dup(const struct df1 *h, uint8_t key, const uint8_t *app, size_t n);
 void link_remember(struct df1 *h, uint8_t key, const uint8_t *app, size_t n);
+/* A duplicate: DLE ACK again, counted (2526, 2549, 2524) even when the ACK
+ * fails; returns the ACK's result. */
+int link_ack_dup(struct df1 *h, const struct df1_symbol *s);
+/* A responder's frame with a good check, keyed for duplicates by key: a
+ * duplicate, or a reply (the responder has no command outstanding: stale,
+ * 2548, 2510), is ACKed and dropped (0); a new command is 1; DF1_E_*. */
+int link_serve_screen(struct df1 *h, uint8_t key, const struct df1_symbol *s);
 /* An accepted (ACKed) message on the master side: 1 = the reply to cmd (copied),
  * 0 = stale / unsolicited (counted, dropped; always when cmd is NULL), DF1_E_*. */
 int link_take_reply(struct df1 *h, const uint8_t *cmd, const struct df1_symbol *s,
