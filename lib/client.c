@@ -84,13 +84,6 @@
 #include "pccc.h"
 #include "value.h"
 
-/* Data bytes per packet (spec 6): lib/plc_limits.h. */
-#define PLC5_PACKET_MAX PLC_PLC5_PACKET_MAX
-#define PLC5_TD_MARGIN PLC_PLC5_TD_MARGIN
-#define PLC5_TCR_READ_SIZE PLC_PLC5_TCR_READ
-#define PACKET_HARD_MAX PLC_PACKET_HARD_MAX
-#define ECHO_MAX 243            /* KF2 p.89 */
-
 /* Typed reads and writes of the PLC-5 use plain LE floats (spec 5, RTA). */
 #define PLC5_FLOAT_ORDER VALUE_FLOAT_LE
 
@@ -494,9 +487,9 @@ static size_t plc5_budget(const struct df1 *h, size_t alen, size_t overhead, siz
 	size_t b;
 
 	if (h->cfg.max_packet > 0)
-		b = h->cfg.max_packet < PACKET_HARD_MAX ? (size_t)h->cfg.max_packet : PACKET_HARD_MAX;
+		b = h->cfg.max_packet < PLC_PACKET_HARD_MAX ? (size_t)h->cfg.max_packet : PLC_PACKET_HARD_MAX;
 	else
-		b = PLC5_PACKET_MAX > alen + overhead ? PLC5_PACKET_MAX - alen - overhead : 0;
+		b = PLC_PLC5_PACKET_MAX > alen + overhead ? PLC_PLC5_PACKET_MAX - alen - overhead : 0;
 	return b < frame_room ? b : frame_room;
 }
 
@@ -504,14 +497,15 @@ static int plc5_read(struct df1 *h, int station, const char *what, const struct 
 {
 	uint8_t cmd[FRAME_MAX_DATA], reply[FRAME_MAX_DATA], addr[DF1_ADDR_ASCII_MAX + 8];
 	struct pccc_hdr hd = { (uint8_t)station, (uint8_t)h->cfg.station, 0 };
-	size_t rsize = client_is_tcr(s->a.type) && s->esize == 6 ? PLC5_TCR_READ_SIZE : s->esize;
+	size_t rsize = client_is_tcr(s->a.type) && s->esize == 6 ? PLC_PLC5_TCR_READ : s->esize;
 	size_t per, done = 0, budget;
 	int alen = plc5_addr(h, station, what, &s->a, addr, sizeof addr);
 
 	if (alen < 0)
 		return alen;
 	/* the reply: header, type/data and descriptor, data */
-	budget = plc5_budget(h, (size_t)alen, PLC5_TD_MARGIN, FRAME_MAX_DATA - PCCC_HDR_LEN - PLC5_TD_MARGIN);
+	budget = plc5_budget(h, (size_t)alen, PLC_PLC5_TD_MARGIN,
+	                     FRAME_MAX_DATA - PCCC_HDR_LEN - PLC_PLC5_TD_MARGIN);
 	per = budget / rsize;
 	if (s->a.type == DF1_FT_ST && s->esize == 84)
 		per = 1;        /* one string per packet: the reply is 3x LEN characters (RTA) */
@@ -1110,6 +1104,22 @@ static int client_parse(struct df1 *h, int station, const char *text, struct df1
 	return 0;
 }
 
+/* Common start of a call with an address text: station check, parse, the
+ * address's text for messages in what. */
+static int client_begin(struct df1 *h, int station, const char *text, struct df1_addr *a,
+                        char *what, size_t wcap)
+{
+	int rc = client_check(h, station);
+
+	if (rc < 0)
+		return rc;
+	rc = client_parse(h, station, text, a);
+	if (rc < 0)
+		return rc;
+	client_atext(a, what, wcap);
+	return 0;
+}
+
 static int client_count_check(struct df1 *h, int station, const char *what, const void *p, size_t n)
 {
 	if (!p || n == 0)
@@ -1119,43 +1129,44 @@ static int client_count_check(struct df1 *h, int station, const char *what, cons
 	return 0;
 }
 
-int df1_read_addr(df1_t *h, int station, const struct df1_addr *a, struct df1_value *out, size_t n)
+/* Common start of df1_read_addr / df1_write_addr: checks, and the address's
+ * text for messages in what. */
+static int client_addr_begin(struct df1 *h, int station, const struct df1_addr *a, const void *p,
+                             size_t n, char *what, size_t wcap)
 {
-	char what[ATEXT_MAX];
-	struct io io = { .kind = IO_VALUE };
 	int rc = client_check(h, station);
 
 	if (rc < 0)
 		return rc;
 	if (!a)
 		return df1_fail(h, DF1_E_INVAL, station, "no address");
-	client_atext(a, what, sizeof what);
-	rc = client_count_check(h, station, what, out, n);
+	client_atext(a, what, wcap);
+	return client_count_check(h, station, what, p, n);
+}
+
+int df1_read_addr(df1_t *h, int station, const struct df1_addr *a, struct df1_value *out, size_t n)
+{
+	char what[ATEXT_MAX];
+	struct io io = { .kind = IO_VALUE, .out = out };
+	int rc = client_addr_begin(h, station, a, out, n, what, sizeof what);
+
 	if (rc < 0)
 		return rc;
 	if (a->bit != DF1_ADDR_NONE)
 		return client_read_bits(h, station, what, a, n, NULL, out);
-	io.out = out;
 	return client_read_elems(h, station, what, a, n, &io);
 }
 
 int df1_write_addr(df1_t *h, int station, const struct df1_addr *a, const struct df1_value *in, size_t n)
 {
 	char what[ATEXT_MAX];
-	struct io io = { .kind = IO_VALUE };
-	int rc = client_check(h, station);
+	struct io io = { .kind = IO_VALUE, .in = in };
+	int rc = client_addr_begin(h, station, a, in, n, what, sizeof what);
 
-	if (rc < 0)
-		return rc;
-	if (!a)
-		return df1_fail(h, DF1_E_INVAL, station, "no address");
-	client_atext(a, what, sizeof what);
-	rc = client_count_check(h, station, what, in, n);
 	if (rc < 0)
 		return rc;
 	if (a->bit != DF1_ADDR_NONE)
 		return client_write_bits(h, station, what, a, n, NULL, in);
-	io.in = in;
 	return client_write_elems(h, station, what, a, n, &io);
 }
 
@@ -1216,14 +1227,10 @@ static const enum io_kind client_ctype_io[] = {
 static int client_typed(struct df1 *h, int station, const char *addr, enum client_ctype ct,
                         const void *p, size_t n, struct df1_addr *a, char *what, size_t wcap)
 {
-	int rc = client_check(h, station);
+	int rc = client_begin(h, station, addr, a, what, wcap);
 
 	if (rc < 0)
 		return rc;
-	rc = client_parse(h, station, addr, a);
-	if (rc < 0)
-		return rc;
-	client_atext(a, what, wcap);
 	rc = client_count_check(h, station, what, p, n);
 	if (rc < 0)
 		return rc;
@@ -1320,14 +1327,10 @@ int df1_write_string(df1_t *h, int station, const char *addr, const char *text)
 static int client_bit_addr(df1_t *h, int station, const char *addr, struct df1_addr *a, char *what,
                            size_t wcap)
 {
-	int rc = client_check(h, station);
+	int rc = client_begin(h, station, addr, a, what, wcap);
 
 	if (rc < 0)
 		return rc;
-	rc = client_parse(h, station, addr, a);
-	if (rc < 0)
-		return rc;
-	client_atext(a, what, wcap);
 	if (a->bit == DF1_ADDR_NONE)
 		return df1_fail(h, DF1_E_TYPE, station, "%s: not a bit address", what);
 	return 0;
@@ -1367,14 +1370,10 @@ static int client_raw(df1_t *h, int station, const char *addr, const uint8_t *in
 	struct df1_addr a;
 	struct io io = { .kind = IO_RAW, .in = in, .out = out };
 	size_t esize;
-	int rc = client_check(h, station);
+	int rc = client_begin(h, station, addr, &a, what, sizeof what);
 
 	if (rc < 0)
 		return rc;
-	rc = client_parse(h, station, addr, &a);
-	if (rc < 0)
-		return rc;
-	client_atext(&a, what, sizeof what);
 	if (a.bit != DF1_ADDR_NONE)
 		return df1_fail(h, DF1_E_TYPE, station, "%s: raw access takes a word or element address",
 		                what);
@@ -1475,8 +1474,8 @@ int df1_echo(df1_t *h, int station, const uint8_t *data, size_t n)
 
 	if (rc < 0)
 		return rc;
-	if ((n && !data) || n > ECHO_MAX)
-		return df1_fail(h, DF1_E_INVAL, station, "echo: %zu bytes (0-%d)", n, ECHO_MAX);
+	if ((n && !data) || n > PLC_ECHO_MAX)
+		return df1_fail(h, DF1_E_INVAL, station, "echo: %zu bytes (0-%d)", n, PLC_ECHO_MAX);
 	hd = (struct pccc_hdr){ (uint8_t)station, (uint8_t)h->cfg.station, 0 };
 	len = pccc_enc_echo(c, sizeof c, &hd, data, n);
 	if (len < 0)

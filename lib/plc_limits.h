@@ -1,11 +1,8 @@
 /*
  * plc_limits.h - data bytes per packet by PLC type (spec/protocol.md 6), one
- * table for the layers that plan packets: the client splits requests with it,
- * the poll engine sizes its block reads with it.
- *
- * The values are lib/client.c's (SLC_READ_MAX ... PLC5_TD_MARGIN): until the
- * client includes this header they must be kept equal (see the poll engine's
- * report to the lead). Pure, header only.
+ * table for every layer that plans or checks packets: the client splits
+ * requests with it, the poll engine sizes its block reads with it, the server
+ * refuses what exceeds it. Pure, header only.
  */
 #ifndef LIBDF1_PLC_LIMITS_H
 #define LIBDF1_PLC_LIMITS_H
@@ -23,6 +20,7 @@
 #define PLC_PLC5_ADDR_MAX 7     /* logical binary address: mask + file and element with FF escapes */
 #define PLC_PLC5_TCR_READ 10    /* a PLC-5 timer/counter/control is budgeted as five words (KF2 p.130) */
 #define PLC_PACKET_HARD_MAX 244 /* DF1_OPT_MAX_PACKET is clamped here */
+#define PLC_ECHO_MAX 243        /* 06/00 echo data (KF2 p.89) */
 
 /* The table: data bytes per read or write packet (client.c's client_limit());
  * max_packet > 0 (DF1_OPT_MAX_PACKET) replaces it. PLC-5: the whole typed

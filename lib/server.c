@@ -490,9 +490,9 @@ static int srv_slc(struct srv *s, uint8_t fnc)
 	if (t == DF1_FT_NONE)
 		return srv_fail_ext(s, 0x11);
 	if (s->h && s->h->cfg.plc == DF1_PLC_SLC502)
-		limit = SERVER_SLC502_MAX;
+		limit = PLC_SLC502_MAX;
 	else
-		limit = rd ? SERVER_SLC_READ_MAX : SERVER_SLC_WRITE_MAX;
+		limit = rd ? PLC_SLC_READ_MAX : PLC_SLC_WRITE_MAX;
 	if (nb > limit)
 		return srv_fail_ext(s, 0x09);
 	off = (size_t)elem * elem_size(t) + (size_t)sub * 2;
@@ -530,11 +530,11 @@ static int srv_plc2(struct srv *s)
 
 	switch (s->m->cmd) {
 	case PCCC_CMD_UNPROT_READ:
-		if (n != 3 || (d[0] & 1) || d[2] == 0 || (d[2] & 1) || d[2] > SERVER_PLC2_MAX)
+		if (n != 3 || (d[0] & 1) || d[2] == 0 || (d[2] & 1) || d[2] > PLC_PLC2_MAX)
 			return srv_fail_sts(s, 0x10);
 		break;
 	case PCCC_CMD_UNPROT_WRITE: case PCCC_CMD_PROT_WRITE:
-		if (n < 3 || (d[0] & 1) || n - 2 > SERVER_PLC2_MAX)
+		if (n < 3 || (d[0] & 1) || n - 2 > PLC_PLC2_MAX)
 			return srv_fail_sts(s, 0x10);
 		break;
 	default:        /* 05, 02: blocks of ADDR(2) SET(1) RESET(1), up to 60 */
@@ -652,7 +652,7 @@ static void dispatch(struct srv *s, const uint8_t *cmd)
 	case PCCC_CMD_DIAG:
 		switch (m->fnc) {
 		case PCCC_FNC_ECHO:
-			if (m->len > SERVER_ECHO_MAX) {
+			if (m->len > PLC_ECHO_MAX) {
 				srv_fail_sts(s, 0x10);
 				return;
 			}

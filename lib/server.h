@@ -24,6 +24,7 @@
 #define LIBDF1_SERVER_H
 
 #include "df1_int.h"
+#include "plc_limits.h"
 
 /* ctx of server_handle(): the callbacks and their user pointer. */
 struct server_ctx {
@@ -38,14 +39,11 @@ struct server_ctx {
 #define SERVER_PLC2_FILE_MICROLOGIX 7
 #define SERVER_PLC2_FILE_PLC5 9
 
-/* Data limits per reply / write (spec 6). */
-#define SERVER_SLC_READ_MAX 236      /* A1/A2, SLC 5/03+ DF1 (M p.104) */
-#define SERVER_SLC_WRITE_MAX 234     /* A9/AA/AB (M p.105) */
-#define SERVER_SLC502_MAX 82         /* SLC 5/01, 5/02 reads and writes */
-#define SERVER_TYPED_REPLY_MAX 240   /* 0F/68 reply: type/data parameter + data (KF2 p.129) */
+/* Data limits per reply / write (spec 6): lib/plc_limits.h's PLC_SLC_READ_MAX
+ * (A1/A2), PLC_SLC_WRITE_MAX (A9/AA/AB), PLC_SLC502_MAX, PLC_PLC2_MAX (01 SIZE,
+ * 08 data), PLC_ECHO_MAX (06/00), and these: */
+#define SERVER_TYPED_REPLY_MAX PLC_PLC5_PACKET_MAX /* 0F/68 reply: type/data parameter + data */
 #define SERVER_WORD_READ_MAX 244     /* 0F/01 reply data (KF2 p.136) */
-#define SERVER_PLC2_MAX 244          /* 01 SIZE, 08 data (M p.119, p.134) */
-#define SERVER_ECHO_MAX 243          /* 06/00 (KF2 p.89) */
 
 /* The link handler (link_handler_fn): decode the command in cmd[0..n), run it
  * through ctx (a struct server_ctx *), write the reply app bytes. Returns the
