@@ -3,29 +3,14 @@
 # Run from the repository root; DF1_BIN is the directory of the built tools.
 # Data: tests/data/serial-tap-*.pcap (copies of the shared captures) and
 # tests/data/vectors.txt (a copy of spec/vectors.txt).
-BIN=${DF1_BIN:-$(pwd)/build/bin}
+. tests/lib.sh
+
 MON="$BIN/df1mon"
 DATA=tests/data
 CAP="$DATA/serial-tap-slc-full-duplex.pcap"
 ONE="$DATA/serial-tap-one-frame.pcap"
 VEC="$DATA/vectors.txt"
-T=$(mktemp -d "${TMPDIR:-/tmp}/it_df1mon.XXXXXX") || exit 1
-trap 'rm -rf "$T"' EXIT INT TERM
-pass=0
-fail=0
 
-ok() { pass=$((pass + 1)); }
-bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
-# expect STATUS DESCRIPTION -- command...: run, keep stdout/stderr in $T/out $T/err
-expect() {
-	want=$1; what=$2; shift 3
-	"$@" > "$T/out" 2> "$T/err"
-	got=$?
-	if [ "$got" -eq "$want" ]; then ok; else
-		bad "$what: exit $got, expected $want"; sed 's/^/  err: /' "$T/err" | head -5
-	fi
-}
-check() { if eval "$2"; then ok; else bad "$1"; fi; }
 # hex text -> bytes on stdout (POSIX awk and printf only)
 hex2bin() {
 	fmt=$(printf '%s\n' "$1" | awk '{
@@ -36,15 +21,6 @@ hex2bin() {
 		}
 		print out }')
 	printf "%b" "$fmt"
-}
-# every line a JSON object: starts with {, ends with }, an even number of unescaped quotes
-json_ok() {
-	awk '{
-		if ($0 !~ /^\{".*\}$/) { bad = 1; print "not an object: " $0; next }
-		s = $0; gsub(/\\\\/, "", s); gsub(/\\"/, "", s)
-		n = gsub(/"/, "", s); if (n % 2) { bad = 1; print "odd quotes: " $0 }
-		t = $0; o = gsub(/\{/, "", t); c = gsub(/\}/, "", t); if (o != c) { bad = 1; print "braces: " $0 }
-	} END { exit bad }' "$1"
 }
 
 [ -x "$MON" ] || { echo "no $MON"; exit 1; }
@@ -179,5 +155,4 @@ check "--help on stdout" 'grep -q "^Usage: df1mon" "$T/out" && [ ! -s "$T/err" ]
 expect 0 "--version" -- "$MON" --version
 check "--version" 'grep -q "^df1mon (libdf1) [0-9]" "$T/out"'
 
-echo "$pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+finish

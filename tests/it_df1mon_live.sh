@@ -13,16 +13,6 @@ MON="$BIN/df1mon"
 [ -x "$MON" ] || { echo "no $MON"; exit 1; }
 unset DF1_DEVICE
 
-# every line a JSON object with balanced quotes and braces
-json_ok() {
-	awk '{
-		if ($0 !~ /^\{".*\}$/) { bad = 1; print "not an object: " $0; next }
-		s = $0; gsub(/\\\\/, "", s); gsub(/\\"/, "", s)
-		n = gsub(/"/, "", s); if (n % 2) { bad = 1; print "odd quotes: " $0 }
-		t = $0; o = gsub(/\{/, "", t); c = gsub(/\}/, "", t); if (o != c) { bad = 1; print "braces: " $0 }
-	} END { exit bad }' "$1"
-}
-
 # The counter IDs of the seed table, in order.
 IDS="2525 2526 2527 2528 2529 2530 2531 2532 2533 2534 2535 2536 2537 2538 2539 2540 2541 2542 2543 2544 2545 2546 2547 2548 2549 2550 2551 2560 2561"
 # counter VALUE of ID in file: counter FILE ID

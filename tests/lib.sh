@@ -24,6 +24,8 @@
 #   wait_for DESC TRIES CMD...
 #                          run CMD every 0.1 s until it succeeds, at most TRIES
 #                          times; count a failure (and return 1) if it never does
+#   json_ok FILE           every line of FILE is a JSON object (starts with {, ends
+#                          with }, balanced braces and unescaped quotes)
 #   finish                 print "N passed, N failed" and exit 0 only if none failed
 #
 # Waits are bounded loops on a condition, never a sleep that hopes; tests assert
@@ -158,6 +160,15 @@ sim_stop() {
 	grep -v "^$p\$" "$T/.sims" > "$T/.sims.new" 2>/dev/null
 	mv "$T/.sims.new" "$T/.sims"
 	return 0
+}
+
+json_ok() {
+	awk '{
+		if ($0 !~ /^\{".*\}$/) { bad = 1; print "not an object: " $0; next }
+		s = $0; gsub(/\\\\/, "", s); gsub(/\\"/, "", s)
+		n = gsub(/"/, "", s); if (n % 2) { bad = 1; print "odd quotes: " $0 }
+		t = $0; o = gsub(/\{/, "", t); c = gsub(/\}/, "", t); if (o != c) { bad = 1; print "braces: " $0 }
+	} END { exit bad }' "$1"
 }
 
 finish() {
