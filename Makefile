@@ -57,37 +57,45 @@ else
   Q = @
 endif
 
-$(B)/%.o: %.c $(wildcard include/*.h lib/*.h tools/*.h tests/*.h)
-	@mkdir -p $(dir $@)
-	@$(if $(Q),echo "  CC      $@")
-	$(Q)$(CC) $(CFLAGS) $(EXTRA) $(DF1_CFLAGS) -c -o $@ $<
+LIB_HDRS := $(wildcard include/*.h lib/*.h)
+COMPILE = $(Q)mkdir -p $(dir $@); $(if $(Q),echo "  CC      $@";) \
+	$(CC) $(CFLAGS) $(EXTRA) $(DF1_CFLAGS)
 
-$(B)/pic/%.o: %.c $(wildcard include/*.h lib/*.h)
-	@mkdir -p $(dir $@)
-	@$(if $(Q),echo "  CC      $@")
-	$(Q)$(CC) $(CFLAGS) $(EXTRA) $(DF1_CFLAGS) -fPIC -c -o $@ $<
+$(B)/lib/%.o: lib/%.c $(LIB_HDRS)
+	$(COMPILE) -c -o $@ $<
+$(B)/tools/%.o: tools/%.c include/df1.h $(wildcard tools/*.h)
+	$(COMPILE) -c -o $@ $<
+$(B)/tests/%.o: tests/%.c $(LIB_HDRS) $(wildcard tests/*.h)
+	$(COMPILE) -c -o $@ $<
+
+$(B)/pic/lib/%.o: lib/%.c $(LIB_HDRS)
+	$(COMPILE) -fPIC -c -o $@ $<
 
 $(STATIC): $(LIB_OBJS)
 	@rm -f $@
-	ar rcs $@ $^
+	@$(if $(Q),echo "  AR      $@")
+	$(Q)ar rcs $@ $^
 
 $(SHARED): $(LIB_PIC_OBJS) lib/libdf1.map
-	$(CC) $(CFLAGS) $(EXTRA) -shared -Wl,-soname,libdf1.so.$(MAJOR) \
+	@$(if $(Q),echo "  LD      $@")
+	$(Q)$(CC) $(CFLAGS) $(EXTRA) -shared -Wl,-soname,libdf1.so.$(MAJOR) \
 		-Wl,--version-script=lib/libdf1.map -o $@ $(LIB_PIC_OBJS) $(LIBS)
-	ln -sf libdf1.so.$(VERSION) $(B)/libdf1.so.$(MAJOR)
-	ln -sf libdf1.so.$(MAJOR) $(B)/libdf1.so
+	$(Q)ln -sf libdf1.so.$(VERSION) $(B)/libdf1.so.$(MAJOR)
+	$(Q)ln -sf libdf1.so.$(MAJOR) $(B)/libdf1.so
 
 $(B)/bin/%: $(B)/tools/%.o $(TOOL_COMMON_OBJS) $(STATIC)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS) $(EXTRA) -o $@ $< $(TOOL_COMMON_OBJS) $(STATIC) $(LIBS) -lpthread
+	@$(if $(Q),echo "  LD      $@")
+	$(Q)$(CC) $(CFLAGS) $(EXTRA) -o $@ $< $(TOOL_COMMON_OBJS) $(STATIC) $(LIBS) -lpthread
 
 $(B)/libdf1.pc: libdf1.pc.in include/df1.h
-	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
+	$(Q)sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
 	    -e 's|@INCLUDEDIR@|$(INCLUDEDIR)|' -e 's|@VERSION@|$(VERSION)|' $< > $@
 
 $(B)/tests/%: $(B)/tests/%.o $(TEST_HELPER_OBJS) $(STATIC)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS) $(EXTRA) -o $@ $< $(TEST_HELPER_OBJS) $(STATIC) $(CMOCKA_LIBS) $(LIBS) -lpthread
+	@$(if $(Q),echo "  LD      $@")
+	$(Q)$(CC) $(CFLAGS) $(EXTRA) -o $@ $< $(TEST_HELPER_OBJS) $(STATIC) $(CMOCKA_LIBS) $(LIBS) -lpthread
 
 tests: all $(TEST_BINS)
 

@@ -155,9 +155,9 @@ int main(int argc, char **argv)
 	       naive_bytes, nb, (double)naive_ms / naive_scans, (double)naive_ms / naive_scans / nb);
 	printf("blocks per scan %u; scans measured %d (naive %d); speed-up %.1fx\n", ps.blocks, scans,
 	       naive_scans, ((double)naive_ms / naive_scans) / ((double)engine_ms / scans));
-	printf("ratio = measured / wire bound. The simulated line (--line-baud, and the master's\n"
-	       "df1_set_line_baud) hands over ~4 ms chunks as they start, so the far end may answer\n"
-	       "up to one chunk early: a ratio a little under 1 means the engine runs at wire speed.\n");
+	printf("ratio = measured / wire bound (1.00 = the wire is the limit). Both ends pace their\n"
+	       "bytes as a %d-baud line (df1sim --line-baud, df1_set_line_baud): a chunk is handed\n"
+	       "over when its last character would have arrived; the rest is turnaround time.\n", BAUD);
 	df1_free(h);
 	return 0;
 fail:

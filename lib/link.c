@@ -164,8 +164,9 @@ int link_send_raw(struct df1 *h, const uint8_t *buf, size_t n)
 		if (r < 0)
 			return r;
 	} else {
-		/* a slow line: about 4 ms of characters per write, each followed
-		 * by the rest of its wire time (10 bits per character) */
+		/* a slow line: about 4 ms of characters per write, each handed
+		 * over when its last character would have arrived on the wire
+		 * (10 bits per character), so the far end never sees a byte early */
 		uint64_t start = df1_now_us();
 		size_t chunk = (size_t)h->cfg.line_baud / 10 / 250;
 		size_t off;
@@ -174,16 +175,16 @@ int link_send_raw(struct df1 *h, const uint8_t *buf, size_t n)
 			chunk = 1;
 		for (off = 0; off < n;) {
 			size_t c = n - off < chunk ? n - off : chunk;
-			uint64_t due_us;
+			uint64_t due_us = start + (uint64_t)(off + c) * 10u * 1000000u /
+			                  (uint64_t)h->cfg.line_baud;
 
+			r = link_pause(h, (int64_t)((due_us + 999) / 1000));
+			if (r < 0)
+				return r;
 			r = link_write(h, buf + off, c, deadline);
 			if (r < 0)
 				return r;
 			off += c;
-			due_us = start + (uint64_t)off * 10u * 1000000u / (uint64_t)h->cfg.line_baud;
-			r = link_pause(h, (int64_t)((due_us + 999) / 1000));
-			if (r < 0)
-				return r;
 		}
 	}
 	df1_count_n(h, 2560, n); /* CRD_CHAR_SENT */

@@ -43,26 +43,6 @@ static double mm_elapsed(const struct mm *m)
 
 /* ---- text helpers ---- */
 
-static void mm_json_string(FILE *f, const char *s)
-{
-	fputc('"', f);
-	for (; *s; s++) {
-		unsigned char c = (unsigned char)*s;
-
-		if (c == '"' || c == '\\')
-			fprintf(f, "\\%c", c);
-		else if (c == '\n')
-			fputs("\\n", f);
-		else if (c == '\t')
-			fputs("\\t", f);
-		else if (c < 0x20 || c >= 0x7F)
-			fprintf(f, "\\u%04x", c);
-		else
-			fputc(c, f);
-	}
-	fputc('"', f);
-}
-
 /* The file type a value formats against (names of T/C/R bits; words as N). */
 static enum df1_file_type mm_value_type(const struct df1_tag_config *c)
 {
@@ -140,7 +120,7 @@ static void mm_json_value(FILE *f, const struct df1_tag_state *st, const struct 
 	default:
 		if (df1_value_format(v, mm_value_type(st->config), one, sizeof one) < 0)
 			one[0] = '\0';
-		mm_json_string(f, one);
+		cli_json_string(f, one);
 		break;
 	}
 }
@@ -264,9 +244,9 @@ static void mm_records(struct mm *m)
 			continue;
 		}
 		fprintf(f, "{\"t\":%.3f,\"scan\":%llu,\"tag\":", mm_elapsed(m), (unsigned long long)m->scan);
-		mm_json_string(f, st.config->name);
+		cli_json_string(f, st.config->name);
 		fprintf(f, ",\"station\":%d,\"address\":", st.config->station);
-		mm_json_string(f, a);
+		cli_json_string(f, a);
 		fputs(",\"value\":", f);
 		if (!st.has_value) {
 			fputs("null", f);
