@@ -46,10 +46,11 @@ int main(int argc, char **argv)
 	 */
 	df1_set_timeout_ms(h, 1000);
 
-	/* Open the serial port (or TCP connection). */
+	/* Open the serial port (or TCP connection). The error's message names the
+	 * device ("no such device: /dev/ttyUSB9"). */
 	rc = df1_open(h, argv[1]);
 	if (rc < 0) {
-		fprintf(stderr, "%s: %s\n", argv[1], df1_last_error(h)->message);
+		fprintf(stderr, "%s: %s: %s\n", argv[0], df1_errname(rc), df1_last_error(h)->message);
 		df1_free(h);
 		return 1;
 	}
@@ -59,12 +60,14 @@ int main(int argc, char **argv)
 	 * of elements read, or a negative error code. */
 	rc = df1_read_int16(h, (int)station, "N7:0", v, 10);
 	if (rc < 0) {
-		/* The detail: catalog ID, station, and for an error reply of the PLC
-		 * its STS and EXT STS with their text. */
+		/* The detail: catalog ID, station, and a message that names the
+		 * address and the station; for an error reply of the PLC, its STS
+		 * and EXT STS with their text:
+		 *   read_n7: [2508] ERR_COMMAND_TIMEOUT: N7:0: no reply from station 1 */
 		const struct df1_error_detail *e = df1_last_error(h);
 		const struct df1_catalog_entry *c = df1_catalog_by_id(e->catalog_id);
 
-		fprintf(stderr, "N7:0: station %ld: ", station);
+		fprintf(stderr, "%s: ", argv[0]);
 		if (c)
 			fprintf(stderr, "[%d] %s: ", c->id, c->mnemonic);
 		else

@@ -131,6 +131,40 @@ check "silent: 100% loss" 'grep -q "^--- station 7: 2 probes sent, 0 answered, 1
 expect 0 "--ping the station that is there" -- "$MON" -d "$SIM_DEV" --duplex half -a 1 --ping -c 2 -i 0
 sim_stop
 
+# ---------------------------------------------------------------- BCC, TCP
+sim_start fbcc --check bcc || finish
+expect 0 "--ping, full duplex BCC" -- "$MON" -d "$SIM_DEV" --check bcc --ping -c 1
+check "BCC: answered" 'grep -q "^station 1: seq=1 link=" "$T/out"'
+expect 1 "--ping, CRC against a BCC line" -- "$MON" -d "$SIM_DEV" --ping -c 1 -o 200 \
+	--nak-retries 0 --enq-retries 0
+check "CRC against BCC: no answer" 'grep -q "^--- station 1: 1 probe sent, 0 answered, 100% loss$" "$T/out"'
+sim_stop
+sim_start hbcc --duplex half --check bcc --station 6 || finish
+expect 0 "--who, half duplex BCC" -- "$MON" -d "$SIM_DEV" --duplex half --check bcc --who 5-7
+out_is "--who, half duplex BCC: station 6" "station 6: SLC 5/04 series C rev 5 (type 0x5B) mode run"
+expect 0 "--counters -vv, half duplex BCC" -- "$MON" -d "$SIM_DEV" --duplex half --check bcc -a 6 --counters -vv
+check "half duplex -vv: the poll traced" 'grep -q "^df1mon: [0-9]*\.[0-9]\{6\} tx 10 05 06 FA$" "$T/err"'
+check "half duplex: a poll counted" '[ "$(counter "$T/out" 2531)" -ge 1 ]'
+sim_stop
+SIM_TRANSPORT=tcp sim_start tcp || finish
+expect 0 "tcp: --ping --counters" -- "$MON" -d "$SIM_DEV" --ping -c 2 -i 0 --counters
+check "tcp: two answers" '[ "$(grep -c "^station 1: seq=[12] link=" "$T/out")" -eq 2 ]'
+check "tcp: commands counted" '[ "$(counter "$T/out" 2527)" -eq 2 ]'
+expect 0 "tcp: --who" -- "$MON" -d "$SIM_DEV" --who
+out_is "tcp: --who: the peer" "station 1: SLC 5/04 series C rev 5 (type 0x5B) mode run"
+expect 0 "tcp: --ping -vv" -- "$MON" -d "$SIM_DEV" --ping -c 1 -vv
+check "tcp: -vv: decoded frames" 'grep -q "tx  FRAME  CRC ok .* 06/00  echo" "$T/err"'
+sim_stop
+
+# ---------------------------------------------------------------- network file
+expect 2 "-N invalid network file" -- "$MON" -N tests/data/net_invalid.csv --ping
+err_has "-N invalid: station" "[2552] CRT_BAD_STATION_ID"
+err_has "-N invalid: cmd timeout" "[2559] CRT_BAD_CMD_TIMEOUT"
+check "-N invalid: stdout empty" '[ ! -s "$T/out" ]'
+printf 'Mode,Com_Port\nSlave,/nonexistent/df1\n' > "$T/slave.csv"
+expect 2 "-N Mode=Slave, a mode that transmits" -- "$MON" -N "$T/slave.csv" --ping
+err_has "-N Mode=Slave: 2554" "[2554] CRT_UNSUPPORTED_MODE"
+
 # ---------------------------------------------------------------- --sniff, FIFO
 # A FIFO stands in for the tap here (the pty version is test_df1mon_sniff).
 # Spec 7.3: SLC read F8:0 (split in two writes), ACK, the reply F8:0 = 1.5, ENQ.
@@ -153,6 +187,10 @@ check "sniff: the command" 'sed -n 1p "$T/sniff.sym" | grep -q "^FRAME  BCC ok  
 check "sniff: ACK, reply, ENQ" 'sed -n 2p "$T/sniff.sym" | grep -q "^ACK$" && sed -n 3p "$T/sniff.sym" | grep -q "reply to 0F/A2 .*= 1.5$" && sed -n 4p "$T/sniff.sym" | grep -q "^ENQ$"'
 check "sniff: summary" 'grep -q "2 frames, 2 good, 0 bad, 2 symbols" "$T/sniff.err" && grep -q "written to $T/cap.pcap" "$T/sniff.err"'
 check "pcap: magic and link type 250" '[ "$(od -A n -t x1 -N 24 "$T/cap.pcap" | tr -d " \n")" = "d4c3b2a1020004000000000000000000ffff0000fa000000" ]'
+if command -v tshark >/dev/null 2>&1; then
+	expect 0 "tshark reads the capture" -- tshark -r "$T/cap.pcap"
+	check "tshark: two RTAC serial records" '[ "$(grep -c "RTAC Serial" "$T/out")" -eq 2 ]'
+fi
 expect 0 "--read the capture" -- "$MON" --read "$T/cap.pcap"
 sed 's/^ *[0-9]* *[0-9.]*  //' "$T/out" > "$T/read.sym"
 check "--read gives the same symbols" 'cmp -s "$T/sniff.sym" "$T/read.sym"'

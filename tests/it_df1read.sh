@@ -56,6 +56,24 @@ expect 2 "no device" -- "$R" N7:0
 err_has "no device message" "DF1_DEVICE"
 expect 2 "bad network file" -- "$R" -N tests/data/net_invalid.csv N7:0
 err_has "network file issue" "[255"
+for id in 2552 2553 2555 2556 2557 2558 2559; do
+	check "bad network file: [$id] reported" 'grep -q "^df1read: tests/data/net_invalid.csv: line 3: \[$id\] CRT_" "$T/err"'
+done
+check "bad network file: stdout empty" '[ ! -s "$T/out" ]'
+# each invalid value alone: its critical ID, exit 2, the tool does not start
+# (the device would be found: DF1_DEVICE is a file that exists)
+: > "$T/notatty"
+for row in "Station 255 2552" "Mode Boss 2553" "PLC_Type PLC3 2555" "Error_Code XOR 2556" \
+	"NAK_Retries 11 2557" "ENQ_Retries x 2558" "Cmd_Timeout 499 2559" "Cmd_Timeout 5001 2559"; do
+	set -- $row
+	printf '%s\n%s\n' "$1" "$2" > "$T/bad_net.csv"
+	expect 2 "network file $1=$2" -- env DF1_DEVICE="$T/notatty" "$R" -N "$T/bad_net.csv" N7:0
+	err_has "network file $1=$2: ID" "df1read: $T/bad_net.csv: line 2: [$3] CRT_"
+done
+# a slave module's file does not describe a master tool, unless --duplex says how to run
+printf 'Mode,Com_Port\nSlave,%s\n' "$T/notatty" > "$T/slave_net.csv"
+expect 2 "network file Mode=Slave" -- "$R" -N "$T/slave_net.csv" N7:0
+err_has "Mode=Slave: 2554" "df1read: $T/slave_net.csv: [2554] CRT_UNSUPPORTED_MODE: Unsupported Driver Mode (Slave)"
 expect 1 "device that does not exist" -- "$R" -d "$T/nodev" N7:0
 expect 0 "--help" -- "$R" --help
 check "--help: usage" 'grep -q "^Usage: df1read \[OPTIONS\] ADDRESS\[,COUNT\]\.\.\." "$T/out"'
@@ -185,6 +203,12 @@ EN=1 TT=0 DN=1 PRE=500 ACC=42
 	expect 1 "$tr: past the end of N7" -- "$R" -d "$D" N7:299,2 N7:301
 	err_has "$tr: block fallback names N7:301" "df1read: N7:301: station 1:"
 	check "$tr: past the end: stdout empty" '[ ! -s "$T/out" ]'
+	# the operand is named once: not again inside the library's text, whatever its
+	# spelling (lower case, a bit of a word read whole)
+	expect 1 "$tr: PLC error, lower case" -- "$R" -d "$D" n20:0
+	same "$tr: PLC error: the address once" "$(head -n 1 "$T/err" | grep -o -i "n20:0" | wc -l | tr -d ' ')" 1
+	expect 1 "$tr: PLC error, a bit" -- "$R" -d "$D" N20:0/3
+	err_has "$tr: PLC error, a bit: named" "df1read: N20:0/3: station 1: DF1_E_REMOTE: PLC error: STS 0xF0"
 
 	# the device from DF1_DEVICE
 	expect 0 "$tr: DF1_DEVICE" -- env DF1_DEVICE="$D" "$R" N7:9
@@ -227,6 +251,9 @@ err_has "half: EXT STS" "EXT STS 0x06"
 printf 'Station,Mode,PLC_Type,Error_Code,Com_Port,Baud\n0,Master,SLC,BCC,%s,19200\n' "$H" > "$T/net.csv"
 expect 0 "half: -N network file" -- "$R" -N "$T/net.csv" -a 2 N7:6
 out_is "half: -N value" "6"
+printf 'Mode,Error_Code,Com_Port\nSlave,BCC,%s\n' "$H" > "$T/slave.csv"
+expect 0 "half: -N Mode=Slave with --duplex half" -- "$R" -N "$T/slave.csv" --duplex half -a 2 N7:6
+out_is "half: -N Mode=Slave --duplex half value" "6"
 sim_stop
 
 sim_start halfcrc --duplex half --station 3
@@ -252,6 +279,10 @@ sim_stop
 sim_start late --delay 2500
 expect 1 "reply later than the timeout" -- "$R" -d "$SIM_DEV" -o 500 --cmd-timeout 500 N7:0
 err_has "timeout text" "df1read: N7:0: station 1: [2508] ERR_COMMAND_TIMEOUT: "
+expect 1 "reply later than the timeout, lower case" -- "$R" -d "$SIM_DEV" -o 500 --cmd-timeout 500 n7:0
+out_is "timeout: nothing printed" ""
+err_has "timeout, lower case: as typed" "df1read: n7:0: station 1: ["
+same "timeout: the address once" "$(grep -o -i "n7:0" "$T/err" | wc -l | tr -d ' ')" 1
 check "timeout: stdout empty" '[ ! -s "$T/out" ]'
 sim_stop
 

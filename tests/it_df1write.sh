@@ -43,6 +43,9 @@ err_has "2504 len" "(N7:999, len=2)"
 expect 2 "bits past a timer's word" -- "$W" -d /nonexistent T4:0/DN=1,1,1,1
 expect 2 "no device" -- "$W" N7:0=1
 expect 2 "-f csv" -- "$W" -d /nonexistent -f csv N7:0=1
+expect 2 "invalid network file" -- "$W" -N tests/data/net_invalid.csv N7:0=1
+err_has "invalid network file: 2552" "df1write: tests/data/net_invalid.csv: line 3: [2552] CRT_BAD_STATION_ID"
+err_has "invalid network file: 2556" "[2556] CRT_BAD_ERROR_CODE"
 expect 0 "--help" -- "$W" --help
 check "--help: usage" 'grep -q "^Usage: df1write \[OPTIONS\] ADDRESS=VALUE\[,VALUE\.\.\.\]\.\.\." "$T/out"'
 expect 0 "--version" -- "$W" --version
@@ -142,6 +145,8 @@ CU=1 CD=0 DN=1 OV=0 UN=0 UA=0 PRE=10 ACC=-1" -d "$D" T4:0 C5:0
 1.5" -d "$D" N7:0,2 F8:1
 	expect 1 "$tr: first fails" -- "$W" -d "$D" N20:0=1 N7:0=9
 	err_has "$tr: first fails: report" "df1write: written: none; not written: N20:0 N7:0"
+	expect 1 "$tr: PLC error, lower case" -- "$W" -d "$D" n20:0=1
+	same "$tr: PLC error: the address once" "$(head -n 1 "$T/err" | grep -o -i "n20:0" | wc -l | tr -d ' ')" 1
 	expect 1 "$tr: -q keeps errors" -- "$W" -d "$D" -q N20:0=1
 	err_has "$tr: -q: report" "not written: N20:0"
 

@@ -31,7 +31,9 @@ U="$STAGE/usr"
 
 # ---- what was installed, where ----
 for f in bin/df1read bin/df1write bin/df1mon bin/df1sim include/df1.h lib/libdf1.a \
-	lib/pkgconfig/libdf1.pc share/man/man1/df1read.1 share/man/man1/df1write.1; do
+	lib/pkgconfig/libdf1.pc share/man/man1/df1read.1 share/man/man1/df1write.1 \
+	share/man/man1/df1mon.1 share/man/man1/df1sim.1 share/man/man7/libdf1.7 \
+	share/man/man3/df1_open.3 share/man/man3/df1_read_int16.3; do
 	check "installed $f" '[ -f "$U/$f" ]'
 done
 check "shared library and links" '[ -f "$U/lib/libdf1.so.0" ] && [ -L "$U/lib/libdf1.so" ]'
@@ -50,6 +52,9 @@ expect 0 "installed df1write" -- "$U/bin/df1write" -d "$SIM_DEV" N7:9=-9
 expect 0 "installed df1read" -- "$U/bin/df1read" -d "$SIM_DEV" N7:3 N7:9
 out_is "installed df1read values" "3
 -9"
+expect 0 "installed df1mon --ping" -- "$U/bin/df1mon" -d "$SIM_DEV" --ping -c 1 --counters
+check "installed df1mon: an answer and the counters" \
+	'grep -q "^station 1: seq=1 link=" "$T/out" && grep -q "^2527 CNT_CMD_MSGS_SENT 1$" "$T/out"'
 
 # ---- the example, built with pkg-config against the staged tree ----
 if command -v pkg-config >/dev/null 2>&1; then
@@ -102,7 +107,9 @@ if [ -x "$T/read_n7_static" ]; then
 	# the example keeps the defaults (full duplex): against a half-duplex slave the
 	# read fails and the example reports it from df1_last_error
 	expect 1 "example: no answer" -- "$T/read_n7_static" "$SIM_DEV" 9
-	err_has "example: station in the message" "N7:0: station 9: "
+	check "example: catalog tag, then the message naming the address and station" \
+		'grep -q "read_n7[a-z_]*: \[25[0-9][0-9]\] [A-Z_]*: N7:0: .*station 9" "$T/err"'
+	check "example: the address named once" '[ "$(grep -o "N7:0" "$T/err" | wc -l | tr -d " ")" -eq 1 ]'
 fi
 sim_stop
 

@@ -600,17 +600,45 @@ static void error_parts(const df1_t *h, int err, char *tag, size_t tcap, char *t
 	}
 }
 
+/* Length of the "ADDR: " the library puts in front of a message about an address
+ * of the same file as address (as typed: any case, "B3/21" for "B3:1/5"; or the
+ * start of the block a tool read it with), or 0. */
+static size_t address_prefix(const char *text, const char *address)
+{
+	const char *colon = text;
+	char head[CLI_ADDR_TEXT_MAX];
+	struct df1_addr a, b;
+	size_t len;
+
+	/* the address's own ':' (N7:0) is followed by a digit, the prefix's by a blank */
+	while ((colon = strchr(colon, ':')) != NULL && colon[1] != ' ')
+		colon++;
+	if (!colon)
+		return 0;
+	len = (size_t)(colon - text);
+	if (len == 0 || len >= sizeof head)
+		return 0;
+	memcpy(head, text, len);
+	head[len] = '\0';
+	if (strcasecmp(head, address) == 0)
+		return len + 2;
+	if (df1_addr_parse(head, &a) < 0 || df1_addr_parse(address, &b) < 0)
+		return 0;
+	if (a.type != b.type || a.file != b.file || a.ascii[0] || b.ascii[0])
+		return 0;
+	return len + 2;
+}
+
 int cli_report(const char *tool, const char *address, int station, const df1_t *h, int err)
 {
 	char tag[96], text[256];
 
 	const char *t = text;
-	size_t al = address ? strlen(address) : 0;
 
 	error_parts(h, err, tag, sizeof tag, text, sizeof text);
 	/* the detail may start with the address we print anyway */
-	if (al && strncmp(t, address, al) == 0 && t[al] == ':' && t[al + 1] == ' ')
-		t += al + 2;
+	if (address && *address)
+		t += address_prefix(t, address);
 	fprintf(stderr, "%s: ", tool);
 	if (address)
 		fprintf(stderr, "%s: ", address);
@@ -721,6 +749,15 @@ int cli_open(struct cli *c, df1_t **out)
 	*out = NULL;
 	if (!c->device || !*c->device) {
 		fprintf(stderr, "%s: no device: use -d DEV, -N FILE or set DF1_DEVICE\n", c->name);
+		return CLI_EXIT_USAGE;
+	}
+	/* the tools that talk are masters (or peers): a network file for a slave
+	 * module does not describe them, unless --duplex says how to run */
+	if (c->have_net && c->net.mode == DF1_MODE_SLAVE && !(c->given & CLI_ACCEPT(CLI_OPT_DUPLEX))) {
+		const struct df1_catalog_entry *e = df1_catalog_by_id(2554);
+		fprintf(stderr, "%s: %s: [2554] %s: Unsupported Driver Mode (Slave), Supported Mode(s): "
+		        "Master, Peer (or give --duplex)\n", c->name, c->net_file,
+		        e ? e->mnemonic : "CRT_UNSUPPORTED_MODE");
 		return CLI_EXIT_USAGE;
 	}
 	r = df1_new(&h);

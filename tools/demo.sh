@@ -141,6 +141,8 @@ has() { printf '%s\n' "$MON_HELP" | grep -q -e "$1"; }
 if has '--ping' && has '--counters'; then
 	step "link test and echo, then the counter table (seed IDs)" \
 		df1mon --ping -c 3 -i 0.2 --counters
+	step "one probe again, every frame decoded with its time (on stderr)" \
+		df1mon -vv --ping -c 1
 elif has '--counters'; then
 	step "the counter table (seed IDs)" df1mon --counters -c 1
 else

@@ -12,14 +12,21 @@ have_header stdarg.h && printf '#include <stdarg.h>\n#include <stddef.h>\n#inclu
 command -v mandoc >/dev/null 2>&1 || missing="$missing mandoc"
 [ -z "$missing" ] && exit 0
 cmd="apt-get install -y$missing"
+as=
 if [ "$(id -u)" = 0 ]; then
-	echo "deps: installing:$missing" >&2
-	DEBIAN_FRONTEND=noninteractive apt-get install -y -q $missing >&2 && exit 0
-	apt-get update -q >&2 && DEBIAN_FRONTEND=noninteractive apt-get install -y -q $missing >&2 && exit 0
+	as=" "
 elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then
-	echo "deps: installing:$missing" >&2
-	sudo -n apt-get install -y -q $missing >&2 && exit 0
+	as="sudo -n"
 fi
+if [ -n "$as" ] && command -v apt-get >/dev/null 2>&1; then
+	echo "deps: installing:$missing" >&2
+	# a fresh machine may have no package lists yet: update, then try again
+	$as env DEBIAN_FRONTEND=noninteractive apt-get install -y -q $missing >&2 && exit 0
+	$as apt-get update -q >&2 &&
+		$as env DEBIAN_FRONTEND=noninteractive apt-get install -y -q $missing >&2 && exit 0
+fi
+sudo=
+[ "$(id -u)" = 0 ] || sudo="sudo "
 echo "deps: missing:$missing" >&2
-echo "deps: run: sudo $cmd" >&2
+echo "deps: run: ${sudo}apt-get update && ${sudo}$cmd" >&2
 exit 1
