@@ -36,8 +36,18 @@ bool link_fault(struct df1 *h, enum df1_fault f)
 
 bool link_fault_silent(struct df1 *h, uint8_t station)
 {
+	int v = h->faults.value[DF1_FAULT_SILENT_STATION];
+
 	if (h->faults.per_mille[DF1_FAULT_SILENT_STATION] <= 0 ||
-	    h->faults.value[DF1_FAULT_SILENT_STATION] != station)
+	    (v != station && v != FAULT_SILENT_ALL))
+		return false;
+	return link_fault(h, DF1_FAULT_SILENT_STATION);
+}
+
+bool link_fault_silent_all(struct df1 *h)
+{
+	if (h->faults.per_mille[DF1_FAULT_SILENT_STATION] <= 0 ||
+	    h->faults.value[DF1_FAULT_SILENT_STATION] != FAULT_SILENT_ALL)
 		return false;
 	return link_fault(h, DF1_FAULT_SILENT_STATION);
 }
@@ -53,10 +63,14 @@ DF1_API int df1_server_set_fault(df1_t *h, enum df1_fault f, int per_mille, int 
 		                per_mille);
 	if (f == DF1_FAULT_DELAY_REPLY && (value < 0 || value > 3600000))
 		return df1_fail(h, DF1_E_INVAL, -1, "reply delay %d ms: must be 0..3600000", value);
-	if (f == DF1_FAULT_SILENT_STATION && (value < -1 || value > 255))
-		return df1_fail(h, DF1_E_INVAL, -1, "silent station %d: must be -1..255", value);
+	if (f == DF1_FAULT_SILENT_STATION && (value < -1 || value > FAULT_SILENT_ALL))
+		return df1_fail(h, DF1_E_INVAL, -1,
+		                "silent station %d: must be -1 (none), 0..255, or %d (every station)",
+		                value, FAULT_SILENT_ALL);
 	h->faults.per_mille[f] = per_mille;
 	h->faults.value[f] = value;
+	if (f == DF1_FAULT_SILENT_STATION)
+		h->link.silenced = false; /* the ENQs after a silenced frame: answered again */
 	return 0;
 }
 

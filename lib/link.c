@@ -24,6 +24,9 @@
  *    After the ACK the reply is awaited max(timeout_ms, cmd_timeout_ms). A
  *    matching reply that arrives before the ACK (ACK lost in noise) completes
  *    the transaction: the reply proves delivery.
+ *  - A DLE NAK answering a frame of ours is 2517 NTC_RCVD_NAK_SYMBOL (and a
+ *    retransmission); one when no frame of ours waits for a response is
+ *    2511 ERR_RCVD_NAK_SYMBOL, counted (2534) and otherwise ignored.
  *  - Replies are matched on the full 16-bit TNS and SRC == the command's DST.
  *    DST is not compared: behind a 1770-KF2 the reply's DST is the KF2's node,
  *    not our SRC (spec 1.9, M p.14-3). CMD must be the command's CMD | 40h, or
@@ -51,7 +54,8 @@
  *    inverts the last check byte of the first transmission; NOISE puts 3 random
  *    non-DLE bytes before a reply frame; DELAY_REPLY holds the reply back for
  *    `value` ms while the link keeps answering; SILENT_STATION ignores frames
- *    (and, in full duplex, the ENQs that follow them) for station `value`.
+ *    (and, in full duplex, the ENQs that follow them) for station `value`, or
+ *    for every station and every ENQ with value FAULT_SILENT_ALL (256).
  */
 #include "link.h"
 
@@ -945,12 +949,15 @@ static int fd_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadli
 			break;
 		case DF1_SYM_NAK:
 			df1_count(h, 2534);
-			df1_log(h, 2517);
-			if (t && t->sent)
+			if (t && t->sent) {
+				df1_log(h, 2517);
 				r = fd_tx_nak(h, t);
+			} else {
+				df1_log(h, 2511); /* no frame of ours is waiting for a response */
+			}
 			break;
 		case DF1_SYM_ENQ:
-			if (!h->link.silenced)
+			if (!h->link.silenced && !link_fault_silent_all(h))
 				r = link_send_sym(h, h->last_response);
 			break;
 		case DF1_SYM_FRAME:

@@ -12,12 +12,15 @@
  *    active.
  *  - Master message: the slave must DLE ACK within timeout_ms. A NAK or the
  *    timeout is a retry (2541, 2521: retransmission); more than nak_retries
- *    is DF1_E_NAK_LIMIT. Other symbols meanwhile are 2515 and ignored.
+ *    is DF1_E_NAK_LIMIT. Other symbols meanwhile are 2515 (after the
+ *    decoder's own notice for a broken one) and ignored.
  *  - Polls run from the first poll until cmd_timeout_ms (Cmd_Timeout; DLE EOT
  *    means "not yet", the message is known to be outstanding). A poll with no
  *    answer within timeout_ms, a frame with a bad check (not ACKed: the slave
  *    sends it again, spec 2.3), a broken symbol or a NAK is an ENQ retry
- *    (2543, 2522); more than enq_retries is DF1_E_ENQ_LIMIT. After an EOT the
+ *    (2543, 2522); more than enq_retries is DF1_E_ENQ_LIMIT. An answer that
+ *    is neither DLE EOT nor a slave frame (DLE ACK, DLE NAK, DLE + an invalid
+ *    byte) is also 2516 NTC_EOT_STX_EXPECTED. After an EOT the
  *    next poll waits HD_REPOLL_GAP_MS (a read with that deadline: anything
  *    arriving is still handled) so a TCP-attached line is not flooded.
  *  - Cmd_Timeout: DLE NAK to the line (seeds/004 2545: "a NAK Symbol is sent
@@ -111,16 +114,19 @@ static int hd_answer(struct df1 *h, uint8_t stn, const uint8_t *cmd, int64_t dea
 		case DF1_SYM_ERROR:
 			if (s.master_msg || (s.has_station && s.error == 2507))
 				break; /* a broken master message or poll: our echo, garbled */
-			link_log_error(h, &s);
+			if (!link_log_error(h, &s))
+				df1_log(h, 2516, (int)s.bad_byte); /* DLE x: not EOT, not STX */
 			*cause = s.error;
 			return ANS_BAD;
 		case DF1_SYM_NAK:
 			df1_count(h, 2534); /* CNT_NAKS_RCVD */
 			df1_log(h, 2517);
+			df1_log(h, 2516, DF1_NAK); /* NTC_EOT_STX_EXPECTED */
 			*cause = 2517;
 			return ANS_BAD;
 		case DF1_SYM_ACK:
 			df1_count(h, 2536); /* a stray ACK */
+			df1_log(h, 2516, DF1_ACK); /* NTC_EOT_STX_EXPECTED */
 			break;
 		default: /* a poll: our echo or another master */
 			break;
@@ -171,6 +177,9 @@ static int hd_wait_ack(struct df1 *h, int64_t deadline_ms, int *cause)
 				df1_log(h, 2515, DF1_STX);
 			break;
 		case DF1_SYM_ERROR:
+			if (s.master_msg || (s.has_station && s.error == 2507))
+				break; /* a master message or poll, garbled: not the slave's */
+			link_log_error(h, &s); /* what was wrong with it (2512-2514, 2518) */
 			df1_log(h, 2515, (int)s.bad_byte);
 			break;
 		default:

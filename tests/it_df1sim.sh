@@ -1,8 +1,9 @@
 #!/bin/sh
 # it_df1sim - df1sim as a process: it announces the device it serves on stdout,
 # creates and removes its pty symlink, stops cleanly on SIGTERM / SIGINT (exit 0),
-# listens on TCP, and refuses bad options and data files with exit 2 and a
-# message on stderr. Run from the repository root with DF1_BIN=<build/bin>.
+# listens on TCP, goes silent on SIGUSR1 and answers again on SIGUSR2, and
+# refuses bad options and data files with exit 2 and a message on stderr.
+# Run from the repository root with DF1_BIN=<build/bin>.
 #
 # Waiting for df1sim: its stdout goes to a fifo and we read the first line, so
 # the read returns as soon as the line is written, or at EOF if df1sim dies
@@ -81,13 +82,31 @@ else
 	fail "pty over a regular file: rc=$rc"
 fi
 
-# 4. TCP: port 0 picks a free port on loopback
+# 4. TCP: port 0 picks a free port on loopback; SIGUSR1/SIGUSR2
 start --listen tcp://127.0.0.1:0
 case "$line" in
 tcp://127.0.0.1:0) fail "listen: announced port 0" ;;
 tcp://127.0.0.1:[0-9]*) ok "listen: announces $line" ;;
 *) fail "listen: announced '$line'"; cat "$T/err" ;;
 esac
+# SIGUSR1 / SIGUSR2 (every station silent / back) neither stop nor confuse it,
+# with no client connected, and between clients
+kill -s USR1 "$pid"
+kill -s USR2 "$pid"
+if [ -x "$BIN/df1read" ]; then
+	kill -s USR1 "$pid"
+	"$BIN/df1read" -d "$line" -o 200 --enq-retries 1 N7:5 > "$T/o" 2> "$T/e"
+	rc1=$?
+	kill -s USR2 "$pid"
+	got=$("$BIN/df1read" -d "$line" N7:5 2> "$T/e")
+	rc2=$?
+	if [ "$rc1" -eq 1 ] && [ ! -s "$T/o" ] && [ "$rc2" -eq 0 ] && [ "$got" = 5 ]; then
+		ok "listen: SIGUSR1 silences, SIGUSR2 answers again"
+	else
+		fail "listen: SIGUSR1 rc=$rc1, SIGUSR2 rc=$rc2 got '$got' ($(cat "$T/e"))"
+	fi
+fi
+if kill -0 "$pid" 2>/dev/null; then ok "listen: still running after SIGUSR1/SIGUSR2"; else fail "listen: SIGUSR1/2 ended df1sim"; fi
 stop TERM
 if [ "$rc" -eq 0 ]; then ok "listen: SIGTERM exits 0"; else fail "listen: exit status $rc"; fi
 

@@ -5,7 +5,7 @@
  *
  * Covered: full and half duplex, CRC and BCC, one and several stations; every
  * data type (N incl. negatives, L, F, ST, B bits, T/C/R whole and .PRE/.ACC,
- * /DN); element and file numbers above 254; requests larger than one packet,
+ * /DN, the word files O I S A); element and file numbers above 254; requests larger than one packet,
  * compared with df1sim's documented initial data table (df1sim(1), DATA TABLE:
  * N n = n, F n = n + 0.5, L n = n * 65537, ST n = "STRING n", T/C PRE 100,
  * the rest 0) plus the --data file below; bit writes that leave the rest of the
@@ -29,6 +29,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -400,6 +401,43 @@ static void test_it_file_300(void **state)
 	assert_int_equal(OK(h, df1_read_int16(h, g->station, "N300:254", v, 2)), 2);
 	assert_int_equal(v[0], 254);
 	assert_int_equal(v[1], -5);
+}
+
+/* The word files O, I, S and A: zero at start (df1sim(1)), written and read
+ * back as words, through the generic read, and bit by bit. */
+static void test_it_o_i_s_a_words(void **state)
+{
+	static const char *const files[] = { "O:0", "I:0", "S:10", "A11:0" };
+	static const char *const bits[] = { "O:0/3", "I:0/3", "S:10/3", "A11:0/3" };
+	struct group *g = *state;
+	df1_t *h = grp_client(state);
+	const int16_t w[4] = { 0x1234, -1, -32768, 0x0010 };
+	const int16_t zero[4] = { 0, 0, 0, 0 };
+
+	for (size_t f = 0; f < sizeof files / sizeof files[0]; f++) {
+		int16_t r[4] = { 7, 7, 7, 7 };
+		struct df1_value v[4];
+		bool b;
+
+		assert_int_equal(OK(h, df1_read_int16(h, g->station, files[f], r, 4)), 4);
+		assert_memory_equal(r, zero, sizeof r);
+		assert_int_equal(OK(h, df1_write_int16(h, g->station, files[f], w, 4)), 4);
+		assert_int_equal(OK(h, df1_read_int16(h, g->station, files[f], r, 4)), 4);
+		assert_memory_equal(r, w, sizeof r);
+		assert_int_equal(OK(h, df1_read(h, g->station, files[f], v, 4)), 4);
+		for (int i = 0; i < 4; i++) {
+			assert_int_equal(v[i].kind, DF1_VAL_INT16);
+			assert_int_equal(v[i].v.i16, w[i]);
+		}
+		/* bit 3 of 0x1234 is 0: set it, the other bits stay */
+		OK(h, df1_read_bit(h, g->station, bits[f], &b));
+		assert_false(b);
+		OK(h, df1_write_bit(h, g->station, bits[f], true));
+		assert_int_equal(OK(h, df1_read_int16(h, g->station, files[f], r, 2)), 2);
+		assert_int_equal(r[0], 0x123C);
+		assert_int_equal(r[1], -1);
+		assert_int_equal(OK(h, df1_write_int16(h, g->station, files[f], zero, 4)), 4);
+	}
 }
 
 /* ------------------------------------------------------------------------
@@ -1176,6 +1214,72 @@ static void test_it_fault_silent_full(void **state)
 	assert_int_equal(df1_link_test(h, 1), DF1_E_TIMEOUT);
 }
 
+/* df1_link_test until it succeeds (want_ok) or fails, at most 20 times: a
+ * signal to df1sim takes effect before the next byte it reads, but a poll
+ * already on its way may still be answered. */
+static bool link_test_until(df1_t *h, int station, bool want_ok)
+{
+	for (int i = 0; i < 20; i++)
+		if ((df1_link_test(h, station) == 0) == want_ok)
+			return true;
+	return false;
+}
+
+/* df1sim SIGUSR1 silences every station, SIGUSR2 brings them back, without a
+ * restart (same process, same pty): half duplex with the active station list,
+ * then full duplex. */
+static void test_it_sim_sigusr_silences_all(void **state)
+{
+	static const char *const args_h[] = { "--duplex", "half", "--station", "1,2", NULL };
+	struct fault_env *e = *state;
+	df1_t *h = fault_start(e, true, DF1_CHECK_CRC, false, args_h, 2);
+	pid_t pid = e->sim.pid;
+	int16_t v = 0;
+	int rc;
+
+	for (int st = 1; st <= 2; st++) {
+		assert_int_equal(OK(h, df1_read_int16(h, st, "N7:3", &v, 1)), 1);
+		assert_int_equal(v, 3);
+	}
+	assert_int_equal(kill(pid, SIGUSR1), 0);
+	assert_true(link_test_until(h, 1, false));
+	for (int st = 1; st <= 2; st++) {
+		rc = df1_read_int16(h, st, "N7:3", &v, 1);
+		assert_true(link_error(rc));
+		assert_int_equal(df1_station_active(h, st), 0);
+		/* inactive now: one poll, then DF1_E_INACTIVE at once */
+		assert_int_equal(df1_read_int16(h, st, "N7:3", &v, 1), DF1_E_INACTIVE);
+	}
+	assert_int_equal(kill(pid, SIGUSR2), 0);
+	assert_true(link_test_until(h, 1, true));
+	for (int st = 1; st <= 2; st++) {
+		v = 0;
+		assert_int_equal(OK(h, df1_read_int16(h, st, "N7:4", &v, 1)), 1);
+		assert_int_equal(v, 4);
+		assert_int_equal(df1_station_active(h, st), 1);
+	}
+	assert_int_equal(e->sim.pid, pid);
+	df1_free(h);
+	e->h = NULL;
+	assert_int_equal(simproc_stop(&e->sim, false), 0);
+
+	/* full duplex: not even the DLE ENQs are answered */
+	h = fault_start(e, false, DF1_CHECK_CRC, false, NULL, 2);
+	pid = e->sim.pid;
+	assert_int_equal(OK(h, df1_read_int16(h, 1, "N7:5", &v, 1)), 1);
+	assert_int_equal(kill(pid, SIGUSR1), 0);
+	assert_true(link_test_until(h, 1, false));
+	df1_counters_reset(h);
+	assert_int_equal(df1_read_int16(h, 1, "N7:5", &v, 1), DF1_E_ENQ_LIMIT);
+	assert_int_equal(cnt(h, 2536), 0);      /* no ACK, no response to the ENQs */
+	assert_int_equal(cnt(h, 2534), 0);
+	assert_int_equal(kill(pid, SIGUSR2), 0);
+	assert_true(link_test_until(h, 1, true));
+	v = 0;
+	assert_int_equal(OK(h, df1_read_int16(h, 1, "N7:6", &v, 1)), 1);
+	assert_int_equal(v, 6);
+}
+
 /* Stale replies: df1sim --stale sends a copy of the reply with TNS - 2 first,
  * never the TNS of the reply the master accepted last, so it is counted as a
  * stale message (2548), not a duplicate (2549): ACKed, dropped and never
@@ -1311,6 +1415,7 @@ int main(void)
 		GROUP_TEST(test_it_read_strings),
 		GROUP_TEST(test_it_read_timer_counter_control),
 		GROUP_TEST(test_it_file_300),
+		GROUP_TEST(test_it_o_i_s_a_words),
 		GROUP_TEST(test_it_counters_one_read),
 		GROUP_TEST(test_it_link_test_echo_diag),
 		GROUP_TEST(test_it_bit_write_keeps_other_bits),
@@ -1339,6 +1444,7 @@ int main(void)
 	};
 	const struct CMUnitTest half_bcc[] = {
 		GROUP_TEST(test_it_counters_one_read),
+		GROUP_TEST(test_it_o_i_s_a_words),
 		GROUP_TEST(test_it_read_strings),
 		GROUP_TEST(test_it_file_300),
 		GROUP_TEST(test_it_write_read_back),
@@ -1350,6 +1456,7 @@ int main(void)
 		GROUP_TEST(test_it_read_timer_counter_control),
 		GROUP_TEST(test_it_file_300),
 		GROUP_TEST(test_it_plc5_ascii_address_and_bits),
+		GROUP_TEST(test_it_o_i_s_a_words),
 		GROUP_TEST(test_it_bit_write_keeps_other_bits),
 		GROUP_TEST(test_it_write_read_back),
 		GROUP_TEST(test_it_link_test_echo_diag),
@@ -1381,6 +1488,7 @@ int main(void)
 		FAULT_TEST(test_it_fault_delay_half),
 		FAULT_TEST(test_it_fault_silent_half_inactive),
 		FAULT_TEST(test_it_fault_silent_full),
+		FAULT_TEST(test_it_sim_sigusr_silences_all),
 		FAULT_TEST(test_it_fault_stale),
 		FAULT_TEST(test_it_fault_noise),
 	};

@@ -872,7 +872,8 @@ static void test_echo_discarded(void **state)
 struct hd_script {
 	int msg_answers[8];   /* per master message: 1 ACK, 0 nothing */
 	int nmsg;
-	const char *poll_answers[16]; /* per poll: "EOT", "R<tns>", "X" (bad CRC reply), NULL nothing */
+	const char *poll_answers[16]; /* per poll: "EOT", "R<tns>", "X" (bad CRC reply), "ACK",
+	                               * "NAK", "BAD" (DLE 07), NULL nothing */
 	int npoll;
 	uint8_t src;          /* the slave's station */
 };
@@ -893,6 +894,12 @@ static void hd_slave_hook(const uint8_t *buf, size_t n, void *user)
 			return;
 		if (strcmp(a, "EOT") == 0) {
 			mock_port_feed(EOT, 2);
+		} else if (strcmp(a, "ACK") == 0) {
+			mock_port_feed(ACK, 2);
+		} else if (strcmp(a, "NAK") == 0) {
+			mock_port_feed(NAK, 2);
+		} else if (strcmp(a, "BAD") == 0) {
+			mock_port_feed_hex("10 07");
 		} else if (a[0] == 'R' || a[0] == 'X') {
 			uint8_t app[64], wire[FRAME_MAX_WIRE];
 			unsigned tns = 0;
@@ -1089,6 +1096,74 @@ static void test_hd_bad_check_reply_repolled(void **state)
 	assert_int_equal(cnt(h, 2535), 1);
 }
 
+/* A poll answered with neither DLE EOT nor a frame: 2516 with the symbol
+ * byte (seeds/004 NTC_EOT_STX_EXPECTED), and polling goes on. */
+static void test_hd_poll_answer_not_eot_or_stx_2516(void **state)
+{
+	struct df1 *h = *state;
+	uint8_t out[300];
+
+	h->cfg.enq_retries = 3;
+	script.msg_answers[0] = 1;
+	script.poll_answers[0] = "ACK"; /* stray: ignored, the poll times out */
+	script.poll_answers[1] = "NAK";
+	script.poll_answers[2] = "BAD";
+	script.poll_answers[3] = "R0001";
+	assert_reply_ok(transact_a2(h, out, sizeof out), out, 1);
+	assert_int_equal(logged(2516), 3);
+	{
+		size_t k = 0;
+		static const char *const want[3] = {
+			"EOT or STX Expected (last symbol received was 0x06)",
+			"EOT or STX Expected (last symbol received was 0x15)",
+			"EOT or STX Expected (last symbol received was 0x07)",
+		};
+
+		for (size_t i = 0; i < log_n; i++)
+			if (log_ids[i] == 2516)
+				assert_string_equal(log_last[i], want[k++]);
+	}
+	assert_int_equal(logged(2517), 1);
+	assert_int_equal(logged(2514), 1);
+	assert_int_equal(cnt(h, 2543), 3);
+	assert_int_equal(cnt(h, 2534), 1);
+	assert_int_equal(cnt(h, 2530), 1);
+}
+
+static void ack_after_garbage_hook(const uint8_t *buf, size_t n, void *user)
+{
+	(void)user;
+	if (n >= 2 && buf[0] == 0x10 && buf[1] == 0x01) {
+		mock_port_feed(EOT, 2);
+		mock_port_feed_hex("10 07");
+		mock_port_feed(ACK, 2);
+	} else if (n >= 4 && buf[0] == 0x10 && buf[1] == 0x05) {
+		feed_reply(DF1_CHECK_CRC, 0, 1, 0x4F, 0, 1);
+	}
+}
+
+/* Waiting for the slave's ACK of our master message, other symbols are 2515
+ * (a broken one after its own notice) and ignored: the ACK still counts. */
+static void test_hd_ack_expected_2515(void **state)
+{
+	struct df1 *h = *state;
+	uint8_t out[300];
+	size_t k = 0;
+
+	mock_port_on_write(ack_after_garbage_hook, NULL);
+	assert_reply_ok(transact_a2(h, out, sizeof out), out, 1);
+	assert_int_equal(logged(2515), 2);
+	for (size_t i = 0; i < log_n; i++) {
+		if (log_ids[i] != 2515)
+			continue;
+		assert_string_equal(log_last[i], k++ == 0 ? "ACK Expected (last symbol received was 0x04)"
+		                                          : "ACK Expected (last symbol received was 0x07)");
+	}
+	assert_int_equal(logged(2514), 1);
+	assert_int_equal(cnt(h, 2541), 0); /* no retransmission */
+	assert_int_equal(cnt(h, 2536), 1);
+}
+
 static void test_hd_enq_limit(void **state)
 {
 	struct df1 *h = *state;
@@ -1247,6 +1322,7 @@ static void test_hd_echo_discarded(void **state)
  * ------------------------------------------------------------------------ */
 
 static int handler_calls;
+static uint8_t handler_sts;     /* STS of the handler's replies (0 unless a test sets it) */
 static uint8_t handler_last[FRAME_MAX_DATA];
 static size_t handler_last_len;
 
@@ -1262,8 +1338,8 @@ static int test_handler(struct df1 *h, void *ctx, const uint8_t *cmd, size_t n, 
 	handler_calls++;
 	memcpy(handler_last, cmd, n);
 	handler_last_len = n;
-	return (int)make_reply(reply, cmd[1], cmd[0], (uint8_t)(cmd[2] | 0x40), 0,
-	                       (uint16_t)(cmd[4] | cmd[5] << 8), data, sizeof data);
+	return (int)make_reply(reply, cmd[1], cmd[0], (uint8_t)(cmd[2] | 0x40), handler_sts,
+	                       (uint16_t)(cmd[4] | cmd[5] << 8), data, handler_sts ? 0 : sizeof data);
 }
 
 static int setup_slave(void **state)
@@ -1275,6 +1351,7 @@ static int setup_slave(void **state)
 	h->cfg.duplex = DF1_HALF_DUPLEX_SLAVE;
 	h->cfg.station = 1;
 	handler_calls = 0;
+	handler_sts = 0;
 	return 0;
 }
 
@@ -1526,6 +1603,7 @@ static int setup_peer(void **state)
 	h = *state;
 	h->cfg.station = 1;
 	handler_calls = 0;
+	handler_sts = 0;
 	return 0;
 }
 
@@ -1629,6 +1707,55 @@ static void test_peer_enq_gets_last_response(void **state)
 	assert_int_equal(cnt(h, 2547), 1);
 }
 
+/* A DLE NAK when no reply of ours waits for a response: 2511, nothing sent. */
+static void test_peer_nak_with_nothing_in_flight_2511(void **state)
+{
+	struct df1 *h = *state;
+
+	mock_port_feed(NAK, 2);
+	mock_port_feed_hex(A2_FD_CRC);
+	mock_port_feed(ACK, 2);
+	assert_int_equal(serve_script(h), 1);
+	assert_int_equal(logged(2511), 1);
+	assert_string_equal(log_text(2511), "Received NAK Symbol");
+	assert_int_equal(logged(2517), 0);
+	assert_int_equal(cnt(h, 2534), 1);
+	assert_int_equal(cnt(h, 2541), 0);
+	assert_int_equal(mock_port_writes(), 2); /* ACK, reply */
+}
+
+/* A reply with STS != 0 is an error message sent (2539), once however often
+ * it goes out; half duplex the same. */
+static void test_peer_error_reply_counted_2539(void **state)
+{
+	struct df1 *h = *state;
+	uint8_t *w;
+	size_t wn;
+
+	handler_sts = 0x10;
+	mock_port_feed_hex(A2_FD_CRC);
+	mock_port_feed(NAK, 2);         /* the reply once more */
+	mock_port_feed(ACK, 2);
+	assert_int_equal(serve_script(h), 1);
+	assert_int_equal(mock_port_writes(), 3);
+	w = (uint8_t *)mock_port_write_at(1, &wn);
+	assert_true(wn > 6);
+	assert_int_equal(w[5], 0x10);   /* DLE STX DST SRC CMD STS */
+	assert_int_equal(cnt(h, 2529), 1);
+	assert_int_equal(cnt(h, 2539), 1);
+	assert_int_equal(cnt(h, 2525), 2);
+	/* the half-duplex slave: the same */
+	h->cfg.duplex = DF1_HALF_DUPLEX_SLAVE;
+	handler_sts = 0xF0;
+	feed_master_msg(1, 0x77);
+	feed_poll(1);
+	mock_port_feed(ACK, 2);
+	assert_int_equal(serve_script(h), 1);
+	assert_int_equal(cnt(h, 2529), 2);
+	assert_int_equal(cnt(h, 2539), 2);
+	assert_int_equal(cnt(h, 2532), 1); /* CNT_POLL_MSGS_RCVD */
+}
+
 /* ------------------------------------------------------------------------
  * Fault injection, seen from the line
  * ------------------------------------------------------------------------ */
@@ -1641,7 +1768,8 @@ static void test_fault_api_validates(void **state)
 	assert_int_equal(df1_server_set_fault(h, (enum df1_fault)8, 10, 0), DF1_E_INVAL);
 	assert_int_equal(df1_server_set_fault(h, DF1_FAULT_NOISE, 1001, 0), DF1_E_INVAL);
 	assert_int_equal(df1_server_set_fault(h, DF1_FAULT_DELAY_REPLY, 10, -5), DF1_E_INVAL);
-	assert_int_equal(df1_server_set_fault(h, DF1_FAULT_SILENT_STATION, 10, 256), DF1_E_INVAL);
+	assert_int_equal(df1_server_set_fault(h, DF1_FAULT_SILENT_STATION, 10, 257), DF1_E_INVAL);
+	assert_int_equal(df1_server_set_fault(h, DF1_FAULT_SILENT_STATION, 10, -2), DF1_E_INVAL);
 	assert_int_equal(df1_server_set_fault(NULL, DF1_FAULT_NOISE, 10, 0), DF1_E_INVAL);
 	assert_int_equal(df1_server_set_fault(h, DF1_FAULT_NOISE, 1000, 0), 0);
 	assert_int_equal(h->faults.per_mille[DF1_FAULT_NOISE], 1000);
@@ -1812,6 +1940,50 @@ static void test_fault_silent_station(void **state)
 	assert_int_equal(serve_script(h), 0);
 	assert_int_equal(mock_port_writes(), 0);
 	assert_int_equal(handler_calls, 0);
+}
+
+/* value 256: every station silent, bare ENQs unanswered too; -1 (or
+ * probability 0) answers again. */
+static void test_fault_silent_all_stations(void **state)
+{
+	struct df1 *h = *state;
+
+	assert_int_equal(df1_server_set_fault(h, DF1_FAULT_SILENT_STATION, 1000, 257), DF1_E_INVAL);
+	assert_int_equal(df1_server_set_fault(h, DF1_FAULT_SILENT_STATION, 1000, 256), 0);
+	mock_port_feed(ENQ, 2);
+	mock_port_feed_hex(A2_FD_CRC);
+	mock_port_feed(ENQ, 2);
+	assert_int_equal(serve_script(h), 0);
+	assert_int_equal(mock_port_writes(), 0);
+	h->cfg.duplex = DF1_HALF_DUPLEX_SLAVE;
+	assert_int_equal(df1_server_add_station(h, 1), 0);
+	assert_int_equal(df1_server_add_station(h, 7), 0);
+	feed_master_msg(1, 1);
+	feed_poll(1);
+	feed_master_msg(7, 2);
+	feed_poll(7);
+	assert_int_equal(serve_script(h), 0);
+	assert_int_equal(mock_port_writes(), 0);
+	assert_int_equal(handler_calls, 0);
+	/* back: station 7 answers */
+	assert_int_equal(df1_server_set_fault(h, DF1_FAULT_SILENT_STATION, 0, -1), 0);
+	feed_master_msg(7, 3);
+	feed_poll(7);
+	mock_port_feed(ACK, 2);
+	assert_int_equal(serve_script(h), 1);
+	assert_int_equal(handler_calls, 1);
+	assert_int_equal(mock_port_writes(), 2); /* ACK, reply */
+	/* full duplex: after a silenced frame the ENQs get an answer again as
+	 * soon as the fault is off */
+	h->cfg.duplex = DF1_FULL_DUPLEX;
+	mock_port_clear_written();
+	assert_int_equal(df1_server_set_fault(h, DF1_FAULT_SILENT_STATION, 1000, 256), 0);
+	mock_port_feed_hex(A2_FD_CRC);
+	assert_int_equal(serve_script(h), 0);
+	assert_int_equal(df1_server_set_fault(h, DF1_FAULT_SILENT_STATION, 0, -1), 0);
+	mock_port_feed(ENQ, 2);
+	assert_int_equal(serve_script(h), 0);
+	assert_int_equal(mock_port_writes(), 1);
 }
 
 static void test_fault_delay_reply(void **state)
@@ -2192,6 +2364,8 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_hd_no_ack_retransmit_then_nak_limit, setup_hd, teardown),
 		cmocka_unit_test_setup_teardown(test_hd_no_ack_then_ack, setup_hd, teardown),
 		cmocka_unit_test_setup_teardown(test_hd_bad_check_reply_repolled, setup_hd, teardown),
+		cmocka_unit_test_setup_teardown(test_hd_poll_answer_not_eot_or_stx_2516, setup_hd, teardown),
+		cmocka_unit_test_setup_teardown(test_hd_ack_expected_2515, setup_hd, teardown),
 		cmocka_unit_test_setup_teardown(test_hd_enq_limit, setup_hd, teardown),
 		cmocka_unit_test_setup_teardown(test_hd_stale_reply_acked_and_polled_again, setup_hd, teardown),
 		cmocka_unit_test_setup_teardown(test_hd_inactive_station_fails_after_one_poll, setup_hd, teardown),
@@ -2216,6 +2390,8 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_peer_reply_enq_limit_drops, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_peer_duplicate_command_not_run, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_peer_enq_gets_last_response, setup_peer, teardown),
+		cmocka_unit_test_setup_teardown(test_peer_nak_with_nothing_in_flight_2511, setup_peer, teardown),
+		cmocka_unit_test_setup_teardown(test_peer_error_reply_counted_2539, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_fault_api_validates, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_fault_rng_deterministic, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_fault_drop_ack_fd, setup_peer, teardown),
@@ -2226,6 +2402,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_fault_stale_reply_hd, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_fault_noise_before_reply, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_fault_silent_station, setup_peer, teardown),
+		cmocka_unit_test_setup_teardown(test_fault_silent_all_stations, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_fault_delay_reply, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_fault_delay_reply_hd_eot_first, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_pair_fd_clean, setup, teardown),

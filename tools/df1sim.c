@@ -4,6 +4,8 @@
  * or TCP (DESIGN.md 8, man/man1/df1sim.1). Built on df1_serve() only.
  *
  * stdout: the device served, one line, once ready. stderr: messages.
+ * SIGUSR1 silences every station (no ACK, no reply, no answer to polls or
+ * ENQs), SIGUSR2 makes them answer again (--silent still applies).
  * Exit status: 0 (stopped by SIGINT/SIGTERM), 1 (communication / system error),
  * 2 (usage or configuration error).
  */
@@ -610,17 +612,28 @@ struct sim {
 	bool half;
 	int verbose;
 	struct logger log;
+	int silent_pm, silent_station;  /* --silent, put back by SIGUSR2 (0: none) */
+	bool muted;                     /* SIGUSR1 applied: every station silent */
 };
 
 static volatile sig_atomic_t g_stop;
+static volatile sig_atomic_t g_mute;    /* 1 after SIGUSR1, 0 after SIGUSR2 */
 static int g_sigpipe[2] = { -1, -1 };
 
+/* SIGINT/SIGTERM stop, SIGUSR1/SIGUSR2 mute and unmute; every signal also
+ * writes the self-pipe, the handle's cancel descriptor, so that a wait in
+ * df1_serve() ends at once (DF1_E_INTR) and the main loop sees the flags. */
 static void on_signal(int sig)
 {
 	int saved = errno;
 	char c = (char)sig;
 
-	g_stop = 1;
+	if (sig == SIGUSR1)
+		g_mute = 1;
+	else if (sig == SIGUSR2)
+		g_mute = 0;
+	else
+		g_stop = 1;
 	if (g_sigpipe[1] >= 0 && write(g_sigpipe[1], &c, 1) < 0) {
 		/* the pipe is full: a byte is already waiting */
 	}
@@ -985,7 +998,7 @@ static void usage(FILE *f)
 	        "  --station N[,N...]    stations served, 0-254, ranges A-B allowed (1)\n"
 	        "  -b, --baud N          -d only: baud rate (19200)\n"
 	        "  -P, --parity P        -d only: none|even|odd (none)\n"
-	        "  --data-bits N         -d only: 7 or 8 (8)\n"
+	        "  --data-bits N         -d only: 5..8 (8)\n"
 	        "  --stop-bits N         -d only: 1 or 2 (1)\n"
 	        "  --line-baud N         pace transmitted bytes as a line at N baud\n"
 	        "PLC:\n"
@@ -1007,6 +1020,7 @@ static void usage(FILE *f)
 	        "  -v, --verbose         link events on stderr; twice: bytes too\n"
 	        "  -h, --help            this help\n"
 	        "  -V, --version         version\n"
+	        "Signals: SIGUSR1 silences every station, SIGUSR2 makes them answer again.\n"
 	        "Exit status: 0 stopped by SIGINT/SIGTERM, 1 communication error, 2 usage.\n",
 	        PROG);
 }
@@ -1384,14 +1398,40 @@ static int report(df1_t *h, const char *where, int err)
 	return EXIT_COMM;
 }
 
+/* Empty the self-pipe and apply SIGUSR1 / SIGUSR2 if one came. A wait that a
+ * mute signal cut short is simply resumed by the next df1_serve(): the link
+ * keeps its state (with --line-baud a frame being paced out may be cut, which
+ * the master sees as a broken frame and recovers from). */
+static void sim_wakeup(df1_t *h, struct sim *s)
+{
+	char buf[64];
+	bool mute;
+
+	while (read(g_sigpipe[0], buf, sizeof buf) > 0) {
+		/* drain: the flags say what happened */
+	}
+	mute = g_mute != 0;
+	if (mute == s->muted)
+		return;
+	if (mute)
+		(void)df1_server_set_fault(h, DF1_FAULT_SILENT_STATION, 1000, 256); /* every station */
+	else
+		(void)df1_server_set_fault(h, DF1_FAULT_SILENT_STATION, s->silent_pm,
+		                           s->silent_pm ? s->silent_station : -1);
+	s->muted = mute;
+	if (s->verbose)
+		msg(mute ? "SIGUSR1: every station silent" : "SIGUSR2: stations answer again");
+}
+
 /* Serve an open handle until a signal (0), the peer leaves (DF1_E_CLOSED) or an error. */
 static int serve_open(df1_t *h, struct sim *s)
 {
 	int r;
 
 	while (!g_stop) {
+		sim_wakeup(h, s);
 		r = df1_serve(h, &sim_ops, s, 1000);
-		if (r >= 0)
+		if (r >= 0 || (r == DF1_E_INTR && !g_stop))
 			continue;
 		if (r == DF1_E_INTR || g_stop)
 			return 0;
@@ -1415,8 +1455,12 @@ static int serve_tcp(df1_t *h, struct sim *s, int lfd, const char *shown)
 			msg("%s: poll: %s", shown, strerror(errno));
 			return EXIT_COMM;
 		}
-		if (pfd[1].revents || g_stop)
+		if (g_stop)
 			return 0;
+		if (pfd[1].revents) {
+			sim_wakeup(h, s);       /* SIGUSR1 / SIGUSR2 */
+			continue;
+		}
 		if (!(pfd[0].revents & POLLIN))
 			continue;
 		cfd = accept4(lfd, NULL, NULL, SOCK_CLOEXEC);
@@ -1490,6 +1534,8 @@ static int self_pipe(void)
 	sigemptyset(&sa.sa_mask);
 	sigaction(SIGINT, &sa, NULL);
 	sigaction(SIGTERM, &sa, NULL);
+	sigaction(SIGUSR1, &sa, NULL);
+	sigaction(SIGUSR2, &sa, NULL);
 	sa.sa_handler = SIG_IGN;
 	sigaction(SIGPIPE, &sa, NULL);
 	return 0;
@@ -1521,6 +1567,10 @@ static int sim_build(struct sim *s, const struct opts *o)
 	s->verbose = o->verbose;
 	s->nstations = o->nstations;
 	memcpy(s->stations, o->stations, sizeof s->stations);
+	if (o->faults[DF1_FAULT_SILENT_STATION].given) {
+		s->silent_pm = o->faults[DF1_FAULT_SILENT_STATION].per_mille;
+		s->silent_station = o->faults[DF1_FAULT_SILENT_STATION].value;
+	}
 	s->proc = processor_find(o->processor ? o->processor : default_proc[o->plc], &custom,
 	                         o->plc == DF1_PLC_PLC5);
 	if (!s->proc) {
