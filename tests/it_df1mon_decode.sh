@@ -120,7 +120,7 @@ check "stdin: summary" 'grep -q "^df1mon: [0-9]* frames, [0-9]* good, 0 bad, [0-
 # a command and its reply: the reply is decoded with the command's file type
 expect 0 "read F8:0 and its reply" -- "$MON" --decode \
 	"10 02 01 00 0F 00 04 00 A2 04 08 8A 00 00 10 03 B4" "10 02 00 01 4F 00 04 00 00 00 C0 3F 10 03 AD"
-check "reply value 1.5" 'sed -n 2p "$T/out" | grep -q "reply to 0F/A2 .* F8:0 size 4  sts 00  = 1.5$"'
+check "reply value 1.5" 'sed -n 2p "$T/out" | grep -q "reply to 0F/A2 .* F8:0 size 4  sts 00 (success, no error)  = 1.5$"'
 expect 0 "PLC-5 typed read and reply" -- "$MON" -f json --decode \
 	"10 02 01 00 0F 00 06 00 68 00 00 0A 00 06 07 00 0A 00 10 03 61" \
 	"10 02 00 01 4F 00 06 00 99 09 15 42 00 00 01 00 02 00 03 00 04 00 05 00 06 00 07 00 08 00 09 00 10 03 84"
@@ -128,6 +128,37 @@ check "typed read reply values" 'sed -n 2p "$T/out" | grep -q "\"values\":\[0,1,
 expect 0 "error reply" -- "$MON" -f json --decode "10 02 00 01 4F F0 05 00 06 10 03 B5"
 check "error reply texts" 'grep -q "\"sts\":\"F0\",.*\"ext_sts\":\"06\",\"ext_sts_text\":\"address doesn.t point to something usable\"" "$T/out"'
 check "error reply json" 'json_ok "$T/out"'
+
+# PLC-5 word range floats are word-swapped (spec 5: 1.5 is C0 3F 00 00); typed
+# write takes the type from its type/data parameter (94 08 = float, 4 bytes)
+expect 0 "word range read \$F8:0 and reply" -- "$MON" --decode \
+	"10 02 01 00 0F 00 09 00 01 00 00 02 00 00 24 46 38 3A 30 00 04 10 03 D4" \
+	"10 02 00 01 4F 00 09 00 C0 3F 00 00 10 03 A8"
+check "word range reply: 1.5" 'sed -n 2p "$T/out" | grep -q "reply to 0F/01 .* \$F8:0 size 4  sts 00 (success, no error)  = 1.5$"'
+expect 0 "word range write \$F8:0 = 1.5 -2.5" -- "$MON" --decode \
+	"10 02 01 00 0F 00 0A 00 00 00 00 04 00 00 24 46 38 3A 30 00 C0 3F 00 00 20 C0 00 00 10 03 F7"
+check "word range write values" 'grep -q "0F/00  word range write .* \$F8:0 size 8  = 1.5 -2.5$" "$T/out"'
+expect 0 "typed write of two floats" -- "$MON" -f json --decode \
+	"10 02 01 00 0F 00 0C 00 67 00 00 02 00 06 08 00 99 09 0A 94 08 00 00 C0 3F 00 00 20 C0 10 03 46"
+check "typed write float values" 'grep -q "\"address\":\"file 8:0\",\"size\":2,\"values\":\[1.5,-2.5\]" "$T/out"'
+
+# a masked write of one bit shows the bit address and its value
+expect 0 "AB B3:0/5 := 1" -- "$MON" --decode "10 02 01 00 0F 00 03 00 AB 02 03 85 00 00 20 00 20 00 10 03 78"
+check "AB: B3:0/5 = 1" 'grep -q "0F/AB  SLC masked write  *B3:0/5 size 2  = 1  mask/data 20 00 / 20 00$" "$T/out"'
+expect 0 "AB T4:3/DN := 0 and 26 bit 3 := 1" -- "$MON" -f json --decode \
+	"10 02 01 00 0F 00 04 00 AB 02 04 86 03 00 00 20 00 00 10 03 92" \
+	"10 02 01 00 0F 00 0A 00 26 06 07 00 FF FF 08 00 10 03 AD"
+check "AB: T4:3/DN = 0" 'sed -n 1p "$T/out" | grep -q "\"address\":\"T4:3/DN\",\"size\":2,\"values\":\[0\]"'
+check "26: file 7:0/3 = 1" 'sed -n 2p "$T/out" | grep -q "\"address\":\"file 7:0/3\",\"values\":\[1\]"'
+
+# DH-485 EXT STS 1A/1B: the owner's node follows (spec 3.4)
+expect 0 "EXT STS 1A with owner" -- "$MON" --decode "10 02 00 01 4B F0 05 00 1A 07 10 03 9E"
+check "owner shown" 'grep -q "sts F0 ext 1A owner 7  error: .*EXT STS 1A: file open by another node (owner: node 7)$" "$T/out"'
+expect 0 "EXT STS 1B with owner, json" -- "$MON" -f json --decode "10 02 00 01 4B F0 05 00 1B 03 10 03 A1"
+check "owner in json" 'grep -q "\"ext_sts\":\"1B\",\"ext_sts_text\":\"program owned by another node\",\"owner\":3," "$T/out" && json_ok "$T/out"'
+# a reply that lacks its EXT STS byte is malformed: exit 1
+expect 1 "STS F0 without EXT STS" -- "$MON" --decode "10 02 00 01 4F F0 05 00 10 03 BB"
+check "missing EXT STS named" 'grep -q "error: STS F0: .*; DF1_E_BAD_REPLY: invalid reply message$" "$T/out"'
 
 # malformed input: exit 1 with an ERROR line
 expect 1 "incomplete frame" -- "$MON" --decode "10 02 01 00 0F 00"

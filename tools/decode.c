@@ -110,22 +110,58 @@ static int typedata_skip(const uint8_t *p, size_t n, enum df1_file_type *ft)
 	return k;
 }
 
-/* 0F/67: df1_msg_decode points data past the type/data parameter; the element
- * descriptor is the last 1-3 bytes before it. Returns false if none parses. */
+/* Bytes of a PLC-5 system address (spec 4.1) at p: logical ASCII 00 '$' text 00,
+ * or logical binary: a mask (FF + LE16 above 254), then one field per mask bit,
+ * each 1 byte or FF + LE16. -1 if it does not fit in n. */
+static int plc5_addr_len(const uint8_t *p, size_t n)
+{
+	size_t i;
+	unsigned mask;
+
+	if (n < 1)
+		return -1;
+	if (p[0] == 0x00) {
+		for (i = 1; i < n; i++)
+			if (p[i] == 0x00)
+				return (int)i + 1;
+		return -1;
+	}
+	if (p[0] == 0xFF) {
+		if (n < 3)
+			return -1;
+		mask = (unsigned)(p[1] | (p[2] << 8));
+		i = 3;
+	} else {
+		mask = p[0];
+		i = 1;
+	}
+	for (; mask; mask >>= 1) {
+		if (!(mask & 1))
+			continue;
+		if (i >= n)
+			return -1;
+		i += p[i] == 0xFF ? 3 : 1;
+	}
+	return i <= n ? (int)i : -1;
+}
+
+/* 0F/67: df1_msg_decode points data past the type/data parameter; find that
+ * parameter after PKT_OFFSET TOTAL ADDRESS (app bytes 7.., spec 4.3) and read the
+ * element type from it. Returns false if it does not end where the data starts. */
 static bool typedata_before(const uint8_t *app, const uint8_t *data, enum df1_file_type *ft)
 {
-	unsigned id;
-	uint32_t size;
+	size_t start = 7 + 4, end;
+	int a, k;
 
-	for (size_t k = 3; k >= 1; k--) {
-		if (data - app < (ptrdiff_t)(7 + k))
-			continue;
-		if (typedata_parse(data - k, k, &id, &size) == (int)k) {
-			*ft = typedata_file_type(id, size);
-			return true;
-		}
-	}
-	return false;
+	if (data < app || (size_t)(data - app) <= start)
+		return false;
+	end = (size_t)(data - app);
+	a = plc5_addr_len(app + start, end - start);
+	if (a < 0 || start + (size_t)a >= end)
+		return false;
+	start += (size_t)a;
+	k = typedata_skip(app + start, end - start, ft);
+	return k > 0 && start + (size_t)k == end;
 }
 
 /* The file type element values of an address decode as. */
@@ -238,7 +274,13 @@ struct frame_view {
 	const uint8_t *raw;
 	size_t raw_len;
 	bool has_sts;                  /* a reply */
+	bool bad_reply;                /* a reply df1_msg_decode found malformed */
+	bool has_owner;                /* EXT STS 1A/1B of CMD 0B/1A/1B: the owner's node */
+	uint8_t owner;
 	char error[256];
+	uint8_t swapped[256];          /* PLC-5 word-range floats with their words put back */
+	bool has_bit_addr;             /* a one-bit write: the address with its bit */
+	struct df1_addr bit_addr;
 };
 
 static struct decode_cmd *cmd_find(struct decode_ctx *x, const struct df1_msg *reply)
@@ -259,8 +301,8 @@ static struct decode_cmd *cmd_find(struct decode_ctx *x, const struct df1_msg *r
 	return best;
 }
 
-static void cmd_remember(struct decode_ctx *x, const struct df1_msg *m, const char *label,
-                         enum df1_file_type ft)
+static void cmd_remember(struct decode_ctx *x, const struct df1_msg *m, const struct df1_addr *addr,
+                         const char *label, enum df1_file_type ft)
 {
 	struct decode_cmd *slot = NULL;
 	int i;
@@ -291,7 +333,7 @@ static void cmd_remember(struct decode_ctx *x, const struct df1_msg *m, const ch
 	slot->tns = m->tns;
 	snprintf(slot->label, sizeof slot->label, "%.95s", label);
 	slot->has_addr = m->has_addr;
-	slot->addr = m->addr;
+	slot->addr = *addr;
 	slot->size = m->size;
 	slot->ft = ft;
 	slot->age = ++x->clock;
@@ -306,8 +348,12 @@ static void format_addr(const struct df1_addr *a, char *buf, size_t cap)
 	if (a->type != DF1_FT_NONE && df1_addr_format(a, buf, cap) >= 0)
 		return;
 	/* a PLC-5 binary address carries no file type */
-	if (a->sub != DF1_ADDR_NONE)
+	if (a->sub != DF1_ADDR_NONE && a->bit != DF1_ADDR_NONE)
+		snprintf(buf, cap, "file %d:%d.%d/%d", a->file, a->element, a->sub, a->bit);
+	else if (a->sub != DF1_ADDR_NONE)
 		snprintf(buf, cap, "file %d:%d.%d", a->file, a->element, a->sub);
+	else if (a->bit != DF1_ADDR_NONE)
+		snprintf(buf, cap, "file %d:%d/%d", a->file, a->element, a->bit);
 	else
 		snprintf(buf, cap, "file %d:%d", a->file, a->element);
 }
@@ -333,6 +379,98 @@ static void decode_values(struct frame_view *v, enum df1_file_type ft, const uin
 	v->nvals = k;
 }
 
+/* PLC-5 word range read / write (0F/01, 0F/00): a float goes high-order word
+ * first, each word LE (spec 5): 1.5 is C0 3F 00 00. Other types are plain words. */
+static void decode_word_range(struct frame_view *v, enum df1_file_type ft, const uint8_t *p, size_t n)
+{
+	if (ft == DF1_FT_F && n >= 4 && n % 4 == 0 && n <= sizeof v->swapped) {
+		for (size_t i = 0; i < n; i += 4) {
+			v->swapped[i] = p[i + 2];
+			v->swapped[i + 1] = p[i + 3];
+			v->swapped[i + 2] = p[i];
+			v->swapped[i + 3] = p[i + 1];
+		}
+		p = v->swapped;
+	}
+	decode_values(v, ft, p, n);
+}
+
+/* The one bit a masked write changes: mask (and data) of 2 or 4 bytes, LE, with a
+ * single bit set. Returns the bit number or -1. */
+static int single_bit(const uint8_t *mask, size_t n)
+{
+	uint32_t m = 0;
+	int bit = -1;
+
+	if (n != 2 && n != 4)
+		return -1;
+	for (size_t i = 0; i < n; i++)
+		m |= (uint32_t)mask[i] << (8 * i);
+	if (m == 0 || (m & (m - 1)) != 0)
+		return -1;
+	while (m) {
+		m >>= 1;
+		bit++;
+	}
+	return bit;
+}
+
+/* A write of one bit (SLC 0F/AB with a one-bit mask, PLC-5 0F/26 AND FFFF OR bit
+ * or AND ~bit OR 0, 0F/02 SET bit or RESET bit): the bit joins the address, as the
+ * user wrote it (B3:0/5, T4:0/DN), and its value is shown. The masks stay too. */
+static void view_bit_write(struct frame_view *v)
+{
+	const struct df1_msg *m = &v->m;
+	const uint8_t *d = m->data;
+	struct df1_addr a = m->addr;
+	char buf[64];
+	int bit = -1, on = 0;
+
+	if (!m->has_addr || m->addr.ascii[0] || m->addr.bit != DF1_ADDR_NONE)
+		return;
+	if (m->fnc == 0xAB && m->size > 0 && m->data_len == 2 * (size_t)m->size) {
+		bit = single_bit(d, (size_t)m->size);
+		if (bit >= 0)
+			on = (d[m->size + bit / 8] >> (bit % 8)) & 1;
+	} else if ((m->fnc == 0x26 || m->fnc == 0x02) && m->data_len == 4) {
+		uint16_t w1 = (uint16_t)(d[0] | (d[1] << 8)), w2 = (uint16_t)(d[2] | (d[3] << 8));
+		int b1 = single_bit(d, 2), b2 = single_bit(d + 2, 2);
+
+		if (m->fnc == 0x26) {           /* AND, OR */
+			uint8_t inv[2] = { (uint8_t)~d[0], (uint8_t)~d[1] };
+			int b0 = single_bit(inv, 2);
+
+			if (w1 == 0xFFFF && b2 >= 0) {
+				bit = b2;
+				on = 1;
+			} else if (w2 == 0 && b0 >= 0) {
+				bit = b0;
+			}
+		} else if (b1 >= 0 && w2 == 0) {   /* SET, RESET */
+			bit = b1;
+			on = 1;
+		} else if (w1 == 0 && b2 >= 0) {
+			bit = b2;
+		}
+	}
+	if (bit < 0)
+		return;
+	/* a T/C/R bit lives in a word of the element: the control word unless named */
+	if ((a.type == DF1_FT_T || a.type == DF1_FT_C || a.type == DF1_FT_R) && a.sub == DF1_ADDR_NONE)
+		a.sub = 0;
+	a.bit = bit;
+	if (a.type != DF1_FT_NONE && df1_addr_format(&a, buf, sizeof buf) < 0)
+		return;                         /* a type without bits (F, ST): leave it */
+	format_addr(&a, v->addr, sizeof v->addr);
+	v->bit_addr = a;
+	v->has_bit_addr = true;
+	memset(&v->vals[0], 0, sizeof v->vals[0]);
+	v->vals[0].kind = DF1_VAL_BIT;
+	v->vals[0].v.bit = on != 0;
+	v->nvals = 1;
+	v->ft = a.type;
+}
+
 /* Command data: the values written, masks, or raw bytes. */
 static void view_command_data(struct frame_view *v, const uint8_t *app)
 {
@@ -345,8 +483,11 @@ static void view_command_data(struct frame_view *v, const uint8_t *app)
 		return;
 	if (m->cmd == 0x0F && m->has_fnc) {
 		switch (m->fnc) {
-		case 0xA9: case 0xAA: case 0x00:   /* SLC writes, word range write */
+		case 0xA9: case 0xAA:              /* SLC writes */
 			decode_values(v, ft, d, n);
+			return;
+		case 0x00:                         /* word range write */
+			decode_word_range(v, ft, d, n);
 			return;
 		case 0x67:                         /* typed write */
 			if (typedata_before(app, d, &ft)) {
@@ -358,16 +499,19 @@ static void view_command_data(struct frame_view *v, const uint8_t *app)
 			v->mask_kind = "mask/data";
 			v->masks = d;
 			v->masks_len = n;
+			view_bit_write(v);
 			return;
 		case 0x26:
 			v->mask_kind = "and/or";
 			v->masks = d;
 			v->masks_len = n;
+			view_bit_write(v);
 			return;
 		case 0x02:
 			v->mask_kind = "set/reset";
 			v->masks = d;
 			v->masks_len = n;
+			view_bit_write(v);
 			return;
 		default:
 			break;
@@ -394,8 +538,11 @@ static void view_reply_data(struct frame_view *v)
 		return;
 	if (c && c->cmd == 0x0F && c->has_fnc) {
 		switch (c->fnc) {
-		case 0xA1: case 0xA2: case 0x01:
+		case 0xA1: case 0xA2:
 			decode_values(v, c->ft, d, n);
+			return;
+		case 0x01:                          /* word range read */
+			decode_word_range(v, c->ft, d, n);
 			return;
 		case 0x68:
 			k = typedata_skip(d, n, &ft);
@@ -450,7 +597,8 @@ static void build_view(struct decode_ctx *x, const struct df1_symbol *s, bool re
 		if (r >= 0) {
 			view_command_data(v, s->data);
 			if (remember)
-				cmd_remember(x, m, v->name, m->has_addr ? value_file_type(&m->addr) : DF1_FT_N);
+				cmd_remember(x, m, v->has_bit_addr ? &v->bit_addr : &m->addr, v->name,
+				             m->has_addr ? value_file_type(&m->addr) : DF1_FT_N);
 		} else if (m->data && m->data_len) {
 			v->raw = m->data;
 			v->raw_len = m->data_len;
@@ -475,17 +623,35 @@ static void build_view(struct decode_ctx *x, const struct df1_symbol *s, bool re
 		snprintf(v->name, sizeof v->name, "reply");
 	}
 	if (m->sts != 0) {
+		char bad[96];
+
+		/* a reply that cannot be what it claims (STS F0 without its EXT STS byte,
+		 * EXT STS 1A/1B without the owner byte) says so after the PLC's texts */
+		if (r < 0)
+			snprintf(bad, sizeof bad, "; %s: %s", df1_errname(r), df1_strerror(r));
+		else
+			bad[0] = 0;
 		if (m->has_ext_sts) {
 			uint8_t c = (uint8_t)(m->cmd & ~0x40);
-			const char *ext = (c == 0x0B || c == 0x1A || c == 0x1B)
-			                          ? df1_ext_sts_text_dh485(m->ext_sts)
-			                          : df1_ext_sts_text(m->ext_sts);
-			snprintf(v->error, sizeof v->error, "STS %02X: %s; EXT STS %02X: %s", m->sts,
-			         df1_sts_text(m->sts), m->ext_sts, ext);
+			bool dh485 = c == 0x0B || c == 0x1A || c == 0x1B;
+			const char *ext = dh485 ? df1_ext_sts_text_dh485(m->ext_sts)
+			                        : df1_ext_sts_text(m->ext_sts);
+			char owner[32] = "";
+
+			/* DH-485 EXT STS 1A/1B: the owner's node follows (spec 3.4) */
+			if (r >= 0 && dh485 && (m->ext_sts == 0x1A || m->ext_sts == 0x1B) && s->len > 7) {
+				v->has_owner = true;
+				v->owner = s->data[7];
+				snprintf(owner, sizeof owner, " (owner: node %u)", v->owner);
+			}
+			snprintf(v->error, sizeof v->error, "STS %02X: %s; EXT STS %02X: %s%s%s", m->sts,
+			         df1_sts_text(m->sts), m->ext_sts, ext, owner, bad);
 		} else {
-			snprintf(v->error, sizeof v->error, "STS %02X: %s", m->sts, df1_sts_text(m->sts));
+			snprintf(v->error, sizeof v->error, "STS %02X: %s%s", m->sts, df1_sts_text(m->sts),
+			         bad);
 		}
 	}
+	v->bad_reply = r < 0;
 	if (r >= 0)
 		view_reply_data(v);
 }
@@ -612,8 +778,12 @@ static void plain_frame(struct decode_ctx *x, FILE *f, const struct decode_where
 	}
 	if (v->has_sts) {
 		fprintf(f, "  sts %02X", v->m.sts);
+		if (v->m.sts == 0)
+			fprintf(f, " (%s)", df1_sts_text(0));  /* else error: gives the texts */
 		if (v->m.has_ext_sts)
 			fprintf(f, " ext %02X", v->m.ext_sts);
+		if (v->has_owner)
+			fprintf(f, " owner %u", v->owner);
 	}
 	if (v->error[0])
 		fprintf(f, "  error: %s", v->error);
@@ -683,6 +853,8 @@ static void json_frame(FILE *f, const struct decode_where *w, const struct df1_s
 				                           ? df1_ext_sts_text_dh485(m->ext_sts)
 				                           : df1_ext_sts_text(m->ext_sts));
 			}
+			if (v->has_owner)
+				fprintf(f, ",\"owner\":%u", v->owner);
 		}
 		if (v->has_addr) {
 			fputs(",\"address\":", f);
@@ -796,7 +968,7 @@ bool decode_print(struct decode_ctx *x, FILE *out, const char *prefix, const str
 		if (!s->check_ok) {
 			x->bad++;
 			bad = true;
-		} else if (!v->ok || (v->error[0] && !v->has_sts)) {
+		} else if (!v->ok || (v->error[0] && !v->has_sts) || v->bad_reply) {
 			x->errors++;  /* a good check around a malformed message */
 			bad = true;
 		} else {
