@@ -227,6 +227,122 @@ static bool known(const char *t)
 	return t && strcmp(t, "unknown status") != 0;
 }
 
+/* Every code of spec/protocol.md 3.2-3.4 (M p.8-2..8-5) with its text, typed in
+ * from the spec. ASCII stands in for the spec's typography: an em dash is " - ",
+ * "passthru" is "pass-through", an arrow is "to". */
+struct code_expect {
+	uint8_t code;
+	const char *text;
+};
+
+static const struct code_expect sts_expect[] = {
+	{ 0x00, "success, no error" },
+	{ 0x01, "DST node is out of buffer space" },
+	{ 0x02, "cannot guarantee delivery: link layer (the remote node did not ACK the command)" },
+	{ 0x03, "duplicate token holder detected" },
+	{ 0x04, "local port is disconnected" },
+	{ 0x05, "application layer timed out waiting for a response" },
+	{ 0x06, "duplicate node detected" },
+	{ 0x07, "station is offline" },
+	{ 0x08, "hardware fault" },
+	{ 0x10, "illegal command or format" },
+	{ 0x20, "host has a problem and will not communicate" },
+	{ 0x30, "remote node host is missing, disconnected, or shut down" },
+	{ 0x40, "host could not complete function due to hardware fault" },
+	{ 0x50, "addressing problem or memory protect rungs" },
+	{ 0x60, "function not allowed due to command protection selection" },
+	{ 0x70, "processor is in Program mode" },
+	{ 0x80, "compatibility mode file missing or communication zone problem" },
+	{ 0x90, "remote node cannot buffer command" },
+	{ 0xA0, "wait ACK (1775-KA buffer full)" },
+	{ 0xB0, "remote node problem due to download" },
+	{ 0xC0, "wait ACK (1775-KA buffer full)" },
+	{ 0xF0, "error code is in the EXT STS byte" },
+};
+
+static const struct code_expect ext_0f_expect[] = {
+	{ 0x00, "not used" },
+	{ 0x01, "a field has an illegal value" },
+	{ 0x02, "less levels specified in address than minimum for any address" },
+	{ 0x03, "more levels specified in address than system supports" },
+	{ 0x04, "symbol not found" },
+	{ 0x05, "symbol is of improper format" },
+	{ 0x06, "address doesn't point to something usable" },
+	{ 0x07, "file is wrong size" },
+	{ 0x08, "cannot complete request, situation has changed since the start of the command" },
+	{ 0x09, "data or file is too large" },
+	{ 0x0A, "transaction size plus word address is too large" },
+	{ 0x0B, "access denied, improper privilege" },
+	{ 0x0C, "condition cannot be generated - resource is not available" },
+	{ 0x0D, "condition already exists - resource is already available" },
+	{ 0x0E, "command cannot be executed" },
+	{ 0x0F, "histogram overflow" },
+	{ 0x10, "no access" },
+	{ 0x11, "illegal data type" },
+	{ 0x12, "invalid parameter or invalid data" },
+	{ 0x13, "address reference exists to deleted area" },
+	{ 0x14, "command execution failure for unknown reason; possible PLC-3 histogram overflow" },
+	{ 0x15, "data conversion error" },
+	{ 0x16, "scanner not able to communicate with 1771 rack adapter" },
+	{ 0x17, "type mismatch" },
+	{ 0x18, "1771 module response was not valid" },
+	{ 0x19, "duplicated label" },
+	{ 0x1A, "file is open; another node owns it" },
+	{ 0x1B, "another node is the program owner" },
+	{ 0x1C, "reserved" },
+	{ 0x1D, "reserved" },
+	{ 0x1E, "data table element protection violation" },
+	{ 0x1F, "temporary internal problem" },
+	{ 0x22, "remote rack fault (pass-through DH+ to remote I/O)" },
+	{ 0x23, "timeout (pass-through)" },
+	{ 0x24, "unknown error (pass-through)" },
+};
+
+static const struct code_expect ext_dh485_expect[] = {
+	{ 0x07, "insufficient memory module size (0000h returned)" },
+	{ 0x0B, "access denied, privilege violation" },
+	{ 0x0C, "resource not available or cannot do" },
+	{ 0x0E, "CMD cannot be executed" },
+	{ 0x12, "invalid parameter" },
+	{ 0x14, "failure during processing" },
+	{ 0x19, "duplicate label" },
+	{ 0x1A, "file open by another node" },
+	{ 0x1B, "program owned by another node" },
+};
+
+#define NEXP(t) (sizeof(t) / sizeof((t)[0]))
+
+/* Each table code gives its text; every other byte gives "unknown status"
+ * (STS: unless one of its nibbles is a code, see test_errors_sts_texts). */
+static void test_errors_every_sts_and_ext_sts_code_has_its_text(void **state)
+{
+	(void)state;
+	for (size_t i = 0; i < NEXP(sts_expect); i++)
+		if (strcmp(df1_sts_text(sts_expect[i].code), sts_expect[i].text) != 0)
+			fail_msg("STS %02X: '%s', want '%s'", sts_expect[i].code,
+			         df1_sts_text(sts_expect[i].code), sts_expect[i].text);
+	for (size_t i = 0; i < NEXP(ext_0f_expect); i++)
+		if (strcmp(df1_ext_sts_text(ext_0f_expect[i].code), ext_0f_expect[i].text) != 0)
+			fail_msg("EXT STS %02X: '%s', want '%s'", ext_0f_expect[i].code,
+			         df1_ext_sts_text(ext_0f_expect[i].code), ext_0f_expect[i].text);
+	for (size_t i = 0; i < NEXP(ext_dh485_expect); i++)
+		if (strcmp(df1_ext_sts_text_dh485(ext_dh485_expect[i].code), ext_dh485_expect[i].text) != 0)
+			fail_msg("DH-485 EXT STS %02X: '%s', want '%s'", ext_dh485_expect[i].code,
+			         df1_ext_sts_text_dh485(ext_dh485_expect[i].code), ext_dh485_expect[i].text);
+	for (unsigned c = 0; c < 256; c++) {
+		bool in0f = false, in485 = false;
+
+		for (size_t i = 0; i < NEXP(ext_0f_expect); i++)
+			in0f |= ext_0f_expect[i].code == c;
+		for (size_t i = 0; i < NEXP(ext_dh485_expect); i++)
+			in485 |= ext_dh485_expect[i].code == c;
+		if (!in0f)
+			assert_string_equal(df1_ext_sts_text((uint8_t)c), "unknown status");
+		if (!in485)
+			assert_string_equal(df1_ext_sts_text_dh485((uint8_t)c), "unknown status");
+	}
+}
+
 static void test_errors_sts_texts(void **state)
 {
 	(void)state;
@@ -313,6 +429,7 @@ int main(void)
 		cmocka_unit_test(test_errors_sts_texts),
 		cmocka_unit_test(test_errors_ext_sts_texts_cmd_0f),
 		cmocka_unit_test(test_errors_ext_sts_texts_dh485),
+		cmocka_unit_test(test_errors_every_sts_and_ext_sts_code_has_its_text),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

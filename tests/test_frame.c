@@ -479,9 +479,15 @@ static void test_frame_vectors_split_anywhere_same_result(void **state)
 	}
 }
 
+/* Every byte of every frame and poll replaced by each of the 255 other values:
+ * the decoder (with the vector's check) never reports a good frame or poll.
+ * One corruption is a good poll by construction and is allowed: in the poll of
+ * station 10h (10 05 10 10 F0) the first DLE of the stuffed STN turned into F0
+ * reads as the poll of station F0, whose BCC is 10h (10 05 F0 10), then one
+ * noise byte. A 1-byte BCC over a 1-byte STN cannot tell them apart. */
 static void test_frame_vectors_corrupted_byte_never_accepted(void **state)
 {
-	static const uint8_t xors[] = { 0x01, 0x02, 0x04, 0x10, 0x12, 0x40, 0x80, 0xFF };
+	unsigned long tried = 0;
 
 	(void)state;
 	for (size_t i = 0; i < nvecs; i++) {
@@ -490,25 +496,30 @@ static void test_frame_vectors_corrupted_byte_never_accepted(void **state)
 		if (!is_message(v) && v->kind != V_POLL)
 			continue;
 		for (size_t pos = 0; pos < v->n; pos++) {
-			for (size_t k = 0; k < sizeof xors; k++) {
+			for (unsigned x = 1; x < 256; x++) {
 				uint8_t bad[MAX_WIRE];
 				struct frame_decoder d;
 				static struct run r;
 
 				memcpy(bad, v->wire, v->n);
-				bad[pos] ^= xors[k];
+				bad[pos] ^= (uint8_t)x;
 				vec_decoder(v, &d);
 				run_chunks(&d, bad, v->n, 0, &r);
+				tried++;
 				for (size_t j = 0; j < r.nrecs; j++) {
 					const struct df1_symbol *s = &r.recs[j].s;
 
+					if (s->kind == DF1_SYM_POLL && s->check_ok && v->stn == 0x10 && pos == 2 &&
+					    bad[pos] == 0xF0 && s->station == 0xF0 && s->wire_len == 4)
+						continue;       /* the poll of station F0, see above */
 					if ((s->kind == DF1_SYM_FRAME || s->kind == DF1_SYM_POLL) && s->check_ok)
-						fail_msg("%s: byte %zu ^ %02x accepted as a good %s", v->name, pos,
-						         xors[k], s->kind == DF1_SYM_FRAME ? "frame" : "poll");
+						fail_msg("%s: byte %zu ^ %02x accepted as a good %s", v->name, pos, x,
+						         s->kind == DF1_SYM_FRAME ? "frame" : "poll");
 				}
 			}
 		}
 	}
+	assert_true(tried > 200000);
 }
 
 /* ------------------------------------------------------------------------

@@ -11,7 +11,10 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include <stdio.h>
+
 #include "df1.h"
+#include "frame.h"
 #include "pccc.h"
 #include "value.h"
 
@@ -980,6 +983,207 @@ static void test_pccc_command_names(void **state)
 }
 
 /* ------------------------------------------------------------------------
+ * Every message frame of tests/data/vectors.txt (a copy of spec/vectors.txt):
+ * its fields decoded, then the message re-encoded from those fields with the
+ * encoder of its command and framed again, byte for byte the vector's wire bytes.
+ * ------------------------------------------------------------------------ */
+
+/* The fields of a command, decoded; then the command built from them. */
+static int reencode_command(const uint8_t *app, size_t n, uint8_t *out, size_t cap)
+{
+	struct pccc_msg m;
+	struct pccc_hdr h;
+	int r = pccc_decode(app, n, &m);
+
+	assert_int_equal(r, 0);
+	h.dst = m.dst;
+	h.src = m.src;
+	h.tns = m.tns;
+	if (m.cmd == PCCC_CMD_UNPROT_READ) {
+		assert_int_equal(m.len, 3);
+		return pccc_enc_plc2_read(out, cap, &h, le16(m.data), m.data[2]);
+	}
+	if (m.cmd == PCCC_CMD_UNPROT_WRITE)
+		return pccc_enc_plc2_write(out, cap, &h, le16(m.data), m.data + 2, m.len - 2);
+	if (m.cmd == PCCC_CMD_DIAG && m.fnc == PCCC_FNC_ECHO)
+		return pccc_enc_echo(out, cap, &h, m.data, m.len);
+	if (m.cmd == PCCC_CMD_DIAG && m.fnc == PCCC_FNC_DIAG_STATUS) {
+		assert_int_equal(m.len, 0);
+		return pccc_enc_diag_status(out, cap, &h);
+	}
+	assert_int_equal(m.cmd, PCCC_CMD_TYPED);
+	switch (m.fnc) {
+	case PCCC_FNC_CHANGE_MODE:
+		assert_int_equal(m.len, 1);
+		return pccc_enc_change_mode(out, cap, &h, m.data[0]);
+	case PCCC_FNC_SLC_READ2: case PCCC_FNC_SLC_READ3:
+	case PCCC_FNC_SLC_WRITE2: case PCCC_FNC_SLC_WRITE3: case PCCC_FNC_SLC_MASKED: {
+		bool three = m.fnc != PCCC_FNC_SLC_READ2 && m.fnc != PCCC_FNC_SLC_WRITE2;
+		uint8_t nbytes, code;
+		unsigned file, elem, sub;
+		int k = pccc_dec_slc_fields(m.data, m.len, three, &nbytes, &file, &code, &elem, &sub);
+		const uint8_t *d = m.data + k;
+
+		assert_true(k > 0);
+		if (m.fnc == PCCC_FNC_SLC_READ2 || m.fnc == PCCC_FNC_SLC_READ3) {
+			assert_int_equal((size_t)k, m.len);
+			return pccc_enc_slc_read(out, cap, &h, m.fnc, nbytes, file, code, elem, sub);
+		}
+		if (m.fnc == PCCC_FNC_SLC_MASKED) {
+			assert_int_equal(m.len - (size_t)k, 2u * nbytes);
+			return pccc_enc_slc_masked_write(out, cap, &h, file, code, elem, sub, d, d + nbytes,
+			                                 nbytes);
+		}
+		assert_int_equal(m.len - (size_t)k, nbytes);
+		return pccc_enc_slc_write(out, cap, &h, m.fnc, file, code, elem, sub, d, nbytes);
+	}
+	default:
+		break;
+	}
+	{
+		struct pccc_plc5_req q;
+		enum pccc_plc5_form form;
+		uint8_t addr[64];
+		int alen;
+
+		assert_int_equal(pccc_dec_plc5_req(m.fnc, m.data, m.len, &q), 0);
+		/* which levels the sender encoded is part of the address field: its mask */
+		{
+			size_t at = (m.fnc == PCCC_FNC_RMW || m.fnc == PCCC_FNC_BIT_WRITE) ? 0 : 4;
+			uint8_t mask = m.data[at];
+
+			form = (mask & 0x01) == 0 ? PCCC_PLC5_FILE_ELEM
+			     : (mask == 0x0F && q.addr.sub == 0) ? PCCC_PLC5_FOUR_LEVELS : PCCC_PLC5_ALL_LEVELS;
+		}
+		alen = pccc_enc_plc5_addr_form(addr, sizeof addr, &q.addr, form);
+		assert_true(alen > 0);
+		switch (m.fnc) {
+		case PCCC_FNC_TYPED_READ:
+			assert_int_equal(q.len, 0);
+			return pccc_enc_plc5_typed_read(out, cap, &h, q.pkt_offset, q.total, addr, (size_t)alen,
+			                                (uint16_t)q.size);
+		case PCCC_FNC_TYPED_WRITE: {
+			struct pccc_typed t;
+			uint8_t typed[256];
+			int tl;
+
+			assert_int_equal(pccc_dec_typed(q.data, q.len, &t), 0);
+			assert_int_equal(t.consumed, q.len);
+			tl = t.is_array ? pccc_enc_typed_array(typed, sizeof typed, t.type_id, t.elem_size, t.count)
+			                : pccc_enc_typedata(typed, sizeof typed, t.type_id, t.elem_size);
+			assert_true(tl > 0 && (size_t)tl + t.len <= sizeof typed);
+			memcpy(typed + tl, t.data, t.len);
+			return pccc_enc_plc5_typed_write(out, cap, &h, q.pkt_offset, q.total, addr, (size_t)alen,
+			                                 typed, (size_t)tl + t.len);
+		}
+		case PCCC_FNC_WORD_READ:
+			assert_int_equal(q.len, 0);
+			return pccc_enc_plc5_word_read(out, cap, &h, q.pkt_offset, q.total, addr, (size_t)alen,
+			                               (uint8_t)q.size);
+		case PCCC_FNC_WORD_WRITE:
+			return pccc_enc_plc5_word_write(out, cap, &h, q.pkt_offset, q.total, addr, (size_t)alen,
+			                                q.data, q.len);
+		case PCCC_FNC_RMW:
+			assert_int_equal(q.len, 4);
+			return pccc_enc_plc5_rmw(out, cap, &h, addr, (size_t)alen, le16(q.data), le16(q.data + 2));
+		case PCCC_FNC_BIT_WRITE:
+			assert_int_equal(q.len, 4);
+			return pccc_enc_plc5_bit_write(out, cap, &h, addr, (size_t)alen, le16(q.data),
+			                               le16(q.data + 2));
+		default:
+			fail_msg("no encoder for 0F/%02X", m.fnc);
+			return -1;
+		}
+	}
+}
+
+/* A reply: its header fields, STS, EXT STS and data, through pccc_encode_reply. */
+static int reencode_reply(const uint8_t *app, size_t n, uint8_t *out, size_t cap)
+{
+	struct pccc_msg m, cmd;
+
+	assert_int_equal(pccc_decode(app, n, &m), 0);
+	memset(&cmd, 0, sizeof cmd);
+	cmd.dst = m.src;
+	cmd.src = m.dst;
+	cmd.cmd = (uint8_t)(m.cmd & ~PCCC_REPLY_BIT);
+	cmd.tns = m.tns;
+	return pccc_encode_reply(out, cap, &cmd, m.sts, m.ext_sts, m.data, m.len);
+}
+
+static void test_pccc_vectors_reencoded_from_their_fields(void **state)
+{
+	FILE *f = fopen("tests/data/vectors.txt", "r");
+	char line[2048];
+	int commands = 0, replies = 0;
+	(void)state;
+
+	if (!f)
+		fail_msg("cannot open tests/data/vectors.txt (run from the repository root)");
+	while (fgets(line, sizeof line, f)) {
+		char *name = line, *chk, *hexs, *end;
+		uint8_t wire[600], app[300], enc[300], frame[700];
+		size_t nw = 0, na = 0, i, nf;
+		bool master = false;
+		uint8_t stn = 0;
+		enum df1_check check;
+		int ne;
+
+		if (line[0] == '#' || line[0] == '\n')
+			continue;
+		chk = strstr(name, " | ");
+		assert_non_null(chk);
+		*chk = 0;
+		chk += 3;
+		hexs = strstr(chk, " | ");
+		assert_non_null(hexs);
+		*hexs = 0;
+		hexs += 3;
+		end = strstr(hexs, " | ");
+		assert_non_null(end);
+		*end = 0;
+		if (strcmp(chk, "bcc") && strcmp(chk, "crc"))
+			continue;               /* link symbols */
+		check = strcmp(chk, "bcc") == 0 ? DF1_CHECK_BCC : DF1_CHECK_CRC;
+		nw = hex(hexs, wire, sizeof wire);
+		if (wire[1] == 0x05)
+			continue;               /* a poll: no message */
+		/* de-stuff by the spec's rules (1.3, 2.2) */
+		i = 2;
+		if (wire[1] == 0x01) {
+			master = true;
+			stn = wire[2];
+			i = stn == 0x10 ? 4 : 3;
+			assert_true(wire[i] == 0x10 && wire[i + 1] == 0x02);
+			i += 2;
+		}
+		while (!(wire[i] == 0x10 && wire[i + 1] == 0x03)) {
+			if (wire[i] == 0x10)
+				i++;
+			app[na++] = wire[i++];
+		}
+		print_message("vector %s/%s\n", name, chk);
+		if (app[2] & PCCC_REPLY_BIT) {
+			ne = reencode_reply(app, na, enc, sizeof enc);
+			replies++;
+		} else {
+			ne = reencode_command(app, na, enc, sizeof enc);
+			commands++;
+		}
+		assert_int_equal(ne, (int)na);
+		assert_memory_equal(enc, app, na);
+		nf = master ? frame_encode_master(check, stn, false, enc, (size_t)ne, frame, sizeof frame)
+		            : frame_encode_full(check, enc, (size_t)ne, frame, sizeof frame);
+		assert_int_equal(nf, nw);
+		assert_memory_equal(frame, wire, nw);
+	}
+	fclose(f);
+	/* spec/vectors.txt: 38 command frames and 12 replies */
+	assert_true(commands >= 38);
+	assert_true(replies >= 12);
+}
+
+/* ------------------------------------------------------------------------
  * df1_msg_decode (public)
  * ------------------------------------------------------------------------ */
 
@@ -1170,6 +1374,7 @@ int main(void)
 		cmocka_unit_test(test_pccc_diag_status_plc5_interface_and_other),
 		cmocka_unit_test(test_pccc_processor_names_cover_both_lists),
 		cmocka_unit_test(test_pccc_command_names),
+		cmocka_unit_test(test_pccc_vectors_reencoded_from_their_fields),
 		cmocka_unit_test(test_msg_decode_slc_commands),
 		cmocka_unit_test(test_msg_decode_plc5_commands),
 		cmocka_unit_test(test_msg_decode_other_commands_and_replies),
