@@ -129,7 +129,8 @@ static int simproc_wait(pid_t pid, int ms)
 	}
 }
 
-int simproc_start(struct simproc *sp, bool tcp, const char *data, bool log, const char *const *args)
+static int simproc_spawn(struct simproc *sp, bool tcp, const char *dev, const char *data, bool log,
+                         const char *const *args)
 {
 	const char *bin = getenv("DF1_BIN");
 	char exe[512], tty[128], line[sizeof sp->target];
@@ -156,7 +157,10 @@ int simproc_start(struct simproc *sp, bool tcp, const char *data, bool log, cons
 	}
 	snprintf(sp->err, sizeof sp->err, "%s/stderr", sp->dir);
 	argv[argc++] = exe;
-	if (tcp) {
+	if (dev) {
+		argv[argc++] = "-d";
+		argv[argc++] = dev;
+	} else if (tcp) {
 		argv[argc++] = "--listen";
 		argv[argc++] = "tcp://127.0.0.1:0";
 	} else {
@@ -255,6 +259,17 @@ int simproc_start(struct simproc *sp, bool tcp, const char *data, bool log, cons
 	close(pipefd[0]);
 	simproc_stop(sp, false);
 	return -1;
+}
+
+int simproc_start(struct simproc *sp, bool tcp, const char *data, bool log, const char *const *args)
+{
+	return simproc_spawn(sp, tcp, NULL, data, log, args);
+}
+
+int simproc_start_device(struct simproc *sp, const char *dev, const char *data, bool log,
+                         const char *const *args)
+{
+	return simproc_spawn(sp, false, dev, data, log, args);
 }
 
 /* Copy df1sim's stderr to ours. */

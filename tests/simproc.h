@@ -29,6 +29,11 @@ struct simproc {
  * stderr (nothing left running). */
 int simproc_start(struct simproc *sp, bool tcp, const char *data, bool log, const char *const *args);
 
+/* The same serving a device that exists already (-d DEV: df1sim opens it with
+ * df1_open, the termios backend for a tty). */
+int simproc_start_device(struct simproc *sp, const char *dev, const char *data, bool log,
+                         const char *const *args);
+
 /* SIGTERM, wait (up to 5 s, then SIGKILL) and remove the directory unless
  * keep_dir (the log and df1sim's stderr stay readable until simproc_cleanup).
  * df1sim's stderr is copied to ours when it did not exit 0. Returns the exit

@@ -5,19 +5,23 @@
  *
  * Covered: full and half duplex, CRC and BCC, one and several stations; every
  * data type (N incl. negatives, L, F, ST, B bits, T/C/R whole and .PRE/.ACC,
- * /DN, the word files O I S A); element and file numbers above 254; requests larger than one packet,
- * compared with df1sim's documented initial data table (df1sim(1), DATA TABLE:
- * N n = n, F n = n + 0.5, L n = n * 65537, ST n = "STRING n", T/C PRE 100,
- * the rest 0) plus the --data file below; bit writes that leave the rest of the
- * word alone; PLC-5 typed commands; SLC 5/02 82-byte packets; every fault
- * df1sim injects, with either the right data or a clear error; writes executed
- * exactly once (df1sim --log: one line per write, never a second command for
- * it; df1sim -v: every repeat on the line recognised as a duplicate);
- * counters by ID; link test, echo, diagnostic status; bad settings on an open
- * handle; a network CSV driving a real connection; port busy; termios
- * restored after df1_close.
+ * /DN, the word files O I S A); element and file numbers above 254; requests
+ * larger than one packet, compared with df1sim's documented initial data table
+ * (df1sim(1), DATA TABLE: N n = n, F n = n + 0.5, L n = n * 65537, ST n =
+ * "STRING n", T/C PRE 100, the rest 0) plus the --data file below; bit writes
+ * that leave the rest of the word alone; PLC-5 typed commands; SLC 5/02
+ * 82-byte packets; every fault df1sim injects, with either the right data or a
+ * clear error; writes executed exactly once (df1sim --log: one line per write,
+ * never a second command for it; df1sim -v: every repeat on the line
+ * recognised as a duplicate); the same faults again with the same --seed;
+ * --line-baud pacing; SIGUSR1/SIGUSR2 silencing and restoring every station;
+ * df1sim -d on an existing tty (port busy to another process, its settings
+ * back at exit); counters by ID; link test, echo, diagnostic status; bad
+ * settings on an open handle; a network CSV driving a real connection; port
+ * busy; termios restored after df1_close.
  *
- * No timing assertions. Fault tests use short timeouts (200 ms) and fixed
+ * No timing assertions but one lower bound (--line-baud: a paced reply cannot
+ * arrive early). Fault tests use short timeouts (200 ms) and fixed
  * seeds; where a fault could in principle exhaust the retries, the outcome
  * accepted is "the right data or a clear link error", never wrong data.
  */
@@ -34,6 +38,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <termios.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "df1.h"
@@ -55,7 +60,8 @@ static const char data_std[] =
 	"L10:1=-100000\n"
 	"N300:5=777\n"
 	"F20:299=299.5\n"
-	"N7:999=999\n";
+	"N7:999=999\n"
+	"N999:999=-7\n";
 
 static const int16_t n7_300[4] = { -1, -32768, 32767, -12345 };
 
@@ -401,6 +407,15 @@ static void test_it_file_300(void **state)
 	assert_int_equal(OK(h, df1_read_int16(h, g->station, "N300:254", v, 2)), 2);
 	assert_int_equal(v[0], 254);
 	assert_int_equal(v[1], -5);
+	/* the largest file and element df1sim holds (--data N999:999) */
+	assert_int_equal(OK(h, df1_read_int16(h, g->station, "N999:997", v, 3)), 3);
+	assert_int_equal(v[0], 997);
+	assert_int_equal(v[1], 998);
+	assert_int_equal(v[2], -7);
+	/* past the end of the file: the PLC's error, EXT STS 07 */
+	assert_int_equal(df1_read_int16(h, g->station, "N300:256", v, 1), DF1_E_REMOTE);
+	assert_int_equal(df1_last_error(h)->sts, 0xF0);
+	assert_int_equal(df1_last_error(h)->ext_sts, 0x07);
 }
 
 /* The word files O, I, S and A: zero at start (df1sim(1)), written and read
@@ -1214,6 +1229,66 @@ static void test_it_fault_silent_full(void **state)
 	assert_int_equal(df1_link_test(h, 1), DF1_E_TIMEOUT);
 }
 
+/* --seed makes the faults repeatable: two runs of df1sim with the same seed
+ * and the same traffic inject the same faults (the same NAKs, corrupted
+ * replies, stale copies and noise, seen in the client's counters). */
+static void test_it_fault_seed_repeatable(void **state)
+{
+	static const char *const args[] = { "--nak", "25", "--corrupt", "25", "--stale", "25",
+	                                    "--noise", "25", "--seed", "42", NULL };
+	static const int ids[] = { 2534, 2541, 2547, 2548, 2533, 2525, 2526, 2561 };
+	struct fault_env *e = *state;
+	uint64_t run[2][sizeof ids / sizeof ids[0]];
+	int good[2];
+
+	for (int k = 0; k < 2; k++) {
+		df1_t *h = fault_start(e, false, DF1_CHECK_CRC, false, args, 5);
+
+		df1_counters_reset(h);
+		good[k] = reads_right_or_clear(h, 1, 20);
+		for (size_t i = 0; i < sizeof ids / sizeof ids[0]; i++)
+			run[k][i] = cnt(h, ids[i]);
+		df1_free(h);
+		e->h = NULL;
+		assert_int_equal(simproc_stop(&e->sim, false), 0);
+	}
+	assert_int_equal(good[0], good[1]);
+	for (size_t i = 0; i < sizeof ids / sizeof ids[0]; i++)
+		if (run[0][i] != run[1][i])
+			fail_msg("counter %d: %llu then %llu with the same seed", ids[i],
+			         (unsigned long long)run[0][i], (unsigned long long)run[1][i]);
+	assert_true(run[0][0] >= 1);    /* faults did happen */
+	assert_true(run[0][2] >= 1);
+	assert_true(run[0][3] >= 1);
+}
+
+/* --line-baud: df1sim hands each byte over no earlier than a line at that
+ * baud rate would deliver it (10 bits a character), so a read takes at least
+ * the reply's time on the wire. A lower bound only: slower is always fine. */
+static void test_it_line_baud_paces(void **state)
+{
+	static const char *const args[] = { "--line-baud", "9600", NULL };
+	struct fault_env *e = *state;
+	df1_t *h = fault_start(e, false, DF1_CHECK_CRC, false, args, 3);
+	int16_t v[100];
+	struct timespec a, b;
+	long long ms, min_ms;
+
+	OK(h, df1_set_timeout_ms(h, 2000));
+	df1_counters_reset(h);
+	clock_gettime(CLOCK_MONOTONIC, &a);
+	assert_int_equal(OK(h, df1_read_int16(h, 1, "N7:0", v, 100)), 100);
+	clock_gettime(CLOCK_MONOTONIC, &b);
+	for (int i = 0; i < 100; i++)
+		assert_int_equal(v[i], i);
+	ms = (long long)(b.tv_sec - a.tv_sec) * 1000 + (b.tv_nsec - a.tv_nsec) / 1000000;
+	min_ms = (long long)cnt(h, 2561) * 10 * 1000 / 9600;  /* every byte it sent us */
+	assert_true(cnt(h, 2561) > 200);
+	if (ms + 2 < min_ms)
+		fail_msg("%llu bytes at 9600 baud arrived in %lld ms (< %lld ms)",
+		         (unsigned long long)cnt(h, 2561), ms, min_ms);
+}
+
 /* df1_link_test until it succeeds (want_ok) or fails, at most 20 times: a
  * signal to df1sim takes effect before the next byte it reads, but a poll
  * already on its way may still be answered. */
@@ -1278,6 +1353,70 @@ static void test_it_sim_sigusr_silences_all(void **state)
 	v = 0;
 	assert_int_equal(OK(h, df1_read_int16(h, 1, "N7:6", &v, 1)), 1);
 	assert_int_equal(v, 6);
+}
+
+/* df1sim -d DEV: df1sim opens an existing tty with df1_open (termios backend:
+ * exclusive, raw, its serial settings) and serves it; another process cannot
+ * open the port meanwhile ("port busy"); when df1sim stops, the tty has its
+ * settings back. The test holds the pty master and is the half-duplex master. */
+static void test_it_sim_serves_device(void **state)
+{
+	static const char *const args[] = { "--duplex", "half", "--check", "bcc", "--station", "3",
+	                                    "-b", "9600", NULL };
+	struct fault_env *e = *state;
+	struct termios t, before, during, after;
+	char path[64];
+	df1_t *h = NULL, *h2 = NULL;
+	int16_t v = 0;
+	int m = posix_openpt(O_RDWR | O_NOCTTY | O_CLOEXEC);
+
+	assert_true(m >= 0);
+	assert_int_equal(grantpt(m), 0);
+	assert_int_equal(unlockpt(m), 0);
+	assert_int_equal(ptsname_r(m, path, sizeof path), 0);
+	assert_int_equal(tcgetattr(m, &t), 0);
+	cfsetispeed(&t, B4800);
+	cfsetospeed(&t, B4800);
+	t.c_cflag |= CSTOPB;
+	assert_int_equal(tcsetattr(m, TCSANOW, &t), 0);
+
+	assert_int_equal(df1_new(&h), 0);
+	e->h = h;
+	OK(h, df1_set_duplex(h, DF1_HALF_DUPLEX_MASTER));
+	OK(h, df1_set_check(h, DF1_CHECK_BCC));
+	OK(h, df1_set_timeout_ms(h, 300));
+	OK(h, df1_open_fd(h, m, false));        /* raw: the state df1sim will find */
+	assert_int_equal(tcgetattr(m, &before), 0);
+
+	if (simproc_start_device(&e->sim, path, NULL, false, args) < 0)
+		fail_msg("df1sim -d %s did not start", path);
+	assert_string_equal(e->sim.target, path);
+	assert_int_equal(tcgetattr(m, &during), 0);
+	assert_true(cfgetospeed(&during) == B9600);
+	assert_false(during.c_cflag & CSTOPB);
+	assert_false(during.c_lflag & (ICANON | ECHO | ISIG));
+
+	assert_int_equal(OK(h, df1_read_int16(h, 3, "N7:5", &v, 1)), 1);
+	assert_int_equal(v, 5);
+	v = -9;
+	assert_int_equal(OK(h, df1_write_int16(h, 3, "N7:6", &v, 1)), 1);
+	assert_int_equal(OK(h, df1_read_int16(h, 3, "N7:5", &v, 1)), 1);
+	assert_int_equal(v, 5);
+
+	/* a second process's open of the port df1sim serves: port busy */
+	assert_int_equal(df1_new(&h2), 0);
+	assert_int_equal(df1_open(h2, path), DF1_E_BUSY);
+	assert_non_null(strstr(df1_last_error(h2)->message, "port busy"));
+	assert_false(df1_is_open(h2));
+	df1_free(h2);
+
+	assert_int_equal(simproc_stop(&e->sim, false), 0);
+	assert_int_equal(tcgetattr(m, &after), 0);
+	assert_true(tios_equal(&before, &after));
+	assert_true(cfgetospeed(&after) == B4800);
+	df1_free(h);
+	e->h = NULL;
+	close(m);
 }
 
 /* Stale replies: df1sim --stale sends a copy of the reply with TNS - 2 first,
@@ -1488,7 +1627,10 @@ int main(void)
 		FAULT_TEST(test_it_fault_delay_half),
 		FAULT_TEST(test_it_fault_silent_half_inactive),
 		FAULT_TEST(test_it_fault_silent_full),
+		FAULT_TEST(test_it_fault_seed_repeatable),
+		FAULT_TEST(test_it_line_baud_paces),
 		FAULT_TEST(test_it_sim_sigusr_silences_all),
+		FAULT_TEST(test_it_sim_serves_device),
 		FAULT_TEST(test_it_fault_stale),
 		FAULT_TEST(test_it_fault_noise),
 	};

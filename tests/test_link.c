@@ -640,6 +640,32 @@ static void test_fd_too_short_frame_nak(void **state)
 	assert_int_equal(logged(2513), 1);
 }
 
+/* More than FRAME_MAX_DATA app bytes: 2512 with the limit, NAK, then the
+ * good reply. */
+static void test_fd_too_long_frame_nak_2512(void **state)
+{
+	struct df1 *h = *state;
+	uint8_t out[300], big[FRAME_MAX_WIRE + 8];
+	size_t n = 0;
+
+	big[n++] = DF1_DLE;
+	big[n++] = DF1_STX;
+	for (int i = 0; i < FRAME_MAX_DATA + 1; i++)
+		big[n++] = 0x41;
+	big[n++] = DF1_DLE;
+	big[n++] = DF1_ETX;
+	big[n++] = 0x00;
+	big[n++] = 0x00;
+	mock_port_feed(ACK, 2);
+	mock_port_feed(big, n);
+	feed_reply(DF1_CHECK_CRC, 0, 1, 0x4F, 0, 1);
+	assert_reply_ok(transact_a2(h, out, sizeof out), out, 1);
+	assert_write_bytes(1, NAK, 2);
+	assert_int_equal(logged(2512), 1);
+	assert_string_equal(log_text(2512), "Received Message Too Long (> 264 bytes)");
+	assert_int_equal(cnt(h, 2533), 1);
+}
+
 static void test_fd_peer_command_acked_and_dropped(void **state)
 {
 	struct df1 *h = *state;
@@ -1162,6 +1188,41 @@ static void test_hd_ack_expected_2515(void **state)
 	assert_int_equal(logged(2514), 1);
 	assert_int_equal(cnt(h, 2541), 0); /* no retransmission */
 	assert_int_equal(cnt(h, 2536), 1);
+}
+
+static int64_t write_ms[16];
+static size_t write_ms_n;
+
+static void timed_hd_slave_hook(const uint8_t *buf, size_t n, void *user)
+{
+	if (write_ms_n < 16)
+		write_ms[write_ms_n++] = df1_now_ms();
+	hd_slave_hook(buf, n, user);
+}
+
+/* TX_Delay before EVERY transmission (seeds/004 "DF1 and TX_Delay"): master
+ * message, each poll, the ACK of the reply; each write comes at least TX_Delay
+ * after the answer to the previous one was read (the mock answers at once). */
+static void test_hd_tx_delay_before_each_write(void **state)
+{
+	struct df1 *h = *state;
+	uint8_t out[300];
+	int64_t t0;
+
+	h->cfg.tx_delay_ms = 25;
+	write_ms_n = 0;
+	script.msg_answers[0] = 1;
+	script.poll_answers[0] = "EOT";
+	script.poll_answers[1] = "R0001";
+	mock_port_on_write(timed_hd_slave_hook, NULL);
+	t0 = df1_now_ms();
+	assert_reply_ok(transact_a2(h, out, sizeof out), out, 1);
+	assert_int_equal(write_ms_n, 4); /* message, poll, poll, ACK */
+	assert_true(write_ms[0] - t0 >= 25);
+	for (size_t i = 1; i < write_ms_n; i++)
+		if (write_ms[i] - write_ms[i - 1] < 25)
+			fail_msg("write %zu only %lld ms after write %zu", i,
+			         (long long)(write_ms[i] - write_ms[i - 1]), i - 1);
 }
 
 static void test_hd_enq_limit(void **state)
@@ -2345,6 +2406,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_fd_bad_crc_reply_nak_then_accepted, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_fd_bad_bcc_reply_nak_then_accepted, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_fd_too_short_frame_nak, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_fd_too_long_frame_nak_2512, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_fd_peer_command_acked_and_dropped, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_fd_incomplete_frame_2518, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_fd_port_error_passes_through, setup, teardown),
@@ -2366,6 +2428,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_hd_bad_check_reply_repolled, setup_hd, teardown),
 		cmocka_unit_test_setup_teardown(test_hd_poll_answer_not_eot_or_stx_2516, setup_hd, teardown),
 		cmocka_unit_test_setup_teardown(test_hd_ack_expected_2515, setup_hd, teardown),
+		cmocka_unit_test_setup_teardown(test_hd_tx_delay_before_each_write, setup_hd, teardown),
 		cmocka_unit_test_setup_teardown(test_hd_enq_limit, setup_hd, teardown),
 		cmocka_unit_test_setup_teardown(test_hd_stale_reply_acked_and_polled_again, setup_hd, teardown),
 		cmocka_unit_test_setup_teardown(test_hd_inactive_station_fails_after_one_poll, setup_hd, teardown),
