@@ -189,7 +189,8 @@ check "sniff: summary" 'grep -q "2 frames, 2 good, 0 bad, 2 symbols" "$T/sniff.e
 check "pcap: magic and link type 250" '[ "$(od -A n -t x1 -N 24 "$T/cap.pcap" | tr -d " \n")" = "d4c3b2a1020004000000000000000000ffff0000fa000000" ]'
 if command -v tshark >/dev/null 2>&1; then
 	expect 0 "tshark reads the capture" -- tshark -r "$T/cap.pcap"
-	check "tshark: two RTAC serial records" '[ "$(grep -c "RTAC Serial" "$T/out")" -eq 2 ]'
+	# one record per read of the tap: two or three here, as the chunks arrive
+	check "tshark: the records are RTAC serial" '[ "$(grep -c "RTAC Serial" "$T/out")" -ge 2 ]'
 fi
 expect 0 "--read the capture" -- "$MON" --read "$T/cap.pcap"
 sed 's/^ *[0-9]* *[0-9.]*  //' "$T/out" > "$T/read.sym"
