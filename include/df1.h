@@ -571,7 +571,8 @@ DF1_API int df1_set_tag_callback(df1_t *h, df1_tag_fn fn, void *user);
  * write ends exactly once through done(user, tag id, write id, result), called
  * from the df1_poll() thread: result 0 = written, or the DF1_E_* of the failure.
  * A failed write is never resent by the engine (DF1_E_TIMEOUT: the PLC may or
- * may not have executed it). Writes still queued at df1_free() end with
+ * may not have executed it). df1_close() keeps the queue: its writes are sent
+ * after the next df1_open(). Writes still queued at df1_free() end with
  * DF1_E_NOT_OPEN. Returns the write id (> 0) or DF1_E_*. */
 typedef void (*df1_write_done_fn)(void *user, int tag_id, int write_id, int result);
 DF1_API int df1_tag_write(df1_t *h, int id, const struct df1_value *v, size_t n,

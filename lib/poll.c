@@ -23,8 +23,10 @@
  *    0A, 11, 13), or the client refused the address locally: a block of
  *    several tags is split in two halves (binary split), both read at once;
  *    the split stays in the plan. A tag alone that fails this way is BAD
- *    (PLC_ERROR, or CONFIG for a local refusal) and is marked isolated, so a
- *    later re-plan keeps it alone. The station counts as answering.
+ *    (PLC_ERROR, or CONFIG for a local refusal) and is marked isolated; the
+ *    next df1_poll() re-plans (once per bad tag), so the tag stays alone and
+ *    the good tags around it merge again into the fewest blocks. The station
+ *    counts as answering.
  *  - another PLC error (STS): the block's tags are BAD PLC_ERROR; no split.
  *  - no answer / a link error (timeout, NAK or ENQ limit, inactive station,
  *    bad reply, port error): a station failure, below.
@@ -1349,7 +1351,12 @@ static int poll_read_block(struct df1 *h, struct poll_engine *e, size_t bi, int 
 			{
 				struct ptag *t = e->tags[e->members[b->m0]];
 
-				t->isolated = true;
+				if (!t->isolated && !b->alone) {
+					/* a new bad tag: the next df1_poll() re-plans, so
+					 * its neighbours merge again around it */
+					t->isolated = true;
+					e->dirty = true;
+				}
 				poll_tag_bad(e, t, o == OUT_ADDR ? DF1_REASON_PLC_ERROR : DF1_REASON_CONFIG, rc,
 				             &h->err);
 			}

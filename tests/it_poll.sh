@@ -3,9 +3,10 @@
 # df1sim: one-shot scans in plain, csv and json; exit status 0 when every
 # readable tag is GOOD, 1 when one is BAD (a missing file, a silent station),
 # 2 for a missing or empty mapping file; rows with problems are reported on
-# stderr and skipped; --counters adds the counter table. Run from the
-# repository root with DF1_BIN=<build/bin>. Skips (passes) when this df1mon
-# was built without --map.
+# stderr and skipped; --counters adds the counter table; a live csv run has
+# one record per tag per scan; on a terminal (script(1)) the table is redrawn
+# every scan. Run from the repository root with DF1_BIN=<build/bin>. Skips
+# (passes) when this df1mon was built without --map.
 set -u
 
 BIN=${DF1_BIN:-$(pwd)/build/bin}
@@ -154,6 +155,36 @@ if [ "$rc" -eq 2 ] && [ -s "$T/e" ] && [ ! -s "$T/o" ]; then ok "missing file: e
 "$MON" $D --map "$T/none.csv" -1 > "$T/o" 2> "$T/e"
 rc=$?
 if [ "$rc" -eq 2 ] && grep -q 'no valid tag' "$T/e"; then ok "no valid tag: exit 2"; else fail "no valid tag (rc=$rc)"; cat "$T/e"; fi
+
+# 9. live csv: one record per tag per scan, every scan; SIGINT ends it with 0
+sed 's/,500$/,100/' "$T/good.csv" > "$T/fast.csv"
+"$MON" $D --map "$T/fast.csv" -f csv > "$T/o" 2> "$T/e" &
+mpid=$!
+sleep 1.5
+kill -s INT "$mpid"
+wait "$mpid"
+rc=$?
+scans=$(awk -F, 'NR > 1 { n[$2]++ } END { bad = 0; for (s in n) { k++; if (n[s] != 5) bad = 1 } print bad ? -1 : k }' "$T/o")
+if [ "$rc" -eq 0 ] && [ "$scans" -ge 3 ]; then
+	ok "live csv: $scans scans, 5 records each, exit 0 on SIGINT"
+else
+	fail "live csv (rc=$rc, scans=$scans)"; cat "$T/o" "$T/e"
+fi
+
+# 10. on a terminal (script(1) gives df1mon a pty): the table is redrawn every scan
+if command -v script > /dev/null 2>&1 && command -v timeout > /dev/null 2>&1 \
+	&& script -q -c true /dev/null > /dev/null 2>&1; then
+	timeout -s INT 1.5 script -q -c "$MON $D --map $T/fast.csv --counters" /dev/null > "$T/o" 2>&1
+	redraws=$(grep -c "$(printf '\033')\[H$(printf '\033')\[2JTAG" "$T/o")
+	stats=$(grep -c '^scan [0-9]*: [0-9]* ms, [0-9]* transactions' "$T/o")
+	if [ "$redraws" -ge 3 ] && [ "$stats" -eq "$redraws" ] && grep -q '^2525 CNT_MSG_PACKETS_SENT' "$T/o"; then
+		ok "terminal: $redraws redraws, each with its scan statistics and counters"
+	else
+		fail "terminal (redraws=$redraws, stats=$stats)"; cat -v "$T/o" | tail -20
+	fi
+else
+	echo "skip terminal redraw: no script(1)"
+fi
 
 stop
 [ "$fails" -eq 0 ] || { echo "$fails failed"; exit 1; }

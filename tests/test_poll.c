@@ -5,17 +5,24 @@
  *  - coalescing: 40 tags in two files take two reads (df1sim --log), the SLC
  *    5/02 82-byte limit;
  *  - a tag on a missing element / file is isolated by splitting, the others
- *    stay GOOD, the split is kept (also across a re-plan);
+ *    stay GOOD and merge again around it (re-plan), the bad tag stays alone;
  *  - a station silenced (df1sim --silent, by restarting df1sim) gets two
  *    retries, then one attempt per scan, goes offline after the absolute retry
  *    count, is retried once per half watchdog, and on recovery gets back its
  *    tags' states with a one-time read of every block;
  *  - queued writes under --drop-ack and --corrupt end exactly once each, are
  *    executed at most once (exactly once when reported written) and read back;
- *  - a write from another thread wakes a df1_poll() that waits;
+ *  - a write from another thread wakes a df1_poll() that waits; with nothing
+ *    due df1_poll(h, 0) returns at once;
+ *  - writes to an offline station, across df1_close() and at df1_free() end
+ *    once each and are never sent twice;
+ *  - the change callback fires on a change of value, quality or reason only;
+ *  - PLC-5 packet limits and stations in address order (frame log);
+ *  - scans allocate nothing once the plan is built;
  *  - station discovery over a range.
  * Deadlines, never sleeps; counts are asserted, durations only as lower bounds
- * the engine guarantees (the half-watchdog retry spacing).
+ * the engine guarantees (the half-watchdog retry spacing, a df1_poll timeout),
+ * besides a generous 1 s for a df1_poll(h, 0) that has nothing to do.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -37,6 +44,47 @@
 #include "plc_limits.h"
 #include "poll_plan.h"
 #include "simproc.h"
+
+/* Allocation counter (test_scans_allocate_nothing): the process's malloc,
+ * calloc and realloc come here, glibc's allocator behind them. Not under
+ * AddressSanitizer, which owns them. */
+#if defined(__SANITIZE_ADDRESS__)
+#define COUNT_ALLOCS 0
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define COUNT_ALLOCS 0
+#endif
+#endif
+#ifndef COUNT_ALLOCS
+#define COUNT_ALLOCS 1
+#endif
+
+static atomic_long allocs;
+
+#if COUNT_ALLOCS
+
+extern void *__libc_malloc(size_t n);
+extern void *__libc_calloc(size_t n, size_t size);
+extern void *__libc_realloc(void *p, size_t n);
+
+void *malloc(size_t n)
+{
+	atomic_fetch_add(&allocs, 1);
+	return __libc_malloc(n);
+}
+
+void *calloc(size_t n, size_t size)
+{
+	atomic_fetch_add(&allocs, 1);
+	return __libc_calloc(n, size);
+}
+
+void *realloc(void *p, size_t n)
+{
+	atomic_fetch_add(&allocs, 1);
+	return __libc_realloc(p, n);
+}
+#endif
 
 static int64_t now_ms(void)
 {
@@ -638,6 +686,61 @@ static void test_coalesce_slc502_limit(void **state)
 	assert_int_equal(tagst(f->h, 59).value.v.i16, 59);
 }
 
+/* PLC-5 typed reads (spec 6: 240-byte packets, 225 bytes of element data
+ * budgeted, timers at 10 bytes) and stations in address order (seed 002),
+ * whatever order the tags were added in: df1sim's frame log. */
+static void test_coalesce_plc5_station_order(void **state)
+{
+	struct fix *f = *state;
+	static const char *const args[] = { "--plc", "plc5", "--station", "1-3", NULL };
+	static const char *const want[] = {
+		"station=1 cmd=0F/68 addr=F8:0 count=56", "station=1 cmd=0F/68 addr=F8:56 count=14",
+		"station=2 cmd=0F/68 addr=T4:0 count=22", "station=2 cmd=0F/68 addr=T4:22 count=8",
+		"station=3 cmd=0F/68 addr=N7:0 count=112", "station=3 cmd=0F/68 addr=N7:112 count=38",
+	};
+	char name[16], addr[24], *text, *line, *save = NULL;
+	struct df1_tag_config c;
+	size_t k = 0;
+
+	sim_start(f, args);
+	client_open(f, false, 500, 3, 3);
+	for (int i = 0; i < 150; i++) {         /* station 3 first, added from the top */
+		snprintf(name, sizeof name, "n%d", i);
+		snprintf(addr, sizeof addr, "N7:%d", 149 - i);
+		c = tagcfg(name, 3, addr, 1, 1000, DF1_ACCESS_READ, DF1_PLC_PLC5);
+		assert_true(df1_tag_add(f->h, &c) >= 0);
+	}
+	for (int i = 0; i < 30; i++) {
+		snprintf(name, sizeof name, "t%d", i);
+		snprintf(addr, sizeof addr, "T4:%d.ACC", i);
+		c = tagcfg(name, 2, addr, 1, 1000, DF1_ACCESS_READ, DF1_PLC_PLC5);
+		assert_true(df1_tag_add(f->h, &c) >= 0);
+	}
+	for (int i = 0; i < 70; i++) {
+		snprintf(name, sizeof name, "f%d", i);
+		snprintf(addr, sizeof addr, "F8:%d", i);
+		c = tagcfg(name, 1, addr, 1, 1000, DF1_ACCESS_READ, DF1_PLC_PLC5);
+		assert_true(df1_tag_add(f->h, &c) >= 0);
+	}
+	one_scan(f);
+	assert_int_equal(pstats(f->h).blocks, 6);
+	assert_int_equal(pstats(f->h).last_scan_transactions, 6);
+	assert_true(all_good(f->h, 0, 250));
+	assert_int_equal(tagst(f->h, 0).value.v.i16, 149);
+	assert_true(tagst(f->h, 249).value.v.f == 69.5f);
+	/* the six reads, in this order, and nothing else */
+	assert_int_equal(log_wait(f, "cmd=0F/68", NULL, 6), 6);
+	text = simproc_slurp(f->sim.log, NULL);
+	assert_non_null(text);
+	for (line = strtok_r(text, "\n", &save); line; line = strtok_r(NULL, "\n", &save)) {
+		if (k >= sizeof want / sizeof *want || !strstr(line, want[k]))
+			fail_msg("frame log line %zu: %s", k, line);
+		k++;
+	}
+	free(text);
+	assert_int_equal(k, 6);
+}
+
 static void test_bad_tag_isolated(void **state)
 {
 	struct fix *f = *state;
@@ -683,13 +786,17 @@ static void test_bad_tag_isolated(void **state)
 	/* the station answered all along */
 	assert_int_equal(sth(f->h, 1).state, DF1_STATION_OK);
 
-	/* the split is remembered: the next scan reads the five blocks, no new split */
+	/* the bad tags stay alone and the good ones merge again: the next scan
+	 * reads N7:250..255, N7:258 and N77:0, no new split */
 	one_scan(f);
 	ps = pstats(f->h);
 	assert_int_equal(ps.splits, 3);
-	assert_int_equal(ps.last_scan_transactions, 5);
+	assert_int_equal(ps.blocks, 3);
+	assert_int_equal(ps.last_scan_transactions, 3);
 	assert_int_equal(ps.read_failures, 7);
+	assert_int_equal(log_wait(f, "cmd=0F/A2 addr=N7:250 count=6", NULL, 1), 1);
 	assert_true(all_good(f->h, ids[0], 6));
+	assert_int_equal(tagst(f->h, idbad).reason, DF1_REASON_PLC_ERROR);
 
 	/* a new tag re-plans: the bad tag stays alone, the good ones merge again */
 	add(f->h, "g6", 1, "N7:249", 1, 1000, DF1_ACCESS_READ);
@@ -976,6 +1083,14 @@ static void test_write_wakes_poll(void **state)
 	w.ids[0] = add(f->h, "x", 1, "N7:50", 1, 600000, DF1_ACCESS_READWRITE);
 	POLL_UNTIL(f, 10000, all_good(f->h, w.ids[0], 1), "the first read");
 	assert_true(df1_poll_next_ms(f->h) > 1000);     /* nothing due for 10 minutes */
+	/* nothing due: df1_poll(h, 0) returns at once; df1_poll(h, 150) waits 150 ms */
+	t0 = now_ms();
+	assert_int_equal(df1_poll(f->h, 0), 0);
+	if (now_ms() - t0 >= 1000)
+		fail_msg("df1_poll(h, 0) took %lld ms with nothing due", (long long)(now_ms() - t0));
+	t0 = now_ms();
+	assert_int_equal(df1_poll(f->h, 150), 0);
+	assert_true(now_ms() - t0 >= 150);
 	/* a writer thread queues one write 200 ms from now; df1_poll waits up to 20 s */
 	w.delay_ms = 200;
 	{
@@ -998,6 +1113,211 @@ static void test_write_wakes_poll(void **state)
 		fail_msg("the queued write did not wake df1_poll (%lld ms)", (long long)took);
 	/* and the value is read back at once (its block was made due) */
 	POLL_UNTIL(f, 10000, tagst(f->h, w.ids[0]).value.v.i16 == 1000, "the read back");
+}
+
+/* ---- change callback ---- */
+
+#define CB_TAGS 3
+
+static struct {
+	int calls[CB_TAGS];
+	struct df1_tag_state last[CB_TAGS];
+} cbrec;
+
+static void on_tag(void *user, int id, const struct df1_tag_state *st)
+{
+	assert_ptr_equal(user, &cbrec);
+	assert_true(id >= 0 && id < CB_TAGS);
+	assert_int_equal(st->id, id);
+	cbrec.calls[id]++;
+	cbrec.last[id] = *st;
+}
+
+/* The callback fires on a change of value, quality or reason, and only then. */
+static void test_change_callback(void **state)
+{
+	struct fix *f = *state;
+	static const char *const args[] = { "--duplex", "half", "--station", "1", NULL };
+	int16_t v77 = 77;
+	int a, b, c;
+
+	sim_start(f, args);
+	client_open(f, true, 100, 1, 1);
+	memset(&cbrec, 0, sizeof cbrec);
+	assert_int_equal(df1_set_tag_callback(f->h, on_tag, &cbrec), 0);
+	assert_int_equal(df1_poll_set_watchdog(f->h, 600000, 3), 0);
+	a = add(f->h, "a", 1, "N7:5", 1, 0, DF1_ACCESS_READ);
+	b = add(f->h, "b", 1, "F8:0", 1, 0, DF1_ACCESS_READ);
+	c = add(f->h, "c", 2, "N7:0", 1, 0, DF1_ACCESS_READ);     /* nobody at station 2 */
+	assert_int_equal(c, CB_TAGS - 1);
+	/* scan 1: a and b read (BAD not_yet_read -> GOOD with a value); station 2
+	 * fails its attempt and two retries: c BAD not_yet_read -> BAD comm_failure */
+	one_scan(f);
+	assert_int_equal(cbrec.calls[a], 1);
+	assert_int_equal(cbrec.last[a].quality, DF1_QUALITY_GOOD);
+	assert_true(cbrec.last[a].has_value);
+	assert_int_equal(cbrec.last[a].value.v.i16, 5);
+	assert_int_equal(cbrec.calls[b], 1);
+	assert_true(cbrec.last[b].value.v.f == 0.5f);
+	assert_int_equal(cbrec.calls[c], 1);
+	assert_int_equal(cbrec.last[c].quality, DF1_QUALITY_BAD);
+	assert_int_equal(cbrec.last[c].reason, DF1_REASON_COMM_FAILURE);
+	/* scan 2: the same values: no call for a and b; station 2 fails a fourth
+	 * time (> 3): offline, c BAD station_offline */
+	one_scan(f);
+	assert_int_equal(cbrec.calls[a], 1);
+	assert_int_equal(cbrec.calls[b], 1);
+	assert_int_equal(cbrec.calls[c], 2);
+	assert_int_equal(cbrec.last[c].reason, DF1_REASON_STATION_OFFLINE);
+	/* scan 3: nothing changed, no call at all */
+	one_scan(f);
+	assert_int_equal(cbrec.calls[a] + cbrec.calls[b] + cbrec.calls[c], 4);
+	/* a new value in the PLC: one call for a, with it */
+	assert_int_equal(df1_write_int16(f->h, 1, "N7:5", &v77, 1), 1);
+	one_scan(f);
+	assert_int_equal(cbrec.calls[a], 2);
+	assert_int_equal(cbrec.last[a].value.v.i16, 77);
+	assert_int_equal(cbrec.last[a].quality, DF1_QUALITY_GOOD);
+	assert_int_equal(cbrec.calls[b], 1);
+	assert_int_equal(cbrec.calls[c], 2);
+}
+
+static struct {
+	int calls, result, wid;
+} offrec[4];
+
+static void on_off_write(void *user, int tag, int wid, int result)
+{
+	int k = (int)(intptr_t)user;
+
+	(void)tag;
+	assert_true(k >= 0 && k < 4);
+	offrec[k].calls++;
+	offrec[k].result = result;
+	offrec[k].wid = wid;
+}
+
+static int queue_write(df1_t *h, int id, int16_t value, int k)
+{
+	struct df1_value v;
+	int wid;
+
+	memset(&v, 0, sizeof v);
+	v.kind = DF1_VAL_INT16;
+	v.v.i16 = value;
+	wid = df1_tag_write(h, id, &v, 1, on_off_write, (void *)(intptr_t)k);
+	assert_true(wid > 0);
+	return wid;
+}
+
+/* Writes queued to an offline station end once (failed) and are never sent
+ * again; a write queued before df1_close() stays queued and is sent once
+ * after df1_open(); one still queued at df1_free() ends with DF1_E_NOT_OPEN. */
+static void test_writes_offline_close_free(void **state)
+{
+	struct fix *f = *state;
+	static const char *const silent[] = { "--duplex", "half", "--station", "1,2", "--silent", "2", NULL };
+	static const char *const normal[] = { "--duplex", "half", "--station", "1,2", NULL };
+	int x, y, w0, w1, w2, w3;
+
+	sim_start(f, silent);
+	client_open(f, true, 100, 1, 1);
+	memset(offrec, 0, sizeof offrec);
+	assert_int_equal(df1_poll_set_watchdog(f->h, 600000, 1), 0);
+	x = add(f->h, "x", 2, "N7:20", 1, 100, DF1_ACCESS_READWRITE);
+	y = add(f->h, "y", 1, "N7:21", 1, 100, DF1_ACCESS_READWRITE);
+	POLL_UNTIL(f, 10000, sth(f->h, 2).state == DF1_STATION_OFFLINE, "station 2 offline");
+
+	/* offline: each write is tried once and fails once */
+	w0 = queue_write(f->h, x, 500, 0);
+	w1 = queue_write(f->h, x, 501, 1);
+	POLL_UNTIL(f, 10000, offrec[0].calls && offrec[1].calls, "the writes to the offline station");
+	for (int k = 0; k < 2; k++) {
+		assert_int_equal(offrec[k].calls, 1);
+		if (!link_err(offrec[k].result))
+			fail_msg("write %d ended with %s", k, df1_errname(offrec[k].result));
+	}
+	assert_int_equal(offrec[0].wid, w0);
+	assert_int_equal(offrec[1].wid, w1);
+	assert_int_equal(pstats(f->h).writes, 2);
+	assert_int_equal(pstats(f->h).write_failures, 2);
+	assert_int_equal(sth(f->h, 2).state, DF1_STATION_OFFLINE);
+
+	/* queued, then the handle closed: df1_poll refuses, the write waits */
+	w2 = queue_write(f->h, x, 502, 2);
+	df1_close(f->h);
+	assert_int_equal(df1_poll(f->h, 0), DF1_E_NOT_OPEN);
+	assert_int_equal(offrec[2].calls, 0);
+	assert_int_equal(pstats(f->h).writes_queued, 1);
+	/* the station answers again and the handle is reopened: sent once, written */
+	sim_restart(f, normal);
+	POLL_UNTIL(f, 10000, offrec[2].calls > 0, "the write queued across df1_close");
+	assert_int_equal(offrec[2].calls, 1);
+	assert_int_equal(offrec[2].result, 0);
+	assert_int_equal(offrec[2].wid, w2);
+	/* the write's answer is the station's recovery: its tag is read back at once */
+	POLL_UNTIL(f, 10000, tagst(f->h, x).quality == DF1_QUALITY_GOOD &&
+	           tagst(f->h, x).value.v.i16 == 502, "the value read back");
+	assert_int_equal(sth(f->h, 2).state, DF1_STATION_OK);
+	/* exactly one write reached the PLC: the two failed ones were not resent */
+	assert_int_equal(log_wait(f, "station=2 cmd=0F/AA addr=N7:20", NULL, 1), 1);
+	assert_int_equal(log_count(f, "cmd=0F/AA", NULL), 1);
+
+	/* still queued at df1_free(): ends once with DF1_E_NOT_OPEN, never sent */
+	w3 = queue_write(f->h, y, 503, 3);
+	df1_free(f->h);
+	f->h = NULL;
+	assert_int_equal(offrec[3].calls, 1);
+	assert_int_equal(offrec[3].result, DF1_E_NOT_OPEN);
+	assert_int_equal(offrec[3].wid, w3);
+	assert_int_equal(log_count(f, "addr=N7:21", "0F/AA"), 0);
+	for (int k = 0; k < 3; k++)
+		assert_int_equal(offrec[k].calls, 1);
+}
+
+static void on_tag_quiet(void *user, int id, const struct df1_tag_state *st)
+{
+	(void)id;
+	(void)st;
+	(*(int *)user)++;
+}
+
+/* No allocation per scan: once the plan is built, scans of answering, failing,
+ * offline (slow retry) stations and a bad tag allocate nothing. */
+static void test_scans_allocate_nothing(void **state)
+{
+	struct fix *f = *state;
+	static const char *const args[] = { "--duplex", "half", "--station", "1,2", "--silent", "2", NULL };
+	uint64_t s0, attempts0;
+	long a0;
+	int calls = 0;
+
+	if (!COUNT_ALLOCS)
+		skip();
+	sim_start(f, args);
+	client_open(f, true, 50, 1, 1);
+	assert_int_equal(df1_set_tag_callback(f->h, on_tag_quiet, &calls), 0);
+	assert_int_equal(df1_poll_set_watchdog(f->h, 400, 1), 0);  /* slow retry every 200 ms */
+	add(f->h, "n", 1, "N7:0", 10, 0, DF1_ACCESS_READ);
+	add(f->h, "b", 1, "B3:0/4", 3, 0, DF1_ACCESS_READ);
+	add(f->h, "t", 1, "T4:0.ACC", 2, 0, DF1_ACCESS_READ);
+	add(f->h, "f", 1, "F8:2", 1, 0, DF1_ACCESS_READ);
+	add(f->h, "bad", 1, "N7:300", 1, 0, DF1_ACCESS_READ);
+	add(f->h, "io", 1, "I1:0.1", 1, 0, DF1_ACCESS_READ);
+	add(f->h, "gone", 2, "N7:0", 1, 0, DF1_ACCESS_READ);
+	/* warm up: the plan, the split and re-plan around the bad tag, station 2 offline */
+	POLL_UNTIL(f, 10000, sth(f->h, 2).state == DF1_STATION_OFFLINE && pstats(f->h).scans >= 3,
+	           "station 2 offline");
+	one_scan(f);
+	s0 = pstats(f->h).scans;
+	attempts0 = sth(f->h, 2).attempts;
+	a0 = atomic_load(&allocs);
+	POLL_UNTIL(f, 10000, pstats(f->h).scans >= s0 + 20 && sth(f->h, 2).attempts >= attempts0 + 2,
+	           "20 scans and two slow retries");
+	if (atomic_load(&allocs) != a0)
+		fail_msg("%ld allocations in %llu scans", atomic_load(&allocs) - a0,
+		         (unsigned long long)(pstats(f->h).scans - s0));
+	assert_true(calls > 0);
 }
 
 static void test_discovery(void **state)
@@ -1042,11 +1362,15 @@ int main(void)
 		cmocka_unit_test(test_api_load_map),
 		cmocka_unit_test_setup_teardown(test_coalesce_two_files, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_coalesce_slc502_limit, fix_setup, fix_teardown),
+		cmocka_unit_test_setup_teardown(test_coalesce_plc5_station_order, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_bad_tag_isolated, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_station_silenced_and_restored, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_watchdog_time, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_writes_under_faults_exactly_once, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_write_wakes_poll, fix_setup, fix_teardown),
+		cmocka_unit_test_setup_teardown(test_writes_offline_close_free, fix_setup, fix_teardown),
+		cmocka_unit_test_setup_teardown(test_change_callback, fix_setup, fix_teardown),
+		cmocka_unit_test_setup_teardown(test_scans_allocate_nothing, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_discovery, fix_setup, fix_teardown),
 	};
 
