@@ -9,7 +9,8 @@
  *  - a station silenced (df1sim --silent, by restarting df1sim) gets two
  *    retries, then one attempt per scan, goes offline after the absolute retry
  *    count, is retried once per half watchdog, and on recovery gets back its
- *    tags' states with a one-time read of every block;
+ *    tags' states with a one-time read of every block; the same in full
+ *    duplex with the port kept open (df1sim's SIGUSR1 / SIGUSR2);
  *  - queued writes under --drop-ack and --corrupt end exactly once each, are
  *    executed at most once (exactly once when reported written) and read back;
  *  - a write from another thread wakes a df1_poll() that waits; with nothing
@@ -32,6 +33,7 @@
 
 #include <poll.h>
 #include <pthread.h>
+#include <signal.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -952,6 +954,7 @@ struct wctx {
 	df1_t *h;
 	int ids[NWRITES];
 	int wid[NWRITES];
+	int got_wid[NWRITES];   /* the callback may run before df1_tag_write returns */
 	atomic_int calls[NWRITES];
 	int result[NWRITES];
 	atomic_int done;
@@ -964,7 +967,7 @@ static void on_write(void *user, int tag, int wid, int result)
 
 	for (int i = 0; i < NWRITES; i++) {
 		if (w->ids[i] == tag) {
-			assert_int_equal(w->wid[i], wid);
+			w->got_wid[i] = wid;
 			atomic_fetch_add(&w->calls[i], 1);
 			w->result[i] = result;
 		}
@@ -1042,6 +1045,7 @@ static void test_writes_under_faults_exactly_once(void **state)
 	pthread_join(th, NULL);
 	for (int i = 0; i < NWRITES; i++) {
 		assert_true(w.wid[i] > 0);
+		assert_int_equal(w.got_wid[i], w.wid[i]);
 		assert_int_equal(atomic_load(&w.calls[i]), 1);         /* reported once */
 		if (w.result[i] == 0)
 			written++;
@@ -1108,6 +1112,7 @@ static void test_write_wakes_poll(void **state)
 	}
 	assert_int_equal(atomic_load(&w.calls[0]), 1);
 	assert_int_equal(w.result[0], 0);
+	assert_int_equal(w.got_wid[0], w.wid[0]);
 	assert_true(n >= 1);
 	if (took >= 15000)
 		fail_msg("the queued write did not wake df1_poll (%lld ms)", (long long)took);
@@ -1275,6 +1280,57 @@ static void test_writes_offline_close_free(void **state)
 		assert_int_equal(offrec[k].calls, 1);
 }
 
+/* Full duplex, the port kept open: df1sim's SIGUSR1 silences it, SIGUSR2 brings
+ * it back. Two retries, one attempt per scan, offline (BAD) after more than 3
+ * failures, one attempt per half watchdog, then recovery with every tag read. */
+static void test_silenced_by_signal(void **state)
+{
+	struct fix *f = *state;
+	static const char *const args[] = { NULL };
+	struct df1_station_health a, b;
+	struct df1_tag_state st;
+	int64_t t_restore, prev;
+	int n, slow;
+
+	sim_start(f, args);
+	client_open(f, false, 100, 1, 1);
+	assert_int_equal(df1_poll_set_watchdog(f->h, 1000, 3), 0);
+	n = add(f->h, "n", 1, "N7:3", 2, 100, DF1_ACCESS_READ);
+	slow = add(f->h, "slow", 1, "F8:1", 1, 600000, DF1_ACCESS_READ);
+	POLL_UNTIL(f, 10000, all_good(f->h, n, 2), "the first read");
+	a = sth(f->h, 1);
+	assert_int_equal(kill(f->sim.pid, SIGUSR1), 0);
+	/* df1sim takes the signal between two commands: wait for the first failure */
+	POLL_UNTIL(f, 10000, sth(f->h, 1).failures > a.failures, "a failure");
+	b = sth(f->h, 1);
+	assert_int_equal(b.state, DF1_STATION_FAILING);
+	assert_int_equal(b.consecutive_failures, 3);            /* the attempt and two retries */
+	st = tagst(f->h, n);
+	assert_int_equal(st.quality, DF1_QUALITY_UNCERTAIN);
+	assert_int_equal(st.values[1].v.i16, 4);
+	a = b;
+	POLL_UNTIL(f, 10000, sth(f->h, 1).attempts > a.attempts, "the next scan's attempt");
+	b = sth(f->h, 1);
+	assert_int_equal(b.attempts - a.attempts, 1);
+	assert_int_equal(b.state, DF1_STATION_OFFLINE);
+	assert_int_equal(tagst(f->h, n).reason, DF1_REASON_STATION_OFFLINE);
+	assert_int_equal(tagst(f->h, slow).quality, DF1_QUALITY_BAD);
+	prev = b.last_attempt_ms;
+	a = b;
+	POLL_UNTIL(f, 10000, sth(f->h, 1).attempts > a.attempts, "a slow retry");
+	b = sth(f->h, 1);
+	assert_int_equal(b.attempts - a.attempts, 1);
+	if (b.last_attempt_ms - prev < 500)
+		fail_msg("slow retry %lld ms after the previous attempt (half watchdog 500)",
+		         (long long)(b.last_attempt_ms - prev));
+	assert_int_equal(kill(f->sim.pid, SIGUSR2), 0);
+	t_restore = now_ms();
+	POLL_UNTIL(f, 10000, sth(f->h, 1).state == DF1_STATION_OK, "station 1 back");
+	assert_true(all_good(f->h, n, 2));
+	assert_true(tagst(f->h, n).last_good_ms >= t_restore);
+	assert_true(tagst(f->h, slow).last_good_ms >= t_restore);   /* the one-time read */
+}
+
 static void on_tag_quiet(void *user, int id, const struct df1_tag_state *st)
 {
 	(void)id;
@@ -1366,6 +1422,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_bad_tag_isolated, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_station_silenced_and_restored, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_watchdog_time, fix_setup, fix_teardown),
+		cmocka_unit_test_setup_teardown(test_silenced_by_signal, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_writes_under_faults_exactly_once, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_write_wakes_poll, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_writes_offline_close_free, fix_setup, fix_teardown),
