@@ -1236,7 +1236,8 @@ static void test_it_fault_seed_repeatable(void **state)
 {
 	static const char *const args[] = { "--nak", "25", "--corrupt", "25", "--stale", "25",
 	                                    "--noise", "25", "--seed", "42", NULL };
-	static const int ids[] = { 2534, 2541, 2547, 2548, 2533, 2525, 2526, 2561 };
+	/* not 2560/2561: bytes depend on the client's TNS (a 10h byte is doubled) */
+	static const int ids[] = { 2534, 2541, 2547, 2548, 2533, 2525, 2526, 2530 };
 	struct fault_env *e = *state;
 	uint64_t run[2][sizeof ids / sizeof ids[0]];
 	int good[2];
