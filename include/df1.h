@@ -387,7 +387,8 @@ struct df1_msg {
 };
 /* Decode app bytes (DST SRC CMD STS TNS ...). DF1_E_TOO_SHORT / DF1_E_BAD_REPLY. */
 DF1_API int df1_msg_decode(const uint8_t *app, size_t n, struct df1_msg *m);
-/* Decode element values of a file type from wire bytes (LE; PLC-5 word range floats swapped). */
+/* Decode element values of a file type from wire bytes (little-endian; the caller
+ * word-swaps PLC-5 word-range floats first). */
 DF1_API int df1_values_decode(enum df1_file_type t, const uint8_t *bytes, size_t n,
                               struct df1_value *out, size_t max);
 
@@ -422,12 +423,14 @@ enum df1_fault {
 	DF1_FAULT_CORRUPT_REPLY,  /* send a reply with a wrong BCC/CRC */
 	DF1_FAULT_NAK_COMMAND,    /* answer a good command with NAK */
 	DF1_FAULT_DELAY_REPLY,    /* delay the reply by value ms */
-	DF1_FAULT_SILENT_STATION, /* value = station that does not answer at all */
+	DF1_FAULT_SILENT_STATION, /* value = station that does not answer at all,
+	                           * DF1_SILENT_ALL for every station */
 	DF1_FAULT_STALE_REPLY,    /* send a reply with an old TNS first */
 	DF1_FAULT_NOISE,          /* garbage bytes between frames */
 };
 /* Probability per event in 1/1000 (0 = off); for DELAY the delay is `value` ms;
- * for SILENT_STATION `value` is the station number (-1 = none). */
+ * for SILENT_STATION `value` is the station number (-1 = none, DF1_SILENT_ALL = all). */
+#define DF1_SILENT_ALL 256
 DF1_API int df1_server_set_fault(df1_t *h, enum df1_fault f, int per_mille, int value);
 DF1_API void df1_server_set_seed(df1_t *h, uint64_t seed);
 /* Pace transmitted bytes as a line at this baud rate (0 = off). */

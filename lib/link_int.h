@@ -39,7 +39,7 @@ int link_take_reply(struct df1 *h, const uint8_t *cmd, const struct df1_symbol *
 /* faults */
 bool link_fault(struct df1 *h, enum df1_fault f);
 /* DF1_FAULT_SILENT_STATION value that silences every station (df1_serve(3)) */
-#define FAULT_SILENT_ALL 256
+#define FAULT_SILENT_ALL DF1_SILENT_ALL
 bool link_fault_silent(struct df1 *h, uint8_t station);
 /* Every station silent: not even a bare DLE ENQ is answered (full duplex). */
 bool link_fault_silent_all(struct df1 *h);

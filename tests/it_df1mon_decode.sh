@@ -33,7 +33,7 @@ check "134 frames" '[ "$(grep -c " FRAME " "$T/cap.txt")" -eq 134 ]'
 check "134 good BCC" '[ "$(grep " FRAME " "$T/cap.txt" | grep -c " BCC ok ")" -eq 134 ]'
 check "no bad check" '! grep -q " bad " "$T/cap.txt"'
 check "402 ENQ" '[ "$(grep -c " ENQ$" "$T/cap.txt")" -eq 402 ]'
-check "summary" 'grep -q "^df1mon: 134 frames, 134 good, 0 bad, 402 symbols$" "$T/err"'
+check "summary" 'grep -q "^df1mon: frames 134 (good 134, bad 0), link symbols 402$" "$T/err"'
 check "first line: write N7:5 = 13385" \
 	'head -n 1 "$T/cap.txt" | grep -q "^ *1 *0\.000000  FRAME  BCC ok .* tns 3901  0F/AA .* N7:5 size 2  = 13385$"'
 nw=$(grep -c " 0F/AA " "$T/cap.txt"); nr=$(grep -c " 0F/A2 " "$T/cap.txt")
@@ -115,7 +115,7 @@ check "all vectors seen" '[ "$nvec" -ge 50 ]'
 nlines=$(grep -v -e '-hd-' "$T/vectors" | grep -c .)
 expect 0 "stdin lines" -- sh -c "\"$MON\" --decode < \"$T/lines\""
 check "stdin: one line per vector" '[ "$(wc -l < "$T/out")" -eq "$nlines" ]'
-check "stdin: summary" 'grep -q "^df1mon: [0-9]* frames, [0-9]* good, 0 bad, [0-9]* symbols$" "$T/err"'
+check "stdin: summary" 'grep -q "^df1mon: frames [0-9]* (good [0-9]*, bad 0), link symbols [0-9]*$" "$T/err"'
 
 # a command and its reply: the reply is decoded with the command's file type
 expect 0 "read F8:0 and its reply" -- "$MON" --decode \

@@ -185,7 +185,7 @@ sed 's/^ *[0-9]* *[0-9.]*  //' "$T/sniff.out" > "$T/sniff.sym"
 check "sniff: four symbols" '[ "$(wc -l < "$T/sniff.sym")" -eq 4 ]'
 check "sniff: the command" 'sed -n 1p "$T/sniff.sym" | grep -q "^FRAME  BCC ok  dst   1  src   0  tns 0004  0F/A2 .* F8:0 size 4$"'
 check "sniff: ACK, reply, ENQ" 'sed -n 2p "$T/sniff.sym" | grep -q "^ACK$" && sed -n 3p "$T/sniff.sym" | grep -q "reply to 0F/A2 .*= 1.5$" && sed -n 4p "$T/sniff.sym" | grep -q "^ENQ$"'
-check "sniff: summary" 'grep -q "2 frames, 2 good, 0 bad, 2 symbols" "$T/sniff.err" && grep -q "written to $T/cap.pcap" "$T/sniff.err"'
+check "sniff: summary" 'grep -q "frames 2 (good 2, bad 0), link symbols 2" "$T/sniff.err" && grep -q "written to $T/cap.pcap" "$T/sniff.err"'
 check "pcap: magic and link type 250" '[ "$(od -A n -t x1 -N 24 "$T/cap.pcap" | tr -d " \n")" = "d4c3b2a1020004000000000000000000ffff0000fa000000" ]'
 if command -v tshark >/dev/null 2>&1; then
 	expect 0 "tshark reads the capture" -- tshark -r "$T/cap.pcap"

@@ -428,7 +428,7 @@ static void test_df1mon_sniff_pty_decodes_saves_and_restores(void **state)
 	assert_non_null(strstr(got, "= 1.5"));
 	assert_true(symbol_part(out, 3, got, sizeof got));
 	assert_string_equal(got, "ENQ");
-	assert_non_null(strstr(err, "2 frames, 2 good, 0 bad, 2 symbols"));
+	assert_non_null(strstr(err, "frames 2 (good 2, bad 0), link symbols 2"));
 	assert_non_null(strstr(err, "written to"));
 
 	/* the capture holds exactly the bytes of the line, in order */

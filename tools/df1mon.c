@@ -1742,10 +1742,11 @@ int main(int argc, char **argv)
 	if ((m.mode == MODE_DECODE || m.mode == MODE_READ || m.mode == MODE_SNIFF) && !m.cli.quiet &&
 	    (r == CLI_CONTINUE || m.fed > 0)) {
 		unsigned long long noise = m.fed > m.used ? m.fed - m.used : 0;
-		fprintf(stderr, "%s: %lu frames, %lu good, %lu bad, %lu symbols", m.cli.name, m.dx.frames,
-		        m.dx.good, m.dx.bad, m.dx.symbols);
+		/* "frames N" rather than "N frames": no "1 frames" */
+		fprintf(stderr, "%s: frames %lu (good %lu, bad %lu), link symbols %lu", m.cli.name,
+		        m.dx.frames, m.dx.good, m.dx.bad, m.dx.symbols);
 		if (m.dx.errors)
-			fprintf(stderr, ", %lu errors", m.dx.errors);
+			fprintf(stderr, ", errors %lu", m.dx.errors);
 		if (noise)
 			fprintf(stderr, ", %llu bytes %s", noise,
 			        m.mode == MODE_SNIFF ? "of noise or an unfinished symbol" : "of noise");

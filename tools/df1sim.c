@@ -1414,7 +1414,7 @@ static void sim_wakeup(df1_t *h, struct sim *s)
 	if (mute == s->muted)
 		return;
 	if (mute)
-		(void)df1_server_set_fault(h, DF1_FAULT_SILENT_STATION, 1000, 256); /* every station */
+		(void)df1_server_set_fault(h, DF1_FAULT_SILENT_STATION, 1000, DF1_SILENT_ALL);
 	else
 		(void)df1_server_set_fault(h, DF1_FAULT_SILENT_STATION, s->silent_pm,
 		                           s->silent_pm ? s->silent_station : -1);
