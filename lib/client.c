@@ -837,23 +837,19 @@ static int client_read_bits(struct df1 *h, int station, const char *what, const 
 		rc = span_read(h, station, what, &c, &io);
 		if (rc < 0)
 			return rc;
-		for (size_t w = 0; w < c.count; w++) {
-			uint32_t v = s.esize == 4 ? le32(words + w * 4) : le16(words + w * 2);
-			size_t g0 = (done + w) * wbits;
+		/* g: bit number from bit 0 of the span's first word */
+		for (size_t g = done * wbits; g < (done + c.count) * wbits; g++) {
+			bool on;
 
-			for (size_t b = 0; b < wbits; b++) {
-				size_t g = g0 + b;      /* bit number from bit 0 of the first word */
-				bool on = (v >> b) & 1u;
-
-				if (g < first || g >= first + n)
-					continue;
-				if (bits)
-					bits[g - first] = on;
-				if (vals) {
-					memset(&vals[g - first], 0, sizeof vals[0]);
-					vals[g - first].kind = DF1_VAL_BIT;
-					vals[g - first].v.bit = on;
-				}
+			if (g < first || g >= first + n)
+				continue;
+			on = value_get_bit(words, s.esize, g - done * wbits);
+			if (bits)
+				bits[g - first] = on;
+			if (vals) {
+				memset(&vals[g - first], 0, sizeof vals[0]);
+				vals[g - first].kind = DF1_VAL_BIT;
+				vals[g - first].v.bit = on;
 			}
 		}
 		done += c.count;
@@ -963,9 +959,7 @@ static int client_write_bits(struct df1 *h, int station, const char *what, const
 			if (g < first || g >= first + n)
 				continue;
 			on = bits ? bits[g - first] : vals[g - first].v.bit;
-			mask |= 1u << b;
-			if (on)
-				data |= 1u << b;
+			value_mask_bit(&mask, &data, (unsigned)b, on);
 		}
 		span_at(&s, w, &wa);
 		rc = client_mask_word(h, station, what, &wa, s.esize, mask, data);

@@ -988,19 +988,13 @@ static int poll_decode(struct poll_engine *e, const struct ptag *t, const struct
 			v->v.i16 = (int16_t)le16(p + (size_t)i * es + (size_t)t->word * 2);
 			break;
 		case HOW_BITS: {
-			int g = a->bit + i;
-			uint32_t w;
+			size_t g = (size_t)(a->bit + i);
 
-			if (t->word >= 0) {             /* T/C/R: one word of the element */
-				w = le16(p + (size_t)t->word * 2);
-			} else {
-				const uint8_t *q = p + (size_t)(g / t->wbits) * es;
-
-				w = t->wbits == 32 ? le32(q) : le16(q);
-				g %= t->wbits;
-			}
 			v->kind = DF1_VAL_BIT;
-			v->v.bit = (w >> g) & 1u;
+			if (t->word >= 0)               /* T/C/R: one word of the element */
+				v->v.bit = value_get_bit(p + (size_t)t->word * 2, 2, g);
+			else
+				v->v.bit = value_get_bit(p, es, g);
 			break;
 		}
 		case HOW_ALONE:

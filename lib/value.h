@@ -19,6 +19,26 @@ static inline void put_le32(uint8_t *p, uint32_t v)
 	p[0] = (uint8_t)v; p[1] = (uint8_t)(v >> 8); p[2] = (uint8_t)(v >> 16); p[3] = (uint8_t)(v >> 24);
 }
 
+/* Bit bitno of a run of elements esize bytes wide (2: 16-bit words, 4: L), counted
+ * from bit 0 of the first element, as B3/21 counts (element 1, bit 5). */
+static inline bool value_get_bit(const uint8_t *p, size_t esize, size_t bitno)
+{
+	size_t wbits = esize * 8;
+	const uint8_t *q = p + bitno / wbits * esize;
+	uint32_t w = esize == 4 ? le32(q) : le16(q);
+
+	return (w >> (bitno % wbits)) & 1u;
+}
+
+/* A masked write of one bit (SLC 0F/AB, PLC-5 0F/26, PLC-2 05): set it in the
+ * mask, and in the data when on; other bits stay untouched on the PLC. */
+static inline void value_mask_bit(uint32_t *mask, uint32_t *data, unsigned bit, bool on)
+{
+	*mask |= 1u << bit;
+	if (on)
+		*data |= 1u << bit;
+}
+
 enum value_float_order { VALUE_FLOAT_LE = 0, VALUE_FLOAT_WORD_SWAPPED = 1 };
 
 float value_get_float(const uint8_t *p, enum value_float_order o);

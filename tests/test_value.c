@@ -643,9 +643,32 @@ static void test_values_decode_elements(void **state)
 	assert_int_equal(df1_values_decode(DF1_FT_N, NULL, 2, v, 8), DF1_E_INVAL);
 }
 
+/* Bits count from bit 0 of the first word, 16 per N/B word, 32 per L element:
+ * B3/21 is element 1, bit 5 (DESIGN 7, the controllers' B-file notation). */
+static void test_value_bits_of_words(void **state)
+{
+	/* B3:0 = 0x8001, B3:1 = 0x0020: bits 0, 15 and 21 set */
+	static const uint8_t words[] = { 0x01, 0x80, 0x20, 0x00 };
+	/* L10:0 = 0x80000000, L10:1 = 0x00000001: bits 31 and 32 set */
+	static const uint8_t longs[] = { 0x00, 0x00, 0x00, 0x80, 0x01, 0x00, 0x00, 0x00 };
+	uint32_t mask = 0, data = 0;
+
+	(void)state;
+	for (size_t b = 0; b < 32; b++)
+		assert_int_equal(value_get_bit(words, 2, b), b == 0 || b == 15 || b == 21);
+	for (size_t b = 0; b < 64; b++)
+		assert_int_equal(value_get_bit(longs, 4, b), b == 31 || b == 32);
+	/* B3:0/5 := 1 is mask 0020 data 0020; B3:0/3 := 0 adds 0008 to the mask only */
+	value_mask_bit(&mask, &data, 5, true);
+	value_mask_bit(&mask, &data, 3, false);
+	assert_int_equal(mask, 0x0028);
+	assert_int_equal(data, 0x0020);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_value_bits_of_words),
 		cmocka_unit_test(test_value_float_le_and_word_swapped),
 		cmocka_unit_test(test_value_string_pairs_swapped),
 		cmocka_unit_test(test_value_decode_elements),
