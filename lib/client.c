@@ -363,18 +363,30 @@ static void slc_fields(const struct span *s, size_t i, unsigned *elem, unsigned 
 	}
 }
 
-static int slc_read(struct df1 *h, int station, const char *what, const struct span *s, struct io *io)
+/* The SLC file type code of a span and how many of its elements fit one packet. */
+static int slc_begin(struct df1 *h, int station, const char *what, const struct span *s,
+                     bool write, size_t *per)
 {
-	uint8_t cmd[FRAME_MAX_DATA], reply[FRAME_MAX_DATA];
-	struct pccc_hdr hd = { (uint8_t)station, (uint8_t)h->cfg.station, 0 };
-	size_t per = client_limit(h, false) / s->esize, done = 0;
 	int code = slc_type_code(h, station, what, s->a.type);
 
 	if (code < 0)
 		return code;
-	if (per == 0)
+	*per = client_limit(h, write) / s->esize;
+	if (*per == 0)
 		return df1_fail(h, DF1_E_NOTSUP, station, "%s: a %zu-byte element exceeds the packet size",
 		                what, s->esize);
+	return code;
+}
+
+static int slc_read(struct df1 *h, int station, const char *what, const struct span *s, struct io *io)
+{
+	uint8_t cmd[FRAME_MAX_DATA], reply[FRAME_MAX_DATA];
+	struct pccc_hdr hd = { (uint8_t)station, (uint8_t)h->cfg.station, 0 };
+	size_t per, done = 0;
+	int code = slc_begin(h, station, what, s, false, &per);
+
+	if (code < 0)
+		return code;
 	while (done < s->count) {
 		size_t k = s->count - done < per ? s->count - done : per;
 		size_t want = k * s->esize, dlen;
@@ -407,14 +419,11 @@ static int slc_write(struct df1 *h, int station, const char *what, const struct 
 {
 	uint8_t cmd[FRAME_MAX_DATA], reply[FRAME_MAX_DATA], data[FRAME_MAX_DATA];
 	struct pccc_hdr hd = { (uint8_t)station, (uint8_t)h->cfg.station, 0 };
-	size_t per = client_limit(h, true) / s->esize, done = 0;
-	int code = slc_type_code(h, station, what, s->a.type);
+	size_t per, done = 0;
+	int code = slc_begin(h, station, what, s, true, &per);
 
 	if (code < 0)
 		return code;
-	if (per == 0)
-		return df1_fail(h, DF1_E_NOTSUP, station, "%s: a %zu-byte element exceeds the packet size",
-		                what, s->esize);
 	while (done < s->count) {
 		size_t k = s->count - done < per ? s->count - done : per;
 		size_t nbytes = k * s->esize, dlen;
