@@ -308,4 +308,22 @@ if [ -n "$before_tty" ]; then
 fi
 sim_stop
 
+# ---- PLC-2 commands (01 read, 08 write, 05 bit write): word offsets into the
+# SLC's common interface file N9 (spec 4.7), which --data creates ----
+printf 'N9:0=10,-20,30,0x0101\n' > "$T/n9.data"
+sim_start plc2 --data "$T/n9.data"
+expect 0 "plc2: read N9 words through 01" -- "$R" -d "$SIM_DEV" --plc plc2 N7:0,4
+out_is "plc2: values" "10
+-20
+30
+257"
+expect 0 "plc2: write through 08" -- "$BIN/df1write" -d "$SIM_DEV" --plc plc2 N7:1=1234
+expect 0 "plc2: bit write through 05" -- "$BIN/df1write" -d "$SIM_DEV" --plc plc2 B3:3/1=1
+expect 0 "plc2: the SLC sees them in N9" -- "$R" -d "$SIM_DEV" N9:0,4
+out_is "plc2: N9 after the writes" "10
+1234
+30
+259"
+sim_stop
+
 finish
