@@ -42,7 +42,9 @@ TEST_HELPERS := $(filter-out $(TEST_SRCS),$(wildcard tests/*.c))
 TEST_HELPER_OBJS := $(TEST_HELPERS:%.c=$(B)/%.o)
 
 STATIC := $(B)/libdf1.a
-SHARED := $(B)/libdf1.so.$(VERSION)
+# libdf1.so.MAJOR.MINOR, soname libdf1.so.MAJOR (an ABI break bumps MAJOR)
+SO_FILE := libdf1.so.$(MAJOR).$(MINOR)
+SHARED := $(B)/$(SO_FILE)
 
 # keep objects of chained rules (tools, tests) for quick rebuilds
 .SECONDARY:
@@ -80,7 +82,7 @@ $(SHARED): $(LIB_PIC_OBJS) lib/libdf1.map
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(CC) $(CFLAGS) $(EXTRA) -shared -Wl,-soname,libdf1.so.$(MAJOR) \
 		-Wl,--version-script=lib/libdf1.map -o $@ $(LIB_PIC_OBJS) $(LIBS)
-	$(Q)ln -sf libdf1.so.$(VERSION) $(B)/libdf1.so.$(MAJOR)
+	$(Q)ln -sf $(SO_FILE) $(B)/libdf1.so.$(MAJOR)
 	$(Q)ln -sf libdf1.so.$(MAJOR) $(B)/libdf1.so
 
 $(B)/bin/%: $(B)/tools/%.o $(TOOL_COMMON_OBJS) $(STATIC)
@@ -133,7 +135,7 @@ install: all
 	install -m 755 $(TOOLS) $(DESTDIR)$(BINDIR)/
 	install -m 644 $(STATIC) $(DESTDIR)$(LIBDIR)/
 	install -m 755 $(SHARED) $(DESTDIR)$(LIBDIR)/
-	ln -sf libdf1.so.$(VERSION) $(DESTDIR)$(LIBDIR)/libdf1.so.$(MAJOR)
+	ln -sf $(SO_FILE) $(DESTDIR)$(LIBDIR)/libdf1.so.$(MAJOR)
 	ln -sf libdf1.so.$(MAJOR) $(DESTDIR)$(LIBDIR)/libdf1.so
 	install -m 644 include/df1.h $(DESTDIR)$(INCLUDEDIR)/
 	# generated here, so that the PREFIX of this install is the one recorded
