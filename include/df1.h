@@ -149,7 +149,8 @@ DF1_API int df1_addr_format(const struct df1_addr *a, char *buf, size_t cap);
 DF1_API const char *df1_file_type_name(enum df1_file_type t);
 /* Bytes per element on the wire (N 2, F 4, L 4, T/C/R 6, ST 84, A 2 ...). */
 DF1_API int df1_file_type_element_size(enum df1_file_type t);
-/* SLC file type code for 0F/A2 etc. (N 89h, F 8Ah, ST 8Dh, L 91h, O 8Bh, I 8Ch ...). */
+/* SLC file type code for 0F/A2 etc. (N 89h, F 8Ah, ST 8Dh, L 91h, O 8Bh, I 8Ch ...);
+ * a handle with DF1_OPT_SLC_IO_CODES_82 sends 82h/83h for O/I instead. */
 DF1_API int df1_file_type_slc_code(enum df1_file_type t);
 
 /* ------------------------------------------------------------------------
@@ -217,6 +218,12 @@ enum df1_option {
 	DF1_OPT_MAX_PACKET,             /* bytes of data per read/write packet, 0 = per PLC type */
 	DF1_OPT_EOT_WITH_BCC,           /* bool, default 0: tolerate one byte after DLE EOT */
 	DF1_OPT_LOCAL_TCP,              /* bool, df1sim: listen on loopback only (default 1) */
+	/* bool, default 0: PLC-5 typed read/write (0F/68, 0F/67) floats word-swapped, bytes
+	 * [2,3,0,1] as word range 0F/00/01 has them, instead of plain LE (spec 5, 8 item 7) */
+	DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED,
+	/* bool, default 0: SLC commands name O/I files by type code 82h/83h (F2E) instead of
+	 * 8Bh/8Ch (spec 4.11, 8 item 10); the responder takes both either way */
+	DF1_OPT_SLC_IO_CODES_82,
 };
 
 DF1_API int  df1_new(df1_t **out);      /* defaults: 19200 8N1, full duplex, CRC, station 0 */

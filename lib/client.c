@@ -6,7 +6,9 @@
  *
  *   SLC 5/03+, MicroLogix, SLC 5/01-5/02:
  *     read 0F/A2, write 0F/AA (three address fields: file, type, element, sub);
- *     bit writes 0F/AB (mask + data: only the masked bits change).
+ *     bit writes 0F/AB (mask + data: only the masked bits change). O and I go
+ *     as type codes 8B/8C (spec 4.11), or 82/83 with DF1_OPT_SLC_IO_CODES_82
+ *     [SRC-CONFLICT, spec 8 item 10].
  *   PLC-5:
  *     read 0F/68, write 0F/67 (typed, counts in elements) with a logical binary
  *     address (06 file element, 0E with a sub-element) or, for "$N7:0", the
@@ -19,9 +21,10 @@
  *     with another element size (KF2: "timer elements return five words") is
  *     refused with DF1_E_BAD_REPLY rather than guessed at [UNCERTAIN, spec 8.8].
  *     Floats go plain little-endian in typed reads and writes, the spec 5
- *     recommendation (RTA); word-swapped floats belong to word range 0F/00/01,
- *     which the client does not use. [UNCERTAIN, spec 8 item 7; one constant,
- *     PLC5_FLOAT_ORDER, changes it]
+ *     recommendation (RTA); DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED word-swaps them
+ *     ([2,3,0,1], as word range 0F/00/01 always has them; the client does not
+ *     use word range). [UNCERTAIN, spec 8 item 7] Raw reads and writes pass
+ *     the wire bytes either way.
  *   PLC-2 (01 unprotected read, 08 unprotected write, 05 unprotected bit write):
  *     PLC-2 commands carry a 16-bit byte address and no file. The address's
  *     element is taken as the WORD offset into the target's PLC-2 area (a PLC-2's
@@ -83,9 +86,6 @@
 #include "plc_limits.h"
 #include "pccc.h"
 #include "value.h"
-
-/* Typed reads and writes of the PLC-5 use plain LE floats (spec 5, RTA). */
-#define PLC5_FLOAT_ORDER VALUE_FLOAT_LE
 
 #define ATEXT_MAX 64
 
@@ -349,6 +349,8 @@ static int slc_type_code(struct df1 *h, int station, const char *what, enum df1_
 
 	if (code <= 0)
 		return df1_fail(h, DF1_E_NOTSUP, station, "%s: file type has no SLC code", what);
+	if (h->cfg.slc_io_82 && (t == DF1_FT_O || t == DF1_FT_I))
+		code = t == DF1_FT_O ? 0x82 : 0x83;     /* F2E p.47 (spec 4.11) */
 	return code;
 }
 
@@ -992,7 +994,7 @@ static int client_plan(struct df1 *h, int station, const char *what, const struc
 	*per_element = false;
 	io->word = -1;
 	io->t = a->type;
-	io->fo = h->cfg.plc == DF1_PLC_PLC5 ? PLC5_FLOAT_ORDER : VALUE_FLOAT_LE;
+	io->fo = value_typed_float_order(h->cfg.plc, h->cfg.plc5_float_swapped);
 	if (es <= 0)
 		return df1_fail(h, DF1_E_ADDR_SYNTAX, station, "%s: no file type", what);
 	s->count = n;

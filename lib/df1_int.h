@@ -29,6 +29,8 @@ struct df1_config {
 	int nak_retries, enq_retries;
 	int tx_delay_ms;
 	bool dup_detect, embedded, hd_bcc_stx, nak_0f, rs485, echo_discard, eot_bcc, local_tcp;
+	bool plc5_float_swapped;     /* PLC-5 typed 0F/68 67 floats word-swapped (spec 5) */
+	bool slc_io_82;              /* SLC O/I file type codes 82/83, not 8B/8C (spec 4.11) */
 	int max_packet;              /* 0 = per PLC type */
 	int line_baud;               /* pace transmitted bytes (simulator); 0 = off */
 };

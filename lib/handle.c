@@ -283,6 +283,8 @@ int df1_new(df1_t **out)
 	h->cfg.echo_discard = false;
 	h->cfg.eot_bcc = false;
 	h->cfg.local_tcp = true;
+	h->cfg.plc5_float_swapped = false;
+	h->cfg.slc_io_82 = false;
 	h->cfg.max_packet = 0;
 	h->cfg.line_baud = 0;
 
@@ -516,6 +518,8 @@ static const char *handle_option_name(enum df1_option opt)
 	case DF1_OPT_MAX_PACKET: return "MAX_PACKET";
 	case DF1_OPT_EOT_WITH_BCC: return "EOT_WITH_BCC";
 	case DF1_OPT_LOCAL_TCP: return "LOCAL_TCP";
+	case DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED: return "PLC5_TYPED_FLOAT_SWAPPED";
+	case DF1_OPT_SLC_IO_CODES_82: return "SLC_IO_CODES_82";
 	}
 	return NULL;
 }
@@ -532,6 +536,8 @@ static bool *handle_option_flag(struct df1_config *c, enum df1_option opt)
 	case DF1_OPT_ECHO_DISCARD: return &c->echo_discard;
 	case DF1_OPT_EOT_WITH_BCC: return &c->eot_bcc;
 	case DF1_OPT_LOCAL_TCP: return &c->local_tcp;
+	case DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED: return &c->plc5_float_swapped;
+	case DF1_OPT_SLC_IO_CODES_82: return &c->slc_io_82;
 	case DF1_OPT_MAX_PACKET: return NULL;
 	}
 	return NULL;

@@ -967,8 +967,10 @@ static void poll_tag_bad(struct poll_engine *e, struct ptag *t, enum df1_quality
 	poll_set_quality(e, t, DF1_QUALITY_BAD, r, false);
 }
 
-/* The values of tag t out of block b's bytes, into e->vals. */
-static int poll_decode(struct poll_engine *e, const struct ptag *t, const struct pblock *b)
+/* The values of tag t out of block b's bytes (as on the wire: floats in order fo),
+ * into e->vals. */
+static int poll_decode(struct poll_engine *e, const struct ptag *t, const struct pblock *b,
+                       enum value_float_order fo)
 {
 	const uint8_t *p = e->raw + (size_t)(t->e0 - b->first) * b->esize;
 	const struct df1_addr *a = &t->cfg.addr;
@@ -980,7 +982,7 @@ static int poll_decode(struct poll_engine *e, const struct ptag *t, const struct
 
 		switch (t->how) {
 		case HOW_ELEM:
-			if (value_decode_element(a->type, p + (size_t)i * es, es, v, VALUE_FLOAT_LE) < 0)
+			if (value_decode_element(a->type, p + (size_t)i * es, es, v, fo) < 0)
 				return DF1_E_BAD_REPLY;
 			break;
 		case HOW_WORD:
@@ -1273,10 +1275,11 @@ static int poll_block_io(struct df1 *h, struct poll_engine *e, const struct pblo
 static void poll_block_good(struct df1 *h, struct poll_engine *e, struct pblock *b)
 {
 	int64_t now = df1_now_ms(), wall = poll_wall_ms();
+	enum value_float_order fo = value_typed_float_order(b->plc, h->cfg.plc5_float_swapped);
 
 	for (size_t m = b->m0; m < b->m0 + b->nm; m++) {
 		struct ptag *t = e->tags[e->members[m]];
-		int r = b->alone ? 0 : poll_decode(e, t, b);
+		int r = b->alone ? 0 : poll_decode(e, t, b, fo);
 
 		if (r < 0)
 			poll_tag_bad(e, t, DF1_REASON_PLC_ERROR, r, &h->err);

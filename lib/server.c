@@ -12,6 +12,13 @@
  *    and whatever the data table reports (06 no such file, 07 past the end ...);
  *  - PLC-2 commands (no EXT STS): STS 10 format, 80 no compatibility file
  *    (N9 / N7, server.h), 50 an address the data table refuses.
+ *
+ * Where the spec flags a doubt (8):
+ *  - SLC O/I file type codes: 8B/8C and 82/83 are both taken, whatever
+ *    DF1_OPT_SLC_IO_CODES_82 says (spec 4.11);
+ *  - PLC-5 typed read/write floats: plain LE, or word-swapped [2,3,0,1] when the
+ *    handle serves a PLC-5 with DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED (spec 5); word
+ *    range 0F/00/01 always word-swaps them.
  */
 #include "server.h"
 
@@ -264,6 +271,28 @@ static void typed_layout(const struct df1_addr *a, unsigned *td, size_t *es)
 	}
 }
 
+/* Typed read/write floats word-swapped? Plain LE by default (spec 5); a handle
+ * serving a PLC-5 with DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED swaps them (spec 8 item 7). */
+static bool typed_float_swapped(const struct srv *s, unsigned td)
+{
+	return td == PCCC_TD_FLOAT && s->h &&
+	       value_typed_float_order(s->h->cfg.plc, s->h->cfg.plc5_float_swapped) ==
+	               VALUE_FLOAT_WORD_SWAPPED;
+}
+
+/* Swap the 16-bit words of each 4-byte float: stored LE <-> [2,3,0,1]. */
+static void swap_float_words(uint8_t *p, size_t n)
+{
+	for (size_t i = 0; i + 4 <= n; i += 4) {
+		uint8_t a = p[i], b = p[i + 1];
+
+		p[i] = p[i + 2];
+		p[i + 1] = p[i + 3];
+		p[i + 2] = a;
+		p[i + 3] = b;
+	}
+}
+
 /* ------------------------------------------------------------------------
  * PLC-5 commands (spec 4.2-4.4)
  * ------------------------------------------------------------------------ */
@@ -315,6 +344,8 @@ static int srv_typed_read(struct srv *s)
 	rc = srv_tbl_read(s, r.addr.type, r.addr.file, off, s->data + hl, count * es);
 	if (rc)
 		return srv_fail_rc(s, rc);
+	if (typed_float_swapped(s, td))
+		swap_float_words(s->data + hl, count * es);
 	s->len = (size_t)hl + count * es;
 	return 0;
 }
@@ -361,6 +392,15 @@ static int srv_typed_write(struct srv *s)
 		for (size_t i = 0; i < t.elem_size; i++)
 			el[2 + (i ^ 1u)] = t.data[i];
 		rc = srv_tbl_write(s, DF1_FT_ST, r.addr.file, base + (size_t)r.pkt_offset * 84, el, NULL, sizeof el);
+	} else if (typed_float_swapped(s, td)) {
+		uint8_t buf[FRAME_MAX_DATA];
+
+		if (t.count * es > sizeof buf)
+			return srv_fail_sts(s, 0x10);
+		memcpy(buf, t.data, t.count * es);
+		swap_float_words(buf, t.count * es);
+		rc = srv_tbl_write(s, r.addr.type, r.addr.file, base + (size_t)r.pkt_offset * es, buf, NULL,
+		               t.count * es);
 	} else {
 		rc = srv_tbl_write(s, r.addr.type, r.addr.file, base + (size_t)r.pkt_offset * es, t.data, NULL,
 		               t.count * es);
@@ -486,7 +526,7 @@ static int srv_slc(struct srv *s, uint8_t fnc)
 	rest = s->m->len - (size_t)k;
 	if (rest != (rd ? 0u : masked ? 2u * nb : nb))
 		return srv_fail_sts(s, 0x10);
-	t = pccc_slc_code_file_type(tc);
+	t = pccc_slc_code_file_type(tc);       /* O: 8B or 82, I: 8C or 83 (spec 4.11) */
 	if (t == DF1_FT_NONE)
 		return srv_fail_ext(s, 0x11);
 	if (s->h && s->h->cfg.plc == DF1_PLC_SLC502)

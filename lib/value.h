@@ -41,6 +41,14 @@ static inline void value_mask_bit(uint32_t *mask, uint32_t *data, unsigned bit, 
 
 enum value_float_order { VALUE_FLOAT_LE = 0, VALUE_FLOAT_WORD_SWAPPED = 1 };
 
+/* The float order of the element commands of a PLC type: plain LE (SLC A2/AA, and
+ * PLC-5 typed 0F/68 67 as spec 5 recommends), word-swapped for a PLC-5 when
+ * DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED is set (the spec 8 item 7 alternative). */
+static inline enum value_float_order value_typed_float_order(enum df1_plc plc, bool plc5_swapped)
+{
+	return plc == DF1_PLC_PLC5 && plc5_swapped ? VALUE_FLOAT_WORD_SWAPPED : VALUE_FLOAT_LE;
+}
+
 float value_get_float(const uint8_t *p, enum value_float_order o);
 void value_put_float(uint8_t *p, float f, enum value_float_order o);
 /* ST element (84 bytes) <-> text; put fails with DF1_E_RANGE above 82 characters. */

@@ -900,6 +900,61 @@ static void test_client_raw(void **state)
 	assert_int_equal(df1_read_raw(h, 1, "N7:2", r, 3), DF1_E_INVAL);
 }
 
+/* O and I files: type codes 8B/8C (spec 4.11 recommendation), 82/83 with
+ * DF1_OPT_SLC_IO_CODES_82 (F2E p.47). Frames checked with an independent
+ * CRC-16/ARC and BCC computation (the spec 7.5 rules). */
+static void test_client_slc_io_codes_8b_default_82_option(void **state)
+{
+	df1_t *h = *state;
+	int16_t v = 0;
+	int16_t w = 0x00F0;
+	bool b;
+
+	put_le16(mem_at(0, 0, 2), 0x1234);
+	put_le16(mem_at(1, 0, 2), 0x5678);
+	assert_int_equal(df1_get_option(h, DF1_OPT_SLC_IO_CODES_82), 0);
+	h->next_tns = 0x20;
+	assert_int_equal(df1_read_int16(h, 1, "O0:0", &v, 1), 1);
+	assert_wire(0, DF1_CHECK_BCC, "10 02 01 00 0F 00 20 00 A2 02 00 8B 00 00 10 03 A1");
+	assert_wire(0, DF1_CHECK_CRC, "10 02 01 00 0F 00 20 00 A2 02 00 8B 00 00 10 03 42 99");
+	assert_int_equal(v, 0x1234);
+	h->next_tns = 0x22;
+	assert_int_equal(df1_read_int16(h, 1, "I1:0", &v, 1), 1);
+	assert_wire(1, DF1_CHECK_BCC, "10 02 01 00 0F 00 22 00 A2 02 01 8C 00 00 10 03 9D");
+	assert_wire(1, DF1_CHECK_CRC, "10 02 01 00 0F 00 22 00 A2 02 01 8C 00 00 10 03 67 4D");
+	assert_int_equal(v, 0x5678);
+
+	assert_int_equal(df1_set_option(h, DF1_OPT_SLC_IO_CODES_82, 1), 0);
+	assert_int_equal(df1_get_option(h, DF1_OPT_SLC_IO_CODES_82), 1);
+	h->next_tns = 0x21;
+	assert_int_equal(df1_read_int16(h, 1, "O0:0", &v, 1), 1);
+	assert_wire(2, DF1_CHECK_BCC, "10 02 01 00 0F 00 21 00 A2 02 00 82 00 00 10 03 A9");
+	assert_wire(2, DF1_CHECK_CRC, "10 02 01 00 0F 00 21 00 A2 02 00 82 00 00 10 03 4C 95");
+	assert_int_equal(v, 0x1234);
+	h->next_tns = 0x23;
+	assert_int_equal(df1_read_int16(h, 1, "I1:0", &v, 1), 1);
+	assert_wire(3, DF1_CHECK_BCC, "10 02 01 00 0F 00 23 00 A2 02 01 83 00 00 10 03 A5");
+	assert_wire(3, DF1_CHECK_CRC, "10 02 01 00 0F 00 23 00 A2 02 01 83 00 00 10 03 69 C9");
+	/* writes, bit writes and I/O words (SUBELEMENT) too */
+	assert_int_equal(df1_write_int16(h, 1, "O0:1", &w, 1), 1);
+	assert_cmd(4, "01 00 0F 00 00 00 AA 02 00 82 01 00 F0 00");
+	assert_int_equal(df1_write_bit(h, 1, "O0:0/3", true), 0);
+	assert_cmd(5, "01 00 0F 00 00 00 AB 02 00 82 00 00 08 00 08 00");
+	assert_int_equal(df1_read_bit(h, 1, "I1:0.1/2", &b), 0);
+	assert_cmd(6, "01 00 0F 00 00 00 A2 02 01 83 00 01");
+	/* other files keep their codes; the public code table is the recommendation */
+	assert_int_equal(df1_read_int16(h, 1, "N7:0", &v, 1), 1);
+	assert_cmd(7, "01 00 0F 00 00 00 A2 02 07 89 00 00");
+	assert_int_equal(df1_read_int16(h, 1, "S2:1", &v, 1), 1);
+	assert_cmd(8, "01 00 0F 00 00 00 A2 02 02 84 01 00");
+	assert_int_equal(df1_file_type_slc_code(DF1_FT_O), 0x8B);
+	assert_int_equal(df1_file_type_slc_code(DF1_FT_I), 0x8C);
+	/* and back */
+	assert_int_equal(df1_set_option(h, DF1_OPT_SLC_IO_CODES_82, 0), 0);
+	assert_int_equal(df1_read_int16(h, 1, "O0:0", &v, 1), 1);
+	assert_cmd(9, "01 00 0F 00 00 00 A2 02 00 8B 00 00");
+}
+
 /* ------------------------------------------------------------------------
  * PLC-5
  * ------------------------------------------------------------------------ */
@@ -1033,6 +1088,67 @@ static void test_client_plc5_float_and_timer(void **state)
 	/* fewer elements than asked */
 	script_data_hex("99 09 03 42 01 00");
 	assert_int_equal(df1_read_int16(h, 1, "N7:0", w, 2), DF1_E_BAD_REPLY);
+}
+
+/* PLC-5 typed floats: plain LE by default (spec 5: 1.5 = 00 00 C0 3F),
+ * word-swapped C0 3F 00 00 with DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED. */
+static void test_client_plc5_typed_float_swapped_option(void **state)
+{
+	df1_t *h = *state;
+	float f = 1.5f, r = 0;
+	float two[2] = { 1.5f, -2.0f };
+	struct df1_value v;
+	uint8_t raw[4];
+
+	set_plc(h, DF1_PLC_PLC5);
+	plc5_ftype[8] = 'F';
+	assert_int_equal(df1_get_option(h, DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED), 0);
+	h->next_tns = 0x30;
+	assert_int_equal(df1_write_float(h, 1, "F8:0", &f, 1), 1);
+	assert_wire(0, DF1_CHECK_BCC, "10 02 01 00 0F 00 30 00 67 00 00 01 00 06 08 00 99 09 06 94 08 "
+	                              "00 00 C0 3F 10 03 07");
+	assert_wire(0, DF1_CHECK_CRC, "10 02 01 00 0F 00 30 00 67 00 00 01 00 06 08 00 99 09 06 94 08 "
+	                              "00 00 C0 3F 10 03 98 37");
+	script_data_hex("99 09 06 94 08 00 00 C0 3F");
+	assert_int_equal(df1_read_float(h, 1, "F8:0", &r, 1), 1);
+	assert_true(r == 1.5f);
+
+	assert_int_equal(df1_set_option(h, DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED, 1), 0);
+	assert_int_equal(df1_get_option(h, DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED), 1);
+	h->next_tns = 0x31;
+	assert_int_equal(df1_write_float(h, 1, "F8:0", &f, 1), 1);
+	assert_wire(2, DF1_CHECK_BCC, "10 02 01 00 0F 00 31 00 67 00 00 01 00 06 08 00 99 09 06 94 08 "
+	                              "C0 3F 00 00 10 03 06");
+	assert_wire(2, DF1_CHECK_CRC, "10 02 01 00 0F 00 31 00 67 00 00 01 00 06 08 00 99 09 06 94 08 "
+	                              "C0 3F 00 00 10 03 B8 2F");
+	assert_memory_equal(mem_at(8, 0, 4), "\xC0\x3F\x00\x00", 4);
+	/* reads take the swapped order: the typed helper and the generic read */
+	script_data_hex("99 09 06 94 08 C0 3F 00 00");
+	r = 0;
+	assert_int_equal(df1_read_float(h, 1, "F8:0", &r, 1), 1);
+	assert_true(r == 1.5f);
+	script_data_hex("99 09 06 94 08 00 C0 00 00");           /* -2.0 = C0000000h */
+	memset(&v, 0, sizeof v);
+	assert_int_equal(df1_read(h, 1, "F8:1", &v, 1), 1);
+	assert_int_equal(v.kind, DF1_VAL_FLOAT);
+	assert_true(v.v.f == -2.0f);
+	/* the plain LE reply now reads as the swapped value: 00 00 C0 3F -> C03F0000h */
+	script_data_hex("99 09 06 94 08 00 00 C0 3F");
+	assert_int_equal(df1_read_float(h, 1, "F8:0", &r, 1), 1);
+	assert_true(r != 1.5f);
+	/* two elements, each swapped on its own */
+	assert_int_equal(df1_write_float(h, 1, "F8:0", two, 2), 2);
+	assert_cmd(6, "01 00 0F 00 00 00 67 00 00 02 00 06 08 00 99 09 0A 94 08 C0 3F 00 00 00 C0 00 00");
+	/* raw bytes are the wire bytes either way */
+	assert_int_equal(df1_read_raw(h, 1, "F8:1", raw, 4), 4);
+	assert_memory_equal(raw, "\x00\xC0\x00\x00", 4);
+	/* integers are untouched */
+	assert_int_equal(df1_write_int16(h, 1, "N7:0", (const int16_t[]){ 0x1234 }, 1), 1);
+	assert_cmd(8, "01 00 0F 00 00 00 67 00 00 01 00 06 07 00 99 09 03 42 34 12");
+	/* SLC A2/AA floats stay plain LE whatever the option says */
+	set_plc(h, DF1_PLC_SLC);
+	assert_int_equal(df1_write_float(h, 1, "F8:0", &f, 1), 1);
+	assert_cmd(9, "01 00 0F 00 00 00 AA 04 08 8A 00 00 00 00 C0 3F");
 }
 
 static void test_client_plc5_strings_one_per_packet(void **state)
@@ -1185,12 +1301,14 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_client_slc_bits_across_words, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_slc_long_and_string, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_raw, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_client_slc_io_codes_8b_default_82_option, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_typed_read_vector, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_typed_read_ascii_vector, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_typed_write_vector, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_rmw_bits_vector, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_split_300, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_float_and_timer, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_client_plc5_typed_float_swapped_option, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_strings_one_per_packet, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc2_ke_vectors, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_diag_echo_mode, setup, teardown),

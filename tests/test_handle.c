@@ -84,6 +84,8 @@ static void test_handle_defaults(void **state)
 	assert_int_equal(df1_get_option(h, DF1_OPT_MAX_PACKET), 0);
 	assert_int_equal(df1_get_option(h, DF1_OPT_EOT_WITH_BCC), 0);
 	assert_int_equal(df1_get_option(h, DF1_OPT_LOCAL_TCP), 1);
+	assert_int_equal(df1_get_option(h, DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED), 0);
+	assert_int_equal(df1_get_option(h, DF1_OPT_SLC_IO_CODES_82), 0);
 	for (i = 0; i <= 254; i++)
 		assert_int_equal(df1_station_active(h, i), 1);
 	for (i = 2525; i <= 2551; i++) {
@@ -289,7 +291,7 @@ static void test_handle_options(void **state)
 	static const enum df1_option bools[] = {
 		DF1_OPT_DUPLICATE_DETECT, DF1_OPT_EMBEDDED_RESPONSES, DF1_OPT_HD_BCC_INCLUDES_STX,
 		DF1_OPT_ACCEPT_NAK_0F, DF1_OPT_RS485, DF1_OPT_ECHO_DISCARD, DF1_OPT_EOT_WITH_BCC,
-		DF1_OPT_LOCAL_TCP,
+		DF1_OPT_LOCAL_TCP, DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED, DF1_OPT_SLC_IO_CODES_82,
 	};
 	df1_t *h = *state;
 	size_t i;
@@ -313,6 +315,12 @@ static void test_handle_options(void **state)
 	assert_int_equal(df1_get_option(h, DF1_OPT_MAX_PACKET), 82);
 	assert_int_equal(df1_set_option(h, (enum df1_option)0, 1), DF1_E_INVAL);
 	assert_int_equal(df1_set_option(h, (enum df1_option)99, 1), DF1_E_INVAL);
+	/* the enum only grows at its end: existing values keep their numbers */
+	assert_int_equal(DF1_OPT_LOCAL_TCP, 9);
+	assert_int_equal(DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED, 10);
+	assert_int_equal(DF1_OPT_SLC_IO_CODES_82, 11);
+	assert_int_equal(df1_set_option(h, (enum df1_option)12, 1), DF1_E_INVAL);
+	assert_int_equal(df1_get_option(h, (enum df1_option)12), DF1_E_INVAL);
 	assert_int_equal(df1_get_option(h, (enum df1_option)99), DF1_E_INVAL);
 }
 

@@ -18,7 +18,9 @@
  * df1sim -d on an existing tty (port busy to another process, its settings
  * back at exit); counters by ID; link test, echo, diagnostic status; bad
  * settings on an open handle; a network CSV driving a real connection; port
- * busy; termios restored after df1_close.
+ * busy; termios restored after df1_close; the spec-doubt options
+ * DF1_OPT_SLC_IO_CODES_82 and DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED (df1sim
+ * --plc5-float-swapped).
  *
  * No timing assertions but one lower bound (--line-baud: a paced reply cannot
  * arrive early). Fault tests use short timeouts (200 ms) and fixed
@@ -452,6 +454,31 @@ static void test_it_o_i_s_a_words(void **state)
 		assert_int_equal(r[0], 0x123C);
 		assert_int_equal(r[1], -1);
 		assert_int_equal(OK(h, df1_write_int16(h, g->station, files[f], zero, 4)), 4);
+	}
+}
+
+/* DF1_OPT_SLC_IO_CODES_82: O and I named 82/83 (spec 4.11) reach the same
+ * files of df1sim as 8B/8C: written with one, read back with the other. */
+static void test_it_slc_io_codes_82(void **state)
+{
+	static const char *const files[] = { "O:1", "I:1" };
+	struct group *g = *state;
+	df1_t *h = grp_client(state);
+	const int16_t w[2] = { 0x4321, -2 };
+	const int16_t zero[2] = { 0, 0 };
+
+	for (size_t f = 0; f < sizeof files / sizeof files[0]; f++) {
+		int16_t r[2] = { 7, 7 };
+
+		OK(h, df1_set_option(h, DF1_OPT_SLC_IO_CODES_82, 1));
+		assert_int_equal(OK(h, df1_write_int16(h, g->station, files[f], w, 2)), 2);
+		assert_int_equal(OK(h, df1_read_int16(h, g->station, files[f], r, 2)), 2);
+		assert_memory_equal(r, w, sizeof r);
+		OK(h, df1_set_option(h, DF1_OPT_SLC_IO_CODES_82, 0));
+		memset(r, 0, sizeof r);
+		assert_int_equal(OK(h, df1_read_int16(h, g->station, files[f], r, 2)), 2);
+		assert_memory_equal(r, w, sizeof r);
+		assert_int_equal(OK(h, df1_write_int16(h, g->station, files[f], zero, 2)), 2);
 	}
 }
 
@@ -1032,6 +1059,40 @@ static void writes_exactly_once(struct fault_env *e, int station)
 			assert_int_not_equal(tns[i], tns[j]);
 }
 
+/* df1sim --plc plc5 --plc5-float-swapped against a client with
+ * DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED: the documented F8 values (n + 0.5) read
+ * right, and a write lands as the same float in the data table (read back
+ * through SLC 0F/A2, which is plain LE either way). Without the option the
+ * client reads other values: the two sides must agree. */
+static void test_it_plc5_typed_float_swapped(void **state)
+{
+	static const char *const args[] = { "--plc", "plc5", "--plc5-float-swapped", NULL };
+	struct fault_env *e = *state;
+	struct client_cfg c = { DF1_FULL_DUPLEX, DF1_CHECK_CRC, DF1_PLC_PLC5, 0, 0, -1, -1 };
+	const float w[2] = { 3.25f, -1234.5f };
+	float f[150];
+	df1_t *h;
+
+	if (simproc_start(&e->sim, false, NULL, false, args) < 0)
+		fail_msg("df1sim did not start");
+	h = e->h = client_open(e->sim.target, &c);
+	OK(h, df1_set_option(h, DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED, 1));
+	assert_int_equal(OK(h, df1_read_float(h, 1, "F8:0", f, 150)), 150);
+	for (int i = 0; i < 150; i++)
+		assert_true(f[i] == exp_f(i));
+	assert_int_equal(OK(h, df1_write_float(h, 1, "F8:5", w, 2)), 2);
+	assert_int_equal(OK(h, df1_read_float(h, 1, "F8:5", f, 2)), 2);
+	assert_true(f[0] == w[0] && f[1] == w[1]);
+	OK(h, df1_set_plc(h, DF1_PLC_SLC));
+	assert_int_equal(OK(h, df1_read_float(h, 1, "F8:4", f, 3)), 3);
+	assert_true(f[0] == exp_f(4) && f[1] == w[0] && f[2] == w[1]);
+	/* mismatched: the plain LE reading of C0 3F 00 00 is not 1.5 */
+	OK(h, df1_set_plc(h, DF1_PLC_PLC5));
+	OK(h, df1_set_option(h, DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED, 0));
+	assert_int_equal(OK(h, df1_read_float(h, 1, "F8:1", f, 1)), 1);
+	assert_true(f[0] != exp_f(1));
+}
+
 static void test_it_fault_drop_ack_full_writes_once(void **state)
 {
 	static const char *const args[] = { "--drop-ack", "30", "--seed", "11", NULL };
@@ -1564,6 +1625,7 @@ int main(void)
 		GROUP_TEST(test_it_termios_restored),
 		GROUP_TEST(test_it_bad_settings_on_open_handle),
 		GROUP_TEST(test_it_net_config_file),
+		GROUP_TEST(test_it_slc_io_codes_82),
 	};
 	const struct CMUnitTest full_bcc_micrologix[] = {
 		GROUP_TEST(test_it_read_n_300_words_and_negatives_above_254),
@@ -1635,6 +1697,9 @@ int main(void)
 		FAULT_TEST(test_it_fault_stale),
 		FAULT_TEST(test_it_fault_noise),
 	};
+	const struct CMUnitTest options[] = {    /* a simulator per test, as the faults */
+		FAULT_TEST(test_it_plc5_typed_float_swapped),
+	};
 	int failed = 0;
 
 	failed += cmocka_run_group_tests_name("pty full duplex CRC SLC", full_crc, setup_full_crc, group_stop);
@@ -1649,5 +1714,6 @@ int main(void)
 	failed += cmocka_run_group_tests_name("tcp full duplex CRC", tcp_full, setup_tcp_full, group_stop);
 	failed += cmocka_run_group_tests_name("tcp half duplex BCC", tcp_half, setup_tcp_half, group_stop);
 	failed += cmocka_run_group_tests_name("faults", faults, NULL, NULL);
+	failed += cmocka_run_group_tests_name("options against df1sim", options, NULL, NULL);
 	return failed ? 1 : 0;
 }

@@ -18,7 +18,8 @@
  *  - writes to an offline station, across df1_close() and at df1_free() end
  *    once each and are never sent twice;
  *  - the change callback fires on a change of value, quality or reason only;
- *  - PLC-5 packet limits and stations in address order (frame log);
+ *  - PLC-5 packet limits and stations in address order (frame log); PLC-5
+ *    typed floats word-swapped (DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED) in a block;
  *  - scans allocate nothing once the plan is built;
  *  - station discovery over a range.
  * Deadlines, never sleeps; counts are asserted, durations only as lower bounds
@@ -743,6 +744,32 @@ static void test_coalesce_plc5_station_order(void **state)
 	assert_int_equal(k, 6);
 }
 
+/* DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED: a block of F tags is read as raw wire bytes
+ * and decoded by the engine, which takes the handle's float order (df1sim
+ * --plc5-float-swapped; F8:n = n + 0.5). */
+static void test_plc5_typed_float_swapped_block(void **state)
+{
+	struct fix *f = *state;
+	static const char *const args[] = { "--plc", "plc5", "--plc5-float-swapped", NULL };
+	struct df1_tag_config c;
+	char name[16], addr[16];
+
+	sim_start(f, args);
+	client_open(f, false, 500, 3, 3);
+	assert_int_equal(df1_set_option(f->h, DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED, 1), 0);
+	for (int i = 0; i < 10; i++) {
+		snprintf(name, sizeof name, "f%d", i);
+		snprintf(addr, sizeof addr, "F8:%d", i);
+		c = tagcfg(name, 1, addr, 1, 1000, DF1_ACCESS_READ, DF1_PLC_PLC5);
+		assert_true(df1_tag_add(f->h, &c) >= 0);
+	}
+	one_scan(f);
+	assert_int_equal(pstats(f->h).blocks, 1);
+	assert_true(all_good(f->h, 0, 10));
+	for (int i = 0; i < 10; i++)
+		assert_true(tagst(f->h, i).value.v.f == (float)i + 0.5f);
+}
+
 static void test_bad_tag_isolated(void **state)
 {
 	struct fix *f = *state;
@@ -1419,6 +1446,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_coalesce_two_files, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_coalesce_slc502_limit, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_coalesce_plc5_station_order, fix_setup, fix_teardown),
+		cmocka_unit_test_setup_teardown(test_plc5_typed_float_swapped_block, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_bad_tag_isolated, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_station_silenced_and_restored, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_watchdog_time, fix_setup, fix_teardown),

@@ -334,6 +334,40 @@ static void test_server_slc_errors(void **state)
 	expect_status("01 00 0F 00 0A 00 A2 02 07 89 00 00", 0x20, -1);
 }
 
+/* O and I: 8B/8C (M p.104) and 82/83 (F2E p.47) both name the file, with or
+ * without DF1_OPT_SLC_IO_CODES_82 on the serving handle (spec 4.11). */
+static void test_server_slc_io_codes_82_83_and_8b_8c(void **state)
+{
+	(void)state;
+	tfile_init(0, DF1_FT_O, 4);
+	tfile_init(1, DF1_FT_I, 4);
+	put_le16(elem_ptr(0, 0), 0x1234);
+	put_le16(elem_ptr(1, 1), 0x5678);
+	for (int opt = 0; opt <= 1; opt++) {
+		handle.cfg.slc_io_82 = opt;
+		/* A2 O0:0: 8B, then 82 */
+		expect_reply("01 00 0F 00 20 00 A2 02 00 8B 00 00", "00 01 4F 00 20 00 34 12");
+		expect_reply("01 00 0F 00 21 00 A2 02 00 82 00 00", "00 01 4F 00 21 00 34 12");
+		/* A2 I1:1: 8C, then 83; A1 (two fields) with 83 */
+		expect_reply("01 00 0F 00 22 00 A2 02 01 8C 01 00", "00 01 4F 00 22 00 78 56");
+		expect_reply("01 00 0F 00 23 00 A2 02 01 83 01 00", "00 01 4F 00 23 00 78 56");
+		expect_reply("01 00 0F 00 24 00 A1 02 01 83 01", "00 01 4F 00 24 00 78 56");
+	}
+	/* AA O0:2 with 82, AB O0:0 bit 3 with 82, AA I1:0 with 83 */
+	expect_reply("01 00 0F 00 25 00 AA 02 00 82 02 00 CD AB", "00 01 4F 00 25 00");
+	assert_int_equal(word(0, 2), 0xABCD);
+	expect_reply("01 00 0F 00 26 00 AB 02 00 82 00 00 08 00 08 00", "00 01 4F 00 26 00");
+	assert_int_equal(word(0, 0), 0x123C);
+	expect_reply("01 00 0F 00 27 00 AA 02 01 83 00 00 11 00", "00 01 4F 00 27 00");
+	assert_int_equal(word(1, 0), 0x0011);
+	/* still the file's type that counts: O codes on the I file */
+	expect_status("01 00 0F 00 28 00 A2 02 01 82 00 00", 0xF0, 0x11);
+	expect_status("01 00 0F 00 29 00 A2 02 01 8B 00 00", 0xF0, 0x11);
+	/* 80, 81 stay reserved (M p.104) */
+	expect_status("01 00 0F 00 2A 00 A2 02 00 80 00 00", 0xF0, 0x11);
+	expect_status("01 00 0F 00 2B 00 A2 02 00 81 00 00", 0xF0, 0x11);
+}
+
 /* ------------------------------------------------------------------------
  * PLC-5 0F/68 67 01 00 26 02
  * ------------------------------------------------------------------------ */
@@ -434,6 +468,45 @@ static void test_server_plc5_typed_write_type_mismatch(void **state)
 	expect_status("01 00 0F 00 03 00 67 00 00 01 00 06 07 00 99 09 05 42 01 00 02 00", 0x10, -1);
 	expect_status("01 00 0F 00 04 00 67 00 00 02 00 06 07 00 99 09 05 42 01 00", 0x10, -1);
 	assert_int_equal(word(7, 0), 0);
+}
+
+/* A handle serving a PLC-5 with DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED: typed read
+ * and write floats go [2,3,0,1] (1.5 = C0 3F 00 00, 2.5 = 20 40 00 00); the data
+ * table keeps plain LE; word range stays word-swapped; other types untouched. */
+static void test_server_plc5_typed_float_swapped(void **state)
+{
+	(void)state;
+	handle.cfg.plc = DF1_PLC_PLC5;
+	/* default: plain LE (spec 5 recommendation) */
+	expect_reply("01 00 0F 00 01 00 68 00 00 02 00 06 08 00 02 00",
+	             "00 01 4F 00 01 00 99 09 0A 94 08 00 00 C0 3F 00 00 20 40");
+	handle.cfg.plc5_float_swapped = true;
+	expect_reply("01 00 0F 00 02 00 68 00 00 02 00 06 08 00 02 00",
+	             "00 01 4F 00 02 00 99 09 0A 94 08 C0 3F 00 00 20 40 00 00");
+	/* a second packet: F8:1 at offset 1 */
+	expect_reply("01 00 0F 00 03 00 68 01 00 02 00 06 08 00 01 00",
+	             "00 01 4F 00 03 00 99 09 06 94 08 20 40 00 00");
+	/* write F8:3 := 10.0 (41200000h) sent swapped: stored plain LE */
+	expect_reply("01 00 0F 00 04 00 67 00 00 01 00 06 08 03 99 09 06 94 08 20 41 00 00",
+	             "00 01 4F 00 04 00");
+	assert_memory_equal(elem_ptr(8, 3), "\x00\x00\x20\x41", 4);
+	assert_true(value_get_float(elem_ptr(8, 3), VALUE_FLOAT_LE) == 10.0f);
+	/* two elements, each swapped */
+	expect_reply("01 00 0F 00 05 00 67 00 00 02 00 06 08 04 99 09 0A 94 08 C0 3F 00 00 00 C0 00 00",
+	             "00 01 4F 00 05 00");
+	assert_true(value_get_float(elem_ptr(8, 4), VALUE_FLOAT_LE) == 1.5f);
+	assert_true(value_get_float(elem_ptr(8, 5), VALUE_FLOAT_LE) == -2.0f);
+	/* word range: word-swapped as always (not swapped twice) */
+	expect_reply("01 00 0F 00 06 00 01 00 00 02 00 06 08 00 04",
+	             "00 01 4F 00 06 00 C0 3F 00 00");
+	/* integers and SLC A2 floats are not affected */
+	expect_reply("01 00 0F 00 07 00 68 00 00 01 00 06 07 01 01 00",
+	             "00 01 4F 00 07 00 99 09 03 42 01 00");
+	expect_reply("01 00 0F 00 08 00 A2 04 08 8A 00 00", "00 01 4F 00 08 00 00 00 C0 3F");
+	/* a handle not serving a PLC-5 keeps plain LE even with the option set */
+	handle.cfg.plc = DF1_PLC_SLC;
+	expect_reply("01 00 0F 00 09 00 68 00 00 01 00 06 08 00 01 00",
+	             "00 01 4F 00 09 00 99 09 06 94 08 00 00 C0 3F");
 }
 
 static void test_server_plc5_word_range(void **state)
@@ -630,11 +703,13 @@ int main(void)
 		cmocka_unit_test_setup(test_server_slc_write_sets_word, setup),
 		cmocka_unit_test_setup(test_server_slc_masked_write_touches_masked_bits_only, setup),
 		cmocka_unit_test_setup(test_server_slc_errors, setup),
+		cmocka_unit_test_setup(test_server_slc_io_codes_82_83_and_8b_8c, setup),
 		cmocka_unit_test_setup(test_server_plc5_typed_read_gives_spec_reply, setup),
 		cmocka_unit_test_setup(test_server_plc5_typed_read_types, setup),
 		cmocka_unit_test_setup(test_server_plc5_typed_read_errors, setup),
 		cmocka_unit_test_setup(test_server_plc5_typed_write, setup),
 		cmocka_unit_test_setup(test_server_plc5_typed_write_type_mismatch, setup),
+		cmocka_unit_test_setup(test_server_plc5_typed_float_swapped, setup),
 		cmocka_unit_test_setup(test_server_plc5_word_range, setup),
 		cmocka_unit_test_setup(test_server_plc5_rmw_and_bit_write, setup),
 		cmocka_unit_test_setup(test_server_plc2_ke_vectors, setup),

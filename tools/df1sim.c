@@ -937,6 +937,7 @@ struct opts {
 	struct fault_opt faults[8];     /* by enum df1_fault */
 	uint64_t seed;
 	int line_baud;
+	bool plc5_float_swapped;
 	const char *log;
 	int baud, data_bits, stop_bits;
 	char parity;
@@ -946,7 +947,7 @@ struct opts {
 enum {
 	OPT_PTY = 1000, OPT_LISTEN, OPT_DUPLEX, OPT_CHECK, OPT_STATION, OPT_PLC, OPT_PROCESSOR,
 	OPT_DATA, OPT_DROP_ACK, OPT_CORRUPT, OPT_NAK, OPT_DELAY, OPT_SILENT, OPT_STALE, OPT_NOISE,
-	OPT_SEED, OPT_LINE_BAUD, OPT_LOG, OPT_DATA_BITS, OPT_STOP_BITS,
+	OPT_SEED, OPT_LINE_BAUD, OPT_LOG, OPT_DATA_BITS, OPT_STOP_BITS, OPT_PLC5_FLOAT_SWAPPED,
 };
 
 static const struct option long_opts[] = {
@@ -958,6 +959,7 @@ static const struct option long_opts[] = {
 	{ "station", required_argument, NULL, OPT_STATION },
 	{ "plc", required_argument, NULL, OPT_PLC },
 	{ "processor", required_argument, NULL, OPT_PROCESSOR },
+	{ "plc5-float-swapped", no_argument, NULL, OPT_PLC5_FLOAT_SWAPPED },
 	{ "data", required_argument, NULL, OPT_DATA },
 	{ "drop-ack", required_argument, NULL, OPT_DROP_ACK },
 	{ "corrupt", required_argument, NULL, OPT_CORRUPT },
@@ -1003,6 +1005,8 @@ static void usage(FILE *f)
 	        "  --line-baud N         pace transmitted bytes as a line at N baud\n"
 	        "PLC:\n"
 	        "  --plc TYPE            slc|micrologix|slc502|plc5 (slc)\n"
+	        "  --plc5-float-swapped  --plc plc5: typed read/write (0F/68, 0F/67) floats\n"
+	        "                        word-swapped, not plain little-endian\n"
 	        "  --processor NAME      diagnostic status identity, e.g. slc5/04, ml1400,\n"
 	        "                        plc5/40, or a type code (default per --plc)\n"
 	        "  --data FILE           initial values: ADDRESS=VALUE[,VALUE...] per line\n"
@@ -1150,6 +1154,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 				                   optarg);
 			break;
 		case OPT_PROCESSOR: o->processor = optarg; break;
+		case OPT_PLC5_FLOAT_SWAPPED: o->plc5_float_swapped = true; break;
 		case OPT_DATA: o->data = optarg; break;
 		case OPT_DROP_ACK: if (set_fault(o, DF1_FAULT_DROP_ACK, "drop-ack", optarg)) return EXIT_USAGE; break;
 		case OPT_CORRUPT: if (set_fault(o, DF1_FAULT_CORRUPT_REPLY, "corrupt", optarg)) return EXIT_USAGE; break;
@@ -1212,6 +1217,8 @@ static int parse_args(int argc, char **argv, struct opts *o)
 	if (where != 1)
 		return usage_error(where ? "give only one of --pty, -d and --listen"
 		                         : "one of --pty PATH, -d DEV or --listen ADDR is required");
+	if (o->plc5_float_swapped && o->plc != DF1_PLC_PLC5)
+		return usage_error("--plc5-float-swapped goes with --plc plc5 only");
 	return -1;
 }
 
@@ -1497,6 +1504,7 @@ static int setup_handle(df1_t *h, const struct opts *o, struct sim *s)
 	r = r < 0 ? r : df1_set_duplex(h, o->half ? DF1_HALF_DUPLEX_SLAVE : DF1_FULL_DUPLEX);
 	r = r < 0 ? r : df1_set_check(h, o->check);
 	r = r < 0 ? r : df1_set_plc(h, o->plc);
+	r = r < 0 ? r : df1_set_option(h, DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED, o->plc5_float_swapped);
 	r = r < 0 ? r : df1_set_station(h, o->stations[0]);
 	for (int i = 0; r >= 0 && i < o->nstations; i++)
 		r = df1_server_add_station(h, o->stations[i]);
