@@ -465,6 +465,7 @@ struct df1_net_config {
 	int tx_delay_ms;        /* 0..65535, default 0 */
 	bool handshake;         /* default No */
 	bool duplex_half;       /* Mode Master/Slave on a multidrop line: half duplex; Peer: full */
+	bool port_given;        /* the file set Com_Port (port[] is not just the default) */
 };
 
 /* Report of one problem in a configuration file. */

@@ -835,6 +835,7 @@ static void cfg_net_row(struct cfg_load *l, struct cfg_row *row)
 			            CMD_TIMEOUT_MIN, CMD_TIMEOUT_MAX);
 	}
 	v = cfg_value(l, row, NF_COM_PORT);
+	c->port_given = *v != '\0';
 	if (*v && !cfg_net_port(v, c->port, sizeof c->port))
 		cfg_report(l, 0, l->item, line,
 		           "Invalid Com Port (%.64s) should be a port number [1, %d], COMn, a device "

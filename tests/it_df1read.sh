@@ -213,6 +213,14 @@ EN=1 TT=0 DN=1 PRE=500 ACC=42
 	# the device from DF1_DEVICE
 	expect 0 "$tr: DF1_DEVICE" -- env DF1_DEVICE="$D" "$R" N7:9
 	out_is "$tr: DF1_DEVICE value" "9"
+	# a network file without Com_Port leaves the device to DF1_DEVICE; one that
+	# names Com_Port wins over it
+	printf 'Station,Mode,PLC_Type,Baud\n0,Peer,SLC,19200\n' > "$T/net_noport.csv"
+	expect 0 "$tr: -N without Com_Port, DF1_DEVICE" -- env DF1_DEVICE="$D" "$R" -N "$T/net_noport.csv" N7:8
+	out_is "$tr: -N without Com_Port value" "8"
+	printf 'Station,Mode,PLC_Type,Baud,Com_Port\n0,Peer,SLC,19200,%s\n' "$D" > "$T/net_port.csv"
+	expect 0 "$tr: -N Com_Port over DF1_DEVICE" -- env DF1_DEVICE="$T/nowhere" "$R" -N "$T/net_port.csv" N7:7
+	out_is "$tr: -N Com_Port value" "7"
 	sim_stop
 done
 

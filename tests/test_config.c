@@ -168,6 +168,7 @@ static void assert_seed_defaults(const struct df1_net_config *c)
 	assert_int_equal(c->enq_retries, 3);
 	assert_int_equal(c->cmd_timeout_ms, 1000);
 	assert_string_equal(c->port, "/dev/ttyS0"); /* Com_Port 1 */
+	assert_false(c->port_given);
 	assert_int_equal(c->baud, 9600);
 	assert_int_equal(c->data_bits, 8);
 	assert_int_equal(c->stop_bits, 1);
@@ -215,6 +216,7 @@ static void test_config_net_valid_file_gives_values(void **state)
 	assert_int_equal(c.enq_retries, 6);
 	assert_int_equal(c.cmd_timeout_ms, 2500);
 	assert_string_equal(c.port, "/dev/ttyUSB1");
+	assert_true(c.port_given);
 	assert_int_equal(c.timeout_ms, 1500);
 	assert_int_equal(c.tx_delay_ms, 20);
 }

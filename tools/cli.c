@@ -533,11 +533,15 @@ int cli_parse(struct cli *c, int argc, char **argv, void *user)
 	if (c->net_file && (r = load_net(c)) != CLI_CONTINUE)
 		return r;
 	if (accepts(c, CLI_OPT_DEVICE) && !c->device) {
+		/* -d, then a Com_Port the file names, then DF1_DEVICE, then the
+		 * file's default port (Com_Port 1, /dev/ttyS0) */
 		const char *env = getenv("DF1_DEVICE");
-		if (c->have_net && c->net.port[0])
+		if (c->have_net && c->net.port_given)
 			c->device = c->net.port;
 		else if (env && *env)
 			c->device = env;
+		else if (c->have_net && c->net.port[0])
+			c->device = c->net.port;
 	}
 	return CLI_CONTINUE;
 }
