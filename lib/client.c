@@ -339,6 +339,21 @@ static int io_get(struct io *io, size_t i, uint8_t *p, size_t esize)
 	return DF1_E_INVAL;
 }
 
+/* Fill out with elements first .. first+k-1 of the span for one write packet;
+ * a value that does not encode fails naming its index. */
+static int io_gather(struct df1 *h, int station, const char *what, struct io *io, size_t first,
+                     size_t k, uint8_t *out, size_t esize)
+{
+	for (size_t i = 0; i < k; i++) {
+		int rc = io_get(io, first + i, out + i * esize, esize);
+
+		if (rc < 0)
+			return df1_fail(h, rc, station, "%s: value %zu: %s", what, io->base + first + i,
+			                df1_strerror(rc));
+	}
+	return 0;
+}
+
 /* ------------------------------------------------------------------------
  * SLC: 0F/A2, 0F/AA
  * ------------------------------------------------------------------------ */
@@ -433,12 +448,9 @@ static int slc_write(struct df1 *h, int station, const char *what, const struct 
 		unsigned elem, sub;
 		int n, rc;
 
-		for (size_t i = 0; i < k; i++) {
-			rc = io_get(io, done + i, data + i * s->esize, s->esize);
-			if (rc < 0)
-				return df1_fail(h, rc, station, "%s: value %zu: %s", what, io->base + done + i,
-				                df1_strerror(rc));
-		}
+		rc = io_gather(h, station, what, io, done, k, data, s->esize);
+		if (rc < 0)
+			return rc;
 		slc_fields(s, done, &elem, &sub);
 		n = pccc_enc_slc_write(cmd, sizeof cmd, &hd, PCCC_FNC_SLC_WRITE3, (unsigned)s->a.file,
 		                       (uint8_t)code, elem, sub, data, (uint8_t)nbytes);
@@ -645,12 +657,9 @@ static int plc5_write(struct df1 *h, int station, const char *what, const struct
 		if (r < 0 || (size_t)r != hlen)
 			return df1_fail(h, DF1_E_NOTSUP, station, "%s: cannot encode the type/data parameter",
 			                what);
-		for (size_t i = 0; i < k; i++) {
-			rc = io_get(io, done + i, typed + hlen + i * s->esize, s->esize);
-			if (rc < 0)
-				return df1_fail(h, rc, station, "%s: value %zu: %s", what, io->base + done + i,
-				                df1_strerror(rc));
-		}
+		rc = io_gather(h, station, what, io, done, k, typed + hlen, s->esize);
+		if (rc < 0)
+			return rc;
 		n = pccc_enc_plc5_typed_write(cmd, sizeof cmd, &hd, (uint16_t)done, (uint16_t)s->count,
 		                              addr, (size_t)alen, typed, hlen + k * s->esize);
 		if (n < 0)
@@ -726,12 +735,9 @@ static int plc2_write(struct df1 *h, int station, const char *what, const struct
 		const uint8_t *d;
 		int n;
 
-		for (size_t i = 0; i < k; i++) {
-			rc = io_get(io, done + i, data + i * 2, 2);
-			if (rc < 0)
-				return df1_fail(h, rc, station, "%s: value %zu: %s", what, io->base + done + i,
-				                df1_strerror(rc));
-		}
+		rc = io_gather(h, station, what, io, done, k, data, 2);
+		if (rc < 0)
+			return rc;
 		n = pccc_enc_plc2_write(cmd, sizeof cmd, &hd, (uint16_t)((s->a.element + done) * 2),
 		                        data, k * 2);
 		if (n < 0)
