@@ -15,7 +15,7 @@ CFLAGS ?= -O2 -g
 WERROR ?=
 DF1_CFLAGS = -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE -Wall -Wextra -Wshadow -Wstrict-prototypes \
 	-Wmissing-prototypes -Wpointer-arith -Wformat=2 -Wno-format-nonliteral -Wundef -Wvla \
-	-fvisibility=hidden -Iinclude -Ilib $(WERROR)
+	-fvisibility=hidden -Iinclude $(LAYER_INCLUDES) $(WERROR)
 SAN_FLAGS = -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 
 # B is the build directory: build/ normally, build/san/ for the sanitizer pass.
@@ -26,10 +26,16 @@ else
   EXTRA =
 endif
 
+# lib/ in layers, bottom first (DESIGN.md 2): proto is pure (no I/O, no clock),
+# port owns file descriptors, link the DF1 link layer, lib/ top the handle,
+# client, server and config, poll the poll engine.
+LAYERS := proto port link . poll
+LAYER_INCLUDES := $(foreach l,$(LAYERS),-Ilib/$(l))
+
 LIBS = -lcsv -lm
 CMOCKA_LIBS = $(shell pkg-config --libs cmocka 2>/dev/null || echo -lcmocka)
 
-LIB_SRCS := $(sort $(wildcard lib/*.c))
+LIB_SRCS := $(sort $(wildcard lib/*.c lib/*/*.c))
 LIB_OBJS := $(LIB_SRCS:%.c=$(B)/%.o)
 LIB_PIC_OBJS := $(LIB_SRCS:%.c=$(B)/pic/%.o)
 TOOL_NAMES := df1read df1write df1mon df1sim
@@ -59,7 +65,7 @@ else
   Q = @
 endif
 
-LIB_HDRS := $(wildcard include/*.h lib/*.h)
+LIB_HDRS := $(wildcard include/*.h lib/*.h lib/*/*.h)
 COMPILE = $(Q)mkdir -p $(dir $@); $(if $(Q),echo "  CC      $@";) \
 	$(CC) $(CFLAGS) $(EXTRA) $(DF1_CFLAGS)
 
