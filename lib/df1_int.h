@@ -12,9 +12,11 @@
 
 #define DF1_LOCAL __attribute__((visibility("hidden")))
 
-/* Counters of seeds/004, indexed by ID - CNT_BASE (2525..2561). */
-#define CNT_BASE 2525
-#define CNT_COUNT (2561 - 2525 + 1)
+/* Counters of seeds/004, indexed by ID - CNT_BASE: the catalog's IDs from
+ * the first counter to the last (2525..2561; 2552-2559 inside that range are
+ * configuration messages and never counted). */
+#define CNT_BASE DF1_ID_CNT_MSG_PACKETS_SENT
+#define CNT_COUNT (DF1_ID_CRD_CHAR_RECV - DF1_ID_CNT_MSG_PACKETS_SENT + 1)
 
 struct df1_config {
 	int baud, data_bits, stop_bits;

@@ -218,6 +218,37 @@ static void test_errors_catalog_iterates_in_id_order(void **state)
 	assert_null(df1_catalog_at((size_t)-1));
 }
 
+/* The generated names: each DF1_ID_<MNEMONIC> constant has the ID the seed
+ * gives that mnemonic (the typed-in table above), and the counts and the
+ * error sentinel follow from the tables. */
+static void test_errors_catalog_names_are_the_seed_ids(void **state)
+{
+#define NAME_ROW(mnemonic, id, sev, format, description) { #mnemonic, DF1_ID_##mnemonic },
+	static const struct { const char *mnemonic; int id; } named[] = {
+		DF1_CATALOG_TABLE(NAME_ROW)
+	};
+#undef NAME_ROW
+	(void)state;
+	assert_int_equal(DF1_CATALOG_COUNT, NCAT);
+	assert_int_equal(sizeof named / sizeof named[0], NCAT);
+	for (size_t i = 0; i < NCAT; i++) {
+		size_t k = 0;
+
+		while (k < NCAT && strcmp(cat[k].mnemonic, named[i].mnemonic) != 0)
+			k++;
+		assert_true(k < NCAT);
+		assert_int_equal(named[i].id, cat[k].id);
+	}
+	assert_int_equal(DF1_ID_ERR_COMMAND_TIMEOUT, 2508);
+	assert_int_equal(DF1_ID_CNT_ACKS_SENT, 2535);
+	assert_int_equal(DF1_ID_CRT_BAD_CMD_TIMEOUT, 2559);
+	assert_int_equal(DF1_ID_CRD_CHAR_RECV, 2561);
+	assert_int_equal(DF1_ERROR_COUNT, 32);
+	assert_int_equal(DF1_E_LAST_, DF1_E_PERM - 1);
+	assert_int_equal(df1_error_catalog_id(DF1_E_TIMEOUT), 2508);
+	assert_int_equal(df1_error_catalog_id(DF1_E_NO_ETX), 2518);
+}
+
 /* ------------------------------------------------------------------------
  * STS and EXT STS
  * ------------------------------------------------------------------------ */
@@ -426,6 +457,7 @@ int main(void)
 		cmocka_unit_test(test_errors_catalog_has_every_seed_id),
 		cmocka_unit_test(test_errors_catalog_by_mnemonic_any_case),
 		cmocka_unit_test(test_errors_catalog_iterates_in_id_order),
+		cmocka_unit_test(test_errors_catalog_names_are_the_seed_ids),
 		cmocka_unit_test(test_errors_sts_texts),
 		cmocka_unit_test(test_errors_ext_sts_texts_cmd_0f),
 		cmocka_unit_test(test_errors_ext_sts_texts_dh485),
