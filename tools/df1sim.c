@@ -38,11 +38,6 @@
 #define EXIT_COMM 1
 #define EXIT_USAGE 2
 
-#define FILES_MAX 1000          /* file numbers 0..999 */
-#define ELEMS_MAX 1000          /* elements 0..999 */
-#define ELEMS_DEFAULT 256       /* elements of a file unless --data reaches further */
-#define MODE_PROGRAM 1
-#define MODE_RUN 6
 
 /* ------------------------------------------------------------------------
  * Small helpers
@@ -71,29 +66,6 @@ static int usage_error(const char *fmt, ...)
 	va_end(ap);
 	fprintf(stderr, "\nTry '%s --help'.\n", PROG);
 	return EXIT_USAGE;
-}
-
-static void put16(uint8_t *p, uint16_t v)
-{
-	p[0] = (uint8_t)v;
-	p[1] = (uint8_t)(v >> 8);
-}
-
-static void put32(uint8_t *p, uint32_t v)
-{
-	put16(p, (uint16_t)v);
-	put16(p + 2, (uint16_t)(v >> 16));
-}
-
-/* An ST element: LEN(2) + 82 characters, bytes swapped per word (spec 5). */
-static void put_string(uint8_t *p84, const char *s, size_t n)
-{
-	memset(p84, 0, 84);
-	if (n > DF1_STRING_MAX)
-		n = DF1_STRING_MAX;
-	put16(p84, (uint16_t)n);
-	for (size_t i = 0; i < n; i++)
-		p84[2 + (i ^ 1u)] = (uint8_t)s[i];
 }
 
 /* Decimal integer in [lo, hi] (0x hex accepted). */
@@ -132,462 +104,6 @@ static bool parse_percent(const char *s, int *per_mille)
 }
 
 /* ------------------------------------------------------------------------
- * The data table
- * ------------------------------------------------------------------------ */
-
-struct sim_file {
-	enum df1_file_type type;
-	int nelem;
-	size_t esize;
-	uint8_t *data;          /* nelem * esize bytes, SLC wire layout */
-	bool optional;          /* ST9 L10 A11 of the default table: --data may retype them */
-};
-
-struct sim_table {
-	struct sim_file *files[FILES_MAX];
-	int mode;               /* 1 program, 6 run, 7/8 test (0F/80 values) */
-};
-
-/* Deterministic initial contents of element n (man page, DATA TABLE). */
-static void elem_init(enum df1_file_type t, int n, uint8_t *p)
-{
-	char text[32];
-	float f;
-	uint32_t u;
-
-	switch (t) {
-	case DF1_FT_N:
-		put16(p, (uint16_t)n);
-		break;
-	case DF1_FT_F:
-		f = (float)n + 0.5f;
-		memcpy(&u, &f, sizeof u);
-		put32(p, u);
-		break;
-	case DF1_FT_L:
-		put32(p, (uint32_t)n * 65536u + (uint32_t)n);
-		break;
-	case DF1_FT_T: case DF1_FT_C:
-		put16(p, 0);
-		put16(p + 2, 100);
-		put16(p + 4, 0);
-		break;
-	case DF1_FT_ST:
-		snprintf(text, sizeof text, "STRING %d", n);
-		put_string(p, text, strlen(text));
-		break;
-	default:                /* O I S B R A: zero */
-		memset(p, 0, (size_t)df1_file_type_element_size(t));
-		break;
-	}
-}
-
-static struct sim_file *file_new(enum df1_file_type t, int nelem)
-{
-	struct sim_file *f = calloc(1, sizeof *f);
-
-	if (!f)
-		return NULL;
-	f->type = t;
-	f->esize = (size_t)df1_file_type_element_size(t);
-	f->nelem = nelem;
-	f->data = calloc((size_t)nelem, f->esize);
-	if (!f->data) {
-		free(f);
-		return NULL;
-	}
-	for (int i = 0; i < nelem; i++)
-		elem_init(t, i, f->data + (size_t)i * f->esize);
-	return f;
-}
-
-static void file_free(struct sim_file *f)
-{
-	if (f) {
-		free(f->data);
-		free(f);
-	}
-}
-
-/* Grow a file to hold element `elem` (< ELEMS_MAX). */
-static bool file_grow(struct sim_file *f, int elem)
-{
-	uint8_t *d;
-
-	if (elem < f->nelem)
-		return true;
-	d = realloc(f->data, (size_t)(elem + 1) * f->esize);
-	if (!d)
-		return false;
-	f->data = d;
-	for (int i = f->nelem; i <= elem; i++)
-		elem_init(f->type, i, d + (size_t)i * f->esize);
-	f->nelem = elem + 1;
-	return true;
-}
-
-static void table_free(struct sim_table *t)
-{
-	if (!t)
-		return;
-	for (int i = 0; i < FILES_MAX; i++)
-		file_free(t->files[i]);
-	free(t);
-}
-
-static struct sim_table *table_clone(const struct sim_table *src)
-{
-	struct sim_table *t = calloc(1, sizeof *t);
-
-	if (!t)
-		return NULL;
-	t->mode = src->mode;
-	for (int i = 0; i < FILES_MAX; i++) {
-		const struct sim_file *s = src->files[i];
-		struct sim_file *f;
-
-		if (!s)
-			continue;
-		f = calloc(1, sizeof *f);
-		if (!f || !(f->data = malloc((size_t)s->nelem * s->esize))) {
-			free(f);
-			table_free(t);
-			return NULL;
-		}
-		f->type = s->type;
-		f->esize = s->esize;
-		f->nelem = s->nelem;
-		memcpy(f->data, s->data, (size_t)s->nelem * s->esize);
-		t->files[i] = f;
-	}
-	return t;
-}
-
-static struct sim_table *table_default(void)
-{
-	/* O0..F8 as every SLC has them, plus ST9 L10 A11 so that every data
-	 * type can be read without a --data file (file number = index). */
-	static const enum df1_file_type defaults[12] = {
-		DF1_FT_O, DF1_FT_I, DF1_FT_S, DF1_FT_B, DF1_FT_T, DF1_FT_C, DF1_FT_R, DF1_FT_N, DF1_FT_F,
-		DF1_FT_ST, DF1_FT_L, DF1_FT_A,
-	};
-	struct sim_table *t = calloc(1, sizeof *t);
-
-	if (!t)
-		return NULL;
-	t->mode = MODE_RUN;
-	for (int i = 0; i < 12; i++) {
-		t->files[i] = file_new(defaults[i], ELEMS_DEFAULT);
-		if (!t->files[i]) {
-			table_free(t);
-			return NULL;
-		}
-		t->files[i]->optional = i >= 9;
-	}
-	return t;
-}
-
-/* ------------------------------------------------------------------------
- * --data FILE: ADDRESS=VALUE[,VALUE...] per line, '#' comments
- * ------------------------------------------------------------------------ */
-
-/* Split the values at commas outside double quotes; strip blanks and quotes
- * (\" and \\ inside quotes). Returns the count, or -1 on an unterminated quote. */
-static int split_values(char *s, char **out, int max)
-{
-	int n = 0;
-
-	for (;;) {
-		char *w, *start;
-
-		while (*s == ' ' || *s == '\t')
-			s++;
-		if (n == max)
-			return -2;
-		start = w = s;
-		if (*s == '"') {
-			s++;
-			while (*s && *s != '"') {
-				if (*s == '\\' && (s[1] == '"' || s[1] == '\\'))
-					s++;
-				*w++ = *s++;
-			}
-			if (*s != '"')
-				return -1;
-			s++;
-			while (*s == ' ' || *s == '\t')
-				s++;
-			if (*s && *s != ',')
-				return -1;
-		} else {
-			while (*s && *s != ',')
-				s++;
-			w = s;
-			while (w > start && (w[-1] == ' ' || w[-1] == '\t'))
-				w--;
-		}
-		out[n++] = start;
-		if (*s == ',') {
-			*w = '\0';
-			s++;
-			continue;
-		}
-		*w = '\0';
-		return n;
-	}
-}
-
-/* The address of value i of a list starting at a. */
-static void addr_step(const struct df1_addr *a, int i, struct df1_addr *out)
-{
-	*out = *a;
-	if (a->bit != DF1_ADDR_NONE) {
-		int nbits = a->type == DF1_FT_L && a->sub == DF1_ADDR_NONE ? 32 : 16;
-		int b = a->bit + i;
-
-		out->element = a->element + b / nbits;
-		out->bit = b % nbits;
-	} else {
-		out->element = a->element + i;
-	}
-}
-
-/* Store one parsed value at address a (file exists, element in range). */
-static void table_store(struct sim_file *f, const struct df1_addr *a, const struct df1_value *v)
-{
-	uint8_t *p = f->data + (size_t)a->element * f->esize;
-	uint32_t u;
-
-	if (a->sub != DF1_ADDR_NONE)
-		p += (size_t)a->sub * 2;
-	switch (v->kind) {
-	case DF1_VAL_BIT: {
-		uint8_t *b = p + a->bit / 8;
-		uint8_t m = (uint8_t)(1u << (a->bit % 8));
-
-		*b = v->v.bit ? (uint8_t)(*b | m) : (uint8_t)(*b & ~m);
-		break;
-	}
-	case DF1_VAL_INT16:
-		put16(p, (uint16_t)v->v.i16);
-		break;
-	case DF1_VAL_INT32:
-		put32(p, (uint32_t)v->v.i32);
-		break;
-	case DF1_VAL_FLOAT:
-		memcpy(&u, &v->v.f, sizeof u);
-		put32(p, u);
-		break;
-	case DF1_VAL_STRING:
-		put_string(p, v->v.str.text, v->v.str.len);
-		break;
-	case DF1_VAL_TCR:
-		put16(p, v->v.tcr.ctl);
-		put16(p + 2, (uint16_t)v->v.tcr.pre);
-		put16(p + 4, (uint16_t)v->v.tcr.acc);
-		break;
-	}
-}
-
-/* One line "ADDRESS=VALUE[,VALUE...]"; returns NULL or an error text in err. */
-static bool data_line(struct sim_table *t, char *line, char *err, size_t cap)
-{
-	char *eq = strchr(line, '='), *vals[ELEMS_MAX];
-	char *addr_text = line, *e;
-	struct df1_addr a;
-	struct sim_file *f;
-	int n, rc, sub_words;
-
-	if (!eq) {
-		snprintf(err, cap, "expected ADDRESS=VALUE[,VALUE...]");
-		return false;
-	}
-	*eq = '\0';
-	e = eq;
-	while (e > addr_text && (e[-1] == ' ' || e[-1] == '\t'))
-		*--e = '\0';
-	rc = df1_addr_parse(addr_text, &a);
-	if (rc < 0) {
-		snprintf(err, cap, "%s: %s", addr_text, df1_strerror(rc));
-		return false;
-	}
-	if (a.ascii[0] || a.type == DF1_FT_NONE || a.file < 0 || a.file >= FILES_MAX) {
-		snprintf(err, cap, "%s: not a data-table address", addr_text);
-		return false;
-	}
-	n = split_values(eq + 1, vals, ELEMS_MAX);
-	if (n == -1) {
-		snprintf(err, cap, "%s: unterminated quote", addr_text);
-		return false;
-	}
-	if (n < 0) {
-		snprintf(err, cap, "%s: more than %d values", addr_text, ELEMS_MAX);
-		return false;
-	}
-	f = t->files[a.file];
-	if (f && f->type != a.type && f->optional) {
-		/* e.g. N9, the SLC's common interface file for PLC-2 commands */
-		file_free(f);
-		f = t->files[a.file] = NULL;
-	}
-	if (f && f->type != a.type) {
-		snprintf(err, cap, "%s: file %d already holds type %s", addr_text, a.file,
-		         df1_file_type_name(f->type));
-		return false;
-	}
-	sub_words = df1_file_type_element_size(a.type) / 2;
-	if (a.sub != DF1_ADDR_NONE && a.sub >= sub_words) {
-		snprintf(err, cap, "%s: sub-element beyond the element's %d words", addr_text, sub_words);
-		return false;
-	}
-	if (!f) {
-		f = t->files[a.file] = file_new(a.type, ELEMS_DEFAULT);
-		if (!f) {
-			snprintf(err, cap, "out of memory");
-			return false;
-		}
-	}
-	for (int i = 0; i < n; i++) {
-		struct df1_addr ai;
-		struct df1_value v;
-
-		addr_step(&a, i, &ai);
-		if (ai.element >= ELEMS_MAX) {
-			snprintf(err, cap, "%s: value %d lands beyond element %d", addr_text, i + 1, ELEMS_MAX - 1);
-			return false;
-		}
-		rc = df1_value_parse(&ai, vals[i], &v);
-		if (rc < 0) {
-			snprintf(err, cap, "%s: '%s': %s", addr_text, vals[i], df1_strerror(rc));
-			return false;
-		}
-		if (!file_grow(f, ai.element)) {
-			snprintf(err, cap, "out of memory");
-			return false;
-		}
-		table_store(f, &ai, &v);
-	}
-	return true;
-}
-
-static int data_load(struct sim_table *t, const char *path)
-{
-	FILE *fp = fopen(path, "r");
-	char *line = NULL, err[256];
-	size_t cap = 0;
-	ssize_t len;
-	int lineno = 0, status = 0;
-
-	if (!fp) {
-		msg("%s: %s", path, strerror(errno));
-		return EXIT_USAGE;
-	}
-	while ((len = getline(&line, &cap, fp)) >= 0) {
-		char *s = line, *hash;
-		bool inq = false;
-
-		lineno++;
-		/* a '#' outside quotes starts a comment */
-		for (hash = s; *hash; hash++) {
-			if (*hash == '"' && (hash == s || hash[-1] != '\\'))
-				inq = !inq;
-			else if (*hash == '#' && !inq)
-				break;
-		}
-		*hash = '\0';
-		while (*s && isspace((unsigned char)*s))
-			s++;
-		len = (ssize_t)strlen(s);
-		while (len > 0 && isspace((unsigned char)s[len - 1]))
-			s[--len] = '\0';
-		if (!*s)
-			continue;
-		if (!data_line(t, s, err, sizeof err)) {
-			msg("%s:%d: %s", path, lineno, err);
-			status = EXIT_USAGE;
-			break;
-		}
-	}
-	if (status == 0 && ferror(fp)) {
-		msg("%s: %s", path, strerror(errno));
-		status = EXIT_USAGE;
-	}
-	free(line);
-	fclose(fp);
-	return status;
-}
-
-/* ------------------------------------------------------------------------
- * Processors (diagnostic status, spec 4.9)
- * ------------------------------------------------------------------------ */
-
-struct processor {
-	const char *key;        /* normalised name: lower case, no blanks, '-' or '_' */
-	const char *bulletin;   /* EE form: bytes 6-16 */
-	uint8_t code;
-	bool plc5;              /* EB form */
-};
-
-static const struct processor processors[] = {
-	{ "slc500", "500 - 20", 0x1A, false },
-	{ "slc5/01", "5/01", 0x18, false },
-	{ "slc5/02", "5/02", 0x25, false },
-	{ "slc5/03", "5/03", 0x49, false },
-	{ "slc5/04", "5/04", 0x5B, false },
-	{ "slc5/04l541", "5/04", 0x6F, false },
-	{ "slc5/05", "5/05", 0x78, false },
-	{ "ml1000", "1761", 0x58, false },
-	{ "ml1100", "1763", 0x9C, false },
-	{ "ml1200", "1762", 0x88, false },
-	{ "ml1400", "1766", 0x9F, false },
-	{ "ml1500", "1764", 0x89, false },
-	{ "ml1500lrp", "1764", 0x8C, false },
-	{ "plc5/10", NULL, 0x22, true },
-	{ "plc5/11", NULL, 0x31, true },
-	{ "plc5/12", NULL, 0x13, true },
-	{ "plc5/20", NULL, 0x32, true },
-	{ "plc5/25", NULL, 0x14, true },
-	{ "plc5/30", NULL, 0x33, true },
-	{ "plc5/40", NULL, 0x15, true },
-	{ "plc5/40l", NULL, 0x28, true },
-	{ "plc5/60", NULL, 0x23, true },
-	{ "plc5/60l", NULL, 0x29, true },
-	{ "plc5/20e", NULL, 0x4A, true },
-	{ "plc5/40e", NULL, 0x4B, true },
-	{ "plc5/80e", NULL, 0x59, true },
-};
-
-static const struct processor *processor_find(const char *name, struct processor *custom, bool plc5)
-{
-	char key[32];
-	size_t n = 0;
-	long code;
-
-	for (const char *s = name; *s && n < sizeof key - 1; s++) {
-		if (*s == ' ' || *s == '-' || *s == '_')
-			continue;
-		key[n++] = (char)tolower((unsigned char)*s);
-	}
-	key[n] = '\0';
-	if (strncmp(key, "micrologix", 10) == 0) {
-		memmove(key + 2, key + 10, strlen(key + 10) + 1);
-		key[0] = 'm';
-		key[1] = 'l';
-	}
-	for (size_t i = 0; i < sizeof processors / sizeof processors[0]; i++)
-		if (strcmp(processors[i].key, key) == 0)
-			return &processors[i];
-	if (parse_long(name, 0, 255, &code)) {
-		custom->key = name;
-		custom->bulletin = "";
-		custom->code = (uint8_t)code;
-		custom->plc5 = plc5;
-		return custom;
-	}
-	return NULL;
-}
-
-/* ------------------------------------------------------------------------
  * The simulator
  * ------------------------------------------------------------------------ */
 
@@ -604,10 +120,9 @@ struct logger {
 };
 
 struct sim {
-	struct sim_table *tables[256];  /* per served station */
+	struct df1_table *tables[256];  /* per served station */
 	int stations[256];
 	int nstations;
-	const struct processor *proc;
 	enum df1_plc plc;
 	bool half;
 	int verbose;
@@ -640,119 +155,41 @@ static void on_signal(int sig)
 	errno = saved;
 }
 
-static struct sim_table *sim_table_for(struct sim *s, int station)
+static struct df1_table *sim_table_for(struct sim *s, int station)
 {
 	if (station >= 0 && station < 256 && s->tables[station])
 		return s->tables[station];
 	return s->tables[s->stations[0]];       /* full duplex: DST is not checked */
 }
 
-/* The data-table contract of lib/server.h. */
-static int sim_locate(struct sim_table *t, const struct df1_addr *a, size_t nbytes, uint8_t **p)
-{
-	struct sim_file *f;
-	size_t off, size;
-
-	if (a->file < 0 || a->file >= FILES_MAX || !(f = t->files[a->file]))
-		return 0x06;            /* address doesn't point to something usable */
-	if (a->type != DF1_FT_NONE && a->type != f->type)
-		return 0x11;            /* illegal data type */
-	if (a->element < 0 || a->element >= f->nelem)
-		return 0x07;            /* beyond the end of the file */
-	off = (size_t)a->element * f->esize;
-	if (a->sub != DF1_ADDR_NONE && a->sub > 0)
-		off += (size_t)a->sub * 2;
-	size = (size_t)f->nelem * f->esize;
-	if (off >= size)
-		return 0x07;
-	if (off + nbytes > size)
-		return 0x0A;            /* transaction size plus word address is too large */
-	*p = f->data + off;
-	return 0;
-}
-
+/* Each station its own table, served by the data table's own callbacks. */
 static int sim_read(void *user, int station, const struct df1_addr *a, uint8_t *buf, size_t nbytes)
 {
-	uint8_t *p = NULL;
-	int rc = sim_locate(sim_table_for(user, station), a, nbytes, &p);
+	struct df1_table *t = sim_table_for(user, station);
 
-	if (rc == 0 && nbytes)
-		memcpy(buf, p, nbytes);
-	return rc;
+	return df1_table_server_ops(t)->read(t, station, a, buf, nbytes);
 }
 
 static int sim_write(void *user, int station, const struct df1_addr *a, const uint8_t *buf,
                      const uint8_t *mask, size_t nbytes)
 {
-	uint8_t *p = NULL;
-	int rc = sim_locate(sim_table_for(user, station), a, nbytes, &p);
+	struct df1_table *t = sim_table_for(user, station);
 
-	if (rc)
-		return rc;
-	for (size_t i = 0; i < nbytes; i++)
-		p[i] = mask ? (uint8_t)((p[i] & ~mask[i]) | (buf[i] & mask[i])) : buf[i];
-	return 0;
+	return df1_table_server_ops(t)->write(t, station, a, buf, mask, nbytes);
 }
 
 static int sim_change_mode(void *user, int station, int mode)
 {
-	if (mode != 1 && mode != 6 && mode != 7 && mode != 8)
-		return 0x01;            /* a field has an illegal value */
-	sim_table_for(user, station)->mode = mode;
-	return 0;
-}
+	struct df1_table *t = sim_table_for(user, station);
 
-static int sim_files(const struct sim_table *t)
-{
-	int n = 0;
-
-	for (int i = 0; i < FILES_MAX; i++)
-		n += t->files[i] != NULL;
-	return n;
+	return df1_table_server_ops(t)->change_mode(t, station, mode);
 }
 
 static int sim_diag_status(void *user, int station, uint8_t *buf, size_t cap)
 {
-	struct sim *s = user;
-	const struct sim_table *t = sim_table_for(s, station);
-	const struct processor *p = s->proc;
+	struct df1_table *t = sim_table_for(user, station);
 
-	if (p->plc5) {
-		/* M p.192-193: 1 mode, 2 EB, 3 type, 4-7 memory, 8 series/revision,
-		 * 9 DH+ node, 10 I/O address, 11 flags, 12-13 data files, 14-15 program
-		 * files, 16 forcing, 17 memory protect, 18 bad RAM */
-		int mode = t->mode == MODE_RUN ? 6 : t->mode == MODE_PROGRAM ? 4 : 5;
-		int files = sim_files(t);
-
-		if (cap < 18)
-			return -0x10;
-		memset(buf, 0, 18);
-		buf[0] = (uint8_t)mode;
-		buf[1] = 0xEB;
-		buf[2] = p->code;
-		put32(buf + 3, 49152);                  /* 48K words */
-		buf[7] = (uint8_t)((4u << 5) | 2u);     /* series E, revision 3 */
-		buf[8] = (uint8_t)station;
-		put16(buf + 11, (uint16_t)files);
-		put16(buf + 13, 2);
-		return 18;
-	}
-	/* M p.174: 1 mode/status, 2 EE, 3 interface type, 4 processor type,
-	 * 5 series/revision, 6-16 bulletin, 17-18 major error, 19-20 mode/status
-	 * word, 21-22 program ID, 23 RAM KB, 24 program owner (3F none) */
-	if (cap < 24)
-		return -0x10;
-	memset(buf, 0, 24);
-	buf[1] = 0xEE;
-	buf[2] = s->plc == DF1_PLC_MICROLOGIX ? 0x34 : 0x1F;
-	buf[3] = p->code;
-	buf[4] = (uint8_t)((2u << 5) | 4u);             /* series C, revision 5 */
-	memset(buf + 5, ' ', 11);
-	memcpy(buf + 5, p->bulletin, strlen(p->bulletin) < 11 ? strlen(p->bulletin) : 11);
-	buf[18] = (uint8_t)t->mode;
-	buf[22] = 0x10;
-	buf[23] = 0x3F;
-	return 24;
+	return df1_table_server_ops(t)->diag_status(t, station, buf, cap);
 }
 
 static const struct df1_server_ops sim_ops = {
@@ -789,12 +226,8 @@ static void log_command(struct sim *s, int station, const uint8_t *app, size_t n
 		if (a.ascii[0]) {
 			snprintf(addr, sizeof addr, "$%s", a.ascii);
 		} else {
-			if (a.type == DF1_FT_NONE && a.file >= 0 && a.file < FILES_MAX) {
-				const struct sim_file *f = sim_table_for(s, station)->files[a.file];
-
-				if (f)
-					a.type = f->type;
-			}
+			if (a.type == DF1_FT_NONE)
+				(void)df1_table_file(sim_table_for(s, station), a.file, &a.type);
 			if (a.type == DF1_FT_NONE || df1_addr_format(&a, addr, sizeof addr) < 0)
 				snprintf(addr, sizeof addr, "#%d:%d", a.file, a.element);
 		}
@@ -1552,7 +985,7 @@ static int self_pipe(void)
 static void sim_free(struct sim *s)
 {
 	for (int i = 0; i < 256; i++)
-		table_free(s->tables[i]);
+		df1_table_free(s->tables[i]);
 	if (s->log.fp)
 		fclose(s->log.fp);
 	df1_decoder_free(s->log.dec[0]);
@@ -1561,13 +994,7 @@ static void sim_free(struct sim *s)
 
 static int sim_build(struct sim *s, const struct opts *o)
 {
-	static const char *const default_proc[] = {
-		[DF1_PLC_SLC] = "slc5/04", [DF1_PLC_MICROLOGIX] = "ml1400",
-		[DF1_PLC_SLC502] = "slc5/02", [DF1_PLC_PLC5] = "plc5/40", [DF1_PLC_PLC2] = "slc5/04",
-	};
-	static struct processor custom;
-	struct sim_table *tmpl;
-	int r;
+	struct df1_table *tmpl = NULL;
 
 	memset(s, 0, sizeof *s);
 	s->plc = o->plc;
@@ -1579,25 +1006,23 @@ static int sim_build(struct sim *s, const struct opts *o)
 		s->silent_pm = o->faults[DF1_FAULT_SILENT_STATION].per_mille;
 		s->silent_station = o->faults[DF1_FAULT_SILENT_STATION].value;
 	}
-	s->proc = processor_find(o->processor ? o->processor : default_proc[o->plc], &custom,
-	                         o->plc == DF1_PLC_PLC5);
-	if (!s->proc) {
+	if (df1_table_new(&tmpl, o->plc) < 0 || df1_table_add_default_files(tmpl) < 0) {
+		df1_table_free(tmpl);
+		msg("out of memory");
+		return EXIT_COMM;
+	}
+	s->tables[s->stations[0]] = tmpl;       /* sim_free() frees it from here on */
+	if (o->processor && df1_table_set_processor(tmpl, o->processor) < 0) {
 		usage_error("--processor: unknown processor '%s' (e.g. slc5/04, ml1400, plc5/40, 0x5B)",
 		            o->processor);
 		return EXIT_USAGE;
 	}
-	tmpl = table_default();
-	if (!tmpl) {
-		msg("out of memory");
-		return EXIT_COMM;
+	if (o->data && df1_table_load(tmpl, o->data) < 0) {
+		msg("%s", df1_table_error_text(tmpl));
+		return EXIT_USAGE;
 	}
-	if (o->data && (r = data_load(tmpl, o->data)) != 0) {
-		table_free(tmpl);
-		return r;
-	}
-	for (int i = 0; i < s->nstations; i++) {
-		s->tables[s->stations[i]] = i == 0 ? tmpl : table_clone(tmpl);
-		if (!s->tables[s->stations[i]]) {
+	for (int i = 1; i < s->nstations; i++) {
+		if (df1_table_clone(&s->tables[s->stations[i]], tmpl) < 0) {
 			msg("out of memory");
 			return EXIT_COMM;
 		}
