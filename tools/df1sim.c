@@ -9,39 +9,27 @@
  * Exit status: 0 (stopped by SIGINT/SIGTERM), 1 (communication / system error),
  * 2 (usage or configuration error).
  */
-#include <ctype.h>
 #include <errno.h>
-#include <fcntl.h>
 #include <getopt.h>
-#include <limits.h>
-#include <math.h>
-#include <netdb.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
-#include <arpa/inet.h>
 #include <poll.h>
-#include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 #include <sys/socket.h>
-#include <sys/stat.h>
-#include <termios.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "df1.h"
+#include "cli.h"
+#include "cli_sim.h"
 
 #define PROG "df1sim"
-#define EXIT_COMM 1
-#define EXIT_USAGE 2
 
-
-/* ------------------------------------------------------------------------
- * Small helpers
- * ------------------------------------------------------------------------ */
+static const struct cli_tool sim_tool = { .name = PROG };
+static struct cli cli;          /* the shared CLI code's view of df1sim: its name */
 
 static void msg(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 static void msg(const char *fmt, ...)
@@ -55,69 +43,9 @@ static void msg(const char *fmt, ...)
 	fputc('\n', stderr);
 }
 
-static int usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-static int usage_error(const char *fmt, ...)
-{
-	va_list ap;
-
-	fprintf(stderr, "%s: ", PROG);
-	va_start(ap, fmt);
-	vfprintf(stderr, fmt, ap);
-	va_end(ap);
-	fprintf(stderr, "\nTry '%s --help'.\n", PROG);
-	return EXIT_USAGE;
-}
-
-/* Decimal integer in [lo, hi] (0x hex accepted). */
-static bool parse_long(const char *s, long lo, long hi, long *out)
-{
-	char *end;
-	long v;
-
-	if (!s || !*s)
-		return false;
-	errno = 0;
-	v = strtol(s, &end, 0);
-	if (errno || *end || v < lo || v > hi)
-		return false;
-	*out = v;
-	return true;
-}
-
-/* A probability in percent, "0".."100", decimals allowed ("0.5", "2.5%"),
- * as per mille (the library's unit), rounded. */
-static bool parse_percent(const char *s, int *per_mille)
-{
-	char *end;
-	double v;
-
-	if (!s || !*s)
-		return false;
-	errno = 0;
-	v = strtod(s, &end);
-	if (*end == '%')
-		end++;
-	if (errno || *end || !(v >= 0.0 && v <= 100.0))
-		return false;
-	*per_mille = (int)lround(v * 10.0);
-	return true;
-}
-
 /* ------------------------------------------------------------------------
  * The simulator
  * ------------------------------------------------------------------------ */
-
-struct logger {
-	FILE *fp;
-	struct df1_decoder *dec[2];     /* by enum df1_dir */
-	struct {
-		bool used, logged;
-		int station;
-		uint8_t app[300];
-		size_t n;
-	} ring[16];
-	int next;
-};
 
 struct sim {
 	struct df1_table *tables[256];  /* per served station */
@@ -126,34 +54,10 @@ struct sim {
 	enum df1_plc plc;
 	bool half;
 	int verbose;
-	struct logger log;
+	struct sim_cmdlog log;          /* --log */
 	int silent_pm, silent_station;  /* --silent, put back by SIGUSR2 (0: none) */
 	bool muted;                     /* SIGUSR1 applied: every station silent */
 };
-
-static volatile sig_atomic_t g_stop;
-static volatile sig_atomic_t g_mute;    /* 1 after SIGUSR1, 0 after SIGUSR2 */
-static int g_sigpipe[2] = { -1, -1 };
-
-/* SIGINT/SIGTERM stop, SIGUSR1/SIGUSR2 mute and unmute; every signal also
- * writes the self-pipe, the handle's cancel descriptor, so that a wait in
- * df1_serve() ends at once (DF1_E_INTR) and the main loop sees the flags. */
-static void on_signal(int sig)
-{
-	int saved = errno;
-	char c = (char)sig;
-
-	if (sig == SIGUSR1)
-		g_mute = 1;
-	else if (sig == SIGUSR2)
-		g_mute = 0;
-	else
-		g_stop = 1;
-	if (g_sigpipe[1] >= 0 && write(g_sigpipe[1], &c, 1) < 0) {
-		/* the pipe is full: a byte is already waiting */
-	}
-	errno = saved;
-}
 
 static struct df1_table *sim_table_for(struct sim *s, int station)
 {
@@ -199,106 +103,6 @@ static const struct df1_server_ops sim_ops = {
 	.change_mode = sim_change_mode,
 };
 
-/* ------------------------------------------------------------------------
- * --log: one line per command answered. The trace callback sees the bytes
- * both ways; a command is logged when a reply to it goes out (once, however
- * often the link repeats it).
- * ------------------------------------------------------------------------ */
-
-static void log_command(struct sim *s, int station, const uint8_t *app, size_t n)
-{
-	struct df1_msg m;
-	struct timespec ts;
-	struct tm tm;
-	char when[40], addr[80], count[16], cmd[8];
-	int es;
-
-	if (df1_msg_decode(app, n, &m) < 0)
-		return;
-	clock_gettime(CLOCK_REALTIME, &ts);
-	localtime_r(&ts.tv_sec, &tm);
-	strftime(when, sizeof when, "%Y-%m-%dT%H:%M:%S", &tm);
-	snprintf(addr, sizeof addr, "-");
-	snprintf(count, sizeof count, "-");
-	if (m.has_addr) {
-		struct df1_addr a = m.addr;
-
-		if (a.ascii[0]) {
-			snprintf(addr, sizeof addr, "$%s", a.ascii);
-		} else {
-			if (a.type == DF1_FT_NONE)
-				(void)df1_table_file(sim_table_for(s, station), a.file, &a.type);
-			if (a.type == DF1_FT_NONE || df1_addr_format(&a, addr, sizeof addr) < 0)
-				snprintf(addr, sizeof addr, "#%d:%d", a.file, a.element);
-		}
-	}
-	if (m.size >= 0) {
-		int c = m.size;
-
-		if (m.cmd == 0x0F && m.fnc >= 0xA1 && m.fnc <= 0xAB) {
-			/* SLC: BYTE_SIZE -> elements (words for a sub-element) */
-			es = m.addr.sub != DF1_ADDR_NONE ? 2 : df1_file_type_element_size(m.addr.type);
-			if (es <= 0)
-				es = 2;
-			c = (m.size + es - 1) / es;
-		} else if ((m.cmd == 0x0F && (m.fnc == 0x00 || m.fnc == 0x01)) || m.cmd == 0x01 || m.cmd == 0x08) {
-			c = (m.size + 1) / 2;   /* word range, PLC-2: words */
-		}
-		snprintf(count, sizeof count, "%d", c);
-	}
-	if (m.has_fnc)
-		snprintf(cmd, sizeof cmd, "%02X/%02X", m.cmd, m.fnc);
-	else
-		snprintf(cmd, sizeof cmd, "%02X", m.cmd);
-	fprintf(s->log.fp, "%s.%03ld station=%d cmd=%s addr=%s count=%s tns=%04X name=\"%s\"\n",
-	        when, ts.tv_nsec / 1000000L, station, cmd, addr, count, m.tns, m.name ? m.name : "");
-	fflush(s->log.fp);
-}
-
-static void log_rx_frame(struct sim *s, const struct df1_symbol *sym)
-{
-	struct logger *l = &s->log;
-	const uint8_t *a = sym->data;
-	int station;
-
-	if (!sym->check_ok || sym->len < 6 || (a[2] & 0x40))
-		return;
-	station = sym->master_msg && sym->has_station ? sym->station : a[0];
-	if (s->half && (station < 0 || station > 255 || !s->tables[station]))
-		return;                 /* for another slave on the line */
-	for (int i = 0; i < 16; i++) {
-		if (l->ring[i].used && l->ring[i].app[1] == a[1] && l->ring[i].app[2] == a[2] &&
-		    l->ring[i].app[4] == a[4] && l->ring[i].app[5] == a[5])
-			return;         /* a repeat of a command already seen */
-	}
-	l->ring[l->next].used = true;
-	l->ring[l->next].logged = false;
-	l->ring[l->next].station = station;
-	l->ring[l->next].n = sym->len < sizeof l->ring[0].app ? sym->len : sizeof l->ring[0].app;
-	memcpy(l->ring[l->next].app, a, l->ring[l->next].n);
-	l->next = (l->next + 1) % 16;
-}
-
-static void log_tx_frame(struct sim *s, const struct df1_symbol *sym)
-{
-	struct logger *l = &s->log;
-	const uint8_t *r = sym->data;
-
-	if (sym->len < 6 || !(r[2] & 0x40))
-		return;
-	for (int i = 0; i < 16; i++) {
-		const uint8_t *c = l->ring[i].app;
-
-		if (!l->ring[i].used || l->ring[i].logged)
-			continue;
-		if (c[1] == r[0] && (c[2] | 0x40) == r[2] && c[4] == r[4] && c[5] == r[5]) {
-			l->ring[i].logged = true;
-			log_command(s, l->ring[i].station, c, l->ring[i].n);
-			return;
-		}
-	}
-}
-
 static void hexdump(enum df1_dir dir, const uint8_t *b, size_t n)
 {
 	fprintf(stderr, "%s: %s", PROG, dir == DF1_DIR_TX ? "TX" : "RX");
@@ -310,29 +114,11 @@ static void hexdump(enum df1_dir dir, const uint8_t *b, size_t n)
 static void on_trace(void *user, enum df1_dir dir, const uint8_t *bytes, size_t n, uint64_t t_us)
 {
 	struct sim *s = user;
-	struct df1_decoder *d;
 
 	(void)t_us;
 	if (s->verbose >= 2)
 		hexdump(dir, bytes, n);
-	if (!s->log.fp)
-		return;
-	d = s->log.dec[dir == DF1_DIR_TX ? 1 : 0];
-	while (n > 0) {
-		struct df1_symbol sym;
-		size_t used = df1_decoder_feed(d, bytes, n, &sym);
-
-		if (used == 0)
-			break;
-		bytes += used;
-		n -= used;
-		if (sym.kind != DF1_SYM_FRAME)
-			continue;
-		if (dir == DF1_DIR_RX)
-			log_rx_frame(s, &sym);
-		else
-			log_tx_frame(s, &sym);
-	}
+	sim_cmdlog_feed(&s->log, dir, bytes, n);
 }
 
 static void on_log(void *user, int catalog_id, enum df1_severity sev, const char *text)
@@ -477,10 +263,10 @@ static bool parse_stations(const char *s, struct opts *o)
 
 		if (dash) {
 			*dash = '\0';
-			if (!parse_long(tok, 0, 254, &lo) || !parse_long(dash + 1, 0, 254, &hi) || hi < lo)
+			if (!sim_parse_long(tok, 0, 254, &lo) || !sim_parse_long(dash + 1, 0, 254, &hi) || hi < lo)
 				return false;
 		} else {
-			if (!parse_long(tok, 0, 254, &lo))
+			if (!sim_parse_long(tok, 0, 254, &lo))
 				return false;
 			hi = lo;
 		}
@@ -503,29 +289,29 @@ static int set_fault(struct opts *o, enum df1_fault k, const char *name, const c
 	f->given = true;
 	f->value = 0;
 	if (k == DF1_FAULT_SILENT_STATION) {
-		if (!parse_long(arg, 0, 254, &ms))
-			return usage_error("--%s: invalid station '%s' (expected 0..254)", name, arg);
+		if (!sim_parse_long(arg, 0, 254, &ms))
+			return cli_usage_error(&cli, "--%s: invalid station '%s' (expected 0..254)", name, arg);
 		f->per_mille = 1000;
 		f->value = (int)ms;
 		return 0;
 	}
 	if (k == DF1_FAULT_DELAY_REPLY) {
 		if (strlen(arg) >= sizeof buf)
-			return usage_error("--%s: invalid value '%s'", name, arg);
+			return cli_usage_error(&cli, "--%s: invalid value '%s'", name, arg);
 		strcpy(buf, arg);
 		colon = strchr(buf, ':');
 		if (colon)
 			*colon++ = '\0';
-		if (!parse_long(buf, 0, 60000, &ms))
-			return usage_error("--%s: invalid delay '%s' (expected 0..60000 ms)", name, buf);
+		if (!sim_parse_long(buf, 0, 60000, &ms))
+			return cli_usage_error(&cli, "--%s: invalid delay '%s' (expected 0..60000 ms)", name, buf);
 		f->value = (int)ms;
 		f->per_mille = 1000;
-		if (colon && !parse_percent(colon, &f->per_mille))
-			return usage_error("--%s: invalid probability '%s' (expected 0..100 percent)", name, colon);
+		if (colon && !sim_parse_percent(colon, &f->per_mille))
+			return cli_usage_error(&cli, "--%s: invalid probability '%s' (expected 0..100 percent)", name, colon);
 		return 0;
 	}
-	if (!parse_percent(arg, &f->per_mille))
-		return usage_error("--%s: invalid probability '%s' (expected 0..100 percent)", name, arg);
+	if (!sim_parse_percent(arg, &f->per_mille))
+		return cli_usage_error(&cli, "--%s: invalid probability '%s' (expected 0..100 percent)", name, arg);
 	return 0;
 }
 
@@ -559,7 +345,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 			else if (strcasecmp(optarg, "half") == 0)
 				o->half = true;
 			else
-				return usage_error("--duplex: invalid value '%s' (expected full or half)", optarg);
+				return cli_usage_error(&cli, "--duplex: invalid value '%s' (expected full or half)", optarg);
 			break;
 		case OPT_CHECK:
 			if (strcasecmp(optarg, "crc") == 0)
@@ -567,11 +353,11 @@ static int parse_args(int argc, char **argv, struct opts *o)
 			else if (strcasecmp(optarg, "bcc") == 0)
 				o->check = DF1_CHECK_BCC;
 			else
-				return usage_error("--check: invalid value '%s' (expected crc or bcc)", optarg);
+				return cli_usage_error(&cli, "--check: invalid value '%s' (expected crc or bcc)", optarg);
 			break;
 		case OPT_STATION:
 			if (!parse_stations(optarg, o))
-				return usage_error("--station: invalid list '%s' (expected N[,N...] in 0..254)", optarg);
+				return cli_usage_error(&cli, "--station: invalid list '%s' (expected N[,N...] in 0..254)", optarg);
 			break;
 		case OPT_PLC:
 			if (strcasecmp(optarg, "slc") == 0)
@@ -583,35 +369,35 @@ static int parse_args(int argc, char **argv, struct opts *o)
 			else if (strcasecmp(optarg, "plc5") == 0)
 				o->plc = DF1_PLC_PLC5;
 			else
-				return usage_error("--plc: invalid value '%s' (expected slc, micrologix, slc502 or plc5)",
+				return cli_usage_error(&cli, "--plc: invalid value '%s' (expected slc, micrologix, slc502 or plc5)",
 				                   optarg);
 			break;
 		case OPT_PROCESSOR: o->processor = optarg; break;
 		case OPT_PLC5_FLOAT_SWAPPED: o->plc5_float_swapped = true; break;
 		case OPT_DATA: o->data = optarg; break;
-		case OPT_DROP_ACK: if (set_fault(o, DF1_FAULT_DROP_ACK, "drop-ack", optarg)) return EXIT_USAGE; break;
-		case OPT_CORRUPT: if (set_fault(o, DF1_FAULT_CORRUPT_REPLY, "corrupt", optarg)) return EXIT_USAGE; break;
-		case OPT_NAK: if (set_fault(o, DF1_FAULT_NAK_COMMAND, "nak", optarg)) return EXIT_USAGE; break;
-		case OPT_DELAY: if (set_fault(o, DF1_FAULT_DELAY_REPLY, "delay", optarg)) return EXIT_USAGE; break;
-		case OPT_SILENT: if (set_fault(o, DF1_FAULT_SILENT_STATION, "silent", optarg)) return EXIT_USAGE; break;
-		case OPT_STALE: if (set_fault(o, DF1_FAULT_STALE_REPLY, "stale", optarg)) return EXIT_USAGE; break;
-		case OPT_NOISE: if (set_fault(o, DF1_FAULT_NOISE, "noise", optarg)) return EXIT_USAGE; break;
+		case OPT_DROP_ACK: if (set_fault(o, DF1_FAULT_DROP_ACK, "drop-ack", optarg)) return CLI_EXIT_USAGE; break;
+		case OPT_CORRUPT: if (set_fault(o, DF1_FAULT_CORRUPT_REPLY, "corrupt", optarg)) return CLI_EXIT_USAGE; break;
+		case OPT_NAK: if (set_fault(o, DF1_FAULT_NAK_COMMAND, "nak", optarg)) return CLI_EXIT_USAGE; break;
+		case OPT_DELAY: if (set_fault(o, DF1_FAULT_DELAY_REPLY, "delay", optarg)) return CLI_EXIT_USAGE; break;
+		case OPT_SILENT: if (set_fault(o, DF1_FAULT_SILENT_STATION, "silent", optarg)) return CLI_EXIT_USAGE; break;
+		case OPT_STALE: if (set_fault(o, DF1_FAULT_STALE_REPLY, "stale", optarg)) return CLI_EXIT_USAGE; break;
+		case OPT_NOISE: if (set_fault(o, DF1_FAULT_NOISE, "noise", optarg)) return CLI_EXIT_USAGE; break;
 		case OPT_SEED:
 			errno = 0;
 			u = strtoull(optarg, &end, 0);
 			if (errno || !*optarg || *end || optarg[0] == '-')
-				return usage_error("--seed: invalid value '%s'", optarg);
+				return cli_usage_error(&cli, "--seed: invalid value '%s'", optarg);
 			o->seed = u;
 			break;
 		case OPT_LINE_BAUD:
-			if (!parse_long(optarg, 0, 4000000, &v))
-				return usage_error("--line-baud: invalid value '%s' (expected 0..4000000)", optarg);
+			if (!sim_parse_long(optarg, 0, 4000000, &v))
+				return cli_usage_error(&cli, "--line-baud: invalid value '%s' (expected 0..4000000)", optarg);
 			o->line_baud = (int)v;
 			break;
 		case OPT_LOG: o->log = optarg; break;
 		case 'b':
-			if (!parse_long(optarg, 50, 4000000, &v))
-				return usage_error("--baud: invalid value '%s'", optarg);
+			if (!sim_parse_long(optarg, 50, 4000000, &v))
+				return cli_usage_error(&cli, "--baud: invalid value '%s'", optarg);
 			o->baud = (int)v;
 			break;
 		case 'P':
@@ -622,203 +408,37 @@ static int parse_args(int argc, char **argv, struct opts *o)
 			else if (strcasecmp(optarg, "odd") == 0 || strcasecmp(optarg, "o") == 0)
 				o->parity = 'O';
 			else
-				return usage_error("--parity: invalid value '%s' (expected none, even or odd)", optarg);
+				return cli_usage_error(&cli, "--parity: invalid value '%s' (expected none, even or odd)", optarg);
 			break;
 		case OPT_DATA_BITS:
-			if (!parse_long(optarg, 5, 8, &v))
-				return usage_error("--data-bits: invalid value '%s' (expected 5..8)", optarg);
+			if (!sim_parse_long(optarg, 5, 8, &v))
+				return cli_usage_error(&cli, "--data-bits: invalid value '%s' (expected 5..8)", optarg);
 			o->data_bits = (int)v;
 			break;
 		case OPT_STOP_BITS:
-			if (!parse_long(optarg, 1, 2, &v))
-				return usage_error("--stop-bits: invalid value '%s' (expected 1 or 2)", optarg);
+			if (!sim_parse_long(optarg, 1, 2, &v))
+				return cli_usage_error(&cli, "--stop-bits: invalid value '%s' (expected 1 or 2)", optarg);
 			o->stop_bits = (int)v;
 			break;
 		case 'v': o->verbose++; break;
 		case 'h': usage(stdout); return 0;
 		case 'V': printf("%s (libdf1) %s\n", PROG, DF1_VERSION_STRING); return 0;
 		case ':':
-			return usage_error("option '%s' needs a value", argv[optind - 1]);
+			return cli_usage_error(&cli, "option '%s' needs a value", argv[optind - 1]);
 		default:
 			if (optopt && optopt < 256)
-				return usage_error("unknown option '-%c'", optopt);
-			return usage_error("unknown option '%s'", argv[optind - 1]);
+				return cli_usage_error(&cli, "unknown option '-%c'", optopt);
+			return cli_usage_error(&cli, "unknown option '%s'", argv[optind - 1]);
 		}
 	}
 	if (optind < argc)
-		return usage_error("unexpected argument '%s'", argv[optind]);
+		return cli_usage_error(&cli, "unexpected argument '%s'", argv[optind]);
 	if (where != 1)
-		return usage_error(where ? "give only one of --pty, -d and --listen"
+		return cli_usage_error(&cli, where ? "give only one of --pty, -d and --listen"
 		                         : "one of --pty PATH, -d DEV or --listen ADDR is required");
 	if (o->plc5_float_swapped && o->plc != DF1_PLC_PLC5)
-		return usage_error("--plc5-float-swapped goes with --plc plc5 only");
+		return cli_usage_error(&cli, "--plc5-float-swapped goes with --plc plc5 only");
 	return -1;
-}
-
-/* ------------------------------------------------------------------------
- * Transports
- * ------------------------------------------------------------------------ */
-
-struct pty {
-	int master, slave;
-	char slave_name[128];
-	const char *link;
-	bool linked;
-};
-
-static int pty_create(struct pty *p, const char *path)
-{
-	struct termios tio;
-	struct stat st;
-
-	p->master = p->slave = -1;
-	p->linked = false;
-	p->link = path;
-	p->master = posix_openpt(O_RDWR | O_NOCTTY | O_CLOEXEC);
-	if (p->master < 0 || grantpt(p->master) < 0 || unlockpt(p->master) < 0 ||
-	    ptsname_r(p->master, p->slave_name, sizeof p->slave_name) != 0) {
-		msg("cannot create a pseudo-terminal: %s", strerror(errno));
-		return EXIT_COMM;
-	}
-	/* our own descriptor on the slave side: the master never sees a hangup
-	 * between clients; raw, so nothing is echoed or translated meanwhile */
-	p->slave = open(p->slave_name, O_RDWR | O_NOCTTY | O_CLOEXEC);
-	if (p->slave < 0) {
-		msg("%s: %s", p->slave_name, strerror(errno));
-		return EXIT_COMM;
-	}
-	if (tcgetattr(p->slave, &tio) == 0) {
-		cfmakeraw(&tio);
-		tcsetattr(p->slave, TCSANOW, &tio);
-	}
-	if (lstat(path, &st) == 0) {
-		if (!S_ISLNK(st.st_mode)) {
-			msg("%s: exists and is not a symbolic link", path);
-			return EXIT_USAGE;
-		}
-		unlink(path);   /* a stale link from an earlier run */
-	}
-	if (symlink(p->slave_name, path) < 0) {
-		msg("%s: cannot create symbolic link: %s", path, strerror(errno));
-		return EXIT_USAGE;
-	}
-	p->linked = true;
-	return 0;
-}
-
-static void pty_destroy(struct pty *p)
-{
-	char target[sizeof p->slave_name];
-	ssize_t n;
-
-	if (p->linked) {
-		/* remove the link only if it is still ours */
-		n = readlink(p->link, target, sizeof target - 1);
-		if (n >= 0) {
-			target[n] = '\0';
-			if (strcmp(target, p->slave_name) == 0)
-				unlink(p->link);
-		}
-		p->linked = false;
-	}
-	if (p->slave >= 0)
-		close(p->slave);
-	p->slave = -1;
-}
-
-/* "tcp://HOST:PORT", "HOST:PORT", ":PORT", "PORT", "[::1]:PORT". */
-static bool parse_listen(const char *spec, char *host, size_t hcap, char *port, size_t pcap)
-{
-	const char *s = spec, *colon;
-	size_t hl;
-
-	if (strncmp(s, "tcp://", 6) == 0)
-		s += 6;
-	else if (strncmp(s, "tcp:", 4) == 0)
-		s += 4;
-	if (*s == '[') {
-		const char *rb = strchr(s, ']');
-
-		if (!rb || rb[1] != ':')
-			return false;
-		hl = (size_t)(rb - s - 1);
-		if (hl == 0 || hl >= hcap)
-			return false;
-		memcpy(host, s + 1, hl);
-		host[hl] = '\0';
-		s = rb + 2;
-	} else if ((colon = strrchr(s, ':')) != NULL) {
-		hl = (size_t)(colon - s);
-		if (hl >= hcap)
-			return false;
-		memcpy(host, s, hl);
-		host[hl] = '\0';
-		s = colon + 1;
-	} else {
-		host[0] = '\0';
-	}
-	if (!host[0])
-		snprintf(host, hcap, "127.0.0.1");      /* loopback unless asked otherwise */
-	{
-		long v;
-
-		if (!parse_long(s, 0, 65535, &v) || strlen(s) >= pcap)
-			return false;
-		snprintf(port, pcap, "%ld", v);
-	}
-	return true;
-}
-
-static int listen_open(const char *spec, char *shown, size_t cap)
-{
-	char host[256], port[16], hbuf[INET6_ADDRSTRLEN + 8], pbuf[16];
-	struct addrinfo hints, *res, *ai;
-	struct sockaddr_storage ss;
-	socklen_t sl = sizeof ss;
-	int fd = -1, rc, one = 1;
-
-	if (!parse_listen(spec, host, sizeof host, port, sizeof port)) {
-		msg("--listen: invalid address '%s' (expected tcp://HOST:PORT)", spec);
-		return -EXIT_USAGE;
-	}
-	memset(&hints, 0, sizeof hints);
-	hints.ai_family = AF_UNSPEC;
-	hints.ai_socktype = SOCK_STREAM;
-	hints.ai_flags = AI_PASSIVE | AI_NUMERICSERV;
-	rc = getaddrinfo(host, port, &hints, &res);
-	if (rc != 0) {
-		msg("--listen %s: %s", spec, gai_strerror(rc));
-		return -EXIT_USAGE;
-	}
-	for (ai = res; ai; ai = ai->ai_next) {
-		fd = socket(ai->ai_family, ai->ai_socktype | SOCK_CLOEXEC, ai->ai_protocol);
-		if (fd < 0)
-			continue;
-		setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-		if (bind(fd, ai->ai_addr, ai->ai_addrlen) == 0 && listen(fd, 4) == 0)
-			break;
-		rc = errno;
-		close(fd);
-		fd = -1;
-		errno = rc;
-	}
-	freeaddrinfo(res);
-	if (fd < 0) {
-		msg("--listen %s: %s", spec, strerror(errno));
-		return -EXIT_COMM;
-	}
-	if (getsockname(fd, (struct sockaddr *)&ss, &sl) < 0 ||
-	    getnameinfo((struct sockaddr *)&ss, sl, hbuf, sizeof hbuf, pbuf, sizeof pbuf,
-	                NI_NUMERICHOST | NI_NUMERICSERV) != 0) {
-		msg("--listen %s: %s", spec, strerror(errno));
-		close(fd);
-		return -EXIT_COMM;
-	}
-	if (ss.ss_family == AF_INET6)
-		snprintf(shown, cap, "tcp://[%s]:%s", hbuf, pbuf);
-	else
-		snprintf(shown, cap, "tcp://%s:%s", hbuf, pbuf);
-	return fd;
 }
 
 /* ------------------------------------------------------------------------
@@ -835,7 +455,7 @@ static int report(df1_t *h, const char *where, int err)
 		    d && d->message[0] ? d->message : df1_strerror(err));
 	else
 		msg("%s: %s: %s", where, df1_errname(err), d && d->message[0] ? d->message : df1_strerror(err));
-	return EXIT_COMM;
+	return CLI_EXIT_FAIL;
 }
 
 /* Empty the self-pipe and apply SIGUSR1 / SIGUSR2 if one came. A wait that a
@@ -844,13 +464,10 @@ static int report(df1_t *h, const char *where, int err)
  * the master sees as a broken frame and recovers from). */
 static void sim_wakeup(df1_t *h, struct sim *s)
 {
-	char buf[64];
 	bool mute;
 
-	while (read(g_sigpipe[0], buf, sizeof buf) > 0) {
-		/* drain: the flags say what happened */
-	}
-	mute = g_mute != 0;
+	sim_signal_drain();
+	mute = sim_mute != 0;
 	if (mute == s->muted)
 		return;
 	if (mute)
@@ -868,12 +485,12 @@ static int serve_open(df1_t *h, struct sim *s)
 {
 	int r;
 
-	while (!g_stop) {
+	while (!sim_stop) {
 		sim_wakeup(h, s);
 		r = df1_serve(h, &sim_ops, s, 1000);
-		if (r >= 0 || (r == DF1_E_INTR && !g_stop))
+		if (r >= 0 || (r == DF1_E_INTR && !sim_stop))
 			continue;
-		if (r == DF1_E_INTR || g_stop)
+		if (r == DF1_E_INTR || sim_stop)
 			return 0;
 		return r;
 	}
@@ -883,19 +500,19 @@ static int serve_open(df1_t *h, struct sim *s)
 static int serve_tcp(df1_t *h, struct sim *s, int lfd, const char *shown)
 {
 	for (;;) {
-		struct pollfd pfd[2] = { { lfd, POLLIN, 0 }, { g_sigpipe[0], POLLIN, 0 } };
+		struct pollfd pfd[2] = { { lfd, POLLIN, 0 }, { sim_signal_fd(), POLLIN, 0 } };
 		int cfd, r, one = 1;
 
-		if (g_stop)
+		if (sim_stop)
 			return 0;
 		r = poll(pfd, 2, -1);
 		if (r < 0) {
 			if (errno == EINTR)
 				continue;
 			msg("%s: poll: %s", shown, strerror(errno));
-			return EXIT_COMM;
+			return CLI_EXIT_FAIL;
 		}
-		if (g_stop)
+		if (sim_stop)
 			return 0;
 		if (pfd[1].revents) {
 			sim_wakeup(h, s);       /* SIGUSR1 / SIGUSR2 */
@@ -908,7 +525,7 @@ static int serve_tcp(df1_t *h, struct sim *s, int lfd, const char *shown)
 			if (errno == EINTR || errno == ECONNABORTED || errno == EAGAIN)
 				continue;
 			msg("%s: accept: %s", shown, strerror(errno));
-			return EXIT_COMM;
+			return CLI_EXIT_FAIL;
 		}
 		setsockopt(cfd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
 		if (s->verbose)
@@ -952,7 +569,7 @@ static int setup_handle(df1_t *h, const struct opts *o, struct sim *s)
 		const struct df1_error_detail *d = df1_last_error(h);
 
 		msg("invalid setting: %s", d && d->message[0] ? d->message : df1_strerror(r));
-		return EXIT_USAGE;
+		return CLI_EXIT_USAGE;
 	}
 	df1_server_set_seed(h, o->seed);
 	if (o->verbose)
@@ -962,39 +579,17 @@ static int setup_handle(df1_t *h, const struct opts *o, struct sim *s)
 	return 0;
 }
 
-static int self_pipe(void)
-{
-	struct sigaction sa;
-
-	if (pipe2(g_sigpipe, O_CLOEXEC | O_NONBLOCK) < 0) {
-		msg("pipe: %s", strerror(errno));
-		return EXIT_COMM;
-	}
-	memset(&sa, 0, sizeof sa);
-	sa.sa_handler = on_signal;
-	sigemptyset(&sa.sa_mask);
-	sigaction(SIGINT, &sa, NULL);
-	sigaction(SIGTERM, &sa, NULL);
-	sigaction(SIGUSR1, &sa, NULL);
-	sigaction(SIGUSR2, &sa, NULL);
-	sa.sa_handler = SIG_IGN;
-	sigaction(SIGPIPE, &sa, NULL);
-	return 0;
-}
-
 static void sim_free(struct sim *s)
 {
 	for (int i = 0; i < 256; i++)
 		df1_table_free(s->tables[i]);
-	if (s->log.fp)
-		fclose(s->log.fp);
-	df1_decoder_free(s->log.dec[0]);
-	df1_decoder_free(s->log.dec[1]);
+	sim_cmdlog_close(&s->log);
 }
 
 static int sim_build(struct sim *s, const struct opts *o)
 {
 	struct df1_table *tmpl = NULL;
+	int r;
 
 	memset(s, 0, sizeof *s);
 	s->plc = o->plc;
@@ -1009,37 +604,34 @@ static int sim_build(struct sim *s, const struct opts *o)
 	if (df1_table_new(&tmpl, o->plc) < 0 || df1_table_add_default_files(tmpl) < 0) {
 		df1_table_free(tmpl);
 		msg("out of memory");
-		return EXIT_COMM;
+		return CLI_EXIT_FAIL;
 	}
 	s->tables[s->stations[0]] = tmpl;       /* sim_free() frees it from here on */
 	if (o->processor && df1_table_set_processor(tmpl, o->processor) < 0) {
-		usage_error("--processor: unknown processor '%s' (e.g. slc5/04, ml1400, plc5/40, 0x5B)",
+		cli_usage_error(&cli, "--processor: unknown processor '%s' (e.g. slc5/04, ml1400, plc5/40, 0x5B)",
 		            o->processor);
-		return EXIT_USAGE;
+		return CLI_EXIT_USAGE;
 	}
 	if (o->data && df1_table_load(tmpl, o->data) < 0) {
 		msg("%s", df1_table_error_text(tmpl));
-		return EXIT_USAGE;
+		return CLI_EXIT_USAGE;
 	}
 	for (int i = 1; i < s->nstations; i++) {
 		if (df1_table_clone(&s->tables[s->stations[i]], tmpl) < 0) {
 			msg("out of memory");
-			return EXIT_COMM;
+			return CLI_EXIT_FAIL;
 		}
 	}
 	if (o->log) {
-		s->log.fp = fopen(o->log, "w");
-		if (!s->log.fp) {
+		r = sim_cmdlog_open(&s->log, o->log, o->check, o->half, s->tables, s->stations[0]);
+		if (r == -1) {
 			msg("--log %s: %s", o->log, strerror(errno));
-			return EXIT_USAGE;
+			return CLI_EXIT_USAGE;
 		}
-		if (df1_decoder_new(&s->log.dec[0], o->check) < 0 ||
-		    df1_decoder_new(&s->log.dec[1], o->check) < 0) {
+		if (r < 0) {
 			msg("out of memory");
-			return EXIT_COMM;
+			return CLI_EXIT_FAIL;
 		}
-		df1_decoder_set_half_duplex(s->log.dec[0], o->half);
-		df1_decoder_set_half_duplex(s->log.dec[1], o->half);
 	}
 	return 0;
 }
@@ -1048,11 +640,12 @@ int main(int argc, char **argv)
 {
 	static struct sim sim;
 	struct opts o;
-	struct pty pty = { -1, -1, "", NULL, false };
-	char shown[300];
+	struct sim_pty pty = { -1, -1, "", NULL, false };
+	char shown[300], err[600];
 	df1_t *h = NULL;
 	int status, r, lfd = -1;
 
+	cli_init(&cli, &sim_tool);
 	status = parse_args(argc, argv, &o);
 	if (status >= 0)
 		return status;
@@ -1062,21 +655,25 @@ int main(int argc, char **argv)
 	r = df1_new(&h);
 	if (r < 0) {
 		msg("%s", df1_strerror(r));
-		status = EXIT_COMM;
+		status = CLI_EXIT_FAIL;
 		goto out;
 	}
 	status = setup_handle(h, &o, &sim);
 	if (status)
 		goto out;
-	status = self_pipe();
-	if (status)
+	if (sim_signals_install() < 0) {
+		msg("pipe: %s", strerror(errno));
+		status = CLI_EXIT_FAIL;
 		goto out;
-	df1_set_cancel_fd(h, g_sigpipe[0]);
+	}
+	df1_set_cancel_fd(h, sim_signal_fd());
 
 	if (o.pty) {
-		status = pty_create(&pty, o.pty);
-		if (status)
+		status = sim_pty_create(&pty, o.pty, err, sizeof err);
+		if (status) {
+			msg("%s", err);
 			goto out;
+		}
 		r = df1_open_fd(h, pty.master, true);
 		if (r < 0) {
 			status = report(h, o.pty, r);
@@ -1092,8 +689,9 @@ int main(int argc, char **argv)
 		}
 		snprintf(shown, sizeof shown, "%s", o.device);
 	} else {
-		lfd = listen_open(o.listen, shown, sizeof shown);
+		lfd = sim_listen_open(o.listen, shown, sizeof shown, err, sizeof err);
 		if (lfd < 0) {
+			msg("%s", err);
 			status = -lfd;
 			goto out;
 		}
@@ -1107,7 +705,7 @@ int main(int argc, char **argv)
 		r = serve_open(h, &sim);
 		status = r < 0 ? report(h, shown, r) : 0;
 	}
-	if (status == 0 && g_stop && o.verbose)
+	if (status == 0 && sim_stop && o.verbose)
 		msg("stopped by signal");
 out:
 	if (h) {
@@ -1118,7 +716,7 @@ out:
 		close(lfd);
 	if (pty.master >= 0)
 		close(pty.master);
-	pty_destroy(&pty);
+	sim_pty_destroy(&pty);
 	sim_free(&sim);
 	return status;
 }
