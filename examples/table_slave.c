@@ -30,13 +30,14 @@ int main(int argc, char **argv)
 {
 	struct df1_table *t = NULL;
 	df1_t *h = NULL;
-	int rc;
+	int rc, status = 1;
 
 	if (df1_table_new(&t, DF1_PLC_SLC) < 0 || df1_table_add_default_files(t) < 0 || df1_new(&h) < 0)
-		return 1;
+		goto out;
 	if (argc > 2 && df1_table_load(t, argv[2]) < 0) {
 		fprintf(stderr, "%s: %s\n", argv[0], df1_table_error_text(t));
-		return 2;
+		status = 2;
+		goto out;
 	}
 	if (argc > 1 && argv[1][0] != '-') {
 		rc = df1_open(h, argv[1]);
@@ -49,7 +50,7 @@ int main(int argc, char **argv)
 
 		if (fd < 0 || grantpt(fd) < 0 || unlockpt(fd) < 0 ||
 		    (slave = open(ptsname(fd), O_RDWR | O_NOCTTY)) < 0)
-			return 1;
+			goto out;
 		if (tcgetattr(slave, &tio) == 0) {
 			cfmakeraw(&tio);
 			tcsetattr(slave, TCSANOW, &tio);
@@ -59,7 +60,7 @@ int main(int argc, char **argv)
 	}
 	if (rc < 0) {
 		fprintf(stderr, "%s: %s\n", argv[0], df1_last_error(h)->message);
-		return 1;
+		goto out;
 	}
 	fflush(stdout);
 
@@ -67,7 +68,8 @@ int main(int argc, char **argv)
 	while ((rc = df1_serve(h, df1_table_server_ops(t), t, 1000)) >= 0)
 		;
 	fprintf(stderr, "%s: %s\n", argv[0], df1_strerror(rc));
-	df1_free(h);
+out:
+	df1_free(h);            /* NULL is a no-op */
 	df1_table_free(t);
-	return 1;
+	return status;
 }

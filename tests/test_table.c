@@ -393,6 +393,7 @@ static void test_table_clone_is_independent(void **state)
 	assert_int_equal(v.v.i16, 0);
 	assert_int_equal(df1_table_read(c, "N7:0", &v, 1), 1);
 	assert_int_equal(v.v.i16, 1234);
+	df1_table_free(c);
 	assert_int_equal(df1_table_clone(NULL, t), DF1_E_INVAL);
 	assert_int_equal(df1_table_clone(&c, NULL), DF1_E_INVAL);
 	assert_null(c);

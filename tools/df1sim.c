@@ -1,7 +1,10 @@
 /*
  * df1sim - a simulated PLC: a DF1 half-duplex slave or full-duplex peer with a
  * data table and fault injection, served on a pseudo-terminal, a serial port
- * or TCP (DESIGN.md 8, man/man1/df1sim.1). Built on df1_serve() only.
+ * or TCP (DESIGN.md 8, man/man1/df1sim.1). Options and transport set-up on
+ * the library's data table (df1_table(3): files, --data, the processor of the
+ * diagnostic status, the serving callbacks) and df1_serve(); the shared code
+ * is tools/cli.h and tools/cli_sim.h (signals, pty and TCP, --log).
  *
  * stdout: the device served, one line, once ready. stderr: messages.
  * SIGUSR1 silences every station (no ACK, no reply, no answer to polls or
