@@ -513,6 +513,38 @@ static void test_table_served_slc_spec_vectors(void **state)
 	df1_table_free(t);
 }
 
+static void test_table_served_plc5_and_plc2_vectors(void **state)
+{
+	struct df1_table *t = default_table(DF1_PLC_PLC5);
+	struct df1_value got[4];
+
+	(void)state;
+	memset(&handle, 0, sizeof handle);
+	handle.cfg.plc = DF1_PLC_PLC5;
+	/* derived-plc5-68-typed-read-N7:0x10 -> derived-plc5-68-reply-0..9: the
+	 * initial N7:n = n of df1sim(1) is the spec's reply */
+	expect_reply(t, "01 00 0F 00 06 00 68 00 00 0A 00 06 07 00 0A 00",
+	             "00 01 4F 00 06 00 99 09 15 42 00 00 01 00 02 00 03 00 04 00 05 00 06 00 07 00 08 00 09 00");
+	/* derived-plc5-68-typed-read-ascii: $N7:0 x1 */
+	expect_reply(t, "01 00 0F 00 07 00 68 00 00 01 00 00 24 4E 37 3A 30 00 01 00",
+	             "00 01 4F 00 07 00 99 09 03 42 00 00");
+	/* PLC-2 commands without the compatibility file N9: STS 80 (M p.119) */
+	expect_reply(t, "29 20 01 00 45 01 28 00 08", "20 29 41 80 45 01");
+	/* with N9 (replacing the provisional ST9): KE-plc2-write-cmd / reply, byte
+	 * address 28h = N9:20, then KE-plc2-read-cmd / reply */
+	assert_int_equal(df1_table_add_file(t, DF1_FT_N, 9, 32), 0);
+	expect_reply(t, "29 20 08 00 44 01 28 00 22 11 44 33 66 55 88 77", "20 29 48 00 44 01");
+	assert_int_equal(df1_table_read(t, "N9:20", got, 4), 4);
+	assert_int_equal((uint16_t)got[0].v.i16, 0x1122);
+	assert_int_equal((uint16_t)got[3].v.i16, 0x7788);
+	expect_reply(t, "29 20 01 00 45 01 28 00 08", "20 29 41 00 45 01 22 11 44 33 66 55 88 77");
+	/* 05 unprotected bit write: byte 29h (high byte of N9:20): set 80, reset 01 */
+	expect_reply(t, "29 20 05 00 46 01 29 00 80 01", "20 29 45 00 46 01");
+	assert_int_equal(df1_table_read(t, "N9:20", got, 1), 1);
+	assert_int_equal((uint16_t)got[0].v.i16, 0x9022);
+	df1_table_free(t);
+}
+
 /* ------------------------------------------------------------------------
  * Diagnostic status and mode
  * ------------------------------------------------------------------------ */
@@ -878,6 +910,7 @@ int main(void)
 		cmocka_unit_test(test_table_ops_ext_sts_codes),
 		cmocka_unit_test(test_table_ops_masked_write_rule),
 		cmocka_unit_test(test_table_served_slc_spec_vectors),
+		cmocka_unit_test(test_table_served_plc5_and_plc2_vectors),
 		cmocka_unit_test(test_table_diag_status_slc_ee_form),
 		cmocka_unit_test(test_table_diag_status_micrologix),
 		cmocka_unit_test(test_table_diag_status_plc5_eb_form),
