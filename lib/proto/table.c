@@ -489,6 +489,14 @@ void table_get_value(const struct table_file *f, const struct df1_addr *a, struc
 	}
 }
 
+/* An address as text for a message: "N7:0", or "file 7" when it has no text form. */
+static const char *table_addr_text(const struct df1_addr *a, char *buf, size_t cap)
+{
+	if (df1_addr_format(a, buf, cap) < 0)
+		snprintf(buf, cap, "file %d", a->file);
+	return buf;
+}
+
 /* Check that value i of a run at a lies inside t; its file in *fp, its address in *ai. */
 static int table_check_addr(struct df1_table *t, const struct df1_addr *a, size_t i,
                             struct table_file **fp, struct df1_addr *ai)
@@ -497,26 +505,27 @@ static int table_check_addr(struct df1_table *t, const struct df1_addr *a, size_
 	struct table_file *f;
 	size_t end;
 
-	if (df1_addr_format(a, text, sizeof text) < 0)
-		snprintf(text, sizeof text, "file %d", a->file);
 	if (a->ascii[0] || a->type == DF1_FT_NONE)
-		return table_fail(t, DF1_E_INVAL, "%s: not a data-table address", text);
+		return table_fail(t, DF1_E_INVAL, "%s: not a data-table address",
+		                  a->ascii[0] ? a->ascii : table_addr_text(a, text, sizeof text));
 	if (a->file < 0 || a->file >= DF1_TABLE_FILES_MAX || !(f = t->files[a->file]))
-		return table_fail(t, DF1_E_ADDR_RANGE, "%s: no file %d in the table", text, a->file);
+		return table_fail(t, DF1_E_ADDR_RANGE, "%s: no file %d in the table",
+		                  table_addr_text(a, text, sizeof text), a->file);
 	if (f->type != a->type)
-		return table_fail(t, DF1_E_TYPE, "%s: file %d holds type %s", text, a->file,
-		                  df1_file_type_name(f->type));
+		return table_fail(t, DF1_E_TYPE, "%s: file %d holds type %s", table_addr_text(a, text, sizeof text),
+		                  a->file, df1_file_type_name(f->type));
 	if (a->bit != DF1_ADDR_NONE && (a->type == DF1_FT_F || a->type == DF1_FT_ST))
-		return table_fail(t, DF1_E_TYPE, "%s: no bits in this file type", text);
+		return table_fail(t, DF1_E_TYPE, "%s: no bits in this file type",
+		                  table_addr_text(a, text, sizeof text));
 	if (i > (size_t)DF1_TABLE_ELEMENTS_MAX * 32)
-		return table_fail(t, DF1_E_ADDR_RANGE, "%s: %zu values run past the end of file %d", text,
-		                  i + 1, a->file);
+		return table_fail(t, DF1_E_ADDR_RANGE, "%s: %zu values run past the end of file %d",
+		                  table_addr_text(a, text, sizeof text), i + 1, a->file);
 	table_addr_step(a, (int)i, ai);
 	end = (size_t)ai->element * f->esize + (ai->sub != DF1_ADDR_NONE ? (size_t)ai->sub * 2 : 0) +
 	      (df1_addr_value_kind(ai) == DF1_VAL_BIT || ai->sub != DF1_ADDR_NONE ? 2 : f->esize);
 	if (ai->element < 0 || end > (size_t)f->nelem * f->esize)
 		return table_fail(t, DF1_E_ADDR_RANGE, "%s: value %zu lands beyond the end of file %d (%d elements)",
-		                  text, i + 1, a->file, f->nelem);
+		                  table_addr_text(a, text, sizeof text), i + 1, a->file, f->nelem);
 	*fp = f;
 	return 0;
 }
@@ -555,18 +564,12 @@ int df1_table_write_addr(struct df1_table *t, const struct df1_addr *a, const st
 
 		if (r < 0)
 			return r;
-		if (in[i].kind != df1_addr_value_kind(&ai)) {
-			if (df1_addr_format(&ai, text, sizeof text) < 0)
-				text[0] = '\0';
-			return table_fail(t, DF1_E_TYPE, "%s: value %zu is of another kind than the address", text,
-			                  i + 1);
-		}
-		if (in[i].kind == DF1_VAL_STRING && in[i].v.str.len > DF1_STRING_MAX) {
-			if (df1_addr_format(&ai, text, sizeof text) < 0)
-				text[0] = '\0';
-			return table_fail(t, DF1_E_RANGE, "%s: value %zu: a string holds at most %d characters", text,
-			                  i + 1, DF1_STRING_MAX);
-		}
+		if (in[i].kind != df1_addr_value_kind(&ai))
+			return table_fail(t, DF1_E_TYPE, "%s: value %zu is of another kind than the address",
+			                  table_addr_text(&ai, text, sizeof text), i + 1);
+		if (in[i].kind == DF1_VAL_STRING && in[i].v.str.len > DF1_STRING_MAX)
+			return table_fail(t, DF1_E_RANGE, "%s: value %zu: a string holds at most %d characters",
+			                  table_addr_text(&ai, text, sizeof text), i + 1, DF1_STRING_MAX);
 	}
 	for (size_t i = 0; i < n; i++) {
 		struct table_file *f;
