@@ -46,6 +46,8 @@ TEST_SRCS := $(sort $(wildcard tests/test_*.c))
 TEST_BINS := $(TEST_SRCS:tests/%.c=$(B)/tests/%)
 TEST_HELPERS := $(filter-out $(TEST_SRCS),$(wildcard tests/*.c))
 TEST_HELPER_OBJS := $(TEST_HELPERS:%.c=$(B)/%.o)
+# examples/*.c are built with the tests (tests/it_*.sh run them)
+EXAMPLE_BINS := $(patsubst examples/%.c,$(B)/examples/%,$(wildcard examples/*.c))
 
 STATIC := $(B)/libdf1.a
 # libdf1.so.MAJOR.MINOR, soname libdf1.so.MAJOR (an ABI break bumps MAJOR)
@@ -105,7 +107,10 @@ $(B)/tests/%: $(B)/tests/%.o $(TEST_HELPER_OBJS) $(STATIC)
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(CC) $(CFLAGS) $(EXTRA) -o $@ $< $(TEST_HELPER_OBJS) $(STATIC) $(CMOCKA_LIBS) $(LIBS) -lpthread
 
-tests: all $(TEST_BINS)
+$(B)/examples/%: examples/%.c include/df1.h $(STATIC)
+	$(COMPILE) -o $@ $< $(STATIC) $(LIBS) -lpthread
+
+tests: all $(TEST_BINS) $(EXAMPLE_BINS)
 
 # Run every test binary and shell test; the runner's last line is "N passed, N failed".
 test-run: tests

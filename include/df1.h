@@ -596,6 +596,89 @@ DF1_API void df1_server_set_seed(df1_t *h, uint64_t seed);
 DF1_API int df1_set_line_baud(df1_t *h, int baud);
 
 /* ------------------------------------------------------------------------
+ * Data table (df1_table(3)): the files of a simulated or real slave, served
+ * with df1_serve(h, df1_table_server_ops(t), t, ms) as libmodbus serves a
+ * modbus_mapping_new() table. Elements are kept in the SLC wire layout of
+ * df1_serve's contract (LE words and floats, ST as LEN + 82 characters, T/C/R
+ * as 3 words). One table is used by one thread at a time. df1sim is built on it.
+ * ------------------------------------------------------------------------ */
+struct df1_table;
+
+#define DF1_TABLE_FILES_MAX 1000        /* file numbers 0..999 */
+#define DF1_TABLE_ELEMENTS_MAX 1000     /* elements 0..999 per file */
+#define DF1_TABLE_ELEMENTS_DEFAULT 256  /* a file that df1_table_load() creates */
+
+/* A new empty table (no files) for a PLC type: mode run (6), the processor of the
+ * diagnostic status SLC 5/04 (slc, plc2), MicroLogix 1400, SLC 5/02 or PLC-5/40.
+ * *out is owned by the caller, freed with df1_table_free(). Returns 0, DF1_E_INVAL
+ * (out NULL, unknown plc) or DF1_E_NOMEM. @since 0.2 */
+DF1_API int  df1_table_new(struct df1_table **out, enum df1_plc plc);
+DF1_API void df1_table_free(struct df1_table *t);      /* NULL is a no-op. @since 0.2 */
+/* A deep copy (files, contents, mode, processor) into a new table *out, freed with
+ * df1_table_free(). 0, DF1_E_INVAL or DF1_E_NOMEM. @since 0.2 */
+DF1_API int  df1_table_clone(struct df1_table **out, const struct df1_table *t);
+/* Add file `number` (0..999) of `type` (O I S B T C R N F ST A L) with `elements`
+ * (1..1000) elements holding their initial values (N: n, F: n + 0.5, L: n * 65536
+ * + n, T/C: PRE 100, ST: "STRING n", the rest 0; element n). A file that exists
+ * with this type grows to `elements` (never shrinks, contents kept); with another
+ * type it is DF1_E_TYPE, unless it is a provisional file of
+ * df1_table_add_default_files(), which is replaced. Returns 0, DF1_E_INVAL,
+ * DF1_E_TYPE or DF1_E_NOMEM. @since 0.2 */
+DF1_API int  df1_table_add_file(struct df1_table *t, enum df1_file_type type, int number, int elements);
+/* The files every SLC has, O0 I1 S2 B3 T4 C5 R6 N7 F8, plus ST9 L10 A11, of 256
+ * elements each (df1sim's table); ST9 L10 A11 are provisional: a file of another
+ * type given to df1_table_add_file() or df1_table_load() replaces them (N9, the
+ * SLC's common interface file for PLC-2 commands). 0 or as df1_table_add_file().
+ * @since 0.2 */
+DF1_API int  df1_table_add_default_files(struct df1_table *t);
+/* Elements of file `number` (> 0) and, if type is not NULL, its type; DF1_E_ADDR_RANGE
+ * if the table has no such file, DF1_E_INVAL. @since 0.2 */
+DF1_API int  df1_table_file(const struct df1_table *t, int number, enum df1_file_type *type);
+/* n values from address addr on ("N7:0", "B3:0/5", "T4:1.ACC", "ST9:0"), as
+ * df1_value kinds of df1_addr_value_kind(); several go to consecutive elements
+ * (consecutive bits for a bit address, into the next element after bit 15, 31 for
+ * L; the same sub-element of consecutive elements). The file must exist with the
+ * address's type and hold every element; a write checks every value before it
+ * stores any (kind DF1_E_TYPE, string length DF1_E_RANGE). Returns n, or
+ * DF1_E_ADDR_SYNTAX, DF1_E_ADDR_RANGE (no such file or element), DF1_E_TYPE,
+ * DF1_E_RANGE, DF1_E_INVAL; df1_table_error_text() tells what. @since 0.2 */
+DF1_API int  df1_table_read(struct df1_table *t, const char *addr, struct df1_value *out, size_t n);
+DF1_API int  df1_table_write(struct df1_table *t, const char *addr, const struct df1_value *in, size_t n);
+DF1_API int  df1_table_read_addr(struct df1_table *t, const struct df1_addr *a, struct df1_value *out, size_t n);
+DF1_API int  df1_table_write_addr(struct df1_table *t, const struct df1_addr *a, const struct df1_value *in,
+                                  size_t n);
+/* The processor the diagnostic status reply names: "slc500", "slc5/01" .. "slc5/05",
+ * "slc5/04l541", "ml1000" .. "ml1500", "ml1500lrp" ("MicroLogix 1400" too), "plc5/10"
+ * .. "plc5/80e" (case, blanks, '-' and '_' ignored), or a type code 0..255 ("0x5B";
+ * the EB form for a PLC-5 table, else EE). 0 or DF1_E_INVAL. @since 0.2 */
+DF1_API int  df1_table_set_processor(struct df1_table *t, const char *name);
+/* The mode: 1 program, 6 run, 7 test continuous, 8 test single scan (what 0F/80
+ * sets and the diagnostic status reports). set: 0 or DF1_E_INVAL. @since 0.2 */
+DF1_API int  df1_table_mode(const struct df1_table *t);
+DF1_API int  df1_table_set_mode(struct df1_table *t, int mode);
+/* Load values from a text file, df1sim's --data format: ADDRESS=VALUE[,VALUE...]
+ * per line, '#' comments, strings in double quotes (\" \\ \xHH inside). A file
+ * a line names that does not exist is created with 256 elements; files grow to
+ * the highest element assigned (at most 999). All or nothing: on error the table
+ * is unchanged and df1_table_error_text() says "PATH:LINE: what is wrong".
+ * Returns 0, DF1_E_SYS (cannot open or read: errno is kept), DF1_E_CONFIG (a bad
+ * line), DF1_E_NOMEM, DF1_E_INVAL. @since 0.2 */
+DF1_API int  df1_table_load(struct df1_table *t, const char *path);
+/* Write every element of every file in that format, so that df1_table_load()
+ * restores them. Through a temporary file in the same directory, renamed over
+ * path: path is never left half written. 0, DF1_E_SYS (errno kept), DF1_E_INVAL.
+ * @since 0.2 */
+DF1_API int  df1_table_save(struct df1_table *t, const char *path);
+/* The detail of the last failure of a df1_table_* call on t ("" if none). Owned by
+ * t, valid until the next call on it. @since 0.2 */
+DF1_API const char *df1_table_error_text(const struct df1_table *t);
+/* The callbacks that serve t: pass t as df1_serve()'s user pointer. Reads, writes,
+ * masked and bit writes of every command set, the diagnostic status of the chosen
+ * processor (PLC-5 EB form: the station as DH+ node), change mode. Static, never
+ * to be freed; NULL if t is NULL. @since 0.2 */
+DF1_API const struct df1_server_ops *df1_table_server_ops(const struct df1_table *t);
+
+/* ------------------------------------------------------------------------
  * Configuration files (CSV, libcsv): network and mapping (libdf1(7))
  * ------------------------------------------------------------------------ */
 enum df1_mode { DF1_MODE_MASTER = 0, DF1_MODE_SLAVE = 1, DF1_MODE_PEER = 2 };

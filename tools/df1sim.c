@@ -1,7 +1,10 @@
 /*
  * df1sim - a simulated PLC: a DF1 half-duplex slave or full-duplex peer with a
  * data table and fault injection, served on a pseudo-terminal, a serial port
- * or TCP (DESIGN.md 8, man/man1/df1sim.1). Built on df1_serve() only.
+ * or TCP (DESIGN.md 8, man/man1/df1sim.1). Options and transport set-up on
+ * the library's data table (df1_table(3): files, --data, the processor of the
+ * diagnostic status, the serving callbacks) and df1_serve(); the shared code
+ * is tools/cli.h and tools/cli_sim.h (signals, pty and TCP, --log).
  *
  * stdout: the device served, one line, once ready. stderr: messages.
  * SIGUSR1 silences every station (no ACK, no reply, no answer to polls or
@@ -9,44 +12,27 @@
  * Exit status: 0 (stopped by SIGINT/SIGTERM), 1 (communication / system error),
  * 2 (usage or configuration error).
  */
-#include <ctype.h>
 #include <errno.h>
-#include <fcntl.h>
 #include <getopt.h>
-#include <limits.h>
-#include <math.h>
-#include <netdb.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
-#include <arpa/inet.h>
 #include <poll.h>
-#include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 #include <sys/socket.h>
-#include <sys/stat.h>
-#include <termios.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "df1.h"
+#include "cli.h"
+#include "cli_sim.h"
 
 #define PROG "df1sim"
-#define EXIT_COMM 1
-#define EXIT_USAGE 2
 
-#define FILES_MAX 1000          /* file numbers 0..999 */
-#define ELEMS_MAX 1000          /* elements 0..999 */
-#define ELEMS_DEFAULT 256       /* elements of a file unless --data reaches further */
-#define MODE_PROGRAM 1
-#define MODE_RUN 6
-
-/* ------------------------------------------------------------------------
- * Small helpers
- * ------------------------------------------------------------------------ */
+static const struct cli_tool sim_tool = { .name = PROG };
+static struct cli cli;          /* the shared CLI code's view of df1sim: its name */
 
 static void msg(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 static void msg(const char *fmt, ...)
@@ -60,699 +46,57 @@ static void msg(const char *fmt, ...)
 	fputc('\n', stderr);
 }
 
-static int usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-static int usage_error(const char *fmt, ...)
-{
-	va_list ap;
-
-	fprintf(stderr, "%s: ", PROG);
-	va_start(ap, fmt);
-	vfprintf(stderr, fmt, ap);
-	va_end(ap);
-	fprintf(stderr, "\nTry '%s --help'.\n", PROG);
-	return EXIT_USAGE;
-}
-
-static void put16(uint8_t *p, uint16_t v)
-{
-	p[0] = (uint8_t)v;
-	p[1] = (uint8_t)(v >> 8);
-}
-
-static void put32(uint8_t *p, uint32_t v)
-{
-	put16(p, (uint16_t)v);
-	put16(p + 2, (uint16_t)(v >> 16));
-}
-
-/* An ST element: LEN(2) + 82 characters, bytes swapped per word (spec 5). */
-static void put_string(uint8_t *p84, const char *s, size_t n)
-{
-	memset(p84, 0, 84);
-	if (n > DF1_STRING_MAX)
-		n = DF1_STRING_MAX;
-	put16(p84, (uint16_t)n);
-	for (size_t i = 0; i < n; i++)
-		p84[2 + (i ^ 1u)] = (uint8_t)s[i];
-}
-
-/* Decimal integer in [lo, hi] (0x hex accepted). */
-static bool parse_long(const char *s, long lo, long hi, long *out)
-{
-	char *end;
-	long v;
-
-	if (!s || !*s)
-		return false;
-	errno = 0;
-	v = strtol(s, &end, 0);
-	if (errno || *end || v < lo || v > hi)
-		return false;
-	*out = v;
-	return true;
-}
-
-/* A probability in percent, "0".."100", decimals allowed ("0.5", "2.5%"),
- * as per mille (the library's unit), rounded. */
-static bool parse_percent(const char *s, int *per_mille)
-{
-	char *end;
-	double v;
-
-	if (!s || !*s)
-		return false;
-	errno = 0;
-	v = strtod(s, &end);
-	if (*end == '%')
-		end++;
-	if (errno || *end || !(v >= 0.0 && v <= 100.0))
-		return false;
-	*per_mille = (int)lround(v * 10.0);
-	return true;
-}
-
-/* ------------------------------------------------------------------------
- * The data table
- * ------------------------------------------------------------------------ */
-
-struct sim_file {
-	enum df1_file_type type;
-	int nelem;
-	size_t esize;
-	uint8_t *data;          /* nelem * esize bytes, SLC wire layout */
-	bool optional;          /* ST9 L10 A11 of the default table: --data may retype them */
-};
-
-struct sim_table {
-	struct sim_file *files[FILES_MAX];
-	int mode;               /* 1 program, 6 run, 7/8 test (0F/80 values) */
-};
-
-/* Deterministic initial contents of element n (man page, DATA TABLE). */
-static void elem_init(enum df1_file_type t, int n, uint8_t *p)
-{
-	char text[32];
-	float f;
-	uint32_t u;
-
-	switch (t) {
-	case DF1_FT_N:
-		put16(p, (uint16_t)n);
-		break;
-	case DF1_FT_F:
-		f = (float)n + 0.5f;
-		memcpy(&u, &f, sizeof u);
-		put32(p, u);
-		break;
-	case DF1_FT_L:
-		put32(p, (uint32_t)n * 65536u + (uint32_t)n);
-		break;
-	case DF1_FT_T: case DF1_FT_C:
-		put16(p, 0);
-		put16(p + 2, 100);
-		put16(p + 4, 0);
-		break;
-	case DF1_FT_ST:
-		snprintf(text, sizeof text, "STRING %d", n);
-		put_string(p, text, strlen(text));
-		break;
-	default:                /* O I S B R A: zero */
-		memset(p, 0, (size_t)df1_file_type_element_size(t));
-		break;
-	}
-}
-
-static struct sim_file *file_new(enum df1_file_type t, int nelem)
-{
-	struct sim_file *f = calloc(1, sizeof *f);
-
-	if (!f)
-		return NULL;
-	f->type = t;
-	f->esize = (size_t)df1_file_type_element_size(t);
-	f->nelem = nelem;
-	f->data = calloc((size_t)nelem, f->esize);
-	if (!f->data) {
-		free(f);
-		return NULL;
-	}
-	for (int i = 0; i < nelem; i++)
-		elem_init(t, i, f->data + (size_t)i * f->esize);
-	return f;
-}
-
-static void file_free(struct sim_file *f)
-{
-	if (f) {
-		free(f->data);
-		free(f);
-	}
-}
-
-/* Grow a file to hold element `elem` (< ELEMS_MAX). */
-static bool file_grow(struct sim_file *f, int elem)
-{
-	uint8_t *d;
-
-	if (elem < f->nelem)
-		return true;
-	d = realloc(f->data, (size_t)(elem + 1) * f->esize);
-	if (!d)
-		return false;
-	f->data = d;
-	for (int i = f->nelem; i <= elem; i++)
-		elem_init(f->type, i, d + (size_t)i * f->esize);
-	f->nelem = elem + 1;
-	return true;
-}
-
-static void table_free(struct sim_table *t)
-{
-	if (!t)
-		return;
-	for (int i = 0; i < FILES_MAX; i++)
-		file_free(t->files[i]);
-	free(t);
-}
-
-static struct sim_table *table_clone(const struct sim_table *src)
-{
-	struct sim_table *t = calloc(1, sizeof *t);
-
-	if (!t)
-		return NULL;
-	t->mode = src->mode;
-	for (int i = 0; i < FILES_MAX; i++) {
-		const struct sim_file *s = src->files[i];
-		struct sim_file *f;
-
-		if (!s)
-			continue;
-		f = calloc(1, sizeof *f);
-		if (!f || !(f->data = malloc((size_t)s->nelem * s->esize))) {
-			free(f);
-			table_free(t);
-			return NULL;
-		}
-		f->type = s->type;
-		f->esize = s->esize;
-		f->nelem = s->nelem;
-		memcpy(f->data, s->data, (size_t)s->nelem * s->esize);
-		t->files[i] = f;
-	}
-	return t;
-}
-
-static struct sim_table *table_default(void)
-{
-	/* O0..F8 as every SLC has them, plus ST9 L10 A11 so that every data
-	 * type can be read without a --data file (file number = index). */
-	static const enum df1_file_type defaults[12] = {
-		DF1_FT_O, DF1_FT_I, DF1_FT_S, DF1_FT_B, DF1_FT_T, DF1_FT_C, DF1_FT_R, DF1_FT_N, DF1_FT_F,
-		DF1_FT_ST, DF1_FT_L, DF1_FT_A,
-	};
-	struct sim_table *t = calloc(1, sizeof *t);
-
-	if (!t)
-		return NULL;
-	t->mode = MODE_RUN;
-	for (int i = 0; i < 12; i++) {
-		t->files[i] = file_new(defaults[i], ELEMS_DEFAULT);
-		if (!t->files[i]) {
-			table_free(t);
-			return NULL;
-		}
-		t->files[i]->optional = i >= 9;
-	}
-	return t;
-}
-
-/* ------------------------------------------------------------------------
- * --data FILE: ADDRESS=VALUE[,VALUE...] per line, '#' comments
- * ------------------------------------------------------------------------ */
-
-/* Split the values at commas outside double quotes; strip blanks and quotes
- * (\" and \\ inside quotes). Returns the count, or -1 on an unterminated quote. */
-static int split_values(char *s, char **out, int max)
-{
-	int n = 0;
-
-	for (;;) {
-		char *w, *start;
-
-		while (*s == ' ' || *s == '\t')
-			s++;
-		if (n == max)
-			return -2;
-		start = w = s;
-		if (*s == '"') {
-			s++;
-			while (*s && *s != '"') {
-				if (*s == '\\' && (s[1] == '"' || s[1] == '\\'))
-					s++;
-				*w++ = *s++;
-			}
-			if (*s != '"')
-				return -1;
-			s++;
-			while (*s == ' ' || *s == '\t')
-				s++;
-			if (*s && *s != ',')
-				return -1;
-		} else {
-			while (*s && *s != ',')
-				s++;
-			w = s;
-			while (w > start && (w[-1] == ' ' || w[-1] == '\t'))
-				w--;
-		}
-		out[n++] = start;
-		if (*s == ',') {
-			*w = '\0';
-			s++;
-			continue;
-		}
-		*w = '\0';
-		return n;
-	}
-}
-
-/* The address of value i of a list starting at a. */
-static void addr_step(const struct df1_addr *a, int i, struct df1_addr *out)
-{
-	*out = *a;
-	if (a->bit != DF1_ADDR_NONE) {
-		int nbits = a->type == DF1_FT_L && a->sub == DF1_ADDR_NONE ? 32 : 16;
-		int b = a->bit + i;
-
-		out->element = a->element + b / nbits;
-		out->bit = b % nbits;
-	} else {
-		out->element = a->element + i;
-	}
-}
-
-/* Store one parsed value at address a (file exists, element in range). */
-static void table_store(struct sim_file *f, const struct df1_addr *a, const struct df1_value *v)
-{
-	uint8_t *p = f->data + (size_t)a->element * f->esize;
-	uint32_t u;
-
-	if (a->sub != DF1_ADDR_NONE)
-		p += (size_t)a->sub * 2;
-	switch (v->kind) {
-	case DF1_VAL_BIT: {
-		uint8_t *b = p + a->bit / 8;
-		uint8_t m = (uint8_t)(1u << (a->bit % 8));
-
-		*b = v->v.bit ? (uint8_t)(*b | m) : (uint8_t)(*b & ~m);
-		break;
-	}
-	case DF1_VAL_INT16:
-		put16(p, (uint16_t)v->v.i16);
-		break;
-	case DF1_VAL_INT32:
-		put32(p, (uint32_t)v->v.i32);
-		break;
-	case DF1_VAL_FLOAT:
-		memcpy(&u, &v->v.f, sizeof u);
-		put32(p, u);
-		break;
-	case DF1_VAL_STRING:
-		put_string(p, v->v.str.text, v->v.str.len);
-		break;
-	case DF1_VAL_TCR:
-		put16(p, v->v.tcr.ctl);
-		put16(p + 2, (uint16_t)v->v.tcr.pre);
-		put16(p + 4, (uint16_t)v->v.tcr.acc);
-		break;
-	}
-}
-
-/* One line "ADDRESS=VALUE[,VALUE...]"; returns NULL or an error text in err. */
-static bool data_line(struct sim_table *t, char *line, char *err, size_t cap)
-{
-	char *eq = strchr(line, '='), *vals[ELEMS_MAX];
-	char *addr_text = line, *e;
-	struct df1_addr a;
-	struct sim_file *f;
-	int n, rc, sub_words;
-
-	if (!eq) {
-		snprintf(err, cap, "expected ADDRESS=VALUE[,VALUE...]");
-		return false;
-	}
-	*eq = '\0';
-	e = eq;
-	while (e > addr_text && (e[-1] == ' ' || e[-1] == '\t'))
-		*--e = '\0';
-	rc = df1_addr_parse(addr_text, &a);
-	if (rc < 0) {
-		snprintf(err, cap, "%s: %s", addr_text, df1_strerror(rc));
-		return false;
-	}
-	if (a.ascii[0] || a.type == DF1_FT_NONE || a.file < 0 || a.file >= FILES_MAX) {
-		snprintf(err, cap, "%s: not a data-table address", addr_text);
-		return false;
-	}
-	n = split_values(eq + 1, vals, ELEMS_MAX);
-	if (n == -1) {
-		snprintf(err, cap, "%s: unterminated quote", addr_text);
-		return false;
-	}
-	if (n < 0) {
-		snprintf(err, cap, "%s: more than %d values", addr_text, ELEMS_MAX);
-		return false;
-	}
-	f = t->files[a.file];
-	if (f && f->type != a.type && f->optional) {
-		/* e.g. N9, the SLC's common interface file for PLC-2 commands */
-		file_free(f);
-		f = t->files[a.file] = NULL;
-	}
-	if (f && f->type != a.type) {
-		snprintf(err, cap, "%s: file %d already holds type %s", addr_text, a.file,
-		         df1_file_type_name(f->type));
-		return false;
-	}
-	sub_words = df1_file_type_element_size(a.type) / 2;
-	if (a.sub != DF1_ADDR_NONE && a.sub >= sub_words) {
-		snprintf(err, cap, "%s: sub-element beyond the element's %d words", addr_text, sub_words);
-		return false;
-	}
-	if (!f) {
-		f = t->files[a.file] = file_new(a.type, ELEMS_DEFAULT);
-		if (!f) {
-			snprintf(err, cap, "out of memory");
-			return false;
-		}
-	}
-	for (int i = 0; i < n; i++) {
-		struct df1_addr ai;
-		struct df1_value v;
-
-		addr_step(&a, i, &ai);
-		if (ai.element >= ELEMS_MAX) {
-			snprintf(err, cap, "%s: value %d lands beyond element %d", addr_text, i + 1, ELEMS_MAX - 1);
-			return false;
-		}
-		rc = df1_value_parse(&ai, vals[i], &v);
-		if (rc < 0) {
-			snprintf(err, cap, "%s: '%s': %s", addr_text, vals[i], df1_strerror(rc));
-			return false;
-		}
-		if (!file_grow(f, ai.element)) {
-			snprintf(err, cap, "out of memory");
-			return false;
-		}
-		table_store(f, &ai, &v);
-	}
-	return true;
-}
-
-static int data_load(struct sim_table *t, const char *path)
-{
-	FILE *fp = fopen(path, "r");
-	char *line = NULL, err[256];
-	size_t cap = 0;
-	ssize_t len;
-	int lineno = 0, status = 0;
-
-	if (!fp) {
-		msg("%s: %s", path, strerror(errno));
-		return EXIT_USAGE;
-	}
-	while ((len = getline(&line, &cap, fp)) >= 0) {
-		char *s = line, *hash;
-		bool inq = false;
-
-		lineno++;
-		/* a '#' outside quotes starts a comment */
-		for (hash = s; *hash; hash++) {
-			if (*hash == '"' && (hash == s || hash[-1] != '\\'))
-				inq = !inq;
-			else if (*hash == '#' && !inq)
-				break;
-		}
-		*hash = '\0';
-		while (*s && isspace((unsigned char)*s))
-			s++;
-		len = (ssize_t)strlen(s);
-		while (len > 0 && isspace((unsigned char)s[len - 1]))
-			s[--len] = '\0';
-		if (!*s)
-			continue;
-		if (!data_line(t, s, err, sizeof err)) {
-			msg("%s:%d: %s", path, lineno, err);
-			status = EXIT_USAGE;
-			break;
-		}
-	}
-	if (status == 0 && ferror(fp)) {
-		msg("%s: %s", path, strerror(errno));
-		status = EXIT_USAGE;
-	}
-	free(line);
-	fclose(fp);
-	return status;
-}
-
-/* ------------------------------------------------------------------------
- * Processors (diagnostic status, spec 4.9)
- * ------------------------------------------------------------------------ */
-
-struct processor {
-	const char *key;        /* normalised name: lower case, no blanks, '-' or '_' */
-	const char *bulletin;   /* EE form: bytes 6-16 */
-	uint8_t code;
-	bool plc5;              /* EB form */
-};
-
-static const struct processor processors[] = {
-	{ "slc500", "500 - 20", 0x1A, false },
-	{ "slc5/01", "5/01", 0x18, false },
-	{ "slc5/02", "5/02", 0x25, false },
-	{ "slc5/03", "5/03", 0x49, false },
-	{ "slc5/04", "5/04", 0x5B, false },
-	{ "slc5/04l541", "5/04", 0x6F, false },
-	{ "slc5/05", "5/05", 0x78, false },
-	{ "ml1000", "1761", 0x58, false },
-	{ "ml1100", "1763", 0x9C, false },
-	{ "ml1200", "1762", 0x88, false },
-	{ "ml1400", "1766", 0x9F, false },
-	{ "ml1500", "1764", 0x89, false },
-	{ "ml1500lrp", "1764", 0x8C, false },
-	{ "plc5/10", NULL, 0x22, true },
-	{ "plc5/11", NULL, 0x31, true },
-	{ "plc5/12", NULL, 0x13, true },
-	{ "plc5/20", NULL, 0x32, true },
-	{ "plc5/25", NULL, 0x14, true },
-	{ "plc5/30", NULL, 0x33, true },
-	{ "plc5/40", NULL, 0x15, true },
-	{ "plc5/40l", NULL, 0x28, true },
-	{ "plc5/60", NULL, 0x23, true },
-	{ "plc5/60l", NULL, 0x29, true },
-	{ "plc5/20e", NULL, 0x4A, true },
-	{ "plc5/40e", NULL, 0x4B, true },
-	{ "plc5/80e", NULL, 0x59, true },
-};
-
-static const struct processor *processor_find(const char *name, struct processor *custom, bool plc5)
-{
-	char key[32];
-	size_t n = 0;
-	long code;
-
-	for (const char *s = name; *s && n < sizeof key - 1; s++) {
-		if (*s == ' ' || *s == '-' || *s == '_')
-			continue;
-		key[n++] = (char)tolower((unsigned char)*s);
-	}
-	key[n] = '\0';
-	if (strncmp(key, "micrologix", 10) == 0) {
-		memmove(key + 2, key + 10, strlen(key + 10) + 1);
-		key[0] = 'm';
-		key[1] = 'l';
-	}
-	for (size_t i = 0; i < sizeof processors / sizeof processors[0]; i++)
-		if (strcmp(processors[i].key, key) == 0)
-			return &processors[i];
-	if (parse_long(name, 0, 255, &code)) {
-		custom->key = name;
-		custom->bulletin = "";
-		custom->code = (uint8_t)code;
-		custom->plc5 = plc5;
-		return custom;
-	}
-	return NULL;
-}
-
 /* ------------------------------------------------------------------------
  * The simulator
  * ------------------------------------------------------------------------ */
 
-struct logger {
-	FILE *fp;
-	struct df1_decoder *dec[2];     /* by enum df1_dir */
-	struct {
-		bool used, logged;
-		int station;
-		uint8_t app[300];
-		size_t n;
-	} ring[16];
-	int next;
-};
-
 struct sim {
-	struct sim_table *tables[256];  /* per served station */
+	struct df1_table *tables[256];  /* per served station */
 	int stations[256];
 	int nstations;
-	const struct processor *proc;
 	enum df1_plc plc;
 	bool half;
 	int verbose;
-	struct logger log;
+	struct sim_cmdlog log;          /* --log */
 	int silent_pm, silent_station;  /* --silent, put back by SIGUSR2 (0: none) */
 	bool muted;                     /* SIGUSR1 applied: every station silent */
 };
 
-static volatile sig_atomic_t g_stop;
-static volatile sig_atomic_t g_mute;    /* 1 after SIGUSR1, 0 after SIGUSR2 */
-static int g_sigpipe[2] = { -1, -1 };
-
-/* SIGINT/SIGTERM stop, SIGUSR1/SIGUSR2 mute and unmute; every signal also
- * writes the self-pipe, the handle's cancel descriptor, so that a wait in
- * df1_serve() ends at once (DF1_E_INTR) and the main loop sees the flags. */
-static void on_signal(int sig)
-{
-	int saved = errno;
-	char c = (char)sig;
-
-	if (sig == SIGUSR1)
-		g_mute = 1;
-	else if (sig == SIGUSR2)
-		g_mute = 0;
-	else
-		g_stop = 1;
-	if (g_sigpipe[1] >= 0 && write(g_sigpipe[1], &c, 1) < 0) {
-		/* the pipe is full: a byte is already waiting */
-	}
-	errno = saved;
-}
-
-static struct sim_table *sim_table_for(struct sim *s, int station)
+static struct df1_table *sim_table_for(struct sim *s, int station)
 {
 	if (station >= 0 && station < 256 && s->tables[station])
 		return s->tables[station];
 	return s->tables[s->stations[0]];       /* full duplex: DST is not checked */
 }
 
-/* The data-table contract of lib/server.h. */
-static int sim_locate(struct sim_table *t, const struct df1_addr *a, size_t nbytes, uint8_t **p)
-{
-	struct sim_file *f;
-	size_t off, size;
-
-	if (a->file < 0 || a->file >= FILES_MAX || !(f = t->files[a->file]))
-		return 0x06;            /* address doesn't point to something usable */
-	if (a->type != DF1_FT_NONE && a->type != f->type)
-		return 0x11;            /* illegal data type */
-	if (a->element < 0 || a->element >= f->nelem)
-		return 0x07;            /* beyond the end of the file */
-	off = (size_t)a->element * f->esize;
-	if (a->sub != DF1_ADDR_NONE && a->sub > 0)
-		off += (size_t)a->sub * 2;
-	size = (size_t)f->nelem * f->esize;
-	if (off >= size)
-		return 0x07;
-	if (off + nbytes > size)
-		return 0x0A;            /* transaction size plus word address is too large */
-	*p = f->data + off;
-	return 0;
-}
-
+/* Each station its own table, served by the data table's own callbacks. */
 static int sim_read(void *user, int station, const struct df1_addr *a, uint8_t *buf, size_t nbytes)
 {
-	uint8_t *p = NULL;
-	int rc = sim_locate(sim_table_for(user, station), a, nbytes, &p);
+	struct df1_table *t = sim_table_for(user, station);
 
-	if (rc == 0 && nbytes)
-		memcpy(buf, p, nbytes);
-	return rc;
+	return df1_table_server_ops(t)->read(t, station, a, buf, nbytes);
 }
 
 static int sim_write(void *user, int station, const struct df1_addr *a, const uint8_t *buf,
                      const uint8_t *mask, size_t nbytes)
 {
-	uint8_t *p = NULL;
-	int rc = sim_locate(sim_table_for(user, station), a, nbytes, &p);
+	struct df1_table *t = sim_table_for(user, station);
 
-	if (rc)
-		return rc;
-	for (size_t i = 0; i < nbytes; i++)
-		p[i] = mask ? (uint8_t)((p[i] & ~mask[i]) | (buf[i] & mask[i])) : buf[i];
-	return 0;
+	return df1_table_server_ops(t)->write(t, station, a, buf, mask, nbytes);
 }
 
 static int sim_change_mode(void *user, int station, int mode)
 {
-	if (mode != 1 && mode != 6 && mode != 7 && mode != 8)
-		return 0x01;            /* a field has an illegal value */
-	sim_table_for(user, station)->mode = mode;
-	return 0;
-}
+	struct df1_table *t = sim_table_for(user, station);
 
-static int sim_files(const struct sim_table *t)
-{
-	int n = 0;
-
-	for (int i = 0; i < FILES_MAX; i++)
-		n += t->files[i] != NULL;
-	return n;
+	return df1_table_server_ops(t)->change_mode(t, station, mode);
 }
 
 static int sim_diag_status(void *user, int station, uint8_t *buf, size_t cap)
 {
-	struct sim *s = user;
-	const struct sim_table *t = sim_table_for(s, station);
-	const struct processor *p = s->proc;
+	struct df1_table *t = sim_table_for(user, station);
 
-	if (p->plc5) {
-		/* M p.192-193: 1 mode, 2 EB, 3 type, 4-7 memory, 8 series/revision,
-		 * 9 DH+ node, 10 I/O address, 11 flags, 12-13 data files, 14-15 program
-		 * files, 16 forcing, 17 memory protect, 18 bad RAM */
-		int mode = t->mode == MODE_RUN ? 6 : t->mode == MODE_PROGRAM ? 4 : 5;
-		int files = sim_files(t);
-
-		if (cap < 18)
-			return -0x10;
-		memset(buf, 0, 18);
-		buf[0] = (uint8_t)mode;
-		buf[1] = 0xEB;
-		buf[2] = p->code;
-		put32(buf + 3, 49152);                  /* 48K words */
-		buf[7] = (uint8_t)((4u << 5) | 2u);     /* series E, revision 3 */
-		buf[8] = (uint8_t)station;
-		put16(buf + 11, (uint16_t)files);
-		put16(buf + 13, 2);
-		return 18;
-	}
-	/* M p.174: 1 mode/status, 2 EE, 3 interface type, 4 processor type,
-	 * 5 series/revision, 6-16 bulletin, 17-18 major error, 19-20 mode/status
-	 * word, 21-22 program ID, 23 RAM KB, 24 program owner (3F none) */
-	if (cap < 24)
-		return -0x10;
-	memset(buf, 0, 24);
-	buf[1] = 0xEE;
-	buf[2] = s->plc == DF1_PLC_MICROLOGIX ? 0x34 : 0x1F;
-	buf[3] = p->code;
-	buf[4] = (uint8_t)((2u << 5) | 4u);             /* series C, revision 5 */
-	memset(buf + 5, ' ', 11);
-	memcpy(buf + 5, p->bulletin, strlen(p->bulletin) < 11 ? strlen(p->bulletin) : 11);
-	buf[18] = (uint8_t)t->mode;
-	buf[22] = 0x10;
-	buf[23] = 0x3F;
-	return 24;
+	return df1_table_server_ops(t)->diag_status(t, station, buf, cap);
 }
 
 static const struct df1_server_ops sim_ops = {
@@ -761,110 +105,6 @@ static const struct df1_server_ops sim_ops = {
 	.diag_status = sim_diag_status,
 	.change_mode = sim_change_mode,
 };
-
-/* ------------------------------------------------------------------------
- * --log: one line per command answered. The trace callback sees the bytes
- * both ways; a command is logged when a reply to it goes out (once, however
- * often the link repeats it).
- * ------------------------------------------------------------------------ */
-
-static void log_command(struct sim *s, int station, const uint8_t *app, size_t n)
-{
-	struct df1_msg m;
-	struct timespec ts;
-	struct tm tm;
-	char when[40], addr[80], count[16], cmd[8];
-	int es;
-
-	if (df1_msg_decode(app, n, &m) < 0)
-		return;
-	clock_gettime(CLOCK_REALTIME, &ts);
-	localtime_r(&ts.tv_sec, &tm);
-	strftime(when, sizeof when, "%Y-%m-%dT%H:%M:%S", &tm);
-	snprintf(addr, sizeof addr, "-");
-	snprintf(count, sizeof count, "-");
-	if (m.has_addr) {
-		struct df1_addr a = m.addr;
-
-		if (a.ascii[0]) {
-			snprintf(addr, sizeof addr, "$%s", a.ascii);
-		} else {
-			if (a.type == DF1_FT_NONE && a.file >= 0 && a.file < FILES_MAX) {
-				const struct sim_file *f = sim_table_for(s, station)->files[a.file];
-
-				if (f)
-					a.type = f->type;
-			}
-			if (a.type == DF1_FT_NONE || df1_addr_format(&a, addr, sizeof addr) < 0)
-				snprintf(addr, sizeof addr, "#%d:%d", a.file, a.element);
-		}
-	}
-	if (m.size >= 0) {
-		int c = m.size;
-
-		if (m.cmd == 0x0F && m.fnc >= 0xA1 && m.fnc <= 0xAB) {
-			/* SLC: BYTE_SIZE -> elements (words for a sub-element) */
-			es = m.addr.sub != DF1_ADDR_NONE ? 2 : df1_file_type_element_size(m.addr.type);
-			if (es <= 0)
-				es = 2;
-			c = (m.size + es - 1) / es;
-		} else if ((m.cmd == 0x0F && (m.fnc == 0x00 || m.fnc == 0x01)) || m.cmd == 0x01 || m.cmd == 0x08) {
-			c = (m.size + 1) / 2;   /* word range, PLC-2: words */
-		}
-		snprintf(count, sizeof count, "%d", c);
-	}
-	if (m.has_fnc)
-		snprintf(cmd, sizeof cmd, "%02X/%02X", m.cmd, m.fnc);
-	else
-		snprintf(cmd, sizeof cmd, "%02X", m.cmd);
-	fprintf(s->log.fp, "%s.%03ld station=%d cmd=%s addr=%s count=%s tns=%04X name=\"%s\"\n",
-	        when, ts.tv_nsec / 1000000L, station, cmd, addr, count, m.tns, m.name ? m.name : "");
-	fflush(s->log.fp);
-}
-
-static void log_rx_frame(struct sim *s, const struct df1_symbol *sym)
-{
-	struct logger *l = &s->log;
-	const uint8_t *a = sym->data;
-	int station;
-
-	if (!sym->check_ok || sym->len < 6 || (a[2] & 0x40))
-		return;
-	station = sym->master_msg && sym->has_station ? sym->station : a[0];
-	if (s->half && (station < 0 || station > 255 || !s->tables[station]))
-		return;                 /* for another slave on the line */
-	for (int i = 0; i < 16; i++) {
-		if (l->ring[i].used && l->ring[i].app[1] == a[1] && l->ring[i].app[2] == a[2] &&
-		    l->ring[i].app[4] == a[4] && l->ring[i].app[5] == a[5])
-			return;         /* a repeat of a command already seen */
-	}
-	l->ring[l->next].used = true;
-	l->ring[l->next].logged = false;
-	l->ring[l->next].station = station;
-	l->ring[l->next].n = sym->len < sizeof l->ring[0].app ? sym->len : sizeof l->ring[0].app;
-	memcpy(l->ring[l->next].app, a, l->ring[l->next].n);
-	l->next = (l->next + 1) % 16;
-}
-
-static void log_tx_frame(struct sim *s, const struct df1_symbol *sym)
-{
-	struct logger *l = &s->log;
-	const uint8_t *r = sym->data;
-
-	if (sym->len < 6 || !(r[2] & 0x40))
-		return;
-	for (int i = 0; i < 16; i++) {
-		const uint8_t *c = l->ring[i].app;
-
-		if (!l->ring[i].used || l->ring[i].logged)
-			continue;
-		if (c[1] == r[0] && (c[2] | 0x40) == r[2] && c[4] == r[4] && c[5] == r[5]) {
-			l->ring[i].logged = true;
-			log_command(s, l->ring[i].station, c, l->ring[i].n);
-			return;
-		}
-	}
-}
 
 static void hexdump(enum df1_dir dir, const uint8_t *b, size_t n)
 {
@@ -877,29 +117,11 @@ static void hexdump(enum df1_dir dir, const uint8_t *b, size_t n)
 static void on_trace(void *user, enum df1_dir dir, const uint8_t *bytes, size_t n, uint64_t t_us)
 {
 	struct sim *s = user;
-	struct df1_decoder *d;
 
 	(void)t_us;
 	if (s->verbose >= 2)
 		hexdump(dir, bytes, n);
-	if (!s->log.fp)
-		return;
-	d = s->log.dec[dir == DF1_DIR_TX ? 1 : 0];
-	while (n > 0) {
-		struct df1_symbol sym;
-		size_t used = df1_decoder_feed(d, bytes, n, &sym);
-
-		if (used == 0)
-			break;
-		bytes += used;
-		n -= used;
-		if (sym.kind != DF1_SYM_FRAME)
-			continue;
-		if (dir == DF1_DIR_RX)
-			log_rx_frame(s, &sym);
-		else
-			log_tx_frame(s, &sym);
-	}
+	sim_cmdlog_feed(&s->log, dir, bytes, n);
 }
 
 static void on_log(void *user, int catalog_id, enum df1_severity sev, const char *text)
@@ -1044,10 +266,10 @@ static bool parse_stations(const char *s, struct opts *o)
 
 		if (dash) {
 			*dash = '\0';
-			if (!parse_long(tok, 0, 254, &lo) || !parse_long(dash + 1, 0, 254, &hi) || hi < lo)
+			if (!sim_parse_long(tok, 0, 254, &lo) || !sim_parse_long(dash + 1, 0, 254, &hi) || hi < lo)
 				return false;
 		} else {
-			if (!parse_long(tok, 0, 254, &lo))
+			if (!sim_parse_long(tok, 0, 254, &lo))
 				return false;
 			hi = lo;
 		}
@@ -1070,29 +292,29 @@ static int set_fault(struct opts *o, enum df1_fault k, const char *name, const c
 	f->given = true;
 	f->value = 0;
 	if (k == DF1_FAULT_SILENT_STATION) {
-		if (!parse_long(arg, 0, 254, &ms))
-			return usage_error("--%s: invalid station '%s' (expected 0..254)", name, arg);
+		if (!sim_parse_long(arg, 0, 254, &ms))
+			return cli_usage_error(&cli, "--%s: invalid station '%s' (expected 0..254)", name, arg);
 		f->per_mille = 1000;
 		f->value = (int)ms;
 		return 0;
 	}
 	if (k == DF1_FAULT_DELAY_REPLY) {
 		if (strlen(arg) >= sizeof buf)
-			return usage_error("--%s: invalid value '%s'", name, arg);
+			return cli_usage_error(&cli, "--%s: invalid value '%s'", name, arg);
 		strcpy(buf, arg);
 		colon = strchr(buf, ':');
 		if (colon)
 			*colon++ = '\0';
-		if (!parse_long(buf, 0, 60000, &ms))
-			return usage_error("--%s: invalid delay '%s' (expected 0..60000 ms)", name, buf);
+		if (!sim_parse_long(buf, 0, 60000, &ms))
+			return cli_usage_error(&cli, "--%s: invalid delay '%s' (expected 0..60000 ms)", name, buf);
 		f->value = (int)ms;
 		f->per_mille = 1000;
-		if (colon && !parse_percent(colon, &f->per_mille))
-			return usage_error("--%s: invalid probability '%s' (expected 0..100 percent)", name, colon);
+		if (colon && !sim_parse_percent(colon, &f->per_mille))
+			return cli_usage_error(&cli, "--%s: invalid probability '%s' (expected 0..100 percent)", name, colon);
 		return 0;
 	}
-	if (!parse_percent(arg, &f->per_mille))
-		return usage_error("--%s: invalid probability '%s' (expected 0..100 percent)", name, arg);
+	if (!sim_parse_percent(arg, &f->per_mille))
+		return cli_usage_error(&cli, "--%s: invalid probability '%s' (expected 0..100 percent)", name, arg);
 	return 0;
 }
 
@@ -1126,7 +348,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 			else if (strcasecmp(optarg, "half") == 0)
 				o->half = true;
 			else
-				return usage_error("--duplex: invalid value '%s' (expected full or half)", optarg);
+				return cli_usage_error(&cli, "--duplex: invalid value '%s' (expected full or half)", optarg);
 			break;
 		case OPT_CHECK:
 			if (strcasecmp(optarg, "crc") == 0)
@@ -1134,11 +356,11 @@ static int parse_args(int argc, char **argv, struct opts *o)
 			else if (strcasecmp(optarg, "bcc") == 0)
 				o->check = DF1_CHECK_BCC;
 			else
-				return usage_error("--check: invalid value '%s' (expected crc or bcc)", optarg);
+				return cli_usage_error(&cli, "--check: invalid value '%s' (expected crc or bcc)", optarg);
 			break;
 		case OPT_STATION:
 			if (!parse_stations(optarg, o))
-				return usage_error("--station: invalid list '%s' (expected N[,N...] in 0..254)", optarg);
+				return cli_usage_error(&cli, "--station: invalid list '%s' (expected N[,N...] in 0..254)", optarg);
 			break;
 		case OPT_PLC:
 			if (strcasecmp(optarg, "slc") == 0)
@@ -1150,35 +372,35 @@ static int parse_args(int argc, char **argv, struct opts *o)
 			else if (strcasecmp(optarg, "plc5") == 0)
 				o->plc = DF1_PLC_PLC5;
 			else
-				return usage_error("--plc: invalid value '%s' (expected slc, micrologix, slc502 or plc5)",
+				return cli_usage_error(&cli, "--plc: invalid value '%s' (expected slc, micrologix, slc502 or plc5)",
 				                   optarg);
 			break;
 		case OPT_PROCESSOR: o->processor = optarg; break;
 		case OPT_PLC5_FLOAT_SWAPPED: o->plc5_float_swapped = true; break;
 		case OPT_DATA: o->data = optarg; break;
-		case OPT_DROP_ACK: if (set_fault(o, DF1_FAULT_DROP_ACK, "drop-ack", optarg)) return EXIT_USAGE; break;
-		case OPT_CORRUPT: if (set_fault(o, DF1_FAULT_CORRUPT_REPLY, "corrupt", optarg)) return EXIT_USAGE; break;
-		case OPT_NAK: if (set_fault(o, DF1_FAULT_NAK_COMMAND, "nak", optarg)) return EXIT_USAGE; break;
-		case OPT_DELAY: if (set_fault(o, DF1_FAULT_DELAY_REPLY, "delay", optarg)) return EXIT_USAGE; break;
-		case OPT_SILENT: if (set_fault(o, DF1_FAULT_SILENT_STATION, "silent", optarg)) return EXIT_USAGE; break;
-		case OPT_STALE: if (set_fault(o, DF1_FAULT_STALE_REPLY, "stale", optarg)) return EXIT_USAGE; break;
-		case OPT_NOISE: if (set_fault(o, DF1_FAULT_NOISE, "noise", optarg)) return EXIT_USAGE; break;
+		case OPT_DROP_ACK: if (set_fault(o, DF1_FAULT_DROP_ACK, "drop-ack", optarg)) return CLI_EXIT_USAGE; break;
+		case OPT_CORRUPT: if (set_fault(o, DF1_FAULT_CORRUPT_REPLY, "corrupt", optarg)) return CLI_EXIT_USAGE; break;
+		case OPT_NAK: if (set_fault(o, DF1_FAULT_NAK_COMMAND, "nak", optarg)) return CLI_EXIT_USAGE; break;
+		case OPT_DELAY: if (set_fault(o, DF1_FAULT_DELAY_REPLY, "delay", optarg)) return CLI_EXIT_USAGE; break;
+		case OPT_SILENT: if (set_fault(o, DF1_FAULT_SILENT_STATION, "silent", optarg)) return CLI_EXIT_USAGE; break;
+		case OPT_STALE: if (set_fault(o, DF1_FAULT_STALE_REPLY, "stale", optarg)) return CLI_EXIT_USAGE; break;
+		case OPT_NOISE: if (set_fault(o, DF1_FAULT_NOISE, "noise", optarg)) return CLI_EXIT_USAGE; break;
 		case OPT_SEED:
 			errno = 0;
 			u = strtoull(optarg, &end, 0);
 			if (errno || !*optarg || *end || optarg[0] == '-')
-				return usage_error("--seed: invalid value '%s'", optarg);
+				return cli_usage_error(&cli, "--seed: invalid value '%s'", optarg);
 			o->seed = u;
 			break;
 		case OPT_LINE_BAUD:
-			if (!parse_long(optarg, 0, 4000000, &v))
-				return usage_error("--line-baud: invalid value '%s' (expected 0..4000000)", optarg);
+			if (!sim_parse_long(optarg, 0, 4000000, &v))
+				return cli_usage_error(&cli, "--line-baud: invalid value '%s' (expected 0..4000000)", optarg);
 			o->line_baud = (int)v;
 			break;
 		case OPT_LOG: o->log = optarg; break;
 		case 'b':
-			if (!parse_long(optarg, 50, 4000000, &v))
-				return usage_error("--baud: invalid value '%s'", optarg);
+			if (!sim_parse_long(optarg, 50, 4000000, &v))
+				return cli_usage_error(&cli, "--baud: invalid value '%s'", optarg);
 			o->baud = (int)v;
 			break;
 		case 'P':
@@ -1189,203 +411,37 @@ static int parse_args(int argc, char **argv, struct opts *o)
 			else if (strcasecmp(optarg, "odd") == 0 || strcasecmp(optarg, "o") == 0)
 				o->parity = 'O';
 			else
-				return usage_error("--parity: invalid value '%s' (expected none, even or odd)", optarg);
+				return cli_usage_error(&cli, "--parity: invalid value '%s' (expected none, even or odd)", optarg);
 			break;
 		case OPT_DATA_BITS:
-			if (!parse_long(optarg, 5, 8, &v))
-				return usage_error("--data-bits: invalid value '%s' (expected 5..8)", optarg);
+			if (!sim_parse_long(optarg, 5, 8, &v))
+				return cli_usage_error(&cli, "--data-bits: invalid value '%s' (expected 5..8)", optarg);
 			o->data_bits = (int)v;
 			break;
 		case OPT_STOP_BITS:
-			if (!parse_long(optarg, 1, 2, &v))
-				return usage_error("--stop-bits: invalid value '%s' (expected 1 or 2)", optarg);
+			if (!sim_parse_long(optarg, 1, 2, &v))
+				return cli_usage_error(&cli, "--stop-bits: invalid value '%s' (expected 1 or 2)", optarg);
 			o->stop_bits = (int)v;
 			break;
 		case 'v': o->verbose++; break;
 		case 'h': usage(stdout); return 0;
 		case 'V': printf("%s (libdf1) %s\n", PROG, DF1_VERSION_STRING); return 0;
 		case ':':
-			return usage_error("option '%s' needs a value", argv[optind - 1]);
+			return cli_usage_error(&cli, "option '%s' needs a value", argv[optind - 1]);
 		default:
 			if (optopt && optopt < 256)
-				return usage_error("unknown option '-%c'", optopt);
-			return usage_error("unknown option '%s'", argv[optind - 1]);
+				return cli_usage_error(&cli, "unknown option '-%c'", optopt);
+			return cli_usage_error(&cli, "unknown option '%s'", argv[optind - 1]);
 		}
 	}
 	if (optind < argc)
-		return usage_error("unexpected argument '%s'", argv[optind]);
+		return cli_usage_error(&cli, "unexpected argument '%s'", argv[optind]);
 	if (where != 1)
-		return usage_error(where ? "give only one of --pty, -d and --listen"
+		return cli_usage_error(&cli, where ? "give only one of --pty, -d and --listen"
 		                         : "one of --pty PATH, -d DEV or --listen ADDR is required");
 	if (o->plc5_float_swapped && o->plc != DF1_PLC_PLC5)
-		return usage_error("--plc5-float-swapped goes with --plc plc5 only");
+		return cli_usage_error(&cli, "--plc5-float-swapped goes with --plc plc5 only");
 	return -1;
-}
-
-/* ------------------------------------------------------------------------
- * Transports
- * ------------------------------------------------------------------------ */
-
-struct pty {
-	int master, slave;
-	char slave_name[128];
-	const char *link;
-	bool linked;
-};
-
-static int pty_create(struct pty *p, const char *path)
-{
-	struct termios tio;
-	struct stat st;
-
-	p->master = p->slave = -1;
-	p->linked = false;
-	p->link = path;
-	p->master = posix_openpt(O_RDWR | O_NOCTTY | O_CLOEXEC);
-	if (p->master < 0 || grantpt(p->master) < 0 || unlockpt(p->master) < 0 ||
-	    ptsname_r(p->master, p->slave_name, sizeof p->slave_name) != 0) {
-		msg("cannot create a pseudo-terminal: %s", strerror(errno));
-		return EXIT_COMM;
-	}
-	/* our own descriptor on the slave side: the master never sees a hangup
-	 * between clients; raw, so nothing is echoed or translated meanwhile */
-	p->slave = open(p->slave_name, O_RDWR | O_NOCTTY | O_CLOEXEC);
-	if (p->slave < 0) {
-		msg("%s: %s", p->slave_name, strerror(errno));
-		return EXIT_COMM;
-	}
-	if (tcgetattr(p->slave, &tio) == 0) {
-		cfmakeraw(&tio);
-		tcsetattr(p->slave, TCSANOW, &tio);
-	}
-	if (lstat(path, &st) == 0) {
-		if (!S_ISLNK(st.st_mode)) {
-			msg("%s: exists and is not a symbolic link", path);
-			return EXIT_USAGE;
-		}
-		unlink(path);   /* a stale link from an earlier run */
-	}
-	if (symlink(p->slave_name, path) < 0) {
-		msg("%s: cannot create symbolic link: %s", path, strerror(errno));
-		return EXIT_USAGE;
-	}
-	p->linked = true;
-	return 0;
-}
-
-static void pty_destroy(struct pty *p)
-{
-	char target[sizeof p->slave_name];
-	ssize_t n;
-
-	if (p->linked) {
-		/* remove the link only if it is still ours */
-		n = readlink(p->link, target, sizeof target - 1);
-		if (n >= 0) {
-			target[n] = '\0';
-			if (strcmp(target, p->slave_name) == 0)
-				unlink(p->link);
-		}
-		p->linked = false;
-	}
-	if (p->slave >= 0)
-		close(p->slave);
-	p->slave = -1;
-}
-
-/* "tcp://HOST:PORT", "HOST:PORT", ":PORT", "PORT", "[::1]:PORT". */
-static bool parse_listen(const char *spec, char *host, size_t hcap, char *port, size_t pcap)
-{
-	const char *s = spec, *colon;
-	size_t hl;
-
-	if (strncmp(s, "tcp://", 6) == 0)
-		s += 6;
-	else if (strncmp(s, "tcp:", 4) == 0)
-		s += 4;
-	if (*s == '[') {
-		const char *rb = strchr(s, ']');
-
-		if (!rb || rb[1] != ':')
-			return false;
-		hl = (size_t)(rb - s - 1);
-		if (hl == 0 || hl >= hcap)
-			return false;
-		memcpy(host, s + 1, hl);
-		host[hl] = '\0';
-		s = rb + 2;
-	} else if ((colon = strrchr(s, ':')) != NULL) {
-		hl = (size_t)(colon - s);
-		if (hl >= hcap)
-			return false;
-		memcpy(host, s, hl);
-		host[hl] = '\0';
-		s = colon + 1;
-	} else {
-		host[0] = '\0';
-	}
-	if (!host[0])
-		snprintf(host, hcap, "127.0.0.1");      /* loopback unless asked otherwise */
-	{
-		long v;
-
-		if (!parse_long(s, 0, 65535, &v) || strlen(s) >= pcap)
-			return false;
-		snprintf(port, pcap, "%ld", v);
-	}
-	return true;
-}
-
-static int listen_open(const char *spec, char *shown, size_t cap)
-{
-	char host[256], port[16], hbuf[INET6_ADDRSTRLEN + 8], pbuf[16];
-	struct addrinfo hints, *res, *ai;
-	struct sockaddr_storage ss;
-	socklen_t sl = sizeof ss;
-	int fd = -1, rc, one = 1;
-
-	if (!parse_listen(spec, host, sizeof host, port, sizeof port)) {
-		msg("--listen: invalid address '%s' (expected tcp://HOST:PORT)", spec);
-		return -EXIT_USAGE;
-	}
-	memset(&hints, 0, sizeof hints);
-	hints.ai_family = AF_UNSPEC;
-	hints.ai_socktype = SOCK_STREAM;
-	hints.ai_flags = AI_PASSIVE | AI_NUMERICSERV;
-	rc = getaddrinfo(host, port, &hints, &res);
-	if (rc != 0) {
-		msg("--listen %s: %s", spec, gai_strerror(rc));
-		return -EXIT_USAGE;
-	}
-	for (ai = res; ai; ai = ai->ai_next) {
-		fd = socket(ai->ai_family, ai->ai_socktype | SOCK_CLOEXEC, ai->ai_protocol);
-		if (fd < 0)
-			continue;
-		setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-		if (bind(fd, ai->ai_addr, ai->ai_addrlen) == 0 && listen(fd, 4) == 0)
-			break;
-		rc = errno;
-		close(fd);
-		fd = -1;
-		errno = rc;
-	}
-	freeaddrinfo(res);
-	if (fd < 0) {
-		msg("--listen %s: %s", spec, strerror(errno));
-		return -EXIT_COMM;
-	}
-	if (getsockname(fd, (struct sockaddr *)&ss, &sl) < 0 ||
-	    getnameinfo((struct sockaddr *)&ss, sl, hbuf, sizeof hbuf, pbuf, sizeof pbuf,
-	                NI_NUMERICHOST | NI_NUMERICSERV) != 0) {
-		msg("--listen %s: %s", spec, strerror(errno));
-		close(fd);
-		return -EXIT_COMM;
-	}
-	if (ss.ss_family == AF_INET6)
-		snprintf(shown, cap, "tcp://[%s]:%s", hbuf, pbuf);
-	else
-		snprintf(shown, cap, "tcp://%s:%s", hbuf, pbuf);
-	return fd;
 }
 
 /* ------------------------------------------------------------------------
@@ -1402,7 +458,7 @@ static int report(df1_t *h, const char *where, int err)
 		    d && d->message[0] ? d->message : df1_strerror(err));
 	else
 		msg("%s: %s: %s", where, df1_errname(err), d && d->message[0] ? d->message : df1_strerror(err));
-	return EXIT_COMM;
+	return CLI_EXIT_FAIL;
 }
 
 /* Empty the self-pipe and apply SIGUSR1 / SIGUSR2 if one came. A wait that a
@@ -1411,13 +467,10 @@ static int report(df1_t *h, const char *where, int err)
  * the master sees as a broken frame and recovers from). */
 static void sim_wakeup(df1_t *h, struct sim *s)
 {
-	char buf[64];
 	bool mute;
 
-	while (read(g_sigpipe[0], buf, sizeof buf) > 0) {
-		/* drain: the flags say what happened */
-	}
-	mute = g_mute != 0;
+	sim_signal_drain();
+	mute = sim_mute != 0;
 	if (mute == s->muted)
 		return;
 	if (mute)
@@ -1435,12 +488,12 @@ static int serve_open(df1_t *h, struct sim *s)
 {
 	int r;
 
-	while (!g_stop) {
+	while (!sim_stop) {
 		sim_wakeup(h, s);
 		r = df1_serve(h, &sim_ops, s, 1000);
-		if (r >= 0 || (r == DF1_E_INTR && !g_stop))
+		if (r >= 0 || (r == DF1_E_INTR && !sim_stop))
 			continue;
-		if (r == DF1_E_INTR || g_stop)
+		if (r == DF1_E_INTR || sim_stop)
 			return 0;
 		return r;
 	}
@@ -1450,19 +503,19 @@ static int serve_open(df1_t *h, struct sim *s)
 static int serve_tcp(df1_t *h, struct sim *s, int lfd, const char *shown)
 {
 	for (;;) {
-		struct pollfd pfd[2] = { { lfd, POLLIN, 0 }, { g_sigpipe[0], POLLIN, 0 } };
+		struct pollfd pfd[2] = { { lfd, POLLIN, 0 }, { sim_signal_fd(), POLLIN, 0 } };
 		int cfd, r, one = 1;
 
-		if (g_stop)
+		if (sim_stop)
 			return 0;
 		r = poll(pfd, 2, -1);
 		if (r < 0) {
 			if (errno == EINTR)
 				continue;
 			msg("%s: poll: %s", shown, strerror(errno));
-			return EXIT_COMM;
+			return CLI_EXIT_FAIL;
 		}
-		if (g_stop)
+		if (sim_stop)
 			return 0;
 		if (pfd[1].revents) {
 			sim_wakeup(h, s);       /* SIGUSR1 / SIGUSR2 */
@@ -1475,7 +528,7 @@ static int serve_tcp(df1_t *h, struct sim *s, int lfd, const char *shown)
 			if (errno == EINTR || errno == ECONNABORTED || errno == EAGAIN)
 				continue;
 			msg("%s: accept: %s", shown, strerror(errno));
-			return EXIT_COMM;
+			return CLI_EXIT_FAIL;
 		}
 		setsockopt(cfd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
 		if (s->verbose)
@@ -1519,7 +572,7 @@ static int setup_handle(df1_t *h, const struct opts *o, struct sim *s)
 		const struct df1_error_detail *d = df1_last_error(h);
 
 		msg("invalid setting: %s", d && d->message[0] ? d->message : df1_strerror(r));
-		return EXIT_USAGE;
+		return CLI_EXIT_USAGE;
 	}
 	df1_server_set_seed(h, o->seed);
 	if (o->verbose)
@@ -1529,44 +582,16 @@ static int setup_handle(df1_t *h, const struct opts *o, struct sim *s)
 	return 0;
 }
 
-static int self_pipe(void)
-{
-	struct sigaction sa;
-
-	if (pipe2(g_sigpipe, O_CLOEXEC | O_NONBLOCK) < 0) {
-		msg("pipe: %s", strerror(errno));
-		return EXIT_COMM;
-	}
-	memset(&sa, 0, sizeof sa);
-	sa.sa_handler = on_signal;
-	sigemptyset(&sa.sa_mask);
-	sigaction(SIGINT, &sa, NULL);
-	sigaction(SIGTERM, &sa, NULL);
-	sigaction(SIGUSR1, &sa, NULL);
-	sigaction(SIGUSR2, &sa, NULL);
-	sa.sa_handler = SIG_IGN;
-	sigaction(SIGPIPE, &sa, NULL);
-	return 0;
-}
-
 static void sim_free(struct sim *s)
 {
 	for (int i = 0; i < 256; i++)
-		table_free(s->tables[i]);
-	if (s->log.fp)
-		fclose(s->log.fp);
-	df1_decoder_free(s->log.dec[0]);
-	df1_decoder_free(s->log.dec[1]);
+		df1_table_free(s->tables[i]);
+	sim_cmdlog_close(&s->log);
 }
 
 static int sim_build(struct sim *s, const struct opts *o)
 {
-	static const char *const default_proc[] = {
-		[DF1_PLC_SLC] = "slc5/04", [DF1_PLC_MICROLOGIX] = "ml1400",
-		[DF1_PLC_SLC502] = "slc5/02", [DF1_PLC_PLC5] = "plc5/40", [DF1_PLC_PLC2] = "slc5/04",
-	};
-	static struct processor custom;
-	struct sim_table *tmpl;
+	struct df1_table *tmpl = NULL;
 	int r;
 
 	memset(s, 0, sizeof *s);
@@ -1579,42 +604,37 @@ static int sim_build(struct sim *s, const struct opts *o)
 		s->silent_pm = o->faults[DF1_FAULT_SILENT_STATION].per_mille;
 		s->silent_station = o->faults[DF1_FAULT_SILENT_STATION].value;
 	}
-	s->proc = processor_find(o->processor ? o->processor : default_proc[o->plc], &custom,
-	                         o->plc == DF1_PLC_PLC5);
-	if (!s->proc) {
-		usage_error("--processor: unknown processor '%s' (e.g. slc5/04, ml1400, plc5/40, 0x5B)",
-		            o->processor);
-		return EXIT_USAGE;
-	}
-	tmpl = table_default();
-	if (!tmpl) {
+	if (df1_table_new(&tmpl, o->plc) < 0 || df1_table_add_default_files(tmpl) < 0) {
+		df1_table_free(tmpl);
 		msg("out of memory");
-		return EXIT_COMM;
+		return CLI_EXIT_FAIL;
 	}
-	if (o->data && (r = data_load(tmpl, o->data)) != 0) {
-		table_free(tmpl);
-		return r;
+	s->tables[s->stations[0]] = tmpl;       /* sim_free() frees it from here on */
+	if (o->processor && df1_table_set_processor(tmpl, o->processor) < 0) {
+		cli_usage_error(&cli, "--processor: unknown processor '%s' (e.g. slc5/04, ml1400, plc5/40, 0x5B)",
+		            o->processor);
+		return CLI_EXIT_USAGE;
 	}
-	for (int i = 0; i < s->nstations; i++) {
-		s->tables[s->stations[i]] = i == 0 ? tmpl : table_clone(tmpl);
-		if (!s->tables[s->stations[i]]) {
+	if (o->data && df1_table_load(tmpl, o->data) < 0) {
+		msg("%s", df1_table_error_text(tmpl));
+		return CLI_EXIT_USAGE;
+	}
+	for (int i = 1; i < s->nstations; i++) {
+		if (df1_table_clone(&s->tables[s->stations[i]], tmpl) < 0) {
 			msg("out of memory");
-			return EXIT_COMM;
+			return CLI_EXIT_FAIL;
 		}
 	}
 	if (o->log) {
-		s->log.fp = fopen(o->log, "w");
-		if (!s->log.fp) {
+		r = sim_cmdlog_open(&s->log, o->log, o->check, o->half, s->tables, s->stations[0]);
+		if (r == -1) {
 			msg("--log %s: %s", o->log, strerror(errno));
-			return EXIT_USAGE;
+			return CLI_EXIT_USAGE;
 		}
-		if (df1_decoder_new(&s->log.dec[0], o->check) < 0 ||
-		    df1_decoder_new(&s->log.dec[1], o->check) < 0) {
+		if (r < 0) {
 			msg("out of memory");
-			return EXIT_COMM;
+			return CLI_EXIT_FAIL;
 		}
-		df1_decoder_set_half_duplex(s->log.dec[0], o->half);
-		df1_decoder_set_half_duplex(s->log.dec[1], o->half);
 	}
 	return 0;
 }
@@ -1623,11 +643,12 @@ int main(int argc, char **argv)
 {
 	static struct sim sim;
 	struct opts o;
-	struct pty pty = { -1, -1, "", NULL, false };
-	char shown[300];
+	struct sim_pty pty = { -1, -1, "", NULL, false };
+	char shown[300], err[600];
 	df1_t *h = NULL;
 	int status, r, lfd = -1;
 
+	cli_init(&cli, &sim_tool);
 	status = parse_args(argc, argv, &o);
 	if (status >= 0)
 		return status;
@@ -1637,21 +658,25 @@ int main(int argc, char **argv)
 	r = df1_new(&h);
 	if (r < 0) {
 		msg("%s", df1_strerror(r));
-		status = EXIT_COMM;
+		status = CLI_EXIT_FAIL;
 		goto out;
 	}
 	status = setup_handle(h, &o, &sim);
 	if (status)
 		goto out;
-	status = self_pipe();
-	if (status)
+	if (sim_signals_install() < 0) {
+		msg("pipe: %s", strerror(errno));
+		status = CLI_EXIT_FAIL;
 		goto out;
-	df1_set_cancel_fd(h, g_sigpipe[0]);
+	}
+	df1_set_cancel_fd(h, sim_signal_fd());
 
 	if (o.pty) {
-		status = pty_create(&pty, o.pty);
-		if (status)
+		status = sim_pty_create(&pty, o.pty, err, sizeof err);
+		if (status) {
+			msg("%s", err);
 			goto out;
+		}
 		r = df1_open_fd(h, pty.master, true);
 		if (r < 0) {
 			status = report(h, o.pty, r);
@@ -1667,8 +692,9 @@ int main(int argc, char **argv)
 		}
 		snprintf(shown, sizeof shown, "%s", o.device);
 	} else {
-		lfd = listen_open(o.listen, shown, sizeof shown);
+		lfd = sim_listen_open(o.listen, shown, sizeof shown, err, sizeof err);
 		if (lfd < 0) {
+			msg("%s", err);
 			status = -lfd;
 			goto out;
 		}
@@ -1682,7 +708,7 @@ int main(int argc, char **argv)
 		r = serve_open(h, &sim);
 		status = r < 0 ? report(h, shown, r) : 0;
 	}
-	if (status == 0 && g_stop && o.verbose)
+	if (status == 0 && sim_stop && o.verbose)
 		msg("stopped by signal");
 out:
 	if (h) {
@@ -1693,7 +719,7 @@ out:
 		close(lfd);
 	if (pty.master >= 0)
 		close(pty.master);
-	pty_destroy(&pty);
+	sim_pty_destroy(&pty);
 	sim_free(&sim);
 	return status;
 }

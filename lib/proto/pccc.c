@@ -924,6 +924,50 @@ int pccc_dec_diag_status(const uint8_t *d, size_t n, struct df1_diag_status *o)
 	return 0;
 }
 
+int pccc_enc_diag_reply(uint8_t *out, size_t cap, const struct pccc_diag_info *d)
+{
+	size_t blen;
+
+	if (!out || !d)
+		return DF1_E_INVAL;
+	if (d->plc5) {
+		/* M p.192-193 (1-based): 1 mode, 2 EB, 3 type, 4-7 memory, 8 series/revision,
+		 * 9 DH+ node, 10 I/O address, 11 flags, 12-13 data files, 14-15 program
+		 * files, 16 forcing, 17 memory protect, 18 bad RAM */
+		if (cap < 18)
+			return DF1_E_NOSPACE;
+		memset(out, 0, 18);
+		out[0] = (uint8_t)(d->mode & 0x07);
+		out[1] = 0xEB;
+		out[2] = d->type_code;
+		put_le16(out + 3, (uint16_t)d->memory_words);
+		put_le16(out + 5, (uint16_t)(d->memory_words >> 16));
+		out[7] = d->series_rev;
+		out[8] = d->node;
+		put_le16(out + 11, d->data_files);
+		put_le16(out + 13, d->program_files);
+		return 18;
+	}
+	/* M p.174: 1 mode/status, 2 EE, 3 interface type, 4 processor type,
+	 * 5 series/revision, 6-16 bulletin, 17-18 major error, 19-20 mode/status
+	 * word, 21-22 program ID, 23 RAM KB, 24 program owner */
+	if (cap < 24)
+		return DF1_E_NOSPACE;
+	memset(out, 0, 24);
+	out[1] = 0xEE;
+	out[2] = d->interface_type;
+	out[3] = d->type_code;
+	out[4] = d->series_rev;
+	memset(out + 5, ' ', 11);
+	blen = d->bulletin ? strlen(d->bulletin) : 0;
+	if (blen)
+		memcpy(out + 5, d->bulletin, blen < 11 ? blen : 11);
+	out[18] = (uint8_t)(d->mode & 0x1F);
+	out[22] = d->ram_kb;
+	out[23] = d->owner;
+	return 24;
+}
+
 const char *pccc_command_name(uint8_t cmd, bool has_fnc, uint8_t fnc)
 {
 	if (cmd & PCCC_REPLY_BIT) {

@@ -201,6 +201,25 @@ int pccc_dec_typed(const uint8_t *in, size_t n, struct pccc_typed *t);
  * module) -> d[2]; else d[7]. Series letter = bits 5-7 of the series/revision byte (0 = A),
  * revision = bits 0-4 plus 1 (M p.174: "0 = release 1"). DF1_E_TOO_SHORT without the type. */
 int pccc_dec_diag_status(const uint8_t *data, size_t n, struct df1_diag_status *out);
+/* What a diagnostic status reply (06/03, spec 4.9) says about a processor. */
+struct pccc_diag_info {
+	bool plc5;              /* the PLC-5 EB form (M p.192-193), else the EE form (M p.174) */
+	uint8_t type_code;      /* EE byte 4 / EB byte 3: processor (expansion) type */
+	uint8_t interface_type; /* EE byte 3: 1F, 34 (MicroLogix, DF1 full duplex on port 0) */
+	uint8_t series_rev;     /* EE byte 5 / EB byte 8: bits 5-7 series (0 = A), 0-4 revision */
+	const char *bulletin;   /* EE bytes 6-16, blank-padded ASCII; NULL = blanks */
+	uint8_t mode;           /* EE byte 19 (bits 0-4) / EB byte 1 (bits 0-2): mode as coded */
+	uint8_t node;           /* EB byte 9: DH+ node */
+	uint32_t memory_words;  /* EB bytes 4-7: user memory, low word first */
+	uint16_t data_files;    /* EB bytes 12-13 */
+	uint16_t program_files; /* EB bytes 14-15 */
+	uint8_t ram_kb;         /* EE byte 23 */
+	uint8_t owner;          /* EE byte 24: program owner node, 3F = none */
+};
+/* The reply data after the header (the inverse of pccc_dec_diag_status): 24 bytes
+ * in the EE form, 18 in the EB form, the fields not in info zero. Returns the
+ * length, DF1_E_NOSPACE, or DF1_E_INVAL. */
+int pccc_enc_diag_reply(uint8_t *out, size_t cap, const struct pccc_diag_info *info);
 /* Name of a processor type code ("SLC 5/04"), or NULL. */
 const char *pccc_processor_name(uint8_t type_code);
 /* Short command name for display: "SLC typed read, 3 fields (0F/A2)", "echo (06/00)";
