@@ -21,6 +21,16 @@
 #define DF1_VERSION_MICRO 0
 #define DF1_VERSION_STRING "0.1.0"
 
+/* The version of the library a program runs with (as libusb_get_version()).
+ * The macros above are the header a program was compiled against; with the
+ * shared library the one loaded at run time may be newer (same major). */
+struct df1_version {
+	int major;              /* DF1_VERSION_MAJOR of the library: the soname */
+	int minor;              /* added functions */
+	int micro;              /* fixes */
+	const char *string;     /* "MAJOR.MINOR.MICRO", e.g. "0.1.0" */
+};
+
 #if defined(__GNUC__)
 #define DF1_API __attribute__((visibility("default")))
 #else
@@ -30,6 +40,11 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* The runtime version. Returns static storage: never NULL, never freed,
+ * constant, thread-safe; no handle needed, no error.
+ * @since 0.2 */
+DF1_API const struct df1_version *df1_version(void);
 
 /* ------------------------------------------------------------------------
  * Errors. ONE table: name, value, message catalog ID (0 = none), text.
