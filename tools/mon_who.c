@@ -3,6 +3,7 @@
  */
 #include <errno.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "mon.h"
 
@@ -75,78 +76,87 @@ static void who_line(const struct mon *m, int stn, const struct df1_diag_status 
 	fflush(stdout);
 }
 
+/* What run_who gathers from df1_discover's calls. */
+struct who_scan {
+	struct mon *m;
+	int found, last, calls;
+	char list[1024];
+	size_t ll;
+};
+
+/* One station of df1_discover: its line, or (-v) why it did not answer. A stop
+ * by a signal drops the station under way, as an interrupted probe would. */
+static int who_station(void *user, const struct df1_discover_result *r)
+{
+	struct who_scan *w = user;
+	struct mon *m = w->m;
+	char text[320];
+
+	w->calls++;
+	if (cli_stop)
+		return 1;
+	w->last = r->station;
+	/* full duplex: a station that is not identified gave no reply to this DST */
+	if (!r->answered || (!m->cli.half_duplex && !r->identified)) {
+		if (m->cli.verbose >= 1) {
+			cli_error_text(m->h, r->error, text, sizeof text);
+			fprintf(stderr, "%s: station %d: %s\n", m->cli.name, r->station, text);
+		}
+		return out_broken();
+	}
+	if (r->identified) {
+		who_line(m, r->station, &r->status, NULL);
+	} else {
+		cli_error_text(m->h, r->error, text, sizeof text);
+		who_line(m, r->station, NULL, text);
+	}
+	w->found++;
+	if (w->ll + 8 < sizeof w->list)
+		w->ll += (size_t)snprintf(w->list + w->ll, sizeof w->list - w->ll, " %d", r->station);
+	return out_broken();
+}
+
 /*
- * Half duplex: a poll (df1_link_test) per station, bounded by -o (200 ms by
- * default for --who); a station that answers is asked its diagnostic status.
- * Full duplex: a DLE ENQ first (no answer: nothing on the line), then a
- * diagnostic status with DST = each station of the range; a point-to-point
- * peer may answer whatever the DST, which the summary says.
+ * df1_discover(3) does the probing: half duplex, a poll per station, bounded
+ * by -o (200 ms by default for --who), and the diagnostic status of a station
+ * that answers; full duplex, one DLE ENQ first (no answer: nothing on the
+ * line), then a diagnostic status with DST = each station of the range; a
+ * point-to-point peer may answer whatever the DST, which the summary says.
  */
 int run_who(struct mon *m)
 {
 	bool half = m->cli.half_duplex;
-	int found = 0, last = -1, r;
-	char text[320], list[1024];
-	size_t ll = 0;
+	struct who_scan w;
+	char text[320];
+	int r = 0;
 
-	list[0] = 0;
+	memset(&w, 0, sizeof w);
+	w.m = m;
+	w.last = -1;
 	if (m->cli.format == CLI_FMT_CSV)
 		puts("station,type_code,processor,series,revision,mode,mode_text,bulletin,error");
-	if (!half) {
-		r = df1_link_test(m->h, m->who_lo);
-		if (r < 0 && r != DF1_E_INTR && !cli_stop) {
-			if (!m->cli.quiet) {
-				cli_error_text(m->h, r, text, sizeof text);
-				fprintf(stderr, "%s: no answer to DLE ENQ, nothing on the line: %s\n", m->cli.name, text);
-			}
-			return CLI_EXIT_FAIL;
-		}
-	}
-	for (int stn = m->who_lo; stn <= m->who_hi && !cli_stop && !out_broken(); stn++) {
-		struct df1_diag_status d;
-
-		if (half) {
-			r = df1_link_test(m->h, stn);
-			if (r == DF1_E_INTR || cli_stop)
-				break;
-			if (r < 0) {
-				if (m->cli.verbose >= 1) {
-					cli_error_text(m->h, r, text, sizeof text);
-					fprintf(stderr, "%s: station %d: %s\n", m->cli.name, stn, text);
-				}
-				last = stn;
-				continue;
-			}
-		}
-		r = df1_diag_status(m->h, stn, &d);
-		if (r == DF1_E_INTR || cli_stop)
-			break;
-		last = stn;
-		if (r < 0) {
+	if (!cli_stop && !out_broken())
+		r = df1_discover(m->h, m->who_lo, m->who_hi, who_station, &w);
+	if (r < 0 && r != DF1_E_INTR && !cli_stop) {
+		if (!m->cli.quiet) {
 			cli_error_text(m->h, r, text, sizeof text);
-			if (!half) {
-				/* full duplex: no reply to this DST */
-				if (m->cli.verbose >= 1)
-					fprintf(stderr, "%s: station %d: %s\n", m->cli.name, stn, text);
-				continue;
-			}
-			who_line(m, stn, NULL, text);
-		} else {
-			who_line(m, stn, &d, NULL);
+			if (!half && w.calls == 0)
+				fprintf(stderr, "%s: no answer to DLE ENQ, nothing on the line: %s\n", m->cli.name, text);
+			else
+				fprintf(stderr, "%s: --who: %s\n", m->cli.name, text);
 		}
-		found++;
-		if (ll + 8 < sizeof list)
-			ll += (size_t)snprintf(list + ll, sizeof list - ll, " %d", stn);
+		if (!half && w.calls == 0)
+			return CLI_EXIT_FAIL;
 	}
 	if (!m->cli.quiet) {
 		if (interrupted())
 			fprintf(stderr, "%s: stopped by %s after station %d\n", m->cli.name,
-			        signal_name(cli_stop_signal()), last);
+			        signal_name(cli_stop_signal()), w.last);
 		fprintf(stderr, "%s: stations %d-%d (%s duplex): %d answered%s%s\n", m->cli.name, m->who_lo,
-		        m->who_hi, half ? "half" : "full", found, found ? ":" : "", list);
-		if (!half && found > 1)
+		        m->who_hi, half ? "half" : "full", w.found, w.found ? ":" : "", w.list);
+		if (!half && w.found > 1)
 			fprintf(stderr, "%s: full duplex: a point-to-point peer answers whatever the DST; "
 			        "these may all be one device\n", m->cli.name);
 	}
-	return found > 0 ? CLI_EXIT_OK : CLI_EXIT_FAIL;
+	return w.found > 0 ? CLI_EXIT_OK : CLI_EXIT_FAIL;
 }
