@@ -2,10 +2,7 @@
  * mon_counters - df1mon: the counter table (ID MNEMONIC VALUE) and --counters
  * alone.
  */
-
 #include "mon.h"
-
-/* ---- counters: ID MNEMONIC VALUE ---- */
 
 /* Every counter of the seed table in ID order (2525-2551, 2560, 2561). */
 void print_counters(struct mon *m, bool final)

@@ -2,13 +2,11 @@
  * mon_decode - df1mon --decode: frames given as hex, each argument (or each
  * stdin line) decoded on its own, with a fresh decoder.
  */
+#include "mon.h"
+
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
-
-#include "mon.h"
-
-/* ---- --decode ---- */
 
 static int decode_chunk(struct mon *m, const uint8_t *b, size_t n)
 {

@@ -1,16 +1,12 @@
 /*
  * mon_live - df1mon: the clocks, waits and stop reasons of the live modes.
  */
+#include "mon.h"
+
 #include <math.h>
 #include <poll.h>
 #include <signal.h>
 #include <time.h>
-
-#include "mon.h"
-
-/* ======================================================================
- * Live modes
- * ====================================================================== */
 
 int64_t mono_us(void)
 {

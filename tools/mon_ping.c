@@ -2,10 +2,7 @@
  * mon_ping - df1mon --ping: link test and 06/00 echo per probe, round-trip
  * times, a summary.
  */
-
 #include "mon.h"
-
-/* ---- --ping ---- */
 
 struct rtt {
 	unsigned long n;

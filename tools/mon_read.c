@@ -2,13 +2,11 @@
  * mon_read - df1mon --read FILE: a pcap (link type 250, RTAC serial, or any
  * other taken as serial bytes) or a raw byte dump.
  */
+#include "mon.h"
+
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
-
-#include "mon.h"
-
-/* ---- --read ---- */
 
 static int slurp(struct mon *m, const char *path, uint8_t **out, size_t *len)
 {

@@ -2,11 +2,9 @@
  * mon_stream - df1mon: one byte stream through a decoder (one direction of a
  * capture, or one --decode chunk); each symbol printed with its time (see mon.h).
  */
-#include <string.h>
-
 #include "mon.h"
 
-/* ---- one byte stream (one direction of a capture, or one --decode chunk) ---- */
+#include <string.h>
 
 int stream_init(struct mon *m, struct stream *s, const char *dir)
 {

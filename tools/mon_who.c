@@ -1,13 +1,11 @@
 /*
  * mon_who - df1mon --who: station discovery with processor type.
  */
+#include "mon.h"
+
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
-
-#include "mon.h"
-
-/* ---- --who ---- */
 
 /* "N" or "LO-HI", 0..254. */
 int parse_range(struct mon *m, const char *arg)
