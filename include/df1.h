@@ -23,7 +23,8 @@
 
 /* The version of the library a program runs with (as libusb_get_version()).
  * The macros above are the header a program was compiled against; with the
- * shared library the one loaded at run time may be newer (same major). */
+ * shared library the one loaded at run time may be newer (same major).
+ * @since 0.2 */
 struct df1_version {
 	int major;              /* DF1_VERSION_MAJOR of the library: the soname */
 	int minor;              /* added functions */
