@@ -6,7 +6,8 @@
  * half-duplex slave, the cancel fd readable before the scan (nothing sent), a
  * full-duplex line where nobody answers the first DLE ENQ (the error, no
  * callback), and what the presence probe sends: an empty 06/00 echo in full
- * duplex, a poll (DLE ENQ STN BCC) in half duplex, a DLE EOT to it an answer.
+ * duplex, a poll (DLE ENQ STN BCC) in half duplex, a DLE EOT to it an answer;
+ * a reply with an error STS is an answer without an identification.
  *
  * Integration against df1sim over a pty: several stations on a half-duplex
  * line, some absent, one silenced (--silent), in order, identified
@@ -265,6 +266,62 @@ static void test_discover_probe_half_polls_eot_answers(void **state)
 	mock_handle_free(h);
 }
 
+/* A full-duplex peer that is there but refuses every command: ACK to a DLE ENQ
+ * or a frame, then a reply with STS 10h (illegal command or format). */
+static void refusing_peer(const uint8_t *buf, size_t n, void *user)
+{
+	struct df1_decoder *d = NULL;
+	struct df1_symbol sym;
+	size_t pos = 0;
+
+	(void)user;
+	if (n == 2 && buf[0] == 0x10 && buf[1] == 0x05) {
+		mock_port_feed_hex("10 06");
+		return;
+	}
+	assert_int_equal(df1_decoder_new(&d, DF1_CHECK_CRC), 0);
+	while (pos < n) {
+		size_t k = df1_decoder_feed(d, buf + pos, n - pos, &sym);
+		pos += k;
+		if (sym.kind == DF1_SYM_FRAME && sym.len >= 6 && !(sym.data[2] & 0x40)) {
+			uint8_t app[6] = { sym.data[1], sym.data[0], (uint8_t)(sym.data[2] | 0x40), 0x10,
+			                   sym.data[4], sym.data[5] };
+			uint8_t wire[64];
+			size_t w = frame_encode_full(DF1_CHECK_CRC, app, sizeof app, wire, sizeof wire);
+
+			mock_port_feed_hex("10 06");
+			mock_port_feed(wire, w);
+			break;
+		}
+		if (k == 0)
+			break;
+	}
+	df1_decoder_free(d);
+}
+
+/* A reply with an error STS is an answer: the station is there, not identified. */
+static void test_discover_remote_error_answered_not_identified(void **state)
+{
+	df1_t *h = mock_handle(DF1_FULL_DUPLEX);
+	struct seen s;
+
+	(void)state;
+	seen_init(&s, h);
+	mock_port_on_write(refusing_peer, NULL);
+	assert_int_equal(df1_discover(h, 3, 4, on_station, &s), 2);
+	assert_int_equal(s.calls, 2);
+	for (int i = 0; i < 2; i++) {
+		assert_int_equal(s.r[i].station, 3 + i);
+		assert_true(s.r[i].answered);
+		assert_false(s.r[i].identified);
+		assert_int_equal(s.r[i].error, DF1_E_REMOTE);
+		assert_int_equal(s.last_error_code[i], DF1_E_REMOTE);
+		assert_int_equal(s.r[i].status.name[0], '\0');
+	}
+	assert_int_equal(df1_last_error(h)->sts, 0x10);
+	mock_handle_free(h);
+}
+
 /* ------------------------------------------------------------------------
  * Integration: df1sim on a pty
  * ------------------------------------------------------------------------ */
@@ -499,6 +556,7 @@ int main(void)
 		cmocka_unit_test(test_discover_full_line_silent_error_no_callback),
 		cmocka_unit_test(test_discover_probe_full_sends_empty_echo),
 		cmocka_unit_test(test_discover_probe_half_polls_eot_answers),
+		cmocka_unit_test(test_discover_remote_error_answered_not_identified),
 	};
 	const struct CMUnitTest half[] = {
 		cmocka_unit_test_teardown(test_it_discover_half_several_stations, it_test_teardown),
