@@ -3,8 +3,11 @@
  * (DESIGN.md 8, STYLE.md 7.9): the common options, parsed with getopt_long
  * from one table; per-tool option sets and extra options; building and
  * opening the handle; error reports in the catalog format; -v logging and
- * -vv frame traces on stderr; SIGINT/SIGTERM through a self-pipe; JSON and
- * CSV quoting; operand addresses (value i of an operand, address errors).
+ * -vv frame traces on stderr; SIGINT/SIGTERM through a self-pipe; operand
+ * addresses (value i of an operand, address errors); and, through cli_text.h,
+ * JSON and CSV quoting and hex. The code is in tools/cli_*.c, one file per
+ * part (cli_int.h lists them); cli_handle.c's -vv trace is the one user of
+ * tools/decode.h, which itself needs only cli_text.h.
  *
  * Tools use only include/df1.h. Messages go to stderr as "tool: ...";
  * stdout carries data only. Exit status: 0 success, 1 communication or PLC
