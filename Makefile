@@ -39,7 +39,10 @@ LIB_SRCS := $(sort $(wildcard lib/*.c lib/*/*.c))
 LIB_OBJS := $(LIB_SRCS:%.c=$(B)/%.o)
 LIB_PIC_OBJS := $(LIB_SRCS:%.c=$(B)/pic/%.o)
 TOOL_NAMES := df1read df1write df1mon df1sim
-TOOL_COMMON := $(filter-out $(TOOL_NAMES:%=tools/%.c),$(wildcard tools/*.c))
+# tools/mon_*.c belong to df1mon alone; every other tools/*.c that is not a
+# tool's main (cli_*, decode*) is linked into every tool.
+TOOL_OWN_df1mon := $(patsubst %.c,$(B)/%.o,$(wildcard tools/mon_*.c))
+TOOL_COMMON := $(filter-out $(TOOL_NAMES:%=tools/%.c) $(wildcard tools/mon_*.c),$(wildcard tools/*.c))
 TOOL_COMMON_OBJS := $(TOOL_COMMON:%.c=$(B)/%.o)
 TOOLS := $(foreach t,$(TOOL_NAMES),$(if $(wildcard tools/$(t).c),$(B)/bin/$(t)))
 TEST_SRCS := $(sort $(wildcard tests/test_*.c))
@@ -93,10 +96,11 @@ $(SHARED): $(LIB_PIC_OBJS) lib/libdf1.map
 	$(Q)ln -sf $(SO_FILE) $(B)/libdf1.so.$(MAJOR)
 	$(Q)ln -sf libdf1.so.$(MAJOR) $(B)/libdf1.so
 
+$(B)/bin/df1mon: $(TOOL_OWN_df1mon)
 $(B)/bin/%: $(B)/tools/%.o $(TOOL_COMMON_OBJS) $(STATIC)
 	@mkdir -p $(dir $@)
 	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) $(CFLAGS) $(EXTRA) -o $@ $< $(TOOL_COMMON_OBJS) $(STATIC) $(LIBS) -lpthread
+	$(Q)$(CC) $(CFLAGS) $(EXTRA) -o $@ $< $(TOOL_OWN_$*) $(TOOL_COMMON_OBJS) $(STATIC) $(LIBS) -lpthread
 
 $(B)/libdf1.pc: libdf1.pc.in include/df1.h
 	$(Q)sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \

@@ -21,6 +21,17 @@
 #define DF1_VERSION_MICRO 0
 #define DF1_VERSION_STRING "0.1.0"
 
+/* The version of the library a program runs with (as libusb_get_version()).
+ * The macros above are the header a program was compiled against; with the
+ * shared library the one loaded at run time may be newer (same major).
+ * @since 0.2 */
+struct df1_version {
+	int major;              /* DF1_VERSION_MAJOR of the library: the soname */
+	int minor;              /* added functions */
+	int micro;              /* fixes */
+	const char *string;     /* "MAJOR.MINOR.MICRO", e.g. "0.1.0" */
+};
+
 #if defined(__GNUC__)
 #define DF1_API __attribute__((visibility("default")))
 #else
@@ -30,6 +41,11 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* The runtime version. Returns static storage: never NULL, never freed,
+ * constant, thread-safe; no handle needed, no error.
+ * @since 0.2 */
+DF1_API const struct df1_version *df1_version(void);
 
 /* ------------------------------------------------------------------------
  * Errors. ONE table: name, value, message catalog ID (0 = none), text.
@@ -475,6 +491,35 @@ struct df1_diag_status {
 	size_t raw_len;
 };
 DF1_API int df1_diag_status(df1_t *h, int station, struct df1_diag_status *out);
+
+/* Station discovery (df1_discover(3)): which stations of lo..hi (0..254) answer,
+ * and what they are. One station after the other, in ascending order:
+ *  - half-duplex master: a poll (DLE ENQ STN, as df1_link_test); a station that
+ *    answers it is asked its diagnostic status (06/03);
+ *  - full duplex: first one DLE ENQ for the line (nobody answers: the scan ends
+ *    with that error, fn never called); then the diagnostic status addressed to
+ *    each station is the probe. A point-to-point peer may answer any DST.
+ * The poll engine's discovery (df1_poll_set_station_range) uses the same probe.
+ * fn (may be NULL) is called once per station probed, with r valid during the
+ * call only; while it runs, df1_last_error(h) describes r->error. fn returns 0
+ * to go on, anything else to stop (df1_discover then returns the count so far).
+ * The cancel fd (df1_set_cancel_fd) is honoured in every wait and before each
+ * station: DF1_E_INTR, and fn is not called for the station under way.
+ * Returns the number of stations that answered, or DF1_E_*: DF1_E_INVAL (h NULL,
+ * lo/hi outside 0..254 or lo > hi), DF1_E_NOT_OPEN, DF1_E_NOTSUP (half-duplex
+ * slave), DF1_E_INTR, the line's error (full duplex, no answer to DLE ENQ).
+ * @since 0.2 */
+struct df1_discover_result {
+	int station;                    /* 0..254 */
+	bool answered;                  /* it replied (a reply with an error STS counts) */
+	bool identified;                /* status holds its diagnostic status */
+	int error;                      /* DF1_OK when identified; else why not (DF1_E_*) */
+	uint64_t rtt_us;                /* round trip of the probe it answered (half duplex:
+	                                 * the poll; full duplex: 06/03); 0 if none */
+	struct df1_diag_status status;  /* type code, processor name, series, mode...: identified */
+};
+typedef int (*df1_discover_fn)(void *user, const struct df1_discover_result *r);
+DF1_API int df1_discover(df1_t *h, int lo, int hi, df1_discover_fn fn, void *user);
 /* 06/00 echo: sends data, checks it comes back. Returns the length echoed. */
 DF1_API int df1_echo(df1_t *h, int station, const uint8_t *data, size_t n);
 /* Link test: DLE ENQ (full duplex) or a poll (half duplex); 0 if the link answered. */

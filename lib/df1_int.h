@@ -142,4 +142,15 @@ void df1_clear_error(struct df1 *h);
 /* The frame decoder's FRAME_OPT_* for the handle's configuration (lib/handle.c). */
 unsigned handle_decoder_opts(const struct df1 *h);
 
+/* Discovery (lib/discover.c): the one probe of a station, shared by df1_discover
+ * and the poll engine. Half-duplex master: a poll (df1_link_test); with
+ * DISCOVER_IDENTIFY a station that answers it is then asked its diagnostic
+ * status. Full duplex: a command to the station, the empty 06/00 echo, or with
+ * DISCOVER_IDENTIFY the 06/03 diagnostic status itself. Fills *out (may be NULL).
+ * Returns the presence probe's result: >= 0 it answered, else its DF1_E_* (the
+ * handle's last error has the detail; DF1_E_REMOTE: it answered with an error
+ * STS); DF1_E_INTR, DF1_E_NOMEM, DF1_E_NOT_OPEN of the identification too. */
+#define DISCOVER_IDENTIFY 1u
+int discover_probe(struct df1 *h, int station, unsigned flags, struct df1_discover_result *out);
+
 #endif

@@ -185,5 +185,6 @@ expect 0 "--help" -- "$MON" --help
 check "--help on stdout" 'grep -q "^Usage: df1mon" "$T/out" && [ ! -s "$T/err" ]'
 expect 0 "--version" -- "$MON" --version
 check "--version" 'grep -q "^df1mon (libdf1) [0-9]" "$T/out"'
+check "--version: two lines, the second the library's" '[ "$(wc -l < "$T/out")" -eq 2 ] && sed -n 2p "$T/out" | grep -q "^library: libdf1 [0-9][0-9]*\.[0-9][0-9]*\.[0-9][0-9]*$"'
 
 finish

@@ -80,6 +80,7 @@ check "--help: usage" 'grep -q "^Usage: df1read \[OPTIONS\] ADDRESS\[,COUNT\]\.\
 check "--help: every format" 'grep -q "plain|csv|json" "$T/out"'
 expect 0 "--version" -- "$R" --version
 check "--version text" 'grep -q "^df1read (libdf1) [0-9]" "$T/out"'
+check "--version: the library's version (df1_version) too" '[ "$(sed -n 2p "$T/out")" = "library: libdf1 $(sed -n "s/^df1read (libdf1) //p" "$T/out")" ]'
 
 # ---- the same suite over a pseudo-terminal and over TCP ----
 for tr in pty tcp; do

@@ -49,6 +49,7 @@ err_has "invalid network file: 2556" "[2556] CRT_BAD_ERROR_CODE"
 expect 0 "--help" -- "$W" --help
 check "--help: usage" 'grep -q "^Usage: df1write \[OPTIONS\] ADDRESS=VALUE\[,VALUE\.\.\.\]\.\.\." "$T/out"'
 expect 0 "--version" -- "$W" --version
+check "--version: the tool's and the library's" 'grep -q "^df1write (libdf1) [0-9]" "$T/out" && grep -q "^library: libdf1 [0-9]" "$T/out"'
 
 for tr in pty tcp; do
 	SIM_TRANSPORT=$tr sim_start "w_$tr" --data "$T/data" --log "$T/w_$tr.log" || continue

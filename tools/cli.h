@@ -3,8 +3,11 @@
  * (DESIGN.md 8, STYLE.md 7.9): the common options, parsed with getopt_long
  * from one table; per-tool option sets and extra options; building and
  * opening the handle; error reports in the catalog format; -v logging and
- * -vv frame traces on stderr; SIGINT/SIGTERM through a self-pipe; JSON and
- * CSV quoting; operand addresses (value i of an operand, address errors).
+ * -vv frame traces on stderr; SIGINT/SIGTERM through a self-pipe; operand
+ * addresses (value i of an operand, address errors); and, through cli_text.h,
+ * JSON and CSV quoting and hex. The code is in tools/cli_*.c, one file per
+ * part (cli_int.h lists them); cli_handle.c's -vv trace is the one user of
+ * tools/decode.h, which itself needs only cli_text.h.
  *
  * Tools use only include/df1.h. Messages go to stderr as "tool: ...";
  * stdout carries data only. Exit status: 0 success, 1 communication or PLC
@@ -19,6 +22,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include "df1.h"
+#include "cli_text.h"
 
 struct decode_ctx; /* tools/decode.h */
 
@@ -67,8 +71,7 @@ enum cli_opt_id {
 	(CLI_ACCEPT(CLI_OPT_FORMAT) | CLI_ACCEPT(CLI_OPT_VERBOSE) | CLI_ACCEPT(CLI_OPT_QUIET))
 #define CLI_ACCEPT_ALL (CLI_ACCEPT_LINK | CLI_ACCEPT_OUTPUT)
 
-enum cli_format { CLI_FMT_PLAIN = 0, CLI_FMT_CSV = 1, CLI_FMT_JSON = 2 };
-#define CLI_FMT_BIT(f) (1u << (f))
+#define CLI_FMT_BIT(f) (1u << (f))   /* enum cli_format: cli_text.h */
 
 /* Keys of a tool's own long-only options start here (short ones use the letter). */
 #define CLI_KEY_EXTRA 1000
@@ -148,6 +151,9 @@ void cli_init(struct cli *c, const struct cli_tool *t);
  * Returns CLI_CONTINUE when the tool should run; c->argc/argv are the operands. */
 int cli_parse(struct cli *c, int argc, char **argv, void *user);
 void cli_usage(const struct cli *c, FILE *f);
+/* --version: "TOOL (libdf1) X.Y.Z", the version the tool was built with, then
+ * "library: libdf1 X.Y.Z", the library it runs with (df1_version()). */
+void cli_print_version(FILE *f, const char *tool);
 /* "Try 'NAME --help'." after a usage error; returns CLI_EXIT_USAGE. */
 int cli_usage_error(const struct cli *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 /* Release what cli_parse / cli_open allocated (not the handle). */
@@ -214,20 +220,6 @@ const char *cli_signal_name(int sig);
  * only when there was none, or its action does not end the process. */
 void cli_raise_stop_signal(void);
 
-/* JSON: print s as a JSON string (quotes included), escaping control characters,
- * quotes, backslashes and invalid UTF-8 bytes (as \u00XX). */
-void cli_json_string(FILE *f, const char *s);
-void cli_json_string_n(FILE *f, const char *s, size_t n);
-/* CSV (RFC 4180): print s, quoted when it holds a comma, quote, CR, LF or edge space. */
-void cli_csv_field(FILE *f, const char *s);
-/* CSV: print s quoted whatever it holds (quotes doubled). */
-void cli_csv_quoted(FILE *f, const char *s);
-
-/* Hex: "10 02 0F" into buf; returns length written (always NUL-terminated when cap > 0). */
-size_t cli_hex(const uint8_t *b, size_t n, char *buf, size_t cap);
-/* Parse hex text: pairs of digits, separated or not by spaces, tabs, ':' ',' '-',
- * an optional 0x before a byte. Returns the byte count, or -1 on bad text (an odd
- * digit count, a non-hex character) with *bad_at set to the offending offset. */
-long cli_parse_hex(const char *text, uint8_t *out, size_t cap, size_t *bad_at);
+/* JSON, CSV and hex: cli_text.h (included above). */
 
 #endif

@@ -13,7 +13,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include "df1.h"
-#include "cli.h"
+#include "cli_text.h"   /* enum cli_format; decode does not use cli */
 
 #define DECODE_CMDS 64
 

@@ -1444,7 +1444,8 @@ static int poll_scan_station(struct df1 *h, struct poll_engine *e, int stn, int6
 	return done;
 }
 
-/* A station without tags: link test (half duplex) or empty echo (full duplex). */
+/* A station without tags: discovery's probe (lib/discover.c), a link test (half
+ * duplex) or an empty echo (full duplex). */
 static int poll_probe(struct df1 *h, struct poll_engine *e, int stn, int tries)
 {
 	int done = 0;
@@ -1464,10 +1465,7 @@ static int poll_probe(struct df1 *h, struct poll_engine *e, int stn, int tries)
 		e->stats.probes++;
 		e->scan_tx++;
 		done++;
-		if (h->cfg.duplex == DF1_HALF_DUPLEX_MASTER)
-			rc = df1_link_test(h, stn);
-		else
-			rc = df1_echo(h, stn, NULL, 0);
+		rc = discover_probe(h, stn, 0, NULL);
 		o = poll_outcome(h, rc);
 		now = df1_now_ms();
 		if (o == OUT_ABORT)

@@ -1,0 +1,352 @@
+/*
+ * cli_opts - the common options of the tools: their table, defaults, --help,
+ * and the parsing of each one (see cli.h).
+ */
+#include "cli_int.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#define LONG_ONLY(id) (CLI_KEY_COMMON + (id))
+
+const struct cli_common_opt cli_common_opts[] = {
+	{ CLI_OPT_DEVICE, "device", required_argument, 'd', "DEV",
+	  "serial device or tcp://HOST:PORT (env DF1_DEVICE)" },
+	{ CLI_OPT_NET, "net", required_argument, 'N', "FILE", "network configuration CSV" },
+	{ CLI_OPT_STATION, "station", required_argument, 'a', "N", "destination station 0-254 (default 1)" },
+	{ CLI_OPT_SRC, "src", required_argument, LONG_ONLY(CLI_OPT_SRC), "N",
+	  "own station 0-254 (default 0)" },
+	{ CLI_OPT_BAUD, "baud", required_argument, 'b', "N", "baud rate 1200-115200 (default 19200)" },
+	{ CLI_OPT_PARITY, "parity", required_argument, 'P', "none|even|odd", "parity (default none)" },
+	{ CLI_OPT_DATA_BITS, "data-bits", required_argument, LONG_ONLY(CLI_OPT_DATA_BITS), "7|8",
+	  "data bits (default 8)" },
+	{ CLI_OPT_STOP_BITS, "stop-bits", required_argument, LONG_ONLY(CLI_OPT_STOP_BITS), "1|2",
+	  "stop bits (default 1)" },
+	{ CLI_OPT_HANDSHAKE, "handshake", optional_argument, LONG_ONLY(CLI_OPT_HANDSHAKE), "[=yes|no]",
+	  "RTS/CTS hardware handshake (default no)" },
+	{ CLI_OPT_DUPLEX, "duplex", required_argument, LONG_ONLY(CLI_OPT_DUPLEX), "full|half",
+	  "link mode (default full; half = half-duplex master)" },
+	{ CLI_OPT_CHECK, "check", required_argument, LONG_ONLY(CLI_OPT_CHECK), "crc|bcc",
+	  "error check (default crc)" },
+	{ CLI_OPT_PLC, "plc", required_argument, LONG_ONLY(CLI_OPT_PLC), "TYPE",
+	  "slc, micrologix, slc502, plc5 or plc2 (default slc)" },
+	{ CLI_OPT_TIMEOUT, "timeout", required_argument, 'o', "MS",
+	  "ACK and reply timeout 0-360000 (default 1000)" },
+	{ CLI_OPT_CMD_TIMEOUT, "cmd-timeout", required_argument, LONG_ONLY(CLI_OPT_CMD_TIMEOUT), "MS",
+	  "whole transaction 500-5000 (default 1000)" },
+	{ CLI_OPT_NAK_RETRIES, "nak-retries", required_argument, LONG_ONLY(CLI_OPT_NAK_RETRIES), "N",
+	  "retransmissions after NAK 0-10 (default 3)" },
+	{ CLI_OPT_ENQ_RETRIES, "enq-retries", required_argument, LONG_ONLY(CLI_OPT_ENQ_RETRIES), "N",
+	  "ENQs (polls) after a timeout 0-10 (default 3)" },
+	{ CLI_OPT_TX_DELAY, "tx-delay", required_argument, LONG_ONLY(CLI_OPT_TX_DELAY), "MS",
+	  "delay before each transmission 0-65535 (default 0)" },
+	{ CLI_OPT_RS485, "rs485", no_argument, LONG_ONLY(CLI_OPT_RS485), NULL,
+	  "kernel RS-485 mode (TIOCSRS485)" },
+	{ CLI_OPT_FORMAT, "format", required_argument, 'f', "FMT", "output format" },
+	{ CLI_OPT_VERBOSE, "verbose", no_argument, 'v', NULL,
+	  "link events on stderr; -vv also every frame" },
+	{ CLI_OPT_QUIET, "quiet", no_argument, 'q', NULL, "no messages on stderr but errors" },
+};
+
+const size_t cli_n_common = sizeof cli_common_opts / sizeof cli_common_opts[0];
+
+static const int std_bauds[] = { 1200, 2400, 4800, 9600, 19200, 38400, 57600, 115200 };
+
+void cli_init(struct cli *c, const struct cli_tool *t)
+{
+	memset(c, 0, sizeof *c);
+	c->tool = t;
+	c->name = t->name;
+	c->station = 1;
+	c->src = 0;
+	c->baud = 19200;
+	c->data_bits = 8;
+	c->stop_bits = 1;
+	c->parity = 'N';
+	c->handshake = false;
+	c->half_duplex = false;
+	c->check = DF1_CHECK_CRC;
+	c->plc = DF1_PLC_SLC;
+	c->timeout_ms = 1000;
+	c->cmd_timeout_ms = 1000;
+	c->nak_retries = 3;
+	c->enq_retries = 3;
+	c->tx_delay_ms = 0;
+	c->format = CLI_FMT_PLAIN;
+}
+
+bool cli_accepts(const struct cli *c, enum cli_opt_id id)
+{
+	return (c->tool->accepts & CLI_ACCEPT(id)) != 0;
+}
+
+static bool format_ok(const struct cli *c, enum cli_format f)
+{
+	return f == CLI_FMT_PLAIN || (c->tool->formats & CLI_FMT_BIT(f));
+}
+
+static const char *format_list(const struct cli *c)
+{
+	bool csv = format_ok(c, CLI_FMT_CSV), json = format_ok(c, CLI_FMT_JSON);
+
+	if (csv && json)
+		return "plain|csv|json";
+	if (json)
+		return "plain|json";
+	if (csv)
+		return "plain|csv";
+	return "plain";
+}
+
+int cli_usage_error(const struct cli *c, const char *fmt, ...)
+{
+	va_list ap;
+
+	fprintf(stderr, "%s: ", c->name);
+	va_start(ap, fmt);
+	vfprintf(stderr, fmt, ap);
+	va_end(ap);
+	fprintf(stderr, "\nTry '%s --help'.\n", c->name);
+	return CLI_EXIT_USAGE;
+}
+
+static void usage_line(FILE *f, int key, const char *name, const char *arg, int has_arg,
+                       const char *help)
+{
+	char left[64];
+	int n;
+
+	if (key > 0 && key < 256)
+		n = snprintf(left, sizeof left, "  -%c, --%s", key, name);
+	else
+		n = snprintf(left, sizeof left, "      --%s", name);
+	if (arg && n > 0 && (size_t)n < sizeof left)
+		snprintf(left + n, sizeof left - (size_t)n, "%s%s",
+		         has_arg == optional_argument ? "" : " ", arg);
+	if (strlen(left) > 29)
+		fprintf(f, "%s\n%31s%s\n", left, "", help);
+	else
+		fprintf(f, "%-29s  %s\n", left, help);
+}
+
+void cli_usage(const struct cli *c, FILE *f)
+{
+	const struct cli_tool *t = c->tool;
+	const char *p = t->synopsis ? t->synopsis : "[OPTIONS]";
+	const char *nl;
+
+	/* one "Usage:" line per synopsis line */
+	for (bool first = true; *p; first = false) {
+		nl = strchr(p, '\n');
+		fprintf(f, "%s %s %.*s\n", first ? "Usage:" : "      ", t->name,
+		        (int)(nl ? (size_t)(nl - p) : strlen(p)), p);
+		p = nl ? nl + 1 : p + strlen(p);
+	}
+	if (t->summary)
+		fprintf(f, "%s\n", t->summary);
+	if (t->extra && t->extra[0].name) {
+		fprintf(f, "\n%s options:\n", t->name);
+		for (const struct cli_extra_opt *e = t->extra; e->name; e++)
+			usage_line(f, e->key, e->name, e->arg, e->has_arg, e->help);
+	}
+	fprintf(f, "\nCommon options:\n");
+	for (size_t i = 0; i < cli_n_common; i++) {
+		const struct cli_common_opt *o = &cli_common_opts[i];
+		char help[160];
+		const char *arg = o->arg;
+		if (!cli_accepts(c, o->id))
+			continue;
+		snprintf(help, sizeof help, "%s", o->help);
+		if (o->id == CLI_OPT_FORMAT) {
+			arg = format_list(c);
+			snprintf(help, sizeof help, "output format (default plain)");
+		} else if (o->id == CLI_OPT_CHECK && t->check_auto) {
+			arg = "crc|bcc|auto";
+			snprintf(help, sizeof help, "error check (default %s)",
+			         c->check == DF1_CHECK_AUTO ? "auto" : c->check == DF1_CHECK_BCC ? "bcc" : "crc");
+		}
+		usage_line(f, o->key, o->name, arg, o->has_arg, help);
+	}
+	usage_line(f, CLI_KEY_HELP, "help", NULL, no_argument, "print this help and exit");
+	usage_line(f, CLI_KEY_VERSION, "version", NULL, no_argument, "print the version and exit");
+	fprintf(f, "\nExit status: %s\n",
+	        t->exit_text ? t->exit_text : "0 success, 1 communication or PLC error, 2 usage or configuration error.");
+	if (t->help_tail)
+		fprintf(f, "%s", t->help_tail);
+}
+
+int cli_parse_int(const struct cli *c, const char *opt, const char *arg, long lo, long hi, int *out)
+{
+	char *end;
+	long v;
+
+	errno = 0;
+	v = strtol(arg, &end, 0);
+	if (!*arg || *end || errno || v < lo || v > hi) {
+		fprintf(stderr, "%s: %s: invalid value '%s' (expected %ld-%ld)\n", c->name, opt, arg, lo, hi);
+		return CLI_EXIT_USAGE;
+	}
+	*out = (int)v;
+	return CLI_CONTINUE;
+}
+
+static int bad_choice(const struct cli *c, const char *opt, const char *arg, const char *choices)
+{
+	fprintf(stderr, "%s: %s: invalid value '%s' (expected %s)\n", c->name, opt, arg, choices);
+	return CLI_EXIT_USAGE;
+}
+
+static bool word_in(const char *s, const char *const *words)
+{
+	for (; *words; words++)
+		if (strcasecmp(s, *words) == 0)
+			return true;
+	return false;
+}
+
+static int parse_baud(struct cli *c, const char *arg)
+{
+	int v, r = cli_parse_int(c, "--baud", arg, 1200, 115200, &v);
+
+	if (r != CLI_CONTINUE)
+		return r;
+	for (size_t i = 0; i < sizeof std_bauds / sizeof std_bauds[0]; i++) {
+		if (std_bauds[i] == v) {
+			c->baud = v;
+			return CLI_CONTINUE;
+		}
+	}
+	return bad_choice(c, "--baud", arg, "1200, 2400, 4800, 9600, 19200, 38400, 57600 or 115200");
+}
+
+/* One common option. */
+int cli_common_option(struct cli *c, enum cli_opt_id id, const char *arg)
+{
+	static const char *const yes[] = { "yes", "y", "on", "1", "true", "rtscts", "rts/cts", NULL };
+	static const char *const no[] = { "no", "n", "off", "0", "false", "none", NULL };
+	int v;
+
+	c->given |= CLI_ACCEPT(id);
+	switch (id) {
+	case CLI_OPT_DEVICE:
+		if (!*arg)
+			return bad_choice(c, "--device", arg, "a device path or tcp://HOST:PORT");
+		c->device = arg;
+		return CLI_CONTINUE;
+	case CLI_OPT_NET:
+		c->net_file = arg;
+		return CLI_CONTINUE;
+	case CLI_OPT_STATION:
+		return cli_parse_int(c, "--station", arg, 0, 254, &c->station);
+	case CLI_OPT_SRC:
+		return cli_parse_int(c, "--src", arg, 0, 254, &c->src);
+	case CLI_OPT_BAUD:
+		return parse_baud(c, arg);
+	case CLI_OPT_PARITY:
+		if (strcasecmp(arg, "none") == 0 || strcasecmp(arg, "n") == 0)
+			c->parity = 'N';
+		else if (strcasecmp(arg, "even") == 0 || strcasecmp(arg, "e") == 0)
+			c->parity = 'E';
+		else if (strcasecmp(arg, "odd") == 0 || strcasecmp(arg, "o") == 0)
+			c->parity = 'O';
+		else
+			return bad_choice(c, "--parity", arg, "none, even or odd");
+		return CLI_CONTINUE;
+	case CLI_OPT_DATA_BITS:
+		return cli_parse_int(c, "--data-bits", arg, 7, 8, &c->data_bits);
+	case CLI_OPT_STOP_BITS:
+		return cli_parse_int(c, "--stop-bits", arg, 1, 2, &c->stop_bits);
+	case CLI_OPT_HANDSHAKE:
+		if (!arg || word_in(arg, yes))
+			c->handshake = true;
+		else if (word_in(arg, no))
+			c->handshake = false;
+		else
+			return bad_choice(c, "--handshake", arg, "yes or no");
+		return CLI_CONTINUE;
+	case CLI_OPT_DUPLEX:
+		if (strcasecmp(arg, "full") == 0)
+			c->half_duplex = false;
+		else if (strcasecmp(arg, "half") == 0)
+			c->half_duplex = true;
+		else
+			return bad_choice(c, "--duplex", arg, "full or half");
+		return CLI_CONTINUE;
+	case CLI_OPT_CHECK:
+		if (strcasecmp(arg, "crc") == 0)
+			c->check = DF1_CHECK_CRC;
+		else if (strcasecmp(arg, "bcc") == 0)
+			c->check = DF1_CHECK_BCC;
+		else if (c->tool->check_auto && strcasecmp(arg, "auto") == 0)
+			c->check = DF1_CHECK_AUTO;
+		else
+			return bad_choice(c, "--check", arg, c->tool->check_auto ? "crc, bcc or auto" : "crc or bcc");
+		return CLI_CONTINUE;
+	case CLI_OPT_PLC: {
+		static const char *const slc[] = { "slc", "slc500", "slc503", "slc504", "slc505", "slc5/03",
+		                                   "slc5/04", "slc5/05", NULL };
+		static const char *const ml[] = { "micrologix", "ml", NULL };
+		static const char *const slc502[] = { "slc502", "slc501", "slc5/02", "slc5/01", NULL };
+		static const char *const plc5[] = { "plc5", "plc-5", NULL };
+		static const char *const plc2[] = { "plc2", "plc-2", NULL };
+		if (word_in(arg, slc))
+			c->plc = DF1_PLC_SLC;
+		else if (word_in(arg, ml))
+			c->plc = DF1_PLC_MICROLOGIX;
+		else if (word_in(arg, slc502))
+			c->plc = DF1_PLC_SLC502;
+		else if (word_in(arg, plc5))
+			c->plc = DF1_PLC_PLC5;
+		else if (word_in(arg, plc2))
+			c->plc = DF1_PLC_PLC2;
+		else
+			return bad_choice(c, "--plc", arg, "slc, micrologix, slc502, plc5 or plc2");
+		return CLI_CONTINUE;
+	}
+	case CLI_OPT_TIMEOUT:
+		return cli_parse_int(c, "--timeout", arg, 0, 360000, &c->timeout_ms);
+	case CLI_OPT_CMD_TIMEOUT:
+		return cli_parse_int(c, "--cmd-timeout", arg, 500, 5000, &c->cmd_timeout_ms);
+	case CLI_OPT_NAK_RETRIES:
+		return cli_parse_int(c, "--nak-retries", arg, 0, 10, &c->nak_retries);
+	case CLI_OPT_ENQ_RETRIES:
+		return cli_parse_int(c, "--enq-retries", arg, 0, 10, &c->enq_retries);
+	case CLI_OPT_TX_DELAY:
+		return cli_parse_int(c, "--tx-delay", arg, 0, 65535, &c->tx_delay_ms);
+	case CLI_OPT_RS485:
+		c->rs485 = true;
+		return CLI_CONTINUE;
+	case CLI_OPT_FORMAT:
+		if (strcasecmp(arg, "plain") == 0)
+			v = CLI_FMT_PLAIN;
+		else if (strcasecmp(arg, "csv") == 0)
+			v = CLI_FMT_CSV;
+		else if (strcasecmp(arg, "json") == 0)
+			v = CLI_FMT_JSON;
+		else
+			v = -1;
+		if (v < 0 || !format_ok(c, (enum cli_format)v)) {
+			const char *list = format_list(c);
+			return bad_choice(c, "--format", arg,
+			                  strcmp(list, "plain|csv|json") == 0 ? "plain, csv or json"
+			                  : strcmp(list, "plain|json") == 0   ? "plain or json"
+			                  : strcmp(list, "plain|csv") == 0    ? "plain or csv"
+			                                                      : "plain");
+		}
+		c->format = (enum cli_format)v;
+		return CLI_CONTINUE;
+	case CLI_OPT_VERBOSE:
+		c->verbose++;
+		return CLI_CONTINUE;
+	case CLI_OPT_QUIET:
+		c->quiet = true;
+		return CLI_CONTINUE;
+	case CLI_OPT_COUNT_:
+		break;
+	}
+	return CLI_EXIT_USAGE;
+}
