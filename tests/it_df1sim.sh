@@ -214,6 +214,11 @@ if [ "$rc" -eq 0 ] && grep -q -- "--pty" "$T/o" && [ ! -s "$T/e" ]; then ok "--h
 "$SIM" -V > "$T/o" 2> "$T/e"
 rc=$?
 if [ "$rc" -eq 0 ] && grep -q "df1sim" "$T/o"; then ok "--version"; else fail "--version rc=$rc"; fi
+if [ "$(sed -n 2p "$T/o")" = "library: libdf1 $(sed -n 's/^df1sim (libdf1) //p' "$T/o")" ]; then
+	ok "--version: the library's version (df1_version) too"
+else
+	fail "--version: no library line: $(cat "$T/o")"
+fi
 
 echo "$fails failed"
 [ "$fails" -eq 0 ]

@@ -425,7 +425,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 			break;
 		case 'v': o->verbose++; break;
 		case 'h': usage(stdout); return 0;
-		case 'V': printf("%s (libdf1) %s\n", PROG, DF1_VERSION_STRING); return 0;
+		case 'V': cli_print_version(stdout, PROG); return 0;
 		case ':':
 			return cli_usage_error(&cli, "option '%s' needs a value", argv[optind - 1]);
 		default:
