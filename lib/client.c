@@ -82,6 +82,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "client.h"
 #include "link.h"
 #include "plc_limits.h"
 #include "pccc.h"
@@ -95,6 +96,7 @@ struct span {
 	size_t esize;           /* bytes per element on the wire */
 	size_t count;
 	bool by_sub;            /* I/O words: advance SUBELEMENT, not ELEMENT */
+	enum df1_plc plc;       /* the command set: the call's PLC type */
 };
 
 /* Where element values go (reads) or come from (writes). */
@@ -208,10 +210,10 @@ static void span_at(const struct span *s, size_t i, struct df1_addr *out)
 		client_derive(&s->a, s->a.element + (int)i, s->a.sub, out);
 }
 
-/* Data bytes per packet for the SLC and PLC-2 commands. */
-static size_t client_limit(const struct df1 *h, bool write)
+/* Data bytes per packet of a span's PLC type, for the SLC and PLC-2 commands. */
+static size_t client_limit(const struct df1 *h, const struct span *s, bool write)
 {
-	return plc_packet_max(h->cfg.plc, write, h->cfg.max_packet);
+	return plc_packet_max(s->plc, write, h->cfg.max_packet);
 }
 
 /* ------------------------------------------------------------------------
@@ -388,7 +390,7 @@ static int slc_begin(struct df1 *h, int station, const char *what, const struct 
 
 	if (code < 0)
 		return code;
-	*per = client_limit(h, write) / s->esize;
+	*per = client_limit(h, s, write) / s->esize;
 	if (*per == 0)
 		return df1_fail(h, DF1_E_NOTSUP, station, "%s: a %zu-byte element exceeds the packet size",
 		                what, s->esize);
@@ -691,7 +693,7 @@ static int plc2_read(struct df1 *h, int station, const char *what, const struct 
 {
 	uint8_t cmd[FRAME_MAX_DATA], reply[FRAME_MAX_DATA];
 	struct pccc_hdr hd = { (uint8_t)station, (uint8_t)h->cfg.station, 0 };
-	size_t per = client_limit(h, false) / 2, done = 0;
+	size_t per = client_limit(h, s, false) / 2, done = 0;
 	int rc = plc2_check(h, station, what, s);
 
 	if (rc < 0)
@@ -725,7 +727,7 @@ static int plc2_write(struct df1 *h, int station, const char *what, const struct
 {
 	uint8_t cmd[FRAME_MAX_DATA], reply[FRAME_MAX_DATA], data[FRAME_MAX_DATA];
 	struct pccc_hdr hd = { (uint8_t)station, (uint8_t)h->cfg.station, 0 };
-	size_t per = client_limit(h, true) / 2, done = 0;
+	size_t per = client_limit(h, s, true) / 2, done = 0;
 	int rc = plc2_check(h, station, what, s);
 
 	if (rc < 0)
@@ -770,7 +772,7 @@ static int span_read(struct df1 *h, int station, const char *what, const struct 
 
 	if (rc < 0)
 		return rc;
-	switch (h->cfg.plc) {
+	switch (s->plc) {
 	case DF1_PLC_PLC5:
 		return plc5_read(h, station, what, s, io);
 	case DF1_PLC_PLC2:
@@ -786,7 +788,7 @@ static int span_write(struct df1 *h, int station, const char *what, const struct
 
 	if (rc < 0)
 		return rc;
-	switch (h->cfg.plc) {
+	switch (s->plc) {
 	case DF1_PLC_PLC5:
 		return plc5_write(h, station, what, s, io);
 	case DF1_PLC_PLC2:
@@ -801,12 +803,13 @@ static int span_write(struct df1 *h, int station, const char *what, const struct
  * ------------------------------------------------------------------------ */
 
 /* The words that hold a run of bits: span of 16-bit (32 for L) words, first bit. */
-static int bits_span(struct df1 *h, int station, const char *what, const struct df1_addr *a,
-                     size_t n, struct span *s, unsigned *wbits)
+static int bits_span(struct df1 *h, int station, const char *what, enum df1_plc plc,
+                     const struct df1_addr *a, size_t n, struct span *s, unsigned *wbits)
 {
 	size_t bit = (size_t)a->bit;
 
 	memset(s, 0, sizeof *s);
+	s->plc = plc;
 	if (a->type == DF1_FT_L) {
 		*wbits = 32;
 		s->esize = 4;
@@ -831,15 +834,15 @@ static int bits_span(struct df1 *h, int station, const char *what, const struct 
 }
 
 /* Bit sink: the words arrive through io_put as raw bytes; bits are picked afterwards. */
-static int client_read_bits(struct df1 *h, int station, const char *what, const struct df1_addr *a,
-                            size_t n, bool *bits, struct df1_value *vals)
+static int client_read_bits(struct df1 *h, int station, const char *what, enum df1_plc plc,
+                            const struct df1_addr *a, size_t n, bool *bits, struct df1_value *vals)
 {
 	uint8_t words[FRAME_MAX_DATA];
 	struct span s;
 	struct io io = { .kind = IO_RAW, .t = DF1_FT_N, .word = -1, .fo = VALUE_FLOAT_LE };
 	unsigned wbits;
 	size_t first = (size_t)a->bit, done = 0;
-	int rc = bits_span(h, station, what, a, n, &s, &wbits);
+	int rc = bits_span(h, station, what, plc, a, n, &s, &wbits);
 
 	if (rc < 0)
 		return rc;
@@ -903,8 +906,8 @@ static int plc2_bit_write(struct df1 *h, int station, const char *what, const st
 }
 
 /* Change the bits of mask in word w to those of data; the other bits stay. */
-static int client_mask_word(struct df1 *h, int station, const char *what, const struct df1_addr *w,
-                            size_t wsize, uint32_t mask, uint32_t data)
+static int client_mask_word(struct df1 *h, int station, const char *what, enum df1_plc plc,
+                            const struct df1_addr *w, size_t wsize, uint32_t mask, uint32_t data)
 {
 	uint8_t cmd[FRAME_MAX_DATA], reply[FRAME_MAX_DATA], addr[DF1_ADDR_ASCII_MAX + 8];
 	struct pccc_hdr hd = { (uint8_t)station, (uint8_t)h->cfg.station, 0 };
@@ -913,7 +916,7 @@ static int client_mask_word(struct df1 *h, int station, const char *what, const 
 	int n, alen, code;
 
 	data &= mask;
-	switch (h->cfg.plc) {
+	switch (plc) {
 	case DF1_PLC_PLC5:
 		if (wsize != 2)
 			return df1_fail(h, DF1_E_NOTSUP, station, "%s: PLC-5 bit writes reach 16-bit words",
@@ -948,13 +951,13 @@ static int client_mask_word(struct df1 *h, int station, const char *what, const 
 }
 
 /* Write n bits from bits[] or vals[] (kind BIT), one masked write per word touched. */
-static int client_write_bits(struct df1 *h, int station, const char *what, const struct df1_addr *a,
-                             size_t n, const bool *bits, const struct df1_value *vals)
+static int client_write_bits(struct df1 *h, int station, const char *what, enum df1_plc plc,
+                             const struct df1_addr *a, size_t n, const bool *bits, const struct df1_value *vals)
 {
 	struct span s;
 	unsigned wbits;
 	size_t first = (size_t)a->bit;
-	int rc = bits_span(h, station, what, a, n, &s, &wbits);
+	int rc = bits_span(h, station, what, plc, a, n, &s, &wbits);
 
 	if (rc < 0)
 		return rc;
@@ -979,7 +982,7 @@ static int client_write_bits(struct df1 *h, int station, const char *what, const
 			value_mask_bit(&mask, &data, (unsigned)b, on);
 		}
 		span_at(&s, w, &wa);
-		rc = client_mask_word(h, station, what, &wa, s.esize, mask, data);
+		rc = client_mask_word(h, station, what, plc, &wa, s.esize, mask, data);
 		if (rc < 0)
 			return rc;
 	}
@@ -991,16 +994,17 @@ static int client_write_bits(struct df1 *h, int station, const char *what, const
  * ------------------------------------------------------------------------ */
 
 /* The span for n elements at a, and how io picks values; a has no bit. */
-static int client_plan(struct df1 *h, int station, const char *what, const struct df1_addr *a,
-                       size_t n, bool write, struct span *s, struct io *io, bool *per_element)
+static int client_plan(struct df1 *h, int station, const char *what, enum df1_plc plc,
+                       const struct df1_addr *a, size_t n, bool write, struct span *s, struct io *io, bool *per_element)
 {
 	int es = df1_file_type_element_size(a->type);
 
 	memset(s, 0, sizeof *s);
+	s->plc = plc;
 	*per_element = false;
 	io->word = -1;
 	io->t = a->type;
-	io->fo = value_typed_float_order(h->cfg.plc, h->cfg.plc5_float_swapped);
+	io->fo = value_typed_float_order(plc, h->cfg.plc5_float_swapped);
 	if (es <= 0)
 		return df1_fail(h, DF1_E_ADDR_SYNTAX, station, "%s: no file type", what);
 	s->count = n;
@@ -1034,12 +1038,12 @@ static int client_plan(struct df1 *h, int station, const char *what, const struc
 	return df1_fail(h, DF1_E_ADDR_SYNTAX, station, "%s: no sub-elements in this file type", what);
 }
 
-static int client_read_elems(struct df1 *h, int station, const char *what, const struct df1_addr *a,
-                             size_t n, struct io *io)
+static int client_read_elems(struct df1 *h, int station, const char *what, enum df1_plc plc,
+                             const struct df1_addr *a, size_t n, struct io *io)
 {
 	struct span s;
 	bool per_element;
-	int rc = client_plan(h, station, what, a, n, false, &s, io, &per_element);
+	int rc = client_plan(h, station, what, plc, a, n, false, &s, io, &per_element);
 
 	if (rc < 0)
 		return rc;
@@ -1069,12 +1073,12 @@ static int client_check_values(struct df1 *h, int station, const char *what, str
 	return 0;
 }
 
-static int client_write_elems(struct df1 *h, int station, const char *what, const struct df1_addr *a,
-                              size_t n, struct io *io)
+static int client_write_elems(struct df1 *h, int station, const char *what, enum df1_plc plc,
+                              const struct df1_addr *a, size_t n, struct io *io)
 {
 	struct span s;
 	bool per_element;
-	int rc = client_plan(h, station, what, a, n, true, &s, io, &per_element);
+	int rc = client_plan(h, station, what, plc, a, n, true, &s, io, &per_element);
 
 	if (rc < 0)
 		return rc;
@@ -1155,7 +1159,8 @@ static int client_addr_begin(struct df1 *h, int station, const struct df1_addr *
 	return client_count_check(h, station, what, p, n);
 }
 
-int df1_read_addr(df1_t *h, int station, const struct df1_addr *a, struct df1_value *out, size_t n)
+int client_read_at(struct df1 *h, int station, enum df1_plc plc, const struct df1_addr *a,
+                   struct df1_value *out, size_t n)
 {
 	char what[ATEXT_MAX];
 	struct io io = { .kind = IO_VALUE, .out = out };
@@ -1164,11 +1169,12 @@ int df1_read_addr(df1_t *h, int station, const struct df1_addr *a, struct df1_va
 	if (rc < 0)
 		return rc;
 	if (a->bit != DF1_ADDR_NONE)
-		return client_read_bits(h, station, what, a, n, NULL, out);
-	return client_read_elems(h, station, what, a, n, &io);
+		return client_read_bits(h, station, what, plc, a, n, NULL, out);
+	return client_read_elems(h, station, what, plc, a, n, &io);
 }
 
-int df1_write_addr(df1_t *h, int station, const struct df1_addr *a, const struct df1_value *in, size_t n)
+int client_write_at(struct df1 *h, int station, enum df1_plc plc, const struct df1_addr *a,
+                    const struct df1_value *in, size_t n)
 {
 	char what[ATEXT_MAX];
 	struct io io = { .kind = IO_VALUE, .in = in };
@@ -1177,8 +1183,18 @@ int df1_write_addr(df1_t *h, int station, const struct df1_addr *a, const struct
 	if (rc < 0)
 		return rc;
 	if (a->bit != DF1_ADDR_NONE)
-		return client_write_bits(h, station, what, a, n, NULL, in);
-	return client_write_elems(h, station, what, a, n, &io);
+		return client_write_bits(h, station, what, plc, a, n, NULL, in);
+	return client_write_elems(h, station, what, plc, a, n, &io);
+}
+
+int df1_read_addr(df1_t *h, int station, const struct df1_addr *a, struct df1_value *out, size_t n)
+{
+	return client_read_at(h, station, h ? h->cfg.plc : DF1_PLC_SLC, a, out, n);
+}
+
+int df1_write_addr(df1_t *h, int station, const struct df1_addr *a, const struct df1_value *in, size_t n)
+{
+	return client_write_at(h, station, h ? h->cfg.plc : DF1_PLC_SLC, a, in, n);
 }
 
 int df1_read(df1_t *h, int station, const char *addr, struct df1_value *out, size_t n)
@@ -1259,7 +1275,7 @@ static int client_typed_read(df1_t *h, int station, const char *addr, enum clien
 	struct io io = { .kind = client_ctype_io[ct], .out = out };
 	int rc = client_typed(h, station, addr, ct, out, n, &a, what, sizeof what);
 
-	return rc < 0 ? rc : client_read_elems(h, station, what, &a, n, &io);
+	return rc < 0 ? rc : client_read_elems(h, station, what, h->cfg.plc, &a, n, &io);
 }
 
 static int client_typed_write(df1_t *h, int station, const char *addr, enum client_ctype ct,
@@ -1270,7 +1286,7 @@ static int client_typed_write(df1_t *h, int station, const char *addr, enum clie
 	struct io io = { .kind = client_ctype_io[ct], .in = in };
 	int rc = client_typed(h, station, addr, ct, in, n, &a, what, sizeof what);
 
-	return rc < 0 ? rc : client_write_elems(h, station, what, &a, n, &io);
+	return rc < 0 ? rc : client_write_elems(h, station, what, h->cfg.plc, &a, n, &io);
 }
 
 int df1_read_int16(df1_t *h, int station, const char *addr, int16_t *out, size_t n)
@@ -1323,7 +1339,7 @@ int df1_read_string(df1_t *h, int station, const char *addr, char *out, size_t c
 
 	if (rc < 0)
 		return rc;
-	rc = client_read_elems(h, station, what, &a, 1, &io);
+	rc = client_read_elems(h, station, what, h->cfg.plc, &a, 1, &io);
 	return rc < 0 ? rc : io.len;
 }
 
@@ -1357,7 +1373,7 @@ int df1_read_bit(df1_t *h, int station, const char *addr, bool *out)
 		return rc;
 	if (!out)
 		return df1_fail(h, DF1_E_INVAL, station, "%s: no output", what);
-	rc = client_read_bits(h, station, what, &a, 1, out, NULL);
+	rc = client_read_bits(h, station, what, h->cfg.plc, &a, 1, out, NULL);
 	return rc < 0 ? rc : 0;
 }
 
@@ -1369,22 +1385,19 @@ int df1_write_bit(df1_t *h, int station, const char *addr, bool value)
 
 	if (rc < 0)
 		return rc;
-	rc = client_write_bits(h, station, what, &a, 1, &value, NULL);
+	rc = client_write_bits(h, station, what, h->cfg.plc, &a, 1, &value, NULL);
 	return rc < 0 ? rc : 0;
 }
 
 /* Raw: nbytes = whole elements as on the wire (2 bytes per element for a sub-element). */
-static int client_raw(df1_t *h, int station, const char *addr, const uint8_t *in, uint8_t *out,
-                      size_t nbytes)
+static int client_raw_parsed(struct df1 *h, int station, enum df1_plc plc, const struct df1_addr *ap,
+                             const char *what, const uint8_t *in, uint8_t *out, size_t nbytes)
 {
-	char what[ATEXT_MAX];
-	struct df1_addr a;
+	struct df1_addr a = *ap;
 	struct io io = { .kind = IO_RAW, .in = in, .out = out };
 	size_t esize;
-	int rc = client_begin(h, station, addr, &a, what, sizeof what);
+	int rc;
 
-	if (rc < 0)
-		return rc;
 	if (a.bit != DF1_ADDR_NONE)
 		return df1_fail(h, DF1_E_TYPE, station, "%s: raw access takes a word or element address",
 		                what);
@@ -1396,10 +1409,36 @@ static int client_raw(df1_t *h, int station, const char *addr, const uint8_t *in
 	if (rc < 0)
 		return rc;
 	if (in)
-		rc = client_write_elems(h, station, what, &a, nbytes / esize, &io);
+		rc = client_write_elems(h, station, what, plc, &a, nbytes / esize, &io);
 	else
-		rc = client_read_elems(h, station, what, &a, nbytes / esize, &io);
+		rc = client_read_elems(h, station, what, plc, &a, nbytes / esize, &io);
 	return rc < 0 ? rc : (int)nbytes;
+}
+
+static int client_raw(df1_t *h, int station, const char *addr, const uint8_t *in, uint8_t *out,
+                      size_t nbytes)
+{
+	char what[ATEXT_MAX];
+	struct df1_addr a;
+	int rc = client_begin(h, station, addr, &a, what, sizeof what);
+
+	if (rc < 0)
+		return rc;
+	return client_raw_parsed(h, station, h->cfg.plc, &a, what, in, out, nbytes);
+}
+
+int client_read_raw_at(struct df1 *h, int station, enum df1_plc plc, const struct df1_addr *a,
+                       uint8_t *buf, size_t nbytes)
+{
+	char what[ATEXT_MAX];
+	int rc = client_check(h, station);
+
+	if (rc < 0)
+		return rc;
+	if (!a)
+		return df1_fail(h, DF1_E_INVAL, station, "no address");
+	client_atext(a, what, sizeof what);
+	return client_raw_parsed(h, station, plc, a, what, NULL, buf, nbytes);
 }
 
 int df1_read_raw(df1_t *h, int station, const char *addr, uint8_t *buf, size_t nbytes)

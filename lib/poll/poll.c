@@ -83,6 +83,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "client.h"
 #include "plc_limits.h"
 #include "poll_plan.h"
 #include "value.h"
@@ -1107,15 +1108,12 @@ static int poll_write_one(struct df1 *h, struct poll_engine *e, struct wnode *w)
 {
 	struct ptag *t = e->tags[w->tag];
 	int stn = t->cfg.station, rc;
-	enum df1_plc saved = h->cfg.plc;
 	enum outcome o;
 	int64_t now = df1_now_ms();
 
 	poll_attempt(e, stn, now);
 	e->stats.writes++;
-	h->cfg.plc = t->cfg.plc;
-	rc = df1_write_addr(h, stn, &t->cfg.addr, w->v, w->n);
-	h->cfg.plc = saved;
+	rc = client_write_at(h, stn, t->cfg.plc, &t->cfg.addr, w->v, w->n);
 	o = poll_outcome(h, rc);
 	now = df1_now_ms();
 	if (o == OUT_OK || o == OUT_ADDR || o == OUT_PLC) {
@@ -1244,31 +1242,21 @@ enum read_result { R_DONE, R_SPLIT, R_FAILED };
 
 static int poll_block_io(struct df1 *h, struct poll_engine *e, const struct pblock *b)
 {
-	enum df1_plc saved = h->cfg.plc;
-	int rc;
+	struct df1_addr a;
 
-	h->cfg.plc = b->plc;
 	if (b->alone) {
 		const struct ptag *t = e->tags[e->members[b->m0]];
 
 		memset(e->vals, 0, (size_t)t->cfg.count * sizeof *e->vals);
-		rc = df1_read_addr(h, b->station, &t->cfg.addr, e->vals, (size_t)t->cfg.count);
-	} else {
-		struct df1_addr a;
-		char text[DF1_ADDR_ASCII_MAX];
-
-		memset(&a, 0, sizeof a);
-		a.type = b->type;
-		a.file = b->file;
-		a.element = b->first;
-		a.sub = DF1_ADDR_NONE;
-		a.bit = DF1_ADDR_NONE;
-		rc = df1_addr_format(&a, text, sizeof text);
-		if (rc >= 0)
-			rc = df1_read_raw(h, b->station, text, e->raw, (size_t)b->count * b->esize);
+		return client_read_at(h, b->station, b->plc, &t->cfg.addr, e->vals, (size_t)t->cfg.count);
 	}
-	h->cfg.plc = saved;
-	return rc;
+	memset(&a, 0, sizeof a);
+	a.type = b->type;
+	a.file = b->file;
+	a.element = b->first;
+	a.sub = DF1_ADDR_NONE;
+	a.bit = DF1_ADDR_NONE;
+	return client_read_raw_at(h, b->station, b->plc, &a, e->raw, (size_t)b->count * b->esize);
 }
 
 /* The block answered with data: every member gets its values. */
