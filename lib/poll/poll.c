@@ -3,7 +3,7 @@
  * tags, block coalescing, point quality, station health and queued writes.
  * The user-facing rules are in df1_poll(3); the decisions behind them:
  *
- * Scan list. Readable tags are planned into block reads (poll_plan below):
+ * Scan list. Readable tags are planned into block reads (lib/proto/poll_plan.c):
  * per station, PLC type and file, elements are packed greedily up to the
  * packet limit of the PLC type (lib/plc_limits.h), bridging a gap when its
  * bytes cost no more than one more read transaction (POLL_TX_OVERHEAD_*).
@@ -96,89 +96,6 @@
 #define POLL_COUNT_MAX 1000
 #define POLL_STATIONS 255               /* 0..254 */
 #define POLL_NEVER INT64_MAX
-
-/* ------------------------------------------------------------------------
- * The planner (pure)
- * ------------------------------------------------------------------------ */
-
-static int poll_item_cmp(const void *pa, const void *pb)
-{
-	const struct poll_item *a = pa, *b = pb;
-
-	if (a->station != b->station)
-		return a->station < b->station ? -1 : 1;
-	if (a->plc != b->plc)
-		return a->plc < b->plc ? -1 : 1;
-	if (a->file != b->file)
-		return a->file < b->file ? -1 : 1;
-	if (a->type != b->type)
-		return a->type < b->type ? -1 : 1;
-	if (a->first != b->first)
-		return a->first < b->first ? -1 : 1;
-	if (a->count != b->count)
-		return a->count > b->count ? -1 : 1;
-	if (a->alone != b->alone)
-		return a->alone ? 1 : -1;
-	return a->tag < b->tag ? -1 : a->tag > b->tag;
-}
-
-static long poll_packets(long bytes, int limit)
-{
-	if (limit <= 0)
-		return 1;
-	return bytes <= 0 ? 1 : (bytes + limit - 1) / limit;
-}
-
-int poll_block_packets(const struct poll_block *b, const struct poll_item *items)
-{
-	const struct poll_item *it = &items[b->member0];
-
-	return (int)poll_packets((long)b->count * it->cost, it->limit);
-}
-
-int poll_plan(struct poll_item *items, size_t n, int gap_max, struct poll_block *out, size_t cap)
-{
-	size_t nb = 0;
-	struct poll_block *cur = NULL;
-
-	if (n > 1)
-		qsort(items, n, sizeof *items, poll_item_cmp);
-	for (size_t i = 0; i < n; i++) {
-		const struct poll_item *it = &items[i];
-
-		if (cur && !cur->alone && !it->alone && cur->station == it->station &&
-		    cur->plc == it->plc && cur->type == it->type && cur->file == it->file) {
-			long end = (long)cur->first + cur->count;           /* exclusive */
-			long iend = (long)it->first + it->count;
-			long nend = iend > end ? iend : end;
-			long gap = (long)it->first - end;                     /* elements */
-			long before = poll_packets((long)cur->count * it->cost, it->limit);
-			long after = poll_packets((nend - cur->first) * it->cost, it->limit);
-
-			if ((gap <= 0 || gap * it->cost <= gap_max) && after <= before) {
-				cur->count = (int)(nend - cur->first);
-				cur->nmembers++;
-				if (it->period_ms < cur->period_ms)
-					cur->period_ms = it->period_ms;
-				continue;
-			}
-		}
-		if (nb == cap)
-			return DF1_E_NOSPACE;
-		cur = &out[nb++];
-		cur->station = it->station;
-		cur->plc = it->plc;
-		cur->type = it->type;
-		cur->file = it->file;
-		cur->first = it->first;
-		cur->count = it->count;
-		cur->alone = it->alone;
-		cur->period_ms = it->period_ms;
-		cur->member0 = i;
-		cur->nmembers = 1;
-	}
-	return (int)nb;
-}
 
 /* ------------------------------------------------------------------------
  * Engine state
