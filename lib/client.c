@@ -71,9 +71,9 @@
  * PLC-5 element type or size, is DF1_E_BAD_REPLY (counted as 2550); a typed
  * helper on a file that does not hold its type is DF1_E_TYPE, before any I/O.
  *
- * Errors: every failure is recorded with df1_fail() / df1_fail_remote() and its
- * message starts with the address ("N7:0: ..."), so df1_last_error() names the
- * address and the station. Buffers live on the stack (FRAME_MAX_DATA): no
+ * Errors: every failure is recorded with client_fail() / df1_fail_remote(); the
+ * detail's address field names the address ("N7:0") and station the station,
+ * and the message does not repeat the address. Buffers live on the stack (FRAME_MAX_DATA): no
  * allocation per packet.
  */
 #include "df1_int.h"
@@ -135,24 +135,35 @@ static void client_atext(const struct df1_addr *a, char *buf, size_t cap)
 		snprintf(buf, cap, "%s%d:%d", df1_file_type_name(a->type), a->file, a->element);
 }
 
-/* Put "what: " in front of the message the link / df1_fail_remote recorded. */
+/* The error detail names the address the error concerns. */
+static void client_set_address(struct df1 *h, const char *what)
+{
+	snprintf(h->err.address, sizeof h->err.address, "%s", what ? what : "");
+}
+
+/* df1_fail() for address what: the message, and what in the detail's address. */
+static int client_fail(struct df1 *h, int code, int station, const char *what, const char *fmt, ...)
+	__attribute__((format(printf, 5, 6)));
+
+static int client_fail(struct df1 *h, int code, int station, const char *what, const char *fmt, ...)
+{
+	char buf[sizeof h->err.message];
+	va_list ap;
+
+	va_start(ap, fmt);
+	vsnprintf(buf, sizeof buf, fmt, ap);
+	va_end(ap);
+	df1_fail(h, code, station, "%s", buf);
+	client_set_address(h, what);
+	return code;
+}
+
+/* The link / df1_fail_remote recorded the failure: add the address to it. */
 static int client_fail_at(struct df1 *h, int rc, int station, const char *what)
 {
-	char *msg = h->err.message;
-	size_t cap = sizeof h->err.message, wl = strlen(what), ml;
-
 	if (h->err.code != rc)
-		return df1_fail(h, rc, station, "%s: %s", what, df1_strerror(rc));
-	ml = strnlen(msg, cap - 1);
-	if (wl + 2 < cap) {
-		if (ml > cap - 1 - wl - 2)
-			ml = cap - 1 - wl - 2;
-		memmove(msg + wl + 2, msg, ml);
-		memcpy(msg, what, wl);
-		msg[wl] = ':';
-		msg[wl + 1] = ' ';
-		msg[wl + 2 + ml] = '\0';
-	}
+		return client_fail(h, rc, station, what, "%s", df1_strerror(rc));
+	client_set_address(h, what);
 	if (h->err.station < 0)
 		h->err.station = station;
 	return rc;
@@ -160,10 +171,10 @@ static int client_fail_at(struct df1 *h, int rc, int station, const char *what)
 
 /* A reply the link accepted whose content is wrong: DF1_E_BAD_REPLY, counted as an
  * invalid message (2550, seeds/004: "bad data, incorrect addressing"). */
-static int client_bad_reply(struct df1 *h, int station, const char *fmt, ...)
-	__attribute__((format(printf, 3, 4)));
+static int client_bad_reply(struct df1 *h, int station, const char *what, const char *fmt, ...)
+	__attribute__((format(printf, 4, 5)));
 
-static int client_bad_reply(struct df1 *h, int station, const char *fmt, ...)
+static int client_bad_reply(struct df1 *h, int station, const char *what, const char *fmt, ...)
 {
 	char buf[sizeof h->err.message];
 	va_list ap;
@@ -172,7 +183,7 @@ static int client_bad_reply(struct df1 *h, int station, const char *fmt, ...)
 	vsnprintf(buf, sizeof buf, fmt, ap);
 	va_end(ap);
 	df1_count(h, 2550);     /* CNT_INVALID_MSGS_RCVD */
-	return df1_fail(h, DF1_E_BAD_REPLY, station, "%s", buf);
+	return client_fail(h, DF1_E_BAD_REPLY, station, what, "%s", buf);
 }
 
 static int client_check(struct df1 *h, int station)
@@ -235,10 +246,9 @@ static int client_transact(struct df1 *h, int station, const char *what, uint8_t
 		return client_fail_at(h, rc, station, what);
 	rc = pccc_decode(reply, (size_t)rc, &m);
 	if (rc < 0)
-		return client_bad_reply(h, station, "%s: malformed reply", what);
+		return client_bad_reply(h, station, what, "malformed reply");
 	if (m.cmd != (cmd[2] | PCCC_REPLY_BIT))
-		return df1_fail(h, DF1_E_BAD_FUNCTION, station, "%s: reply CMD %02X to command %02X",
-		                what, m.cmd, cmd[2]);
+		return client_fail(h, DF1_E_BAD_FUNCTION, station, what, "reply CMD %02X to command %02X", m.cmd, cmd[2]);
 	if (m.sts != 0) {
 		rc = df1_fail_remote(h, station, m.sts, m.ext_sts, m.has_ext);
 		return client_fail_at(h, rc < 0 ? rc : DF1_E_REMOTE, station, what);
@@ -246,6 +256,32 @@ static int client_transact(struct df1 *h, int station, const char *what, uint8_t
 	*data = m.data;
 	*dlen = m.len;
 	return 0;
+}
+
+/* client_transact for an operation that has no address (echo, diagnostic
+ * status, change mode): the message starts with the operation's name
+ * ("echo: ...") and the detail's address stays empty. */
+static int client_op_transact(struct df1 *h, int station, const char *op, uint8_t *cmd, size_t clen,
+                              uint8_t *reply, size_t rcap, const uint8_t **data, size_t *dlen)
+{
+	int rc = client_transact(h, station, op, cmd, clen, reply, rcap, data, dlen);
+	char *msg = h->err.message;
+	size_t cap = sizeof h->err.message, ol = strlen(op), ml;
+
+	if (rc >= 0 || strcmp(h->err.address, op) != 0)
+		return rc;
+	h->err.address[0] = '\0';
+	ml = strnlen(msg, cap - 1);
+	if (ol + 2 < cap) {
+		if (ml > cap - 1 - ol - 2)
+			ml = cap - 1 - ol - 2;
+		memmove(msg + ol + 2, msg, ml);
+		memcpy(msg, op, ol);
+		msg[ol] = ':';
+		msg[ol + 1] = ' ';
+		msg[ol + 2 + ml] = '\0';
+	}
+	return rc;
 }
 
 /* ------------------------------------------------------------------------
@@ -295,9 +331,8 @@ static int io_put(struct df1 *h, int station, const char *what, struct io *io, s
 	}
 	if (rc < 0) {
 		if (rc == DF1_E_NOSPACE)
-			return df1_fail(h, rc, station, "%s: string does not fit the buffer", what);
-		return client_bad_reply(h, station, "%s: element %zu cannot be decoded (%s)",
-		                what, i, df1_strerror(rc));
+			return client_fail(h, rc, station, what, "string does not fit the buffer");
+		return client_bad_reply(h, station, what, "element %zu cannot be decoded (%s)", i, df1_strerror(rc));
 	}
 	return 0;
 }
@@ -350,7 +385,7 @@ static int io_gather(struct df1 *h, int station, const char *what, struct io *io
 		int rc = io_get(io, first + i, out + i * esize, esize);
 
 		if (rc < 0)
-			return df1_fail(h, rc, station, "%s: value %zu: %s", what, io->base + first + i,
+			return client_fail(h, rc, station, what, "value %zu: %s", io->base + first + i,
 			                df1_strerror(rc));
 	}
 	return 0;
@@ -365,7 +400,7 @@ static int slc_type_code(struct df1 *h, int station, const char *what, enum df1_
 	int code = df1_file_type_slc_code(t);
 
 	if (code <= 0)
-		return df1_fail(h, DF1_E_NOTSUP, station, "%s: file type has no SLC code", what);
+		return client_fail(h, DF1_E_NOTSUP, station, what, "file type has no SLC code");
 	if (h->cfg.slc_io_82 && (t == DF1_FT_O || t == DF1_FT_I))
 		code = t == DF1_FT_O ? 0x82 : 0x83;     /* F2E p.47 (spec 4.11) */
 	return code;
@@ -392,8 +427,7 @@ static int slc_begin(struct df1 *h, int station, const char *what, const struct 
 		return code;
 	*per = client_limit(h, s, write) / s->esize;
 	if (*per == 0)
-		return df1_fail(h, DF1_E_NOTSUP, station, "%s: a %zu-byte element exceeds the packet size",
-		                what, s->esize);
+		return client_fail(h, DF1_E_NOTSUP, station, what, "a %zu-byte element exceeds the packet size", s->esize);
 	return code;
 }
 
@@ -417,13 +451,12 @@ static int slc_read(struct df1 *h, int station, const char *what, const struct s
 		n = pccc_enc_slc_read(cmd, sizeof cmd, &hd, PCCC_FNC_SLC_READ3, (uint8_t)want,
 		                      (unsigned)s->a.file, (uint8_t)code, elem, sub);
 		if (n < 0)
-			return df1_fail(h, n, station, "%s: cannot encode the read (%s)", what, df1_strerror(n));
+			return client_fail(h, n, station, what, "cannot encode the read (%s)", df1_strerror(n));
 		rc = client_transact(h, station, what, cmd, (size_t)n, reply, sizeof reply, &d, &dlen);
 		if (rc < 0)
 			return rc;
 		if (dlen != want)
-			return client_bad_reply(h, station, "%s: reply has %zu data bytes, asked %zu",
-			                what, dlen, want);
+			return client_bad_reply(h, station, what, "reply has %zu data bytes, asked %zu", dlen, want);
 		for (size_t i = 0; i < k; i++) {
 			rc = io_put(h, station, what, io, done + i, d + i * s->esize, s->esize);
 			if (rc < 0)
@@ -457,7 +490,7 @@ static int slc_write(struct df1 *h, int station, const char *what, const struct 
 		n = pccc_enc_slc_write(cmd, sizeof cmd, &hd, PCCC_FNC_SLC_WRITE3, (unsigned)s->a.file,
 		                       (uint8_t)code, elem, sub, data, (uint8_t)nbytes);
 		if (n < 0)
-			return df1_fail(h, n, station, "%s: cannot encode the write (%s)", what, df1_strerror(n));
+			return client_fail(h, n, station, what, "cannot encode the write (%s)", df1_strerror(n));
 		rc = client_transact(h, station, what, cmd, (size_t)n, reply, sizeof reply, &d, &dlen);
 		if (rc < 0)
 			return rc;
@@ -501,7 +534,7 @@ static int plc5_addr(struct df1 *h, int station, const char *what, const struct 
 	int n = pccc_enc_plc5_addr(out, cap, a);
 
 	if (n < 0)
-		return df1_fail(h, n, station, "%s: cannot encode the PLC-5 address (%s)", what,
+		return client_fail(h, n, station, what, "cannot encode the PLC-5 address (%s)",
 		                df1_strerror(n));
 	return n;
 }
@@ -535,8 +568,7 @@ static int plc5_read(struct df1 *h, int station, const char *what, const struct 
 	if (s->a.type == DF1_FT_ST && s->esize == 84)
 		per = 1;        /* one string per packet: the reply is 3x LEN characters (RTA) */
 	if (per == 0)
-		return df1_fail(h, DF1_E_NOTSUP, station, "%s: a %zu-byte element exceeds the packet size",
-		                what, s->esize);
+		return client_fail(h, DF1_E_NOTSUP, station, what, "a %zu-byte element exceeds the packet size", s->esize);
 	while (done < s->count) {
 		size_t k = s->count - done < per ? s->count - done : per, dlen;
 		struct pccc_typed td;
@@ -546,17 +578,15 @@ static int plc5_read(struct df1 *h, int station, const char *what, const struct 
 		n = pccc_enc_plc5_typed_read(cmd, sizeof cmd, &hd, (uint16_t)done, (uint16_t)s->count,
 		                             addr, (size_t)alen, (uint16_t)k);
 		if (n < 0)
-			return df1_fail(h, n, station, "%s: cannot encode the read (%s)", what, df1_strerror(n));
+			return client_fail(h, n, station, what, "cannot encode the read (%s)", df1_strerror(n));
 		rc = client_transact(h, station, what, cmd, (size_t)n, reply, sizeof reply, &d, &dlen);
 		if (rc < 0)
 			return rc;
 		rc = pccc_dec_typed(d, dlen, &td);
 		if (rc < 0)
-			return client_bad_reply(h, station, "%s: bad type/data parameter (%s)",
-			                what, df1_strerror(rc));
+			return client_bad_reply(h, station, what, "bad type/data parameter (%s)", df1_strerror(rc));
 		if (!plc5_type_ok(s, td.type_id))
-			return client_bad_reply(h, station, "%s: reply holds type %u, asked type %u",
-			                what, td.type_id, plc5_elem_type(s));
+			return client_bad_reply(h, station, what, "reply holds type %u, asked type %u", td.type_id, plc5_elem_type(s));
 		if (s->a.type == DF1_FT_ST && s->esize == 84 && td.elem_size != 84 && !td.is_array &&
 		    k == 1 && td.elem_size <= DF1_STRING_MAX) {
 			/* RTA's form of one string: 39 LEN characters -> the 84-byte element */
@@ -566,7 +596,7 @@ static int plc5_read(struct df1 *h, int station, const char *what, const struct 
 			memcpy(text, td.data, td.elem_size);
 			text[td.elem_size] = '\0';
 			if (value_put_string(el, text) < 0)
-				return client_bad_reply(h, station, "%s: bad string reply", what);
+				return client_bad_reply(h, station, what, "bad string reply");
 			put_le16(el, (uint16_t)td.elem_size);
 			rc = io_put(h, station, what, io, done, el, sizeof el);
 			if (rc < 0)
@@ -575,12 +605,11 @@ static int plc5_read(struct df1 *h, int station, const char *what, const struct 
 			continue;
 		}
 		if (td.elem_size != s->esize)
-			return client_bad_reply(h, station,
-			                "%s: reply elements have %u bytes, expected %zu", what,
+			return client_bad_reply(h, station, what,
+			                "reply elements have %u bytes, expected %zu",
 			                (unsigned)td.elem_size, s->esize);
 		if (td.count != k)
-			return client_bad_reply(h, station, "%s: reply has %zu elements, asked %zu",
-			                what, td.count, k);
+			return client_bad_reply(h, station, what, "reply has %zu elements, asked %zu", td.count, k);
 		for (size_t i = 0; i < k; i++) {
 			rc = io_put(h, station, what, io, done + i, td.data + i * s->esize, s->esize);
 			if (rc < 0)
@@ -606,18 +635,18 @@ static int plc5_write_strings(struct df1 *h, int station, const char *what, cons
 
 		rc = io_get(io, i, el, sizeof el);
 		if (rc < 0)
-			return df1_fail(h, rc, station, "%s: value %zu: %s", what, io->base + i,
+			return client_fail(h, rc, station, what, "value %zu: %s", io->base + i,
 			                df1_strerror(rc));
 		len = le16(el);
 		n = pccc_enc_typedata(typed, sizeof typed, PCCC_TD_STRING, (uint32_t)len);
 		if (n < 0)
-			return df1_fail(h, n, station, "%s: cannot encode the type/data parameter", what);
+			return client_fail(h, n, station, what, "cannot encode the type/data parameter");
 		for (size_t c = 0; c < len; c++)
 			typed[(size_t)n + c] = el[2 + (c ^ 1u)];
 		n = pccc_enc_plc5_typed_write(cmd, sizeof cmd, &hd, (uint16_t)i, (uint16_t)s->count, addr,
 		                              alen, typed, (size_t)n + len);
 		if (n < 0)
-			return df1_fail(h, n, station, "%s: cannot encode the write (%s)", what, df1_strerror(n));
+			return client_fail(h, n, station, what, "cannot encode the write (%s)", df1_strerror(n));
 		rc = client_transact(h, station, what, cmd, (size_t)n, reply, sizeof reply, &d, &dlen);
 		if (rc < 0)
 			return rc;
@@ -642,14 +671,13 @@ static int plc5_write(struct df1 *h, int station, const char *what, const struct
 	/* the array header for one element tells its length (99 09 LL + descriptor) */
 	r = pccc_enc_typed_array(typed, sizeof typed, etype, (uint32_t)s->esize, 1);
 	if (r < 0)
-		return df1_fail(h, r, station, "%s: cannot encode the type/data parameter", what);
+		return client_fail(h, r, station, what, "cannot encode the type/data parameter");
 	hlen = (size_t)r;
 	budget = plc5_budget(h, (size_t)alen, hlen,
 	                     FRAME_MAX_DATA - PCCC_HDR_LEN - 5 - (size_t)alen - hlen);
 	per = budget / s->esize;
 	if (per == 0)
-		return df1_fail(h, DF1_E_NOTSUP, station, "%s: a %zu-byte element exceeds the packet size",
-		                what, s->esize);
+		return client_fail(h, DF1_E_NOTSUP, station, what, "a %zu-byte element exceeds the packet size", s->esize);
 	while (done < s->count) {
 		size_t k = s->count - done < per ? s->count - done : per, dlen;
 		const uint8_t *d;
@@ -657,15 +685,14 @@ static int plc5_write(struct df1 *h, int station, const char *what, const struct
 
 		r = pccc_enc_typed_array(typed, sizeof typed, etype, (uint32_t)s->esize, k);
 		if (r < 0 || (size_t)r != hlen)
-			return df1_fail(h, DF1_E_NOTSUP, station, "%s: cannot encode the type/data parameter",
-			                what);
+			return client_fail(h, DF1_E_NOTSUP, station, what, "cannot encode the type/data parameter");
 		rc = io_gather(h, station, what, io, done, k, typed + hlen, s->esize);
 		if (rc < 0)
 			return rc;
 		n = pccc_enc_plc5_typed_write(cmd, sizeof cmd, &hd, (uint16_t)done, (uint16_t)s->count,
 		                              addr, (size_t)alen, typed, hlen + k * s->esize);
 		if (n < 0)
-			return df1_fail(h, n, station, "%s: cannot encode the write (%s)", what, df1_strerror(n));
+			return client_fail(h, n, station, what, "cannot encode the write (%s)", df1_strerror(n));
 		rc = client_transact(h, station, what, cmd, (size_t)n, reply, sizeof reply, &d, &dlen);
 		if (rc < 0)
 			return rc;
@@ -681,11 +708,10 @@ static int plc5_write(struct df1 *h, int station, const char *what, const struct
 static int plc2_check(struct df1 *h, int station, const char *what, const struct span *s)
 {
 	if (!client_is_word_type(s->a.type) || s->esize != 2 || s->by_sub)
-		return df1_fail(h, DF1_E_NOTSUP, station,
-		                "%s: PLC-2 commands reach 16-bit words only (N B S I O A, no sub-element)",
-		                what);
+		return client_fail(h, DF1_E_NOTSUP, station, what,
+		                "PLC-2 commands reach 16-bit words only (N B S I O A, no sub-element)");
 	if (((size_t)s->a.element + s->count) * 2 > 0x10000)
-		return df1_fail(h, DF1_E_ADDR_RANGE, station, "%s: beyond the PLC-2 byte address range", what);
+		return client_fail(h, DF1_E_ADDR_RANGE, station, what, "beyond the PLC-2 byte address range");
 	return 0;
 }
 
@@ -706,13 +732,12 @@ static int plc2_read(struct df1 *h, int station, const char *what, const struct 
 		n = pccc_enc_plc2_read(cmd, sizeof cmd, &hd, (uint16_t)((s->a.element + done) * 2),
 		                       (uint8_t)(k * 2));
 		if (n < 0)
-			return df1_fail(h, n, station, "%s: cannot encode the read (%s)", what, df1_strerror(n));
+			return client_fail(h, n, station, what, "cannot encode the read (%s)", df1_strerror(n));
 		rc = client_transact(h, station, what, cmd, (size_t)n, reply, sizeof reply, &d, &dlen);
 		if (rc < 0)
 			return rc;
 		if (dlen != k * 2)
-			return client_bad_reply(h, station, "%s: reply has %zu data bytes, asked %zu",
-			                what, dlen, k * 2);
+			return client_bad_reply(h, station, what, "reply has %zu data bytes, asked %zu", dlen, k * 2);
 		for (size_t i = 0; i < k; i++) {
 			rc = io_put(h, station, what, io, done + i, d + i * 2, 2);
 			if (rc < 0)
@@ -743,7 +768,7 @@ static int plc2_write(struct df1 *h, int station, const char *what, const struct
 		n = pccc_enc_plc2_write(cmd, sizeof cmd, &hd, (uint16_t)((s->a.element + done) * 2),
 		                        data, k * 2);
 		if (n < 0)
-			return df1_fail(h, n, station, "%s: cannot encode the write (%s)", what, df1_strerror(n));
+			return client_fail(h, n, station, what, "cannot encode the write (%s)", df1_strerror(n));
 		rc = client_transact(h, station, what, cmd, (size_t)n, reply, sizeof reply, &d, &dlen);
 		if (rc < 0)
 			return rc;
@@ -761,8 +786,7 @@ static int span_check(struct df1 *h, int station, const char *what, const struct
 	size_t last = (s->by_sub ? (size_t)s->a.sub : (size_t)s->a.element) + s->count - 1;
 
 	if (s->count == 0 || s->count > 0xFFFF || last > 0xFFFF)
-		return df1_fail(h, DF1_E_ADDR_RANGE, station, "%s: %zu elements go beyond the address range",
-		                what, s->count);
+		return client_fail(h, DF1_E_ADDR_RANGE, station, what, "%zu elements go beyond the address range", s->count);
 	return 0;
 }
 
@@ -817,12 +841,12 @@ static int bits_span(struct df1 *h, int station, const char *what, enum df1_plc 
 		*wbits = 16;
 		s->esize = 2;
 	} else {
-		return df1_fail(h, DF1_E_TYPE, station, "%s: no bits in this file type", what);
+		return client_fail(h, DF1_E_TYPE, station, what, "no bits in this file type");
 	}
 	if (client_is_tcr(a->type)) {
 		/* a T/C/R bit lives in one word of its element (word 0 unless given) */
 		if (bit + n > 16)
-			return df1_fail(h, DF1_E_ADDR_RANGE, station, "%s: %zu bits run past the word", what, n);
+			return client_fail(h, DF1_E_ADDR_RANGE, station, what, "%zu bits run past the word", n);
 		client_derive(a, a->element, a->sub == DF1_ADDR_NONE ? 0 : a->sub, &s->a);
 		s->count = 1;
 		return 0;
@@ -886,10 +910,10 @@ static int plc2_bit_write(struct df1 *h, int station, const char *what, const st
 	size_t n = PCCC_HDR_LEN, dlen;
 
 	if (!client_is_word_type(w->type) || w->sub != DF1_ADDR_NONE)
-		return df1_fail(h, DF1_E_NOTSUP, station,
-		                "%s: PLC-2 commands reach 16-bit words only (N B S I O A)", what);
+		return client_fail(h, DF1_E_NOTSUP, station, what,
+		                "PLC-2 commands reach 16-bit words only (N B S I O A)");
 	if (w->element > 0x7FFF)
-		return df1_fail(h, DF1_E_ADDR_RANGE, station, "%s: beyond the PLC-2 byte address range", what);
+		return client_fail(h, DF1_E_ADDR_RANGE, station, what, "beyond the PLC-2 byte address range");
 	memset(cmd, 0, PCCC_HDR_LEN);
 	cmd[2] = PCCC_CMD_UNPROT_BIT_WRITE;
 	for (unsigned b = 0; b < 2; b++) {
@@ -919,8 +943,7 @@ static int client_mask_word(struct df1 *h, int station, const char *what, enum d
 	switch (plc) {
 	case DF1_PLC_PLC5:
 		if (wsize != 2)
-			return df1_fail(h, DF1_E_NOTSUP, station, "%s: PLC-5 bit writes reach 16-bit words",
-			                what);
+			return client_fail(h, DF1_E_NOTSUP, station, what, "PLC-5 bit writes reach 16-bit words");
 		alen = plc5_addr(h, station, what, w, addr, sizeof addr);
 		if (alen < 0)
 			return alen;
@@ -946,7 +969,7 @@ static int client_mask_word(struct df1 *h, int station, const char *what, enum d
 	}
 	}
 	if (n < 0)
-		return df1_fail(h, n, station, "%s: cannot encode the bit write (%s)", what, df1_strerror(n));
+		return client_fail(h, n, station, what, "cannot encode the bit write (%s)", df1_strerror(n));
 	return client_transact(h, station, what, cmd, (size_t)n, reply, sizeof reply, &d, &dlen);
 }
 
@@ -964,7 +987,7 @@ static int client_write_bits(struct df1 *h, int station, const char *what, enum 
 	if (vals)
 		for (size_t i = 0; i < n; i++)
 			if (vals[i].kind != DF1_VAL_BIT)
-				return df1_fail(h, DF1_E_TYPE, station, "%s: value %zu is not a bit", what, i);
+				return client_fail(h, DF1_E_TYPE, station, what, "value %zu is not a bit", i);
 	rc = span_check(h, station, what, &s);
 	if (rc < 0)
 		return rc;
@@ -1006,7 +1029,7 @@ static int client_plan(struct df1 *h, int station, const char *what, enum df1_pl
 	io->t = a->type;
 	io->fo = value_typed_float_order(plc, h->cfg.plc5_float_swapped);
 	if (es <= 0)
-		return df1_fail(h, DF1_E_ADDR_SYNTAX, station, "%s: no file type", what);
+		return client_fail(h, DF1_E_ADDR_SYNTAX, station, what, "no file type");
 	s->count = n;
 	if (a->sub == DF1_ADDR_NONE) {
 		client_derive(a, a->element, DF1_ADDR_NONE, &s->a);
@@ -1035,7 +1058,7 @@ static int client_plan(struct df1 *h, int station, const char *what, enum df1_pl
 		s->by_sub = true;
 		return 0;
 	}
-	return df1_fail(h, DF1_E_ADDR_SYNTAX, station, "%s: no sub-elements in this file type", what);
+	return client_fail(h, DF1_E_ADDR_SYNTAX, station, what, "no sub-elements in this file type");
 }
 
 static int client_read_elems(struct df1 *h, int station, const char *what, enum df1_plc plc,
@@ -1061,14 +1084,14 @@ static int client_check_values(struct df1 *h, int station, const char *what, str
 	if (io->kind != IO_VALUE && io->kind != IO_STRING)
 		return 0;
 	if (esize > sizeof scratch)
-		return df1_fail(h, DF1_E_INVAL, station, "%s: element too large", what);
+		return client_fail(h, DF1_E_INVAL, station, what, "element too large");
 	for (size_t i = 0; i < n; i++) {
 		int rc;
 
 		io->base = 0;
 		rc = io_get(io, i, scratch, esize);
 		if (rc < 0)
-			return df1_fail(h, rc, station, "%s: value %zu: %s", what, i, df1_strerror(rc));
+			return client_fail(h, rc, station, what, "value %zu: %s", i, df1_strerror(rc));
 	}
 	return 0;
 }
@@ -1115,7 +1138,7 @@ static int client_parse(struct df1 *h, int station, const char *text, struct df1
 		return df1_fail(h, DF1_E_INVAL, station, "no address");
 	rc = df1_addr_parse(text, a);
 	if (rc < 0)
-		return df1_fail(h, rc, station, "%s: %s", text, df1_strerror(rc));
+		return client_fail(h, rc, station, text, "%s", df1_strerror(rc));
 	return 0;
 }
 
@@ -1138,9 +1161,9 @@ static int client_begin(struct df1 *h, int station, const char *text, struct df1
 static int client_count_check(struct df1 *h, int station, const char *what, const void *p, size_t n)
 {
 	if (!p || n == 0)
-		return df1_fail(h, DF1_E_INVAL, station, "%s: no values", what);
+		return client_fail(h, DF1_E_INVAL, station, what, "no values");
 	if (n > 0xFFFF)
-		return df1_fail(h, DF1_E_INVAL, station, "%s: %zu elements is too many", what, n);
+		return client_fail(h, DF1_E_INVAL, station, what, "%zu elements is too many", n);
 	return 0;
 }
 
@@ -1262,7 +1285,7 @@ static int client_typed(struct df1 *h, int station, const char *addr, enum clien
 	if (rc < 0)
 		return rc;
 	if (!client_type_fits(a, ct))
-		return df1_fail(h, DF1_E_TYPE, station, "%s: does not hold a %s", what,
+		return client_fail(h, DF1_E_TYPE, station, what, "does not hold a %s",
 		                client_ctype_names[ct]);
 	return 0;
 }
@@ -1359,7 +1382,7 @@ static int client_bit_addr(df1_t *h, int station, const char *addr, struct df1_a
 	if (rc < 0)
 		return rc;
 	if (a->bit == DF1_ADDR_NONE)
-		return df1_fail(h, DF1_E_TYPE, station, "%s: not a bit address", what);
+		return client_fail(h, DF1_E_TYPE, station, what, "not a bit address");
 	return 0;
 }
 
@@ -1372,7 +1395,7 @@ int df1_read_bit(df1_t *h, int station, const char *addr, bool *out)
 	if (rc < 0)
 		return rc;
 	if (!out)
-		return df1_fail(h, DF1_E_INVAL, station, "%s: no output", what);
+		return client_fail(h, DF1_E_INVAL, station, what, "no output");
 	rc = client_read_bits(h, station, what, h->cfg.plc, &a, 1, out, NULL);
 	return rc < 0 ? rc : 0;
 }
@@ -1399,12 +1422,11 @@ static int client_raw_parsed(struct df1 *h, int station, enum df1_plc plc, const
 	int rc;
 
 	if (a.bit != DF1_ADDR_NONE)
-		return df1_fail(h, DF1_E_TYPE, station, "%s: raw access takes a word or element address",
-		                what);
+		return client_fail(h, DF1_E_TYPE, station, what, "raw access takes a word or element address");
 	esize = a.sub != DF1_ADDR_NONE ? 2 : (size_t)df1_file_type_element_size(a.type);
 	if ((!in && !out) || nbytes == 0 || nbytes % esize)
-		return df1_fail(h, DF1_E_INVAL, station, "%s: %zu bytes is not a whole number of %zu-byte "
-		                "elements", what, nbytes, esize);
+		return client_fail(h, DF1_E_INVAL, station, what, "%zu bytes is not a whole number of %zu-byte "
+		                "elements", nbytes, esize);
 	rc = client_count_check(h, station, what, what, nbytes / esize);
 	if (rc < 0)
 		return rc;
@@ -1468,11 +1490,11 @@ int df1_command(df1_t *h, int station, uint8_t cmd, const uint8_t *body, size_t 
 		return rc;
 	snprintf(what, sizeof what, "command %02X", cmd);
 	if ((body_len && !body) || (reply_cap && !reply))
-		return df1_fail(h, DF1_E_INVAL, station, "%s: NULL buffer", what);
+		return client_fail(h, DF1_E_INVAL, station, what, "NULL buffer");
 	if (cmd & PCCC_REPLY_BIT)
-		return df1_fail(h, DF1_E_INVAL, station, "%s: a reply code, not a command", what);
+		return client_fail(h, DF1_E_INVAL, station, what, "a reply code, not a command");
 	if (body_len > sizeof c - PCCC_HDR_LEN)
-		return df1_fail(h, DF1_E_INVAL, station, "%s: %zu bytes of body is too long", what, body_len);
+		return client_fail(h, DF1_E_INVAL, station, what, "%zu bytes of body is too long", body_len);
 	memset(c, 0, PCCC_HDR_LEN);
 	c[2] = cmd;
 	if (body_len)
@@ -1481,7 +1503,7 @@ int df1_command(df1_t *h, int station, uint8_t cmd, const uint8_t *body, size_t 
 	if (rc < 0)
 		return rc;
 	if (dlen > reply_cap)
-		return df1_fail(h, DF1_E_NOSPACE, station, "%s: %zu reply bytes, room for %zu", what, dlen,
+		return client_fail(h, DF1_E_NOSPACE, station, what, "%zu reply bytes, room for %zu", dlen,
 		                reply_cap);
 	if (dlen)
 		memcpy(reply, d, dlen);
@@ -1504,12 +1526,12 @@ int df1_diag_status(df1_t *h, int station, struct df1_diag_status *out)
 	n = pccc_enc_diag_status(c, sizeof c, &hd);
 	if (n < 0)
 		return df1_fail(h, n, station, "diagnostic status: cannot encode");
-	rc = client_transact(h, station, "diagnostic status", c, (size_t)n, r, sizeof r, &d, &dlen);
+	rc = client_op_transact(h, station, "diagnostic status", c, (size_t)n, r, sizeof r, &d, &dlen);
 	if (rc < 0)
 		return rc;
 	rc = pccc_dec_diag_status(d, dlen, out);
 	if (rc < 0)
-		return client_bad_reply(h, station, "diagnostic status: %zu-byte reply too short",
+		return client_bad_reply(h, station, NULL, "diagnostic status: %zu-byte reply too short",
 		                dlen);
 	return 0;
 }
@@ -1530,11 +1552,11 @@ int df1_echo(df1_t *h, int station, const uint8_t *data, size_t n)
 	len = pccc_enc_echo(c, sizeof c, &hd, data, n);
 	if (len < 0)
 		return df1_fail(h, len, station, "echo: cannot encode");
-	rc = client_transact(h, station, "echo", c, (size_t)len, r, sizeof r, &d, &dlen);
+	rc = client_op_transact(h, station, "echo", c, (size_t)len, r, sizeof r, &d, &dlen);
 	if (rc < 0)
 		return rc;
 	if (dlen != n || (n && memcmp(d, data, n) != 0))
-		return client_bad_reply(h, station, "echo: reply differs from the data sent "
+		return client_bad_reply(h, station, NULL, "echo: reply differs from the data sent "
 		                "(%zu of %zu bytes)", dlen, n);
 	return (int)n;
 }
@@ -1593,6 +1615,6 @@ int df1_change_mode(df1_t *h, int station, int mode)
 			return df1_fail(h, n, station, "change mode: cannot encode");
 		break;
 	}
-	rc = client_transact(h, station, "change mode", c, (size_t)n, r, sizeof r, &d, &dlen);
+	rc = client_op_transact(h, station, "change mode", c, (size_t)n, r, sizeof r, &d, &dlen);
 	return rc < 0 ? rc : 0;
 }

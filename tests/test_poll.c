@@ -593,7 +593,7 @@ static struct df1_station_health sth(df1_t *h, int station)
 {
 	struct df1_station_health s;
 
-	assert_int_equal(df1_poll_station(h, station, &s), 0);
+	assert_int_equal(df1_station_health(h, station, &s), 0);
 	return s;
 }
 

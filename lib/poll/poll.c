@@ -1695,7 +1695,7 @@ int df1_poll_stats(const df1_t *h, struct df1_poll_stats *out)
 	return 0;
 }
 
-int df1_poll_station(const df1_t *h, int station, struct df1_station_health *out)
+int df1_station_health(const df1_t *h, int station, struct df1_station_health *out)
 {
 	const struct poll_engine *e;
 	const struct pstation *s;
@@ -1719,6 +1719,12 @@ int df1_poll_station(const df1_t *h, int station, struct df1_station_health *out
 	out->failures = s->failures;
 	out->last_error = s->last_error;
 	return 0;
+}
+
+/* Deprecated since 0.2: the old name, kept so that existing programs link. */
+int df1_poll_station(const df1_t *h, int station, struct df1_station_health *out)
+{
+	return df1_station_health(h, station, out);
 }
 
 /* ------------------------------------------------------------------------
