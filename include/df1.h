@@ -672,7 +672,8 @@ struct df1_read_req {
 #define DF1_READ_MULTI_STOP 1u
 /* Read n addresses of one station in the fewest transactions: ranges of one
  * file that overlap or touch are one block read, a gap is read through when
- * that saves packets (the packet limits of the handle's PLC type, spec 6);
+ * that saves packets (the packet limits of the handle's PLC type, spec 6; not
+ * on a PLC-5);
  * bits, T/C/R words and T/C/R bits come out of the elements read; I/O, PLC-5
  * "$" addresses and other sub-elements are read on their own. A block the PLC
  * refuses is read again address by address, so one bad address does not hide

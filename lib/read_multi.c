@@ -6,7 +6,8 @@
  * are planned into block reads by the poll engine's planner (lib/proto/
  * poll_plan.c) with POLL_GAP_FEWEST_TX and the packet-limit table
  * (lib/proto/plc_limits.h): ranges that overlap or touch are one block, a gap
- * is bridged when the joined block takes fewer packets than the two apart.
+ * is bridged when the joined block takes fewer packets than the two apart
+ * (not on a PLC-5: POLL_GAP_TOUCH_ONLY).
  * Bits, T/C/R words and T/C/R bits are taken from the elements (words) a
  * block reads, as the poll engine does. I/O addresses, PLC-5 "$" addresses
  * and sub-elements of other files are read on their own. Blocks are read in
@@ -339,7 +340,11 @@ int df1_read_multi(df1_t *h, int station, struct df1_read_req *reqs, size_t n, u
 		it->limit = (int)plc_read_limit(h->cfg.plc, h->cfg.max_packet);
 		it->tag = (int)i;
 	}
-	nb = poll_plan(items, k, POLL_GAP_FEWEST_TX, blocks, k ? k : 1);
+	/* a PLC-5 typed packet carries an address and a type/data parameter whose
+	 * sizes vary: what a gap would save is not known, so only ranges that
+	 * overlap or touch are joined there */
+	nb = poll_plan(items, k, h->cfg.plc == DF1_PLC_PLC5 ? POLL_GAP_TOUCH_ONLY : POLL_GAP_FEWEST_TX,
+	               blocks, k ? k : 1);
 	if (nb < 0)
 		nb = 0;         /* cannot happen: one block per item at most */
 	/* blocks in the order of their first request (insertion sort: few) */

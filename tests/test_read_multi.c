@@ -93,6 +93,12 @@ static void test_plan_fewest_tx(void **state)
 	it[2] = item(DF1_PLC_SLC502, DF1_FT_N, 7, 41, 1, 2);
 	assert_int_equal(poll_plan(it, 3, POLL_GAP_FEWEST_TX, b, 4), 1);    /* touching: joined */
 	assert_int_equal(poll_block_packets(&b[0], it), 2);
+	/* PLC-5: ranges that touch are joined, gaps never (POLL_GAP_TOUCH_ONLY) */
+	it[0] = item(DF1_PLC_PLC5, DF1_FT_N, 7, 0, 1, 0);
+	it[1] = item(DF1_PLC_PLC5, DF1_FT_N, 7, 1, 1, 1);
+	it[2] = item(DF1_PLC_PLC5, DF1_FT_N, 7, 3, 1, 2);
+	assert_int_equal(poll_plan(it, 3, POLL_GAP_TOUCH_ONLY, b, 4), 2);
+	assert_int_equal(b[0].count, 2);
 	/* other files and file types are never joined */
 	it[0] = item(DF1_PLC_SLC, DF1_FT_N, 7, 0, 1, 0);
 	it[1] = item(DF1_PLC_SLC, DF1_FT_N, 10, 1, 1, 1);

@@ -66,7 +66,9 @@ int poll_plan(struct poll_item *items, size_t n, int gap_max, struct poll_block 
 			long after = poll_packets(nend - cur->first, it->cost, it->limit);
 			bool join;
 
-			if (gap_max == POLL_GAP_FEWEST_TX)
+			if (gap_max == POLL_GAP_TOUCH_ONLY)
+				join = gap <= 0;
+			else if (gap_max == POLL_GAP_FEWEST_TX)
 				join = gap <= 0 ||
 				       after < before + poll_packets(it->count, it->cost, it->limit);
 			else

@@ -35,6 +35,9 @@
 #define POLL_TX_OVERHEAD_HALF 41
 /* gap_max: the fewest transactions (df1_read_multi), see above */
 #define POLL_GAP_FEWEST_TX (-1)
+/* gap_max: items that overlap or touch are one block, gaps are never bridged
+ * (df1_read_multi on a PLC-5, whose packets' overhead varies) */
+#define POLL_GAP_TOUCH_ONLY (-2)
 
 struct poll_item {
 	int station;
