@@ -507,7 +507,7 @@ DF1_API int df1_map_load(const char *path, bool strict, df1_tag_row_fn row_fn,
 
 /* ------------------------------------------------------------------------
  * Poll engine (scan list, block coalescing, quality, station health, write queue)
- * Declarations are added by the poll engine (lib/poll.c); see df1_poll(3).
+ * Declarations are added by the poll engine (lib/poll/); see df1_poll(3).
  *
  * Tags (df1_tag_add, df1_tag_load_map) are polled by df1_poll(), which runs the
  * work that is due (one scan of the stations in address order, queued writes in

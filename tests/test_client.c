@@ -1,5 +1,5 @@
 /*
- * test_client - lib/client.c: the command bytes the client builds, packet
+ * test_client - lib/client/: the command bytes the client builds, packet
  * splitting, reply checks and value decoding, without the real link.
  *
  * This file defines link_transact() and link_test() (and the rest of link.h),

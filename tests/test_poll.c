@@ -1,5 +1,5 @@
 /*
- * test_poll - the poll engine (lib/poll.c): the pure block planner, the API
+ * test_poll - the poll engine (lib/poll/): the pure block planner, the API
  * without I/O, and the engine against df1sim as a separate process
  * (tests/simproc.c) over pseudo-terminals:
  *  - coalescing: 40 tags in two files take two reads (df1sim --log), the SLC
