@@ -687,6 +687,13 @@ struct df1_read_req {
  * bad station. @since 0.2 */
 DF1_API int df1_read_multi(df1_t *h, int station, struct df1_read_req *reqs, size_t n,
                            unsigned flags, unsigned *reads);
+/* Data bytes one read or write packet carries for a PLC type, from the
+ * library's one packet-limit table (spec 6): SLC 5/03+ and MicroLogix read
+ * 236, write 234; SLC 5/01-5/02 82; PLC-2 244; PLC-5 240 for the whole typed
+ * packet, address and type/data included. DF1_OPT_MAX_PACKET does not apply
+ * (no handle). Returns the bytes, or DF1_E_INVAL for an unknown type. Pure,
+ * thread-safe. @since 0.2 */
+DF1_API int df1_packet_max(enum df1_plc plc, bool write);
 /* The health of one station of the poll engine (0..254) into *out.
  * Returns 0, or DF1_E_INVAL (no handle, no out, station out of range). @since 0.2 */
 DF1_API int df1_station_health(const df1_t *h, int station, struct df1_station_health *out);

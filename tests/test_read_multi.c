@@ -123,6 +123,24 @@ static void test_plan_packets_whole_elements(void **state)
 	assert_int_equal(poll_block_packets(&b[0], it), 2);
 }
 
+/* The table as spec/protocol.md 6 gives it. */
+static void test_packet_max(void **state)
+{
+	(void)state;
+	assert_int_equal(df1_packet_max(DF1_PLC_SLC, false), 236);
+	assert_int_equal(df1_packet_max(DF1_PLC_SLC, true), 234);
+	assert_int_equal(df1_packet_max(DF1_PLC_MICROLOGIX, false), 236);
+	assert_int_equal(df1_packet_max(DF1_PLC_MICROLOGIX, true), 234);
+	assert_int_equal(df1_packet_max(DF1_PLC_SLC502, false), 82);
+	assert_int_equal(df1_packet_max(DF1_PLC_SLC502, true), 82);
+	assert_int_equal(df1_packet_max(DF1_PLC_PLC2, false), 244);
+	assert_int_equal(df1_packet_max(DF1_PLC_PLC2, true), 244);
+	assert_int_equal(df1_packet_max(DF1_PLC_PLC5, false), 240);
+	assert_int_equal(df1_packet_max(DF1_PLC_PLC5, true), 240);
+	assert_int_equal(df1_packet_max((enum df1_plc)5, false), DF1_E_INVAL);
+	assert_int_equal(df1_packet_max((enum df1_plc)-1, true), DF1_E_INVAL);
+}
+
 /* ------------------------------------------------------------------------
  * Arguments (no I/O)
  * ------------------------------------------------------------------------ */
@@ -453,6 +471,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_plan_fewest_tx),
 		cmocka_unit_test(test_plan_packets_whole_elements),
+		cmocka_unit_test(test_packet_max),
 		cmocka_unit_test(test_args),
 		cmocka_unit_test_setup_teardown(test_thirty_scattered, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_mixed_values, fix_setup, fix_teardown),
