@@ -1259,6 +1259,9 @@ static void test_client_diag_echo_mode(void **state)
 	assert_wire(1, DF1_CHECK_CRC, "10 02 01 00 06 00 0C 00 00 41 10 03 0B C0");
 	script_data_hex("42");
 	assert_int_equal(df1_echo(h, 1, &a, 1), DF1_E_BAD_REPLY);
+	/* no address: the message names the operation, the address field is empty */
+	assert_string_equal(df1_last_error(h)->address, "");
+	assert_int_equal(strncmp(df1_last_error(h)->message, "echo: ", 6), 0);
 
 	h->next_tns = 0x0D;
 	assert_int_equal(df1_change_mode(h, 1, 6), 0);
@@ -1281,6 +1284,11 @@ static void test_client_diag_echo_mode(void **state)
 	assert_memory_equal(rep, "\x01\x02\x03", 3);
 	script_data_hex("01 02 03");
 	assert_int_equal(df1_command(h, 1, 0x06, (const uint8_t *)"\x03", 1, rep, 2), DF1_E_NOSPACE);
+	/* a link failure of an operation without an address */
+	script_link_error(DF1_E_TIMEOUT);
+	assert_int_equal(df1_echo(h, 1, &a, 1), DF1_E_TIMEOUT);
+	assert_string_equal(df1_last_error(h)->address, "");
+	assert_int_equal(strncmp(df1_last_error(h)->message, "echo: ", 6), 0);
 }
 
 int main(void)
