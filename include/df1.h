@@ -656,7 +656,7 @@ struct df1_station_health {
 DF1_API const char *df1_station_state_name(enum df1_station_state s);
 
 /* ------------------------------------------------------------------------
- * Multi-address reads and station health (@since 0.2)
+ * Multi-address reads, packet limits and station health (@since 0.2)
  * ------------------------------------------------------------------------ */
 /* One address of df1_read_multi(). The caller owns the struct and its buffers. */
 struct df1_read_req {
@@ -670,16 +670,17 @@ struct df1_read_req {
 /* df1_read_multi flag: all or nothing, stop at the first failure (nothing is
  * sent when a request does not pass the checks). */
 #define DF1_READ_MULTI_STOP 1u
-/* Read n addresses of one station in the fewest transactions: ranges of one
- * file that overlap or touch are one block read, a gap is read through when
- * that saves packets (the packet limits of the handle's PLC type, spec 6; not
- * on a PLC-5);
+/* Read n addresses of one station in the fewest transactions, without the
+ * poll engine: ranges of one file that overlap or touch are one block read, a
+ * gap is read through when that saves packets (the packet limits of the
+ * handle's PLC type, spec 6; not on a PLC-5, whose packet overhead varies);
  * bits, T/C/R words and T/C/R bits come out of the elements read; I/O, PLC-5
  * "$" addresses and other sub-elements are read on their own. A block the PLC
  * refuses is read again address by address, so one bad address does not hide
  * the others' values; a failure without an answer (timeout, retry limit, port,
  * interrupt) ends the call. *reads (may be NULL): the read calls made (one per
- * block or address read alone; each may take several packets).
+ * block or address read alone; each may take several packets). Nothing is
+ * kept after the call; it allocates its plan once, nothing per packet.
  * Returns n when every request was read, else the DF1_E_* of the first failure
  * in reading order (checks first, then blocks in the order of their first
  * request, then the addresses read alone); df1_last_error() describes it, its
