@@ -2,7 +2,8 @@
  * discover.c - station discovery (seed 002, df1_poll_set_station_range): the
  * addresses of the range without tags are probed with a link test (half
  * duplex) or an empty echo (full duplex). poll_discover() is the one entry
- * point the scan calls.
+ * point the scan calls to probe, poll_discover_due() when discovery wants the
+ * next scan; a shared discovery replaces this file.
  */
 #include "poll_int.h"
 
@@ -102,4 +103,21 @@ int poll_discover(struct df1 *h, struct poll_engine *e, int stn, int64_t start,
 	if (s->state == DF1_STATION_OK || s->state == DF1_STATION_FAILING)
 		return ps->probe ? poll_probe(h, e, stn, poll_tries(s)) : 0;
 	return stn == ps->cand ? poll_probe(h, e, stn, 1) : 0;
+}
+
+/* When discovery is due next (the next probe scan, an offline address's slow
+ * retry), or due if that is sooner. */
+int64_t poll_discover_due(const struct poll_engine *e, int64_t due)
+{
+	if (e->lo < 0)
+		return due;
+	if (e->probe_due_ms < due)
+		due = e->probe_due_ms;
+	for (int stn = e->lo; stn <= e->hi; stn++) {
+		const struct pstation *s = &e->st[stn];
+
+		if (s->nb == 0 && s->state == DF1_STATION_OFFLINE && s->next_retry_ms < due)
+			due = s->next_retry_ms;
+	}
+	return due;
 }

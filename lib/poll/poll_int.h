@@ -9,7 +9,7 @@
  *   plan.c      the scan list planned into blocks (lib/proto/poll_plan.c), splits
  *   health.c    outcomes of a transaction, tag updates, station health
  *   writeq.c    the write queue: df1_tag_write() and its runs between transactions
- *   discover.c  station discovery: probes of addresses without tags
+ *   discover.c  station discovery: probes of addresses without tags, when due
  *   scan.c      block reads, the scan of a station, one scan of all stations
  *   poll.c      df1_poll(), its wait, df1_poll_next_ms(), df1_poll_fd()
  * The user-facing rules are in df1_poll(3); the decisions behind them:
@@ -273,6 +273,7 @@ int poll_run_writes(struct df1 *h, struct poll_engine *e);
 /* discover.c */
 int poll_discover(struct df1 *h, struct poll_engine *e, int stn, int64_t start,
                   struct poll_probe_scan *ps);
+int64_t poll_discover_due(const struct poll_engine *e, int64_t due);
 
 /* scan.c */
 int64_t poll_next_scan(const struct poll_engine *e);

@@ -207,17 +207,7 @@ int64_t poll_next_scan(const struct poll_engine *e)
 		if (d < due)
 			due = d;
 	}
-	if (e->lo >= 0) {
-		if (e->probe_due_ms < due)
-			due = e->probe_due_ms;
-		for (int stn = e->lo; stn <= e->hi; stn++) {
-			const struct pstation *s = &e->st[stn];
-
-			if (s->nb == 0 && s->state == DF1_STATION_OFFLINE && s->next_retry_ms < due)
-				due = s->next_retry_ms;
-		}
-	}
-	return due;
+	return poll_discover_due(e, due);
 }
 
 int poll_scan(struct df1 *h, struct poll_engine *e, int64_t start)
