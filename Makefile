@@ -29,7 +29,7 @@ endif
 # lib/ in layers, bottom first (DESIGN.md 2): proto is pure (no I/O, no clock),
 # port owns file descriptors, link the DF1 link layer, lib/ top the handle,
 # client, server and config, poll the poll engine.
-LAYERS := proto port link . poll
+LAYERS := proto port link . client poll
 LAYER_INCLUDES := $(foreach l,$(LAYERS),-Ilib/$(l))
 
 LIBS = -lcsv -lm

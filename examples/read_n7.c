@@ -60,9 +60,9 @@ int main(int argc, char **argv)
 	 * of elements read, or a negative error code. */
 	rc = df1_read_int16(h, (int)station, "N7:0", v, 10);
 	if (rc < 0) {
-		/* The detail: catalog ID, station, and a message that names the
-		 * address and the station; for an error reply of the PLC, its STS
-		 * and EXT STS with their text:
+		/* The detail: catalog ID, the address it concerns (since 0.2 in its
+		 * own field, "" when none), and a message that names the station;
+		 * for an error reply of the PLC, its STS and EXT STS with their text:
 		 *   read_n7: [2508] ERR_COMMAND_TIMEOUT: N7:0: no reply from station 1 */
 		const struct df1_error_detail *e = df1_last_error(h);
 		const struct df1_catalog_entry *c = df1_catalog_by_id(e->catalog_id);
@@ -72,6 +72,8 @@ int main(int argc, char **argv)
 			fprintf(stderr, "[%d] %s: ", c->id, c->mnemonic);
 		else
 			fprintf(stderr, "%s: ", df1_errname(rc));
+		if (e->address[0])
+			fprintf(stderr, "%s: ", e->address);
 		fprintf(stderr, "%s\n", e->message);
 		df1_free(h);
 		return 1;

@@ -440,7 +440,10 @@ struct df1_error_detail {
 	uint8_t ext_sts;   /* EXT STS when sts == 0xF0 */
 	bool has_ext_sts;
 	int catalog_id;    /* the catalog ID reported, or 0 */
-	char message[160]; /* formatted text, e.g. "PLC error: STS F0 EXT 06: address doesn't point..." */
+	char message[160]; /* formatted text, e.g. "PLC error: STS 0xF0 (...), EXT STS 0x06 (...)";
+	                    * since 0.2 without the address in front: that is in address */
+	char address[64];  /* @since 0.2: the address the error concerns ("N7:0", as the
+	                    * caller wrote it for df1_read_multi), "" when none */
 };
 DF1_API const struct df1_error_detail *df1_last_error(const df1_t *h);
 
@@ -784,7 +787,7 @@ DF1_API int df1_map_load(const char *path, bool strict, df1_tag_row_fn row_fn,
 
 /* ------------------------------------------------------------------------
  * Poll engine (scan list, block coalescing, quality, station health, write queue)
- * Declarations are added by the poll engine (lib/poll.c); see df1_poll(3).
+ * Declarations are added by the poll engine (lib/poll/); see df1_poll(3).
  *
  * Tags (df1_tag_add, df1_tag_load_map) are polled by df1_poll(), which runs the
  * work that is due (one scan of the stations in address order, queued writes in
@@ -931,7 +934,59 @@ struct df1_station_health {
 };
 /* "unknown" "ok" "failing" "offline" "absent". */
 DF1_API const char *df1_station_state_name(enum df1_station_state s);
-DF1_API int df1_poll_station(const df1_t *h, int station, struct df1_station_health *out);
+
+/* ------------------------------------------------------------------------
+ * Multi-address reads, packet limits and station health (@since 0.2)
+ * ------------------------------------------------------------------------ */
+/* One address of df1_read_multi(). The caller owns the struct and its buffers. */
+struct df1_read_req {
+	const char *text;          /* in: address text ("N7:0", "B3/5"), or NULL: addr as given */
+	struct df1_addr addr;      /* in when text is NULL, else out: text parsed */
+	size_t count;              /* in: values wanted, 1..65535 (bits for a bit address) */
+	struct df1_value *values;  /* in: the caller's buffer of count values */
+	int result;                /* out: count when read; 0 not read (the call ended
+	                            * first); or the DF1_E_* of this address */
+};
+/* df1_read_multi flag: all or nothing, stop at the first failure (nothing is
+ * sent when a request does not pass the checks). */
+#define DF1_READ_MULTI_STOP 1u
+/* Read n addresses of one station in the fewest transactions, without the
+ * poll engine: ranges of one file that overlap or touch are one block read, a
+ * gap is read through when that saves packets (the packet limits of the
+ * handle's PLC type, spec 6; not on a PLC-5, whose packet overhead varies);
+ * bits, T/C/R words and T/C/R bits come out of the elements read; I/O, PLC-5
+ * "$" addresses and other sub-elements are read on their own. A block the PLC
+ * refuses is read again address by address, so one bad address does not hide
+ * the others' values; a failure without an answer (timeout, retry limit, port,
+ * interrupt) ends the call. *reads (may be NULL): the read calls made (one per
+ * block or address read alone; each may take several packets). Nothing is
+ * kept after the call; it allocates its plan once, nothing per packet.
+ * Returns n when every request was read, else the DF1_E_* of the first failure
+ * in reading order (checks first, then blocks in the order of their first
+ * request, then the addresses read alone); df1_last_error() describes it, its
+ * address field naming the request. DF1_E_INVAL: no requests, unknown flags,
+ * bad station. @since 0.2 */
+DF1_API int df1_read_multi(df1_t *h, int station, struct df1_read_req *reqs, size_t n,
+                           unsigned flags, unsigned *reads);
+/* Data bytes one read or write packet carries for a PLC type, from the
+ * library's one packet-limit table (spec 6): SLC 5/03+ and MicroLogix read
+ * 236, write 234; SLC 5/01-5/02 82; PLC-2 244; PLC-5 240 for the whole typed
+ * packet, address and type/data included. DF1_OPT_MAX_PACKET does not apply
+ * (no handle). Returns the bytes, or DF1_E_INVAL for an unknown type. Pure,
+ * thread-safe. @since 0.2 */
+DF1_API int df1_packet_max(enum df1_plc plc, bool write);
+/* The health of one station of the poll engine (0..254) into *out.
+ * Returns 0, or DF1_E_INVAL (no handle, no out, station out of range). @since 0.2 */
+DF1_API int df1_station_health(const df1_t *h, int station, struct df1_station_health *out);
+/* Deprecated since 0.2: the old name of df1_station_health(), kept so that
+ * existing programs still link. */
+#if defined(__GNUC__)
+#define DF1_DEPRECATED(msg) __attribute__((deprecated(msg)))
+#else
+#define DF1_DEPRECATED(msg)
+#endif
+DF1_API int df1_poll_station(const df1_t *h, int station, struct df1_station_health *out)
+	DF1_DEPRECATED("use df1_station_health");
 
 #ifdef __cplusplus
 }

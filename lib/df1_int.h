@@ -122,7 +122,7 @@ struct df1 {
 	bool serve_station[256];     /* stations we answer as (half-duplex slave) */
 	struct link_faults faults;
 	struct server_state *srv;    /* allocated on first df1_serve() */
-	void *poll;                  /* poll engine state (lib/poll.c) */
+	void *poll;                  /* poll engine state (lib/poll/) */
 	/* Destructors of the state above, set by the module that allocates it; df1_free()
 	 * calls them (or plain free() when NULL). */
 	void (*srv_free)(struct df1 *h);

@@ -191,6 +191,17 @@ EN=1 TT=0 DN=1 PRE=500 ACC=42
 	expect 0 "$tr: wide gap" -- "$R" -d "$D" -v N7:0 N7:250
 	same "$tr: wide gap: 2 commands" "$(sent)" 2
 
+	# 30 scattered words N7:0 N7:8 ... N7:232 span 233 words = 466 bytes: two
+	# 236-byte packets (spec 6), where one read per address would be 30
+	scat=$(i=0; while [ $i -lt 30 ]; do printf 'N7:%d ' $((i * 8)); i=$((i + 1)); done)
+	before=$(logged "$L")
+	expect 0 "$tr: 30 scattered" -- "$R" -d "$D" -v $scat
+	check "$tr: 30 scattered: 30 values" '[ "$(wc -l < "$T/out")" -eq 30 ]'
+	check "$tr: 30 scattered: value 29" '[ "$(sed -n 30p "$T/out")" = 232 ]'
+	same "$tr: 30 scattered: 2 commands (-v)" "$(sent)" 2
+	wait_for "$tr: 30 scattered in the sim log" 50 log_has "$L" $((before + 2))
+	same "$tr: 30 scattered: 2 commands logged" "$(logged "$L")" $((before + 2))
+
 	# PLC error reply: file 20 does not exist -> STS F0, EXT STS 06; exit 1
 	expect 1 "$tr: non-existent file" -- "$R" -d "$D" N20:0
 	err_has "$tr: PLC error text" "df1read: N20:0: station 1: "

@@ -1,5 +1,5 @@
 /*
- * test_client - lib/client.c: the command bytes the client builds, packet
+ * test_client - lib/client/: the command bytes the client builds, packet
  * splitting, reply checks and value decoding, without the real link.
  *
  * This file defines link_transact() and link_test() (and the rest of link.h),
@@ -583,7 +583,10 @@ static void test_client_remote_error_sts_f0_ext_06(void **state)
 	assert_true(e->has_ext_sts);
 	assert_int_equal(e->ext_sts, 0x06);
 	assert_int_equal(e->station, 1);
-	assert_non_null(strstr(e->message, "N7:0: "));
+	/* the address is in its own field (0.2), not in front of the message */
+	assert_string_equal(e->address, "N7:0");
+	assert_null(strstr(e->message, "N7:0"));
+	assert_int_equal(strncmp(e->message, "PLC error: ", 11), 0);
 	assert_non_null(strstr(e->message, "06"));
 	/* the vector's whole reply, TNS 0005 */
 	h->next_tns = 5;
@@ -606,7 +609,8 @@ static void test_client_short_reply_is_bad_reply(void **state)
 	assert_int_equal(df1_read_int16(h, 1, "N7:0", v, 10), DF1_E_BAD_REPLY);
 	assert_int_equal(df1_last_error(h)->code, DF1_E_BAD_REPLY);
 	assert_int_equal(df1_last_error(h)->station, 1);
-	assert_non_null(strstr(df1_last_error(h)->message, "N7:0"));
+	assert_string_equal(df1_last_error(h)->address, "N7:0");
+	assert_null(strstr(df1_last_error(h)->message, "N7:0"));
 	/* longer than asked: also refused */
 	script_data_hex("00 00 01 00 02 00");
 	assert_int_equal(df1_read_int16(h, 1, "N7:0", v, 2), DF1_E_BAD_REPLY);
@@ -633,7 +637,8 @@ static void test_client_link_error_names_address(void **state)
 	assert_int_equal(e->code, DF1_E_TIMEOUT);
 	assert_int_equal(e->station, 3);
 	assert_int_equal(e->catalog_id, 2508);
-	assert_int_equal(strncmp(e->message, "N7:9: ", 6), 0);
+	assert_string_equal(e->address, "N7:9");
+	assert_null(strstr(e->message, "N7:9"));
 }
 
 static void test_client_type_errors_send_nothing(void **state)
@@ -647,7 +652,8 @@ static void test_client_type_errors_send_nothing(void **state)
 	bool b;
 
 	assert_int_equal(df1_read_float(h, 1, "N7:0", &f, 1), DF1_E_TYPE);
-	assert_non_null(strstr(df1_last_error(h)->message, "N7:0"));
+	assert_string_equal(df1_last_error(h)->address, "N7:0");
+	assert_null(strstr(df1_last_error(h)->message, "N7:0"));
 	assert_int_equal(df1_read_int16(h, 1, "F8:0", &i, 1), DF1_E_TYPE);
 	assert_int_equal(df1_read_int16(h, 1, "T4:0", &i, 1), DF1_E_TYPE);
 	assert_int_equal(df1_read_int32(h, 1, "N7:0", &l, 1), DF1_E_TYPE);
@@ -1253,6 +1259,9 @@ static void test_client_diag_echo_mode(void **state)
 	assert_wire(1, DF1_CHECK_CRC, "10 02 01 00 06 00 0C 00 00 41 10 03 0B C0");
 	script_data_hex("42");
 	assert_int_equal(df1_echo(h, 1, &a, 1), DF1_E_BAD_REPLY);
+	/* no address: the message names the operation, the address field is empty */
+	assert_string_equal(df1_last_error(h)->address, "");
+	assert_int_equal(strncmp(df1_last_error(h)->message, "echo: ", 6), 0);
 
 	h->next_tns = 0x0D;
 	assert_int_equal(df1_change_mode(h, 1, 6), 0);
@@ -1275,6 +1284,11 @@ static void test_client_diag_echo_mode(void **state)
 	assert_memory_equal(rep, "\x01\x02\x03", 3);
 	script_data_hex("01 02 03");
 	assert_int_equal(df1_command(h, 1, 0x06, (const uint8_t *)"\x03", 1, rep, 2), DF1_E_NOSPACE);
+	/* a link failure of an operation without an address */
+	script_link_error(DF1_E_TIMEOUT);
+	assert_int_equal(df1_echo(h, 1, &a, 1), DF1_E_TIMEOUT);
+	assert_string_equal(df1_last_error(h)->address, "");
+	assert_int_equal(strncmp(df1_last_error(h)->message, "echo: ", 6), 0);
 }
 
 int main(void)

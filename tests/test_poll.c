@@ -1,5 +1,5 @@
 /*
- * test_poll - the poll engine (lib/poll.c): the pure block planner, the API
+ * test_poll - the poll engine (lib/poll/): the pure block planner, the API
  * without I/O, and the engine against df1sim as a separate process
  * (tests/simproc.c) over pseudo-terminals:
  *  - coalescing: 40 tags in two files take two reads (df1sim --log), the SLC
@@ -593,7 +593,7 @@ static struct df1_station_health sth(df1_t *h, int station)
 {
 	struct df1_station_health s;
 
-	assert_int_equal(df1_poll_station(h, station, &s), 0);
+	assert_int_equal(df1_station_health(h, station, &s), 0);
 	return s;
 }
 
@@ -1433,6 +1433,31 @@ static void test_discovery(void **state)
 	assert_int_equal(sth(f->h, 1).consecutive_failures, 0);
 }
 
+/* df1_poll_station(), deprecated since 0.2, still links and answers as
+ * df1_station_health() does. */
+static void test_api_station_health_alias(void **state)
+{
+	struct df1_station_health a, b;
+	df1_t *h;
+
+	(void)state;
+	assert_int_equal(df1_new(&h), 0);
+	assert_int_equal(df1_station_health(h, 3, &a), 0);
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wdeprecated-declarations"
+	assert_int_equal(df1_poll_station(h, 3, &b), 0);
+	assert_int_equal(df1_poll_station(h, 255, &b), DF1_E_INVAL);
+	assert_int_equal(df1_poll_station(NULL, 3, &b), DF1_E_INVAL);
+#pragma GCC diagnostic pop
+	assert_int_equal(df1_station_health(h, 3, &b), 0);
+	assert_memory_equal(&a, &b, sizeof a);
+	assert_int_equal(a.station, 3);
+	assert_int_equal(a.state, DF1_STATION_UNKNOWN);
+	assert_int_equal(df1_station_health(h, 255, &b), DF1_E_INVAL);
+	assert_int_equal(df1_station_health(h, 3, NULL), DF1_E_INVAL);
+	df1_free(h);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -1443,6 +1468,7 @@ int main(void)
 		cmocka_unit_test(test_plan_greedy_is_minimal),
 		cmocka_unit_test(test_api_tags),
 		cmocka_unit_test(test_api_load_map),
+		cmocka_unit_test(test_api_station_health_alias),
 		cmocka_unit_test_setup_teardown(test_coalesce_two_files, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_coalesce_slc502_limit, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_coalesce_plc5_station_order, fix_setup, fix_teardown),

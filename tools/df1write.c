@@ -29,7 +29,8 @@
 #include "cli.h"
 #include "df1.h"
 
-#define SMALL_PACKET 82     /* the smallest packet of any controller (SLC 5/01, 5/02) */
+/* the smallest packet of any controller (SLC 5/01, 5/02), from the library's table */
+#define SMALL_PACKET ((size_t)df1_packet_max(DF1_PLC_SLC502, true))
 
 enum wstate {
 	W_PENDING = 0,          /* not attempted */

@@ -22,7 +22,7 @@
 #define PLC_PACKET_HARD_MAX 244 /* DF1_OPT_MAX_PACKET is clamped here */
 #define PLC_ECHO_MAX 243        /* 06/00 echo data (KF2 p.89) */
 
-/* The table: data bytes per read or write packet (client.c's client_limit());
+/* The table: data bytes per read or write packet (lib/client/transact.c's client_limit());
  * max_packet > 0 (DF1_OPT_MAX_PACKET) replaces it. PLC-5: the whole typed
  * packet, address and type/data included. */
 static inline size_t plc_packet_max(enum df1_plc plc, bool write, int max_packet)

@@ -1,15 +1,22 @@
 /*
- * poll_plan.h - the poll engine's pure block planner (lib/poll.c), exposed for unit
- * tests. No I/O, no clock, no allocation.
+ * poll_plan.h - the block planner (lib/proto/poll_plan.c) of the poll engine
+ * and of df1_read_multi(), exposed for unit tests. Pure: no I/O, no clock, no
+ * allocation.
  *
  * Coalescing rule (df1_poll(3)): items of one station, PLC type, file and file
  * type are sorted by element and packed greedily from the lowest element: an
  * item joins the open block when the block then takes no more packets than
- * before (one packet of `limit` bytes, elements costed by `cost`, unless a
- * single item is already larger) and the gap it bridges costs no more wire
- * bytes than one more read transaction would (gap_max bytes). Greedy packing
- * from the left gives the fewest blocks for these two rules (checked against
- * an exhaustive search in tests/test_poll.c).
+ * before (one packet of `limit` bytes carries limit / cost whole elements, the
+ * client's split, unless a single item is already larger) and the gap it
+ * bridges costs no more wire bytes than one more read transaction would
+ * (gap_max bytes). Greedy packing from the left gives the fewest blocks for
+ * these two rules (checked against an exhaustive search in tests/test_poll.c).
+ *
+ * gap_max = POLL_GAP_FEWEST_TX plans for the fewest transactions instead
+ * (df1_read_multi(3)): items that overlap or touch are always one block, and a
+ * gap is bridged whenever the joined block takes fewer packets than the open
+ * block and the item read apart, whatever the gap's bytes.
+ *
  * An item marked alone (isolated after an address error, an I/O word, a PLC-5
  * ASCII address) is a block of its own and is never bridged over.
  */
@@ -26,6 +33,11 @@
  * duplex adds DLE SOH STN and one poll (DLE ENQ STN BCC). */
 #define POLL_TX_OVERHEAD_FULL 34
 #define POLL_TX_OVERHEAD_HALF 41
+/* gap_max: the fewest transactions (df1_read_multi), see above */
+#define POLL_GAP_FEWEST_TX (-1)
+/* gap_max: items that overlap or touch are one block, gaps are never bridged
+ * (df1_read_multi on a PLC-5, whose packets' overhead varies) */
+#define POLL_GAP_TOUCH_ONLY (-2)
 
 struct poll_item {
 	int station;

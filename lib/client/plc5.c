@@ -1,0 +1,203 @@
+/*
+ * plc5.c - PLC-5: typed reads and writes (0F/68, 0F/67) with a logical binary
+ * or ASCII address, split into packets.
+ */
+#include "client_int.h"
+
+/* Type/data element type for a span: single words are integers. */
+static unsigned plc5_elem_type(const struct span *s)
+{
+	if (s->esize == 2)
+		return PCCC_TD_INTEGER;
+	switch (s->a.type) {
+	case DF1_FT_F: return PCCC_TD_FLOAT;
+	case DF1_FT_T: return PCCC_TD_TIMER;
+	case DF1_FT_C: return PCCC_TD_COUNTER;
+	case DF1_FT_R: return PCCC_TD_CONTROL;
+	case DF1_FT_ST: return PCCC_TD_STRING;
+	default: return PCCC_TD_INTEGER;        /* L */
+	}
+}
+
+/* Does a reply's element type fit what was asked? */
+static bool plc5_type_ok(const struct span *s, unsigned type_id)
+{
+	unsigned want = plc5_elem_type(s);
+
+	if (want == PCCC_TD_INTEGER && s->esize == 2)
+		return type_id == PCCC_TD_INTEGER || type_id == PCCC_TD_BITSTR || type_id == PCCC_TD_BCD;
+	return type_id == want;
+}
+
+int plc5_addr(struct df1 *h, int station, const char *what, const struct df1_addr *a,
+              uint8_t *out, size_t cap)
+{
+	int n = pccc_enc_plc5_addr(out, cap, a);
+
+	if (n < 0)
+		return client_fail(h, n, station, what, "cannot encode the PLC-5 address (%s)",
+		                df1_strerror(n));
+	return n;
+}
+
+/* Bytes of element data per typed packet. */
+static size_t plc5_budget(const struct df1 *h, size_t alen, size_t overhead, size_t frame_room)
+{
+	size_t b;
+
+	if (h->cfg.max_packet > 0)
+		b = h->cfg.max_packet < PLC_PACKET_HARD_MAX ? (size_t)h->cfg.max_packet : PLC_PACKET_HARD_MAX;
+	else
+		b = PLC_PLC5_PACKET_MAX > alen + overhead ? PLC_PLC5_PACKET_MAX - alen - overhead : 0;
+	return b < frame_room ? b : frame_room;
+}
+
+int plc5_read(struct df1 *h, int station, const char *what, const struct span *s, struct io *io)
+{
+	uint8_t cmd[FRAME_MAX_DATA], reply[FRAME_MAX_DATA], addr[DF1_ADDR_ASCII_MAX + 8];
+	struct pccc_hdr hd = { (uint8_t)station, (uint8_t)h->cfg.station, 0 };
+	size_t rsize = client_is_tcr(s->a.type) && s->esize == 6 ? PLC_PLC5_TCR_READ : s->esize;
+	size_t per, done = 0, budget;
+	int alen = plc5_addr(h, station, what, &s->a, addr, sizeof addr);
+
+	if (alen < 0)
+		return alen;
+	/* the reply: header, type/data and descriptor, data */
+	budget = plc5_budget(h, (size_t)alen, PLC_PLC5_TD_MARGIN,
+	                     FRAME_MAX_DATA - PCCC_HDR_LEN - PLC_PLC5_TD_MARGIN);
+	per = budget / rsize;
+	if (s->a.type == DF1_FT_ST && s->esize == 84)
+		per = 1;        /* one string per packet: the reply is 3x LEN characters (RTA) */
+	if (per == 0)
+		return client_fail(h, DF1_E_NOTSUP, station, what, "a %zu-byte element exceeds the packet size", s->esize);
+	while (done < s->count) {
+		size_t k = s->count - done < per ? s->count - done : per, dlen;
+		struct pccc_typed td;
+		const uint8_t *d;
+		int n, rc;
+
+		n = pccc_enc_plc5_typed_read(cmd, sizeof cmd, &hd, (uint16_t)done, (uint16_t)s->count,
+		                             addr, (size_t)alen, (uint16_t)k);
+		if (n < 0)
+			return client_fail(h, n, station, what, "cannot encode the read (%s)", df1_strerror(n));
+		rc = client_transact(h, station, what, cmd, (size_t)n, reply, sizeof reply, &d, &dlen);
+		if (rc < 0)
+			return rc;
+		rc = pccc_dec_typed(d, dlen, &td);
+		if (rc < 0)
+			return client_bad_reply(h, station, what, "bad type/data parameter (%s)", df1_strerror(rc));
+		if (!plc5_type_ok(s, td.type_id))
+			return client_bad_reply(h, station, what, "reply holds type %u, asked type %u", td.type_id, plc5_elem_type(s));
+		if (s->a.type == DF1_FT_ST && s->esize == 84 && td.elem_size != 84 && !td.is_array &&
+		    k == 1 && td.elem_size <= DF1_STRING_MAX) {
+			/* RTA's form of one string: 39 LEN characters -> the 84-byte element */
+			uint8_t el[84];
+			char text[DF1_STRING_MAX + 1];
+
+			memcpy(text, td.data, td.elem_size);
+			text[td.elem_size] = '\0';
+			if (value_put_string(el, text) < 0)
+				return client_bad_reply(h, station, what, "bad string reply");
+			put_le16(el, (uint16_t)td.elem_size);
+			rc = io_put(h, station, what, io, done, el, sizeof el);
+			if (rc < 0)
+				return rc;
+			done += k;
+			continue;
+		}
+		if (td.elem_size != s->esize)
+			return client_bad_reply(h, station, what,
+			                "reply elements have %u bytes, expected %zu",
+			                (unsigned)td.elem_size, s->esize);
+		if (td.count != k)
+			return client_bad_reply(h, station, what, "reply has %zu elements, asked %zu", td.count, k);
+		for (size_t i = 0; i < k; i++) {
+			rc = io_put(h, station, what, io, done + i, td.data + i * s->esize, s->esize);
+			if (rc < 0)
+				return rc;
+		}
+		done += k;
+	}
+	return 0;
+}
+
+/* PLC-5 strings go one per packet as a string type/data parameter (3x LEN) and the
+ * characters in text order, as RTA does (spec 5); PKT_OFFSET counts strings. */
+static int plc5_write_strings(struct df1 *h, int station, const char *what, const struct span *s,
+                              struct io *io, const uint8_t *addr, size_t alen)
+{
+	uint8_t cmd[FRAME_MAX_DATA], reply[FRAME_MAX_DATA], typed[FRAME_MAX_DATA], el[84];
+	struct pccc_hdr hd = { (uint8_t)station, (uint8_t)h->cfg.station, 0 };
+
+	for (size_t i = 0; i < s->count; i++) {
+		const uint8_t *d;
+		size_t len, dlen;
+		int n, rc;
+
+		rc = io_get(io, i, el, sizeof el);
+		if (rc < 0)
+			return client_fail(h, rc, station, what, "value %zu: %s", io->base + i,
+			                df1_strerror(rc));
+		len = le16(el);
+		n = pccc_enc_typedata(typed, sizeof typed, PCCC_TD_STRING, (uint32_t)len);
+		if (n < 0)
+			return client_fail(h, n, station, what, "cannot encode the type/data parameter");
+		for (size_t c = 0; c < len; c++)
+			typed[(size_t)n + c] = el[2 + (c ^ 1u)];
+		n = pccc_enc_plc5_typed_write(cmd, sizeof cmd, &hd, (uint16_t)i, (uint16_t)s->count, addr,
+		                              alen, typed, (size_t)n + len);
+		if (n < 0)
+			return client_fail(h, n, station, what, "cannot encode the write (%s)", df1_strerror(n));
+		rc = client_transact(h, station, what, cmd, (size_t)n, reply, sizeof reply, &d, &dlen);
+		if (rc < 0)
+			return rc;
+	}
+	return 0;
+}
+
+int plc5_write(struct df1 *h, int station, const char *what, const struct span *s, struct io *io)
+{
+	uint8_t cmd[FRAME_MAX_DATA], reply[FRAME_MAX_DATA], addr[DF1_ADDR_ASCII_MAX + 8];
+	uint8_t typed[FRAME_MAX_DATA];
+	struct pccc_hdr hd = { (uint8_t)station, (uint8_t)h->cfg.station, 0 };
+	unsigned etype = plc5_elem_type(s);
+	size_t per, done = 0, budget, hlen;
+	int alen = plc5_addr(h, station, what, &s->a, addr, sizeof addr);
+	int r;
+
+	if (alen < 0)
+		return alen;
+	if (s->a.type == DF1_FT_ST && s->esize == 84)
+		return plc5_write_strings(h, station, what, s, io, addr, (size_t)alen);
+	/* the array header for one element tells its length (99 09 LL + descriptor) */
+	r = pccc_enc_typed_array(typed, sizeof typed, etype, (uint32_t)s->esize, 1);
+	if (r < 0)
+		return client_fail(h, r, station, what, "cannot encode the type/data parameter");
+	hlen = (size_t)r;
+	budget = plc5_budget(h, (size_t)alen, hlen,
+	                     FRAME_MAX_DATA - PCCC_HDR_LEN - 5 - (size_t)alen - hlen);
+	per = budget / s->esize;
+	if (per == 0)
+		return client_fail(h, DF1_E_NOTSUP, station, what, "a %zu-byte element exceeds the packet size", s->esize);
+	while (done < s->count) {
+		size_t k = s->count - done < per ? s->count - done : per, dlen;
+		const uint8_t *d;
+		int n, rc;
+
+		r = pccc_enc_typed_array(typed, sizeof typed, etype, (uint32_t)s->esize, k);
+		if (r < 0 || (size_t)r != hlen)
+			return client_fail(h, DF1_E_NOTSUP, station, what, "cannot encode the type/data parameter");
+		rc = io_gather(h, station, what, io, done, k, typed + hlen, s->esize);
+		if (rc < 0)
+			return rc;
+		n = pccc_enc_plc5_typed_write(cmd, sizeof cmd, &hd, (uint16_t)done, (uint16_t)s->count,
+		                              addr, (size_t)alen, typed, hlen + k * s->esize);
+		if (n < 0)
+			return client_fail(h, n, station, what, "cannot encode the write (%s)", df1_strerror(n));
+		rc = client_transact(h, station, what, cmd, (size_t)n, reply, sizeof reply, &d, &dlen);
+		if (rc < 0)
+			return rc;
+		done += k;
+	}
+	return 0;
+}
