@@ -173,7 +173,8 @@ void cli_close(struct cli *c, df1_t *h);
 
 /* Report a failed operation:
  *   "df1read: N7:0: station 1: [2508] ERR_COMMAND_TIMEOUT: command timed out"
- * address may be NULL, station < 0 leaves it out. Returns the exit status for err. */
+ * address may be NULL: then the address the handle's last error names (its
+ * address field), if any; station < 0 leaves it out. Returns the exit status for err. */
 int cli_report(const char *tool, const char *address, int station, const df1_t *h, int err);
 /* The same "[2508] ERR_COMMAND_TIMEOUT: text" as cli_report, into buf (for data lines). */
 void cli_error_text(const df1_t *h, int err, char *buf, size_t cap);

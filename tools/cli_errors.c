@@ -5,7 +5,6 @@
 #include "cli_int.h"
 
 #include <string.h>
-#include <strings.h>
 
 int cli_exit_status(int err)
 {
@@ -54,51 +53,21 @@ void cli_error_parts(const df1_t *h, int err, char *tag, size_t tcap, char *text
 	}
 }
 
-/* Length of the "ADDR: " the library puts in front of a message about an address
- * of the same file as address (as typed: any case, "B3/21" for "B3:1/5"; or the
- * start of the block a tool read it with), or 0. */
-static size_t address_prefix(const char *text, const char *address)
-{
-	const char *colon = text;
-	char head[CLI_ADDR_TEXT_MAX];
-	struct df1_addr a, b;
-	size_t len;
-
-	/* the address's own ':' (N7:0) is followed by a digit, the prefix's by a blank */
-	while ((colon = strchr(colon, ':')) != NULL && colon[1] != ' ')
-		colon++;
-	if (!colon)
-		return 0;
-	len = (size_t)(colon - text);
-	if (len == 0 || len >= sizeof head)
-		return 0;
-	memcpy(head, text, len);
-	head[len] = '\0';
-	if (strcasecmp(head, address) == 0)
-		return len + 2;
-	if (df1_addr_parse(head, &a) < 0 || df1_addr_parse(address, &b) < 0)
-		return 0;
-	if (a.type != b.type || a.file != b.file || a.ascii[0] || b.ascii[0])
-		return 0;
-	return len + 2;
-}
-
 int cli_report(const char *tool, const char *address, int station, const df1_t *h, int err)
 {
+	const struct df1_error_detail *d = h ? df1_last_error(h) : NULL;
 	char tag[96], text[256];
 
-	const char *t = text;
-
 	cli_error_parts(h, err, tag, sizeof tag, text, sizeof text);
-	/* the detail may start with the address we print anyway */
-	if (address && *address)
-		t += address_prefix(t, address);
+	/* the library names the address an error concerns in its own field */
+	if (!address && d && d->code == err && d->address[0])
+		address = d->address;
 	fprintf(stderr, "%s: ", tool);
 	if (address)
 		fprintf(stderr, "%s: ", address);
 	if (station >= 0)
 		fprintf(stderr, "station %d: ", station);
-	fprintf(stderr, "%s: %s\n", tag, t);
+	fprintf(stderr, "%s: %s\n", tag, text);
 	return cli_exit_status(err);
 }
 
