@@ -7,6 +7,7 @@
 
 #include <termios.h>
 #include "df1.h"
+#include "base.h"
 #include "frame.h"
 #include "port.h"
 
@@ -44,7 +45,7 @@ struct station_state {
 
 struct server_state;             /* lib/server.c */
 
-/* Link responder (lib/link.c): replies waiting to be sent or acknowledged. Full duplex
+/* Link responder (lib/link/core.c): replies waiting to be sent or acknowledged. Full duplex
  * keeps one in flight; a half-duplex slave queues them per station until polled. */
 #define LINK_REPLY_SLOTS 8
 struct link_reply {
@@ -105,7 +106,7 @@ struct df1 {
 	size_t rx_len, rx_pos;
 	uint8_t echo_buf[FRAME_MAX_WIRE]; /* own transmission to discard on 2-wire lines */
 	size_t echo_len, echo_pos;
-	struct link_state link;      /* lib/link.c */
+	struct link_state link;      /* lib/link/core.c */
 
 	uint64_t counters[CNT_COUNT];
 
@@ -126,18 +127,5 @@ struct df1 {
 	void (*srv_free)(struct df1 *h);
 	void (*poll_free)(struct df1 *h);
 };
-
-/* counters and logging (lib/handle.c) */
-void df1_count(struct df1 *h, int id);                 /* ++counter[id] */
-void df1_count_n(struct df1 *h, int id, uint64_t n);
-/* Log a catalog message: formats the seed's format with the arguments. */
-void df1_log(struct df1 *h, int catalog_id, ...);
-/* Record the last error and return code (for `return df1_fail(h, ...)`). */
-int df1_fail(struct df1 *h, int code, int station, const char *fmt, ...)
-	__attribute__((format(printf, 4, 5)));
-int df1_fail_remote(struct df1 *h, int station, uint8_t sts, uint8_t ext, bool has_ext);
-void df1_clear_error(struct df1 *h);
-/* The frame decoder's FRAME_OPT_* for the handle's configuration (lib/handle.c). */
-unsigned handle_decoder_opts(const struct df1 *h);
 
 #endif

@@ -1,5 +1,5 @@
 /*
- * test_link - the link layer (lib/link.c, lib/link_half.c) against a scripted
+ * test_link - the link layer (lib/link/: core.c, full.c, half.c) against a scripted
  * port (tests/mock_port.c): full-duplex master and responder, half-duplex
  * master and slave, the Active Station List, duplicates and stale replies,
  * counters by seed ID, fault injection; and master <-> responder pairs where
@@ -201,7 +201,7 @@ static void assert_reply_ok(int r, const uint8_t *out, uint16_t tns)
  * Full duplex, master
  * ------------------------------------------------------------------------ */
 
-static void test_fd_normal_exchange_byte_exact(void **state)
+static void test_full_normal_exchange_byte_exact(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -229,7 +229,7 @@ static void test_fd_normal_exchange_byte_exact(void **state)
 	assert_int_equal(h->last_response, DF1_ACK);
 }
 
-static void test_fd_bcc_byte_exact(void **state)
+static void test_full_bcc_byte_exact(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -241,7 +241,7 @@ static void test_fd_bcc_byte_exact(void **state)
 	assert_write(0, A2_FD_BCC);
 }
 
-static void test_fd_lost_ack_enq_then_ack(void **state)
+static void test_full_lost_ack_enq_then_ack(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -261,7 +261,7 @@ static void test_fd_lost_ack_enq_then_ack(void **state)
 	assert_string_equal(log_text(2522), "ENQ Retry #1, due to error 2508");
 }
 
-static void test_fd_nak_then_ack_sends_twice(void **state)
+static void test_full_nak_then_ack_sends_twice(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -282,7 +282,7 @@ static void test_fd_nak_then_ack_sends_twice(void **state)
 	assert_int_equal(logged(2521), 1);
 }
 
-static void test_fd_nak_accepted_as_0f(void **state)
+static void test_full_nak_accepted_as_0f(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -295,7 +295,7 @@ static void test_fd_nak_accepted_as_0f(void **state)
 	assert_int_equal(mock_port_writes(), 3);
 }
 
-static void test_fd_enq_answered_nak_retransmits(void **state)
+static void test_full_enq_answered_nak_retransmits(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -314,7 +314,7 @@ static void test_fd_enq_answered_nak_retransmits(void **state)
 	assert_int_equal(cnt(h, 2541), 1);
 }
 
-static void test_fd_enq_exhaustion(void **state)
+static void test_full_enq_exhaustion(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -337,7 +337,7 @@ static void test_fd_enq_exhaustion(void **state)
 	assert_int_equal(mock_port_pending(), 0);
 }
 
-static void test_fd_nak_exhaustion(void **state)
+static void test_full_nak_exhaustion(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -356,7 +356,7 @@ static void test_fd_nak_exhaustion(void **state)
 	assert_int_equal(df1_last_error(h)->code, DF1_E_NAK_LIMIT);
 }
 
-static void test_fd_zero_retries_fail_at_once(void **state)
+static void test_full_zero_retries_fail_at_once(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -370,7 +370,7 @@ static void test_fd_zero_retries_fail_at_once(void **state)
 	assert_int_equal(mock_port_writes(), 2);
 }
 
-static void test_fd_garbage_between_frames(void **state)
+static void test_full_garbage_between_frames(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300], wire[FRAME_MAX_WIRE];
@@ -388,7 +388,7 @@ static void test_fd_garbage_between_frames(void **state)
 	assert_int_equal(cnt(h, 2533), 0);
 }
 
-static void test_fd_noise_sets_last_response_nak(void **state)
+static void test_full_noise_sets_last_response_nak(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -410,7 +410,7 @@ static void test_fd_noise_sets_last_response_nak(void **state)
 	assert_write_bytes(2, ACK, 2);
 }
 
-static void test_fd_initial_enq_gets_nak(void **state)
+static void test_full_initial_enq_gets_nak(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -423,7 +423,7 @@ static void test_fd_initial_enq_gets_nak(void **state)
 	assert_write_bytes(2, ACK, 2);
 }
 
-static void test_fd_duplicate_reply_dropped(void **state)
+static void test_full_duplicate_reply_dropped(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -444,7 +444,7 @@ static void test_fd_duplicate_reply_dropped(void **state)
 	assert_string_equal(log_text(2524), "Duplicate Message received from Slave 1");
 }
 
-static void test_fd_stale_tns_dropped(void **state)
+static void test_full_stale_tns_dropped(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -462,7 +462,7 @@ static void test_fd_stale_tns_dropped(void **state)
 	assert_int_equal(mock_port_writes(), 4); /* every good frame is ACKed */
 }
 
-static void test_fd_stale_never_returned(void **state)
+static void test_full_stale_never_returned(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -479,7 +479,7 @@ static void test_fd_stale_never_returned(void **state)
 	assert_int_equal(logged(2508), 1);
 }
 
-static void test_fd_reply_from_wrong_station_dropped(void **state)
+static void test_full_reply_from_wrong_station_dropped(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -491,7 +491,7 @@ static void test_fd_reply_from_wrong_station_dropped(void **state)
 	assert_int_equal(cnt(h, 2548), 1);
 }
 
-static void test_fd_reply_dst_not_compared(void **state)
+static void test_full_reply_dst_not_compared(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -503,7 +503,7 @@ static void test_fd_reply_dst_not_compared(void **state)
 	assert_int_equal(out[0], 0x0A);
 }
 
-static void test_fd_wrong_command_code(void **state)
+static void test_full_wrong_command_code(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -517,7 +517,7 @@ static void test_fd_wrong_command_code(void **state)
 	assert_int_equal(cnt(h, 2550), 1);
 }
 
-static void test_fd_error_reply_counted(void **state)
+static void test_full_error_reply_counted(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -529,7 +529,7 @@ static void test_fd_error_reply_counted(void **state)
 	assert_int_equal(cnt(h, 2540), 1);
 }
 
-static void test_fd_reply_before_ack_completes(void **state)
+static void test_full_reply_before_ack_completes(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -542,7 +542,7 @@ static void test_fd_reply_before_ack_completes(void **state)
 	assert_int_equal(logged(2514), 1);
 }
 
-static void test_fd_embedded_ack_inside_reply(void **state)
+static void test_full_embedded_ack_inside_reply(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300], wire[FRAME_MAX_WIRE], emb[FRAME_MAX_WIRE];
@@ -559,7 +559,7 @@ static void test_fd_embedded_ack_inside_reply(void **state)
 	assert_int_equal(mock_port_writes(), 2);
 }
 
-static void test_fd_noise_inside_frame_nak_then_good(void **state)
+static void test_full_noise_inside_frame_nak_then_good(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300], wire[FRAME_MAX_WIRE];
@@ -580,7 +580,7 @@ static void test_fd_noise_inside_frame_nak_then_good(void **state)
 	assert_string_equal(log_text(2514), "Invalid Symbol received after DLE - (0x99)");
 }
 
-static void test_fd_bad_crc_reply_nak_then_accepted(void **state)
+static void test_full_bad_crc_reply_nak_then_accepted(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300], wire[FRAME_MAX_WIRE];
@@ -600,7 +600,7 @@ static void test_fd_bad_crc_reply_nak_then_accepted(void **state)
 	assert_int_equal(logged(2506), 1);
 }
 
-static void test_fd_bad_bcc_reply_nak_then_accepted(void **state)
+static void test_full_bad_bcc_reply_nak_then_accepted(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300], wire[FRAME_MAX_WIRE];
@@ -627,7 +627,7 @@ static void test_fd_bad_bcc_reply_nak_then_accepted(void **state)
 	}
 }
 
-static void test_fd_too_short_frame_nak(void **state)
+static void test_full_too_short_frame_nak(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -642,7 +642,7 @@ static void test_fd_too_short_frame_nak(void **state)
 
 /* More than FRAME_MAX_DATA app bytes: 2512 with the limit, NAK, then the
  * good reply. */
-static void test_fd_too_long_frame_nak_2512(void **state)
+static void test_full_too_long_frame_nak_2512(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300], big[FRAME_MAX_WIRE + 8];
@@ -666,7 +666,7 @@ static void test_fd_too_long_frame_nak_2512(void **state)
 	assert_int_equal(cnt(h, 2533), 1);
 }
 
-static void test_fd_peer_command_acked_and_dropped(void **state)
+static void test_full_peer_command_acked_and_dropped(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300], app[32], wire[FRAME_MAX_WIRE];
@@ -683,7 +683,7 @@ static void test_fd_peer_command_acked_and_dropped(void **state)
 	assert_int_equal(cnt(h, 2550), 1);
 }
 
-static void test_fd_incomplete_frame_2518(void **state)
+static void test_full_incomplete_frame_2518(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300], wire[FRAME_MAX_WIRE];
@@ -697,7 +697,7 @@ static void test_fd_incomplete_frame_2518(void **state)
 	assert_int_equal(logged(2518), 1);
 }
 
-static void test_fd_port_error_passes_through(void **state)
+static void test_full_port_error_passes_through(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -709,7 +709,7 @@ static void test_fd_port_error_passes_through(void **state)
 	assert_int_equal(transact_a2(h, out, sizeof out), DF1_E_INTR);
 }
 
-static void test_fd_reply_buffer_too_small(void **state)
+static void test_full_reply_buffer_too_small(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[10];
@@ -719,7 +719,7 @@ static void test_fd_reply_buffer_too_small(void **state)
 	assert_int_equal(transact_a2(h, out, sizeof out), DF1_E_NOSPACE);
 }
 
-static void test_fd_not_open(void **state)
+static void test_full_not_open(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -734,7 +734,7 @@ static void test_fd_not_open(void **state)
 	}
 }
 
-static void test_fd_link_test(void **state)
+static void test_full_link_test(void **state)
 {
 	struct df1 *h = *state;
 
@@ -2381,38 +2381,38 @@ static void test_pair_delay_reply(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-		cmocka_unit_test_setup_teardown(test_fd_normal_exchange_byte_exact, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_bcc_byte_exact, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_lost_ack_enq_then_ack, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_nak_then_ack_sends_twice, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_nak_accepted_as_0f, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_enq_answered_nak_retransmits, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_enq_exhaustion, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_nak_exhaustion, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_zero_retries_fail_at_once, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_garbage_between_frames, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_noise_sets_last_response_nak, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_initial_enq_gets_nak, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_duplicate_reply_dropped, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_stale_tns_dropped, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_stale_never_returned, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_reply_from_wrong_station_dropped, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_reply_dst_not_compared, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_wrong_command_code, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_error_reply_counted, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_reply_before_ack_completes, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_embedded_ack_inside_reply, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_noise_inside_frame_nak_then_good, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_bad_crc_reply_nak_then_accepted, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_bad_bcc_reply_nak_then_accepted, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_too_short_frame_nak, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_too_long_frame_nak_2512, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_peer_command_acked_and_dropped, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_incomplete_frame_2518, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_port_error_passes_through, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_reply_buffer_too_small, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_not_open, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_link_test, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_normal_exchange_byte_exact, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_bcc_byte_exact, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_lost_ack_enq_then_ack, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_nak_then_ack_sends_twice, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_nak_accepted_as_0f, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_enq_answered_nak_retransmits, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_enq_exhaustion, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_nak_exhaustion, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_zero_retries_fail_at_once, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_garbage_between_frames, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_noise_sets_last_response_nak, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_initial_enq_gets_nak, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_duplicate_reply_dropped, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_stale_tns_dropped, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_stale_never_returned, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_reply_from_wrong_station_dropped, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_reply_dst_not_compared, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_wrong_command_code, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_error_reply_counted, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_reply_before_ack_completes, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_embedded_ack_inside_reply, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_noise_inside_frame_nak_then_good, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_bad_crc_reply_nak_then_accepted, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_bad_bcc_reply_nak_then_accepted, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_too_short_frame_nak, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_too_long_frame_nak_2512, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_peer_command_acked_and_dropped, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_incomplete_frame_2518, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_port_error_passes_through, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_reply_buffer_too_small, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_not_open, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_link_test, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_mode_mismatch_and_flush, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_tx_delay_before_every_transmission, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_line_baud_paces_bytes, setup, teardown),

@@ -1,7 +1,7 @@
 /*
  * fault.c - fault injection on the serving side (df1_server_set_fault,
- * df1_server_set_seed; used by lib/link.c and lib/link_half.c, which decide
- * where each fault acts). Deterministic: xorshift64* from the seed, advanced
+ * df1_server_set_seed; core.c, full.c and half.c decide where each fault
+ * acts). Deterministic: xorshift64* from the seed, advanced
  * by each roll of a fault switched on below 1000 per mille and by each burst
  * of noise bytes, so the same seed, faults and traffic inject the same faults.
  */

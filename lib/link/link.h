@@ -24,6 +24,9 @@ typedef int (*link_handler_fn)(struct df1 *h, void *ctx, const uint8_t *cmd, siz
  * (>= 0), or DF1_E_CLOSED / DF1_E_INTR / DF1_E_SYS. */
 int link_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms);
 
+/* The frame decoder's FRAME_OPT_* for the handle's configuration. */
+unsigned link_decoder_opts(const struct df1 *h);
+
 /* Send raw bytes: TX_Delay, trace callback, character counter, echo bookkeeping. */
 int link_send_raw(struct df1 *h, const uint8_t *buf, size_t n);
 /* Drop everything buffered (decoder state and unread bytes). */

@@ -1,7 +1,7 @@
 /*
- * port.c - what every transport shares: the monotonic clock, the deadline wait
- * (port descriptor + the handle's cancel descriptor), and descriptor read/write
- * with the port_ops contracts (lib/port.h).
+ * port.c - what every transport shares: the deadline wait (port descriptor +
+ * the handle's cancel descriptor; the clock is lib/base/clock.c), and
+ * descriptor read/write with the port_ops contracts (lib/port/port.h).
  *
  * Waits are poll() against an absolute CLOCK_MONOTONIC deadline: after EINTR
  * the wait goes on for what is left of it, never for a fresh full timeout.
@@ -15,26 +15,9 @@
 #include <poll.h>
 #include <string.h>
 #include <sys/socket.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "df1_int.h"
-
-int64_t df1_now_ms(void)
-{
-	struct timespec ts;
-
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
-}
-
-uint64_t df1_now_us(void)
-{
-	struct timespec ts;
-
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (uint64_t)ts.tv_sec * 1000000u + (uint64_t)ts.tv_nsec / 1000u;
-}
 
 int port_fail_sys(struct df1 *h, int code, int err, const char *what)
 {

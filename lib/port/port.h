@@ -8,6 +8,7 @@
 
 #include <sys/types.h>
 #include "df1.h"
+#include "base.h"
 
 struct df1;
 
@@ -32,15 +33,11 @@ extern const struct port_ops port_termios_ops;
 extern const struct port_ops port_tcp_ops;
 extern const struct port_ops port_fd_ops;   /* an fd given by df1_open_fd (pty, socket, pipe) */
 
-/* Monotonic clock in milliseconds / microseconds (CLOCK_MONOTONIC). */
-int64_t df1_now_ms(void);
-uint64_t df1_now_us(void);
-
 /* Helpers for backends: wait for fd readable/writable (and the cancel fd) until deadline.
  * Returns 1 ready, 0 deadline, DF1_E_INTR (cancel fd readable), DF1_E_SYS.
  * fd < 0: a pause only the cancel fd can end. */
 int port_wait(struct df1 *h, int fd, short events, int64_t deadline_ms);
-/* Generic descriptor I/O on h->fd with the read/write contracts above (lib/port.c);
+/* Generic descriptor I/O on h->fd with the read/write contracts above (lib/port/port.c);
  * the backends' read/write use them. */
 ssize_t port_read_fd(struct df1 *h, uint8_t *buf, size_t cap, int64_t deadline_ms);
 ssize_t port_write_fd(struct df1 *h, const uint8_t *buf, size_t len, int64_t deadline_ms);

@@ -9,7 +9,7 @@
  *
  * The line is raw: no echo, no canonical mode, no signals, no CR/NL mapping,
  * no software flow control; RTS/CTS only when asked; VMIN = VTIME = 0 because
- * every wait is a poll() against a deadline (lib/port.c).
+ * every wait is a poll() against a deadline (lib/port/port.c).
  */
 #include "port.h"
 

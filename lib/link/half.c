@@ -1,5 +1,5 @@
 /*
- * link_half.c - DF1 half duplex (spec/protocol.md 2, seeds/004 "Network Reads"
+ * half.c - DF1 half duplex (spec/protocol.md 2, seeds/004 "Network Reads"
  * and "Active Station List"): the master's transaction (master message, ACK,
  * polls until the reply) and the slave that answers it.
  *
@@ -224,7 +224,7 @@ static int hd_failed(struct df1 *h, uint8_t stn, int code)
 	return code;
 }
 
-int link_half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap)
+int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap)
 {
 	uint8_t wire[FRAME_MAX_WIRE];
 	uint8_t stn = cmd[0];
@@ -328,7 +328,7 @@ int link_half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *rep
 	}
 }
 
-int link_half_test(struct df1 *h, uint8_t stn)
+int half_test(struct df1 *h, uint8_t stn)
 {
 	int cause = 0;
 	int r = hd_poll_once(h, stn, &cause);
@@ -438,7 +438,7 @@ static int hd_slave_msg(struct df1 *h, const struct df1_symbol *s, link_handler_
 	return 1;
 }
 
-int link_half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms)
+int half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms)
 {
 	bool any_added = false;
 	int served = 0;
