@@ -159,8 +159,6 @@ int df1_new(df1_t **out)
 	h->port = NULL;
 	h->fd = -1;
 	h->cancel_fd = -1;
-	h->peer_fd = -1;
-	h->saved_fl = -1;
 	h->next_tns = handle_tns_seed();
 	h->last_response = DF1_NAK;
 	for (i = 0; i < 256; i++)
@@ -488,25 +486,16 @@ int df1_set_cancel_fd(df1_t *h, int fd)
 static void handle_port_reset(struct df1 *h)
 {
 	h->port = NULL;
+	h->port_data = NULL;
 	h->fd = -1;
-	h->own_fd = false;
-	h->peer_fd = -1;
-	h->saved_fl = -1;
-	h->is_socket = false;
-	h->have_saved_tios = false;
-	h->rs485_changed = false;
 }
 
-static int handle_open_with(struct df1 *h, const struct port_ops *ops, const char *target)
+/* After a backend's open: r is its result. A backend that fails has closed
+ * and freed what it opened; a descriptor given to df1_open_fd() stays the
+ * caller's. */
+static int handle_opened(struct df1 *h, const struct port_ops *ops, int r)
 {
-	int r = ops->open(h, target);
-
 	if (r < 0) {
-		/* a backend cleans up after itself; make sure nothing is left. A
-		 * descriptor given to df1_open_fd() stays the caller's on failure. */
-		h->own_fd = false;
-		if (h->fd >= 0 && ops->close)
-			ops->close(h);
 		handle_port_reset(h);
 		return r;
 	}
@@ -528,7 +517,7 @@ int df1_open(df1_t *h, const char *target)
 	df1_clear_error(h);
 	handle_port_reset(h);
 	ops = strncmp(target, "tcp:", 4) == 0 ? &port_tcp_ops : &port_termios_ops;
-	return handle_open_with(h, ops, target);
+	return handle_opened(h, ops, ops->open(h, target));
 }
 
 int df1_open_fd(df1_t *h, int fd, bool take_ownership)
@@ -541,9 +530,7 @@ int df1_open_fd(df1_t *h, int fd, bool take_ownership)
 		return df1_fail(h, DF1_E_INVAL, -1, "invalid descriptor %d", fd);
 	df1_clear_error(h);
 	handle_port_reset(h);
-	h->fd = fd;
-	h->own_fd = take_ownership;
-	return handle_open_with(h, &port_fd_ops, NULL);
+	return handle_opened(h, &port_fd_ops, port_fd_open(h, fd, take_ownership));
 }
 
 void df1_close(df1_t *h)

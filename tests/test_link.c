@@ -19,6 +19,7 @@
 #include "df1_int.h"
 #include "link.h"
 #include "link_int.h"
+#include "server.h"
 #include "mock_port.h"
 
 /* SLC 0F/A2 read N7:0, 20 bytes, to station 1 (TNS filled in by the link) */
@@ -756,7 +757,7 @@ static void test_mode_mismatch_and_flush(void **state)
 	assert_int_equal(transact_a2(h, out, sizeof out), DF1_E_NOTSUP);
 	assert_int_equal(link_test(h, 1), DF1_E_NOTSUP);
 	h->cfg.duplex = DF1_HALF_DUPLEX_MASTER;
-	assert_int_equal(link_serve(h, NULL, NULL, df1_now_ms()), DF1_E_INVAL);
+	assert_int_equal(link_serve(h, server_responder(h), NULL, NULL, df1_now_ms()), DF1_E_INVAL);
 	h->cfg.duplex = DF1_FULL_DUPLEX;
 	/* half a frame in the decoder and unread bytes, then a flush */
 	{
@@ -1423,7 +1424,7 @@ static int serve_script(struct df1 *h)
 
 	mock_port_expire();
 	while (mock_port_pending() > 0) {
-		int r = link_serve(h, test_handler, NULL, df1_now_ms() + 2000);
+		int r = link_serve(h, server_responder(h), test_handler, NULL, df1_now_ms() + 2000);
 
 		if (r < 0)
 			return r;
@@ -1682,7 +1683,7 @@ static void test_peer_command_ack_reply(void **state)
 	assert_write_bytes(1, want, wn);
 	assert_int_equal(cnt(h, 2529), 1);
 	assert_int_equal(cnt(h, 2536), 1);
-	assert_int_equal(h->link.replies[0].used, false);
+	assert_int_equal(server_responder(h)->replies[0].used, false);
 }
 
 static void test_peer_reply_nak_retransmitted(void **state)
@@ -1726,7 +1727,7 @@ static void test_peer_reply_enq_limit_drops(void **state)
 	assert_int_equal(serve_script(h), 1);
 	assert_int_equal(mock_port_writes(), 3);
 	assert_int_equal(cnt(h, 2544), 1);
-	assert_false(h->link.replies[0].used);
+	assert_false(server_responder(h)->replies[0].used);
 }
 
 static void test_peer_duplicate_command_not_run(void **state)
@@ -1833,7 +1834,7 @@ static void test_fault_api_validates(void **state)
 	assert_int_equal(df1_server_set_fault(h, DF1_FAULT_SILENT_STATION, 10, -2), DF1_E_INVAL);
 	assert_int_equal(df1_server_set_fault(NULL, DF1_FAULT_NOISE, 10, 0), DF1_E_INVAL);
 	assert_int_equal(df1_server_set_fault(h, DF1_FAULT_NOISE, 1000, 0), 0);
-	assert_int_equal(h->faults.per_mille[DF1_FAULT_NOISE], 1000);
+	assert_int_equal(server_responder(h)->faults.per_mille[DF1_FAULT_NOISE], 1000);
 }
 
 static void test_fault_rng_deterministic(void **state)
@@ -1845,18 +1846,18 @@ static void test_fault_rng_deterministic(void **state)
 	df1_server_set_fault(h, DF1_FAULT_NOISE, 300, 0);
 	df1_server_set_seed(h, 42);
 	for (int i = 0; i < 200; i++)
-		a[i] = link_fault(h, DF1_FAULT_NOISE);
+		a[i] = link_fault(server_responder(h), DF1_FAULT_NOISE);
 	df1_server_set_seed(h, 42);
 	for (int i = 0; i < 200; i++) {
-		b[i] = link_fault(h, DF1_FAULT_NOISE);
+		b[i] = link_fault(server_responder(h), DF1_FAULT_NOISE);
 		hits += b[i];
 	}
 	assert_memory_equal(a, b, sizeof a);
 	assert_true(hits > 30 && hits < 100); /* about 30 % */
-	assert_false(link_fault(h, DF1_FAULT_DROP_ACK)); /* off */
+	assert_false(link_fault(server_responder(h), DF1_FAULT_DROP_ACK)); /* off */
 }
 
-static void test_fault_drop_ack_fd(void **state)
+static void test_fault_drop_ack_full(void **state)
 {
 	struct df1 *h = *state;
 
@@ -2059,7 +2060,7 @@ static void test_fault_delay_reply(void **state)
 	mock_port_feed(ENQ, 2); /* answered while the reply waits */
 	/* no more reads: the mock waits (really) until the reply is due */
 	while (mock_port_writes() < 3 && df1_now_ms() - t0 < 2000) {
-		int r = link_serve(h, test_handler, NULL, df1_now_ms() + 200);
+		int r = link_serve(h, server_responder(h), test_handler, NULL, df1_now_ms() + 200);
 
 		assert_true(r >= 0);
 		total += r;
@@ -2153,7 +2154,7 @@ static void pair_idle(int64_t deadline_ms, void *user)
 	(void)user;
 	if (end > deadline_ms)
 		end = deadline_ms;
-	r = link_serve(pair.peer, test_handler, NULL, end);
+	r = link_serve(pair.peer, server_responder(pair.peer), test_handler, NULL, end);
 	assert_true(r >= 0);
 	pair.served += r;
 }
@@ -2457,7 +2458,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_peer_error_reply_counted_2539, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_fault_api_validates, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_fault_rng_deterministic, setup_peer, teardown),
-		cmocka_unit_test_setup_teardown(test_fault_drop_ack_fd, setup_peer, teardown),
+		cmocka_unit_test_setup_teardown(test_fault_drop_ack_full, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_fault_drop_ack_hd_executed_once, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_fault_nak_command, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_fault_corrupt_reply_then_good, setup_peer, teardown),

@@ -550,7 +550,7 @@ static void test_port_fd_pty_master_survives_clients(void **state)
 	(void)state;
 	pty_make(&p);
 	assert_int_equal(df1_open_fd(srv, p.master, false), 0);
-	assert_true(srv->peer_fd >= 0);
+	assert_true(port_fd_peer(srv) >= 0);
 	/* the pair is raw now: no echo of what the server writes */
 	{
 		struct termios t;
@@ -572,7 +572,7 @@ static void test_port_fd_pty_master_survives_clients(void **state)
 		assert_int_equal(srv->port->read(srv, buf, sizeof buf, df1_now_ms() + 20), 0);
 	}
 	df1_close(srv);
-	assert_int_equal(srv->peer_fd, -1);
+	assert_int_equal(port_fd_peer(srv), -1);
 	assert_true(fcntl(p.master, F_GETFD) >= 0); /* not owned: still open */
 	df1_free(cli);
 	df1_free(srv);
@@ -638,7 +638,7 @@ static void tcp_round_trip(int family, const char *fmt)
 	snprintf(target, sizeof target, fmt, port);
 	assert_int_equal(df1_open(h, target), 0);
 	assert_ptr_equal(h->port, &port_tcp_ops);
-	assert_true(h->is_socket);
+	assert_ptr_equal(h->port->write, port_send_fd); /* send(MSG_NOSIGNAL) */
 	cfd = tcp_accept(lfd);
 	assert_true(cfd >= 0);
 	both_ways(h, cfd);

@@ -256,7 +256,7 @@ static int link_fill(struct df1 *h, int64_t deadline_ms, bool *expired)
 		*expired = true;
 		return 0;
 	}
-	h->link.rx_last_ms = df1_now_ms();
+	h->rx_last_ms = df1_now_ms();
 	if (h->trace_fn)
 		h->trace_fn(h->trace_user, DF1_DIR_RX, h->rxbuf, (size_t)n, df1_now_us());
 	df1_count_n(h, 2561, (uint64_t)n); /* CRD_CHAR_RECV */
@@ -315,7 +315,7 @@ int link_read_symbol(struct df1 *h, int64_t deadline_ms, struct df1_symbol *sym)
 		busy = frame_decoder_busy(&h->dec);
 		dl = deadline_ms;
 		if (busy) {
-			dl = h->link.rx_last_ms + link_gap_ms(h);
+			dl = h->rx_last_ms + link_gap_ms(h);
 			if (dl > hard)
 				dl = hard; /* a line that never stops talking */
 		}
@@ -481,20 +481,20 @@ int link_take_reply(struct df1 *h, const uint8_t *cmd, const struct df1_symbol *
 struct link_reply *link_slot_new(struct df1 *h, uint8_t stn, const uint8_t *app, size_t n)
 {
 	for (int i = 0; i < LINK_REPLY_SLOTS; i++) {
-		struct link_reply *r = &h->link.replies[i];
+		struct link_reply *r = &h->resp->replies[i];
 
 		if (r->used)
 			continue;
 		memset(r, 0, sizeof *r);
 		r->used = true;
 		r->stn = stn;
-		r->seq = ++h->link.seq;
+		r->seq = ++h->resp->seq;
 		r->len = n;
 		memcpy(r->app, app, n);
-		r->corrupt = link_fault(h, DF1_FAULT_CORRUPT_REPLY);
-		r->stale_first = link_fault(h, DF1_FAULT_STALE_REPLY);
-		if (link_fault(h, DF1_FAULT_DELAY_REPLY))
-			r->due_ms = df1_now_ms() + h->faults.value[DF1_FAULT_DELAY_REPLY];
+		r->corrupt = link_fault(h->resp, DF1_FAULT_CORRUPT_REPLY);
+		r->stale_first = link_fault(h->resp, DF1_FAULT_STALE_REPLY);
+		if (link_fault(h->resp, DF1_FAULT_DELAY_REPLY))
+			r->due_ms = df1_now_ms() + h->resp->faults.value[DF1_FAULT_DELAY_REPLY];
 		return r;
 	}
 	return NULL;
@@ -503,7 +503,7 @@ struct link_reply *link_slot_new(struct df1 *h, uint8_t stn, const uint8_t *app,
 bool link_slot_free_exists(const struct df1 *h)
 {
 	for (int i = 0; i < LINK_REPLY_SLOTS; i++)
-		if (!h->link.replies[i].used)
+		if (!h->resp->replies[i].used)
 			return true;
 	return false;
 }
@@ -514,7 +514,7 @@ struct link_reply *link_slot_oldest(struct df1 *h, bool all, uint8_t stn)
 	struct link_reply *best = NULL;
 
 	for (int i = 0; i < LINK_REPLY_SLOTS; i++) {
-		struct link_reply *r = &h->link.replies[i];
+		struct link_reply *r = &h->resp->replies[i];
 
 		if (!r->used || (!all && r->stn != stn))
 			continue;
@@ -527,9 +527,9 @@ struct link_reply *link_slot_oldest(struct df1 *h, bool all, uint8_t stn)
 void link_slots_clear(struct df1 *h)
 {
 	for (int i = 0; i < LINK_REPLY_SLOTS; i++)
-		h->link.replies[i].used = false;
-	h->link.awaiting = 0;
-	h->link.awaiting_stale = false;
+		h->resp->replies[i].used = false;
+	h->resp->awaiting = 0;
+	h->resp->awaiting_stale = false;
 }
 
 /* Encode (a stale copy of) a queued reply, with the faults of this
@@ -550,8 +550,8 @@ int link_slot_send(struct df1 *h, struct link_reply *r, bool stale, bool first)
 		app[4] = (uint8_t)(tns & 0xFF);
 		app[5] = (uint8_t)(tns >> 8);
 	}
-	if (link_fault(h, DF1_FAULT_NOISE))
-		off = link_noise_bytes(h, wire);
+	if (link_fault(h->resp, DF1_FAULT_NOISE))
+		off = link_noise_bytes(h->resp, wire);
 	n = frame_encode_slave(link_tx_check(h), app, r->len, wire + off, sizeof wire - off);
 	if (n == 0)
 		return df1_fail(h, DF1_E_INVAL, r->stn, "reply of %zu bytes does not fit a frame", r->len);

@@ -306,19 +306,19 @@ static int full_serve_frame(struct df1 *h, const struct df1_symbol *s, link_hand
 	}
 	if (!s->check_ok)
 		return full_reject(h, s);
-	if (link_fault_silent(h, d[0])) {
-		h->link.silenced = true; /* not even a response to the ENQs that follow */
+	if (link_fault_silent(h->resp, d[0])) {
+		h->resp->silenced = true; /* not even a response to the ENQs that follow */
 		return 0;
 	}
-	h->link.silenced = false;
+	h->resp->silenced = false;
 	r = link_serve_screen(h, d[1], s);
 	if (r <= 0)
 		return r;
-	if (link_fault(h, DF1_FAULT_NAK_COMMAND)) {
+	if (link_fault(h->resp, DF1_FAULT_NAK_COMMAND)) {
 		r = link_send_sym(h, DF1_NAK);
 		return r < 0 ? r : 0;
 	}
-	drop_ack = link_fault(h, DF1_FAULT_DROP_ACK);
+	drop_ack = link_fault(h->resp, DF1_FAULT_DROP_ACK);
 	if (drop_ack) {
 		h->last_response = DF1_ACK; /* as if our ACK was lost on the line */
 	} else {
@@ -394,7 +394,7 @@ int full_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms
 			}
 			break;
 		case DF1_SYM_ENQ:
-			if (!h->link.silenced && !link_fault_silent_all(h))
+			if (!h->resp->silenced && !link_fault_silent_all(h->resp))
 				r = link_send_sym(h, h->last_response);
 			break;
 		case DF1_SYM_FRAME:

@@ -55,20 +55,25 @@ int link_test(struct df1 *h, int station)
 	}
 }
 
-int link_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms)
+int link_serve(struct df1 *h, struct link_responder *resp, link_handler_fn fn, void *ctx,
+               int64_t deadline_ms)
 {
 	int r;
 
-	if (!h || !fn)
+	if (!h || !fn || !resp)
 		return DF1_E_INVAL;
 	r = link_setup(h);
 	if (r < 0)
 		return r;
-	if (h->cfg.duplex == DF1_HALF_DUPLEX_SLAVE)
-		return half_serve(h, fn, ctx, deadline_ms);
 	/* a half-duplex master has nothing to serve; full duplex is a peer */
 	if (h->cfg.duplex == DF1_HALF_DUPLEX_MASTER)
 		return df1_fail(h, DF1_E_NOTSUP, -1, "a half-duplex master does not serve");
-	return full_serve(h, fn, ctx, deadline_ms);
+	h->resp = resp; /* lent for this call: the modes reach it as h->resp */
+	if (h->cfg.duplex == DF1_HALF_DUPLEX_SLAVE)
+		r = half_serve(h, fn, ctx, deadline_ms);
+	else
+		r = full_serve(h, fn, ctx, deadline_ms);
+	h->resp = NULL;
+	return r;
 }
 

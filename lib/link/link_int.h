@@ -40,13 +40,11 @@ int link_take_reply(struct df1 *h, const uint8_t *cmd, const struct df1_symbol *
                     uint8_t *reply, size_t cap, size_t *len);
 
 /* faults */
-bool link_fault(struct df1 *h, enum df1_fault f);
-/* DF1_FAULT_SILENT_STATION value that silences every station (df1_serve(3)) */
-#define FAULT_SILENT_ALL DF1_SILENT_ALL
-bool link_fault_silent(struct df1 *h, uint8_t station);
+bool link_fault(struct link_responder *r, enum df1_fault f);
+bool link_fault_silent(struct link_responder *r, uint8_t station);
 /* Every station silent: not even a bare DLE ENQ is answered (full duplex). */
-bool link_fault_silent_all(struct df1 *h);
-size_t link_noise_bytes(struct df1 *h, uint8_t *out);
+bool link_fault_silent_all(struct link_responder *r);
+size_t link_noise_bytes(struct link_responder *r, uint8_t *out);
 
 /* reply slots */
 struct link_reply *link_slot_new(struct df1 *h, uint8_t stn, const uint8_t *app, size_t n);

@@ -128,17 +128,26 @@ ssize_t port_read_fd(struct df1 *h, uint8_t *buf, size_t cap, int64_t deadline_m
 	}
 }
 
-ssize_t port_write_fd(struct df1 *h, const uint8_t *buf, size_t len, int64_t deadline_ms)
+int port_refuse_tx(struct df1 *h)
+{
+	return df1_fail(h, DF1_E_NOTSUP, -1, "%s is listen only: nothing is transmitted",
+	                h->port_name);
+}
+
+static ssize_t port_out(struct df1 *h, const uint8_t *buf, size_t len, int64_t deadline_ms,
+                        bool sock)
 {
 	size_t done = 0;
 
 	if (h->fd < 0)
 		return df1_fail(h, DF1_E_NOT_OPEN, -1, "port is not open");
+	if (h->cfg.listen_only)
+		return port_refuse_tx(h);
 	while (done < len) {
 		ssize_t n;
 		int rev;
 
-		if (h->is_socket)
+		if (sock)
 			n = send(h->fd, buf + done, len - done, MSG_NOSIGNAL);
 		else
 			n = write(h->fd, buf + done, len - done);
@@ -166,4 +175,14 @@ ssize_t port_write_fd(struct df1 *h, const uint8_t *buf, size_t len, int64_t dea
 			                h->port_name);
 	}
 	return (ssize_t)done;
+}
+
+ssize_t port_write_fd(struct df1 *h, const uint8_t *buf, size_t len, int64_t deadline_ms)
+{
+	return port_out(h, buf, len, deadline_ms, false);
+}
+
+ssize_t port_send_fd(struct df1 *h, const uint8_t *buf, size_t len, int64_t deadline_ms)
+{
+	return port_out(h, buf, len, deadline_ms, true);
 }
