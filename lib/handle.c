@@ -386,6 +386,7 @@ static const char *handle_option_name(enum df1_option opt)
 	case DF1_OPT_LOCAL_TCP: return "LOCAL_TCP";
 	case DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED: return "PLC5_TYPED_FLOAT_SWAPPED";
 	case DF1_OPT_SLC_IO_CODES_82: return "SLC_IO_CODES_82";
+	case DF1_OPT_LISTEN_ONLY: return "LISTEN_ONLY";
 	}
 	return NULL;
 }
@@ -404,6 +405,7 @@ static bool *handle_option_flag(struct df1_config *c, enum df1_option opt)
 	case DF1_OPT_LOCAL_TCP: return &c->local_tcp;
 	case DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED: return &c->plc5_float_swapped;
 	case DF1_OPT_SLC_IO_CODES_82: return &c->slc_io_82;
+	case DF1_OPT_LISTEN_ONLY: return &c->listen_only;
 	case DF1_OPT_MAX_PACKET: return NULL;
 	}
 	return NULL;
@@ -433,6 +435,9 @@ int df1_set_option(df1_t *h, enum df1_option opt, int value)
 		return df1_fail(h, DF1_E_CONFIG, -1, "invalid value %d for option %s: must be 0 or 1",
 		                value, name);
 	flag = handle_option_flag(&h->cfg, opt);
+	if (opt == DF1_OPT_LISTEN_ONLY && h->port && *flag != (value != 0))
+		return df1_fail(h, DF1_E_INVAL, -1, "option LISTEN_ONLY is set before df1_open(): "
+		                "%s is open", h->port_name);
 	*flag = value != 0;
 	if (opt == DF1_OPT_RS485)
 		return handle_apply(h, &old);

@@ -9,12 +9,15 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <time.h>
 
 struct df1;
 
 /* Monotonic clock in milliseconds / microseconds (CLOCK_MONOTONIC). */
 int64_t df1_now_ms(void);
 uint64_t df1_now_us(void);
+/* Wall-clock time (CLOCK_REALTIME): timestamps for the caller, never deadlines. */
+void df1_wall_clock(struct timespec *ts);
 
 /* counters and logging */
 void df1_count(struct df1 *h, int id);                 /* ++counter[id] */

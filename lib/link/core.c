@@ -153,6 +153,8 @@ int link_send_raw(struct df1 *h, const uint8_t *buf, size_t n)
 
 	if (!h->port || h->fd < 0)
 		return df1_fail(h, DF1_E_NOT_OPEN, -1, "handle is not open");
+	if (h->cfg.listen_only)
+		return port_refuse_tx(h); /* before TX_Delay: nothing is waited for either */
 	if (n == 0)
 		return 0;
 	if (h->cfg.tx_delay_ms > 0) {

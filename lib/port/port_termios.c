@@ -256,8 +256,9 @@ static int termios_open(struct df1 *h, const char *path)
 	if (r < 0)
 		goto fail;
 	/* input only: on a pty, flushing output from this side would also drop
-	 * what the peer has not read yet (the previous user's last DLE ACK). */
-	if (tcflush(fd, TCIFLUSH) < 0) {
+	 * what the peer has not read yet (the previous user's last DLE ACK). A
+	 * listen-only tap keeps everything: what is on the line is what it shows. */
+	if (!h->cfg.listen_only && tcflush(fd, TCIFLUSH) < 0) {
 		r = port_fail_sys(h, DF1_E_SYS, errno, "tcflush on");
 		goto fail;
 	}
