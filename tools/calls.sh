@@ -1,8 +1,9 @@
 #!/bin/sh
 # calls.sh - which lib/ source calls (or references) what another lib/ source
 # defines, read from the objects' symbol tables (nm), and whether any files or
-# layer folders call each other in a loop. Run after `make`; B=build by default.
-# Prints "A.c -> B.c" edges, then the cycles found (none: "no cycles").
+# layer folders call each other in a loop, or any lib/ headers include each
+# other in a loop. Run after `make`; B=build by default. Prints "A.c -> B.c"
+# edges, the layer edges, then the cycles found (none: "no cycles").
 B=${B:-build}
 cd "$(dirname "$0")/.." || exit 2
 python3 - "$B" <<'PY'
@@ -50,7 +51,14 @@ for s, ds in edges.items():
     for d in ds:
         if layer(s) != layer(d):
             lg.setdefault(layer(s), set()).add(layer(d))
+import re
+hdrs = {os.path.basename(h): h for h in glob.glob("lib/**/*.h", recursive=True)}
+hg = {}
+for n, h in hdrs.items():
+    with open(h) as f:
+        hg[h] = sorted(hdrs[m] for m in re.findall(r'^#include "([^"]+)"', f.read(), re.M) if m in hdrs)
 fc, lc = cycles(edges), cycles({k: sorted(v) for k, v in lg.items()})
+fc += [["(include)"] + c for c in cycles(hg)]
 for k, v in sorted(lg.items()):
     print("layer %s -> %s" % (k, ", ".join(sorted(v))))
 for c in fc:
