@@ -912,6 +912,75 @@ static void test_port_listen_only_tcp_shut_for_sending(void **state)
 	close(lfd);
 }
 
+/* The listen-only connect has the normal deadline: a listener whose accept
+ * queue is full drops our SYN, and df1_open gives up after the handle's
+ * timeout (at least 1000 ms) with ETIMEDOUT; the cancel fd ends it sooner. */
+static void test_port_listen_only_tcp_connect_deadline(void **state)
+{
+	struct sockaddr_in a;
+	int lfd, port = 0, fill[8], nfill = 0, pfd[2];
+	bool full = false;
+	char target[64];
+	df1_t *h = handle_new();
+	int64_t t0;
+
+	(void)state;
+	lfd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+	assert_true(lfd >= 0);
+	memset(&a, 0, sizeof a);
+	a.sin_family = AF_INET;
+	a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+	assert_int_equal(bind(lfd, (struct sockaddr *)&a, sizeof a), 0);
+	assert_int_equal(listen(lfd, 0), 0);
+	{
+		socklen_t len = sizeof a;
+
+		assert_int_equal(getsockname(lfd, (struct sockaddr *)&a, &len), 0);
+		port = ntohs(a.sin_port);
+	}
+	/* fill the accept queue until a connect is left hanging */
+	while (nfill < 8 && !full) {
+		struct pollfd p;
+		int fd = socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+
+		assert_true(fd >= 0);
+		fill[nfill++] = fd;
+		if (connect(fd, (struct sockaddr *)&a, sizeof a) == 0)
+			continue;
+		assert_int_equal(errno, EINPROGRESS);
+		p = (struct pollfd){ .fd = fd, .events = POLLOUT };
+		full = poll(&p, 1, 300) == 0;
+	}
+	if (!full) {
+		for (int i = 0; i < nfill; i++)
+			close(fill[i]);
+		close(lfd);
+		df1_free(h);
+		skip(); /* this kernel takes every connection */
+	}
+	snprintf(target, sizeof target, "tcp://127.0.0.1:%d", port);
+	assert_int_equal(df1_set_option(h, DF1_OPT_LISTEN_ONLY, 1), 0);
+	assert_int_equal(df1_set_timeout_ms(h, 0), 0);
+	t0 = df1_now_ms();
+	assert_int_equal(df1_open(h, target), DF1_E_SYS);
+	assert_true(df1_now_ms() - t0 < 10000);
+	assert_int_equal(df1_last_error(h)->sys_errno, ETIMEDOUT);
+	assert_non_null(strstr(df1_last_error(h)->message, "no answer within 1000 ms"));
+	assert_false(df1_is_open(h));
+	/* a cancel fd that is readable ends the connect at once */
+	assert_int_equal(pipe(pfd), 0);
+	assert_int_equal(write(pfd[1], "x", 1), 1);
+	assert_int_equal(df1_set_cancel_fd(h, pfd[0]), 0);
+	assert_int_equal(df1_open(h, target), DF1_E_INTR);
+	assert_false(df1_is_open(h));
+	close(pfd[0]);
+	close(pfd[1]);
+	for (int i = 0; i < nfill; i++)
+		close(fill[i]);
+	close(lfd);
+	df1_free(h);
+}
+
 static void test_port_tcp_bad_targets(void **state)
 {
 	static const char *bad[] = {
@@ -959,6 +1028,7 @@ int main(void)
 		cmocka_unit_test(test_port_unknown_baud_is_config_error),
 		cmocka_unit_test(test_port_recv_raw_fifo_end_is_closed),
 		cmocka_unit_test(test_port_listen_only_tcp_shut_for_sending),
+		cmocka_unit_test(test_port_listen_only_tcp_connect_deadline),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);
