@@ -27,9 +27,10 @@ else
 endif
 
 # lib/ in layers, bottom first (DESIGN.md 2): proto is pure (no I/O, no clock),
-# port owns file descriptors, link the DF1 link layer, lib/ top the handle,
-# client, server and config, poll the poll engine.
-LAYERS := proto port link . client poll
+# base the clock and the handle's error/counter/log helpers, port owns file
+# descriptors, link the DF1 link layer, client the read/write requests, lib/ top
+# the handle, server, data table, config and discovery, poll the poll engine.
+LAYERS := proto base port link client . poll
 LAYER_INCLUDES := $(foreach l,$(LAYERS),-Ilib/$(l))
 
 LIBS = -lcsv -lm

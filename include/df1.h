@@ -15,6 +15,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <time.h>
 
 #define DF1_VERSION_MAJOR 0
 #define DF1_VERSION_MINOR 1
@@ -392,6 +393,10 @@ enum df1_option {
 	/* bool, default 0: SLC commands name O/I files by type code 82h/83h (F2E) instead of
 	 * 8Bh/8Ch (spec 4.11, 8 item 10); the responder takes both either way */
 	DF1_OPT_SLC_IO_CODES_82,
+	/* bool, default 0: listen only (a tap, df1mon --sniff): df1_open() opens the device
+	 * read only (O_RDONLY) and a TCP connection shut for sending (SHUT_WR); nothing is
+	 * ever transmitted (every send is DF1_E_NOTSUP). Set it before df1_open(). @since 0.2 */
+	DF1_OPT_LISTEN_ONLY,
 };
 
 DF1_API int  df1_new(df1_t **out);      /* defaults: 19200 8N1, full duplex, CRC, station 0 */
@@ -409,6 +414,21 @@ DF1_API int df1_set_cmd_timeout_ms(df1_t *h, int ms);    /* whole transaction ("
 DF1_API int df1_set_retries(df1_t *h, int nak_retries, int enq_retries);    /* 0..10 each */
 DF1_API int df1_set_tx_delay_ms(df1_t *h, int ms);       /* before every transmission, 0..65535 */
 DF1_API int df1_set_option(df1_t *h, enum df1_option opt, int value);
+/* Listen-only ports (DF1_OPT_LISTEN_ONLY), @since 0.2.
+ * df1_recv_raw: up to cap received bytes as they came off the port, into the caller's
+ * buf, waiting up to timeout_ms (0: only what is there; -1: no deadline) for the first
+ * of them; the handle's cancel fd ends the wait. Bytes the link layer had read but not
+ * decoded come first. *when (may be NULL) gets the wall-clock time (CLOCK_REALTIME)
+ * right after the read. Counted as characters received (2561) and passed to the
+ * trace callback. Returns the number of bytes (> 0), 0 at the deadline, or
+ * DF1_E_INVAL, DF1_E_NOT_OPEN, DF1_E_CLOSED (peer closed, device hung up, end of a
+ * FIFO or file), DF1_E_INTR (cancel fd), DF1_E_SYS.
+ * df1_port_fd: the descriptor the open port reads, for an application's own poll()
+ * loop (readable: df1_recv_raw has bytes) and read-only queries such as TIOCMGET.
+ * The handle owns it: never read, write or close it. Returns it, or DF1_E_INVAL,
+ * DF1_E_NOT_OPEN. */
+DF1_API int df1_recv_raw(df1_t *h, uint8_t *buf, size_t cap, int timeout_ms, struct timespec *when);
+DF1_API int df1_port_fd(const df1_t *h);
 DF1_API int df1_get_option(const df1_t *h, enum df1_option opt);
 
 /* Catalog messages (notices, errors) as they happen. level = enum df1_severity. */

@@ -5,8 +5,8 @@
 #ifndef LIBDF1_DF1_INT_H
 #define LIBDF1_DF1_INT_H
 
-#include <termios.h>
 #include "df1.h"
+#include "base.h"
 #include "frame.h"
 #include "port.h"
 
@@ -34,6 +34,7 @@ struct df1_config {
 	bool plc5_float_swapped;     /* PLC-5 typed 0F/68 67 floats word-swapped (spec 5) */
 	bool slc_io_82;              /* SLC O/I file type codes 82/83, not 8B/8C (spec 4.11) */
 	int max_packet;              /* 0 = per PLC type */
+	bool listen_only;            /* DF1_OPT_LISTEN_ONLY: open read only, never transmit */
 	int line_baud;               /* pace transmitted bytes (simulator); 0 = off */
 };
 
@@ -46,56 +47,19 @@ struct station_state {
 
 struct server_state;             /* lib/server.c */
 
-/* Link responder (lib/link.c): replies waiting to be sent or acknowledged. Full duplex
- * keeps one in flight; a half-duplex slave queues them per station until polled. */
-#define LINK_REPLY_SLOTS 8
-struct link_reply {
-	bool used;
-	bool sent;                   /* transmitted, its ACK not seen yet */
-	bool stale_first;            /* DF1_FAULT_STALE_REPLY: an old-TNS copy goes out first */
-	bool stale_now;              /* full duplex: the frame in flight is that copy */
-	bool corrupt;                /* DF1_FAULT_CORRUPT_REPLY: next transmission has a bad check */
-	uint8_t stn;                 /* half duplex: the station that owes it */
-	uint32_t seq;                /* queue order */
-	int naks, enqs;              /* retries of this reply */
-	int64_t due_ms;              /* DF1_FAULT_DELAY_REPLY: not before this time */
-	int64_t ack_deadline_ms;     /* full duplex: ACK timer */
-	size_t len;
-	uint8_t app[FRAME_MAX_DATA];
-};
-struct link_state {
-	struct link_reply replies[LINK_REPLY_SLOTS];
-	uint32_t seq;
-	int awaiting;                /* half-duplex slave: slot + 1 sent on the last poll, 0 none */
-	bool awaiting_stale;         /* ... and it was the stale copy */
-	bool silenced;               /* full duplex: last frame ignored (SILENT_STATION) */
-	int64_t rx_last_ms;          /* time of the last byte read */
-};
-
-/* Fault injection on the slave/peer side (df1_server_set_fault), indexed by enum df1_fault. */
-#define FAULT_KINDS 8
-struct link_faults {
-	int per_mille[FAULT_KINDS];
-	int value[FAULT_KINDS];
-	uint64_t rng;                /* xorshift64* state, from df1_server_set_seed */
-};
+/* The responder's state (lib/link/link.h): owned by the server (lib/server.c),
+ * lent to the link layer for the length of a link_serve() call. */
+struct link_responder;
 
 struct df1 {
 	struct df1_config cfg;
 
-	/* port */
+	/* port: the backend's vtable and its own state; the descriptor every
+	 * backend reads and waits on (as libmodbus keeps ctx->s beside backend_data) */
 	const struct port_ops *port;
+	void *port_data;             /* the backend's (struct termios_port, struct fd_port), NULL */
 	int fd;                      /* -1 when closed */
-	bool own_fd;
-	bool have_saved_tios;
-	struct termios saved_tios;
 	int cancel_fd;               /* -1: none */
-	int peer_fd;                 /* fd port on a pty master: our own fd on the slave side, so the
-	                              * master never sees POLLHUP when no client has it open (-1) */
-	int saved_fl;                /* fd port: file status flags to restore on close (-1: none) */
-	bool is_socket;              /* write with send(MSG_NOSIGNAL) */
-	bool rs485_changed;          /* termios: restore saved_rs485_flags on close */
-	uint32_t saved_rs485_flags;
 	char port_name[128];         /* device path or host:port, for messages */
 
 	/* link */
@@ -107,7 +71,7 @@ struct df1 {
 	size_t rx_len, rx_pos;
 	uint8_t echo_buf[FRAME_MAX_WIRE]; /* own transmission to discard on 2-wire lines */
 	size_t echo_len, echo_pos;
-	struct link_state link;      /* lib/link.c */
+	int64_t rx_last_ms;          /* time of the last byte read (lib/link/core.c) */
 
 	uint64_t counters[CNT_COUNT];
 
@@ -119,28 +83,14 @@ struct df1 {
 	struct df1_error_detail err;
 
 	/* slave / peer side */
-	bool serve_station[256];     /* stations we answer as (half-duplex slave) */
-	struct link_faults faults;
-	struct server_state *srv;    /* allocated on first df1_serve() */
+	struct server_state *srv;    /* the server's (lib/server.c): allocated on first use */
+	struct link_responder *resp; /* the server's responder state while link_serve() runs */
 	void *poll;                  /* poll engine state (lib/poll/) */
 	/* Destructors of the state above, set by the module that allocates it; df1_free()
 	 * calls them (or plain free() when NULL). */
 	void (*srv_free)(struct df1 *h);
 	void (*poll_free)(struct df1 *h);
 };
-
-/* counters and logging (lib/handle.c) */
-void df1_count(struct df1 *h, int id);                 /* ++counter[id] */
-void df1_count_n(struct df1 *h, int id, uint64_t n);
-/* Log a catalog message: formats the seed's format with the arguments. */
-void df1_log(struct df1 *h, int catalog_id, ...);
-/* Record the last error and return code (for `return df1_fail(h, ...)`). */
-int df1_fail(struct df1 *h, int code, int station, const char *fmt, ...)
-	__attribute__((format(printf, 4, 5)));
-int df1_fail_remote(struct df1 *h, int station, uint8_t sts, uint8_t ext, bool has_ext);
-void df1_clear_error(struct df1 *h);
-/* The frame decoder's FRAME_OPT_* for the handle's configuration (lib/handle.c). */
-unsigned handle_decoder_opts(const struct df1 *h);
 
 /* Discovery (lib/discover.c): the one probe of a station, shared by df1_discover
  * and the poll engine. Half-duplex master: a poll (df1_link_test); with

@@ -1,14 +1,15 @@
 /*
  * handle.c - the df1_t handle: allocation and defaults, settings with range
  * checks (seeds/004 network configuration table), open/close over the port
- * backends, last-error detail, counters, the active station list, and the
- * internal logging/error helpers of df1_int.h.
+ * backends, last-error detail, counters and the active station list. The
+ * internal error, counter and logging helpers are lib/base/base.c's.
  *
  * Invalid settings return DF1_E_CONFIG; the handle keeps the detail: the
  * seed's critical message ID (2552-2559) and its formatted text where the seed
  * has one, else catalog ID 0 and a message naming the field and its range.
  */
 #include "df1_int.h"
+#include "link.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -29,112 +30,8 @@
 #define LINE_BAUD_MAX 4000000
 
 /* ------------------------------------------------------------------------
- * Errors and logging (internal helpers of df1_int.h)
+ * Last error
  * ------------------------------------------------------------------------ */
-
-/* Format catalog message id with ap into buf; false if the catalog has no format. */
-static bool handle_catalog_vformat(char *buf, size_t cap, int id, va_list ap)
-{
-	const struct df1_catalog_entry *e = df1_catalog_by_id(id);
-
-	if (!e || !e->format) {
-		if (e && e->description)
-			snprintf(buf, cap, "%s", e->description);
-		else
-			snprintf(buf, cap, "message %d", id);
-		return false;
-	}
-	vsnprintf(buf, cap, e->format, ap);
-	return true;
-}
-
-void df1_log(struct df1 *h, int catalog_id, ...)
-{
-	const struct df1_catalog_entry *e;
-	char text[256];
-	va_list ap;
-
-	if (!h || !h->log_fn)
-		return;
-	e = df1_catalog_by_id(catalog_id);
-	va_start(ap, catalog_id);
-	handle_catalog_vformat(text, sizeof text, catalog_id, ap);
-	va_end(ap);
-	h->log_fn(h->log_user, catalog_id, e ? e->severity : DF1_SEV_ERROR, text);
-}
-
-void df1_clear_error(struct df1 *h)
-{
-	if (!h)
-		return;
-	memset(&h->err, 0, sizeof h->err);
-	h->err.station = -1;
-}
-
-int df1_fail(struct df1 *h, int code, int station, const char *fmt, ...)
-{
-	int saved_errno = errno;
-	va_list ap;
-
-	if (!h)
-		return code;
-	memset(&h->err, 0, sizeof h->err);
-	h->err.code = code;
-	h->err.sys_errno = code == DF1_E_SYS ? saved_errno : 0;
-	h->err.station = station;
-	h->err.catalog_id = df1_error_catalog_id(code);
-	if (fmt) {
-		va_start(ap, fmt);
-		vsnprintf(h->err.message, sizeof h->err.message, fmt, ap);
-		va_end(ap);
-	} else {
-		snprintf(h->err.message, sizeof h->err.message, "%s", df1_strerror(code));
-	}
-	errno = saved_errno;
-	return code;
-}
-
-int df1_fail_remote(struct df1 *h, int station, uint8_t sts, uint8_t ext, bool has_ext)
-{
-	if (!h)
-		return DF1_E_REMOTE;
-	memset(&h->err, 0, sizeof h->err);
-	h->err.code = DF1_E_REMOTE;
-	h->err.station = station;
-	h->err.sts = sts;
-	h->err.ext_sts = has_ext ? ext : 0;
-	h->err.has_ext_sts = has_ext;
-	h->err.catalog_id = df1_error_catalog_id(DF1_E_REMOTE);
-	if (has_ext)
-		snprintf(h->err.message, sizeof h->err.message,
-		         "PLC error: STS 0x%02X (%s), EXT STS 0x%02X (%s)", sts, df1_sts_text(sts), ext,
-		         df1_ext_sts_text(ext));
-	else
-		snprintf(h->err.message, sizeof h->err.message, "PLC error: STS 0x%02X (%s)", sts,
-		         df1_sts_text(sts));
-	return DF1_E_REMOTE;
-}
-
-/* DF1_E_CONFIG reported with a critical catalog message (2552-2559), also
- * passed to the log callback. */
-static int handle_fail_catalog(struct df1 *h, int id, ...)
-{
-	va_list ap;
-
-	memset(&h->err, 0, sizeof h->err);
-	h->err.code = DF1_E_CONFIG;
-	h->err.station = -1;
-	h->err.catalog_id = id;
-	va_start(ap, id);
-	handle_catalog_vformat(h->err.message, sizeof h->err.message, id, ap);
-	va_end(ap);
-	if (h->log_fn) {
-		const struct df1_catalog_entry *e = df1_catalog_by_id(id);
-
-		h->log_fn(h->log_user, id, e ? e->severity : DF1_SEV_CRITICAL, h->err.message);
-	}
-	return DF1_E_CONFIG;
-}
 
 static const struct df1_error_detail handle_null_error = {
 	.code = DF1_E_INVAL,
@@ -154,18 +51,6 @@ const struct df1_error_detail *df1_last_error(const df1_t *h)
 static bool handle_counter_valid(int id)
 {
 	return (id >= 2525 && id <= 2551) || id == 2560 || id == 2561;
-}
-
-void df1_count(struct df1 *h, int id)
-{
-	if (h && id >= CNT_BASE && id < CNT_BASE + CNT_COUNT)
-		h->counters[id - CNT_BASE]++;
-}
-
-void df1_count_n(struct df1 *h, int id, uint64_t n)
-{
-	if (h && id >= CNT_BASE && id < CNT_BASE + CNT_COUNT)
-		h->counters[id - CNT_BASE] += n;
 }
 
 int df1_counter(const df1_t *h, int id, uint64_t *value)
@@ -204,28 +89,11 @@ int df1_station_set_active(df1_t *h, int station, bool active)
  * Allocation
  * ------------------------------------------------------------------------ */
 
-unsigned handle_decoder_opts(const struct df1 *h)
-{
-	unsigned opts = 0;
-
-	if (h->cfg.nak_0f)
-		opts |= FRAME_OPT_ACCEPT_NAK_0F;
-	if (h->cfg.hd_bcc_stx)
-		opts |= FRAME_OPT_HD_BCC_STX;
-	if (h->cfg.eot_bcc)
-		opts |= FRAME_OPT_EOT_TRAILER;
-	if (!h->cfg.embedded)
-		opts |= FRAME_OPT_NO_EMBEDDED;
-	if (h->cfg.duplex != DF1_FULL_DUPLEX)
-		opts |= FRAME_OPT_HALF_DUPLEX;
-	return opts;
-}
-
 /* A valid decoder from the start; the link re-initialises it when the
  * settings it depends on change (link_setup). */
 static void handle_decoder_init(struct df1 *h)
 {
-	frame_decoder_init(&h->dec, h->cfg.check, handle_decoder_opts(h));
+	frame_decoder_init(&h->dec, h->cfg.check, link_decoder_opts(h));
 }
 
 /* Link-side buffers start empty on every new connection. */
@@ -291,8 +159,6 @@ int df1_new(df1_t **out)
 	h->port = NULL;
 	h->fd = -1;
 	h->cancel_fd = -1;
-	h->peer_fd = -1;
-	h->saved_fl = -1;
 	h->next_tns = handle_tns_seed();
 	h->last_response = DF1_NAK;
 	for (i = 0; i < 256; i++)
@@ -398,7 +264,7 @@ int df1_set_duplex(df1_t *h, enum df1_duplex d)
 		char v[16];
 
 		snprintf(v, sizeof v, "%d", (int)d);
-		return handle_fail_catalog(h, 2553, v, "Master", "Slave", "Peer");
+		return df1_fail_catalog(h, 2553, v, "Master", "Slave", "Peer");
 	}
 	h->cfg.duplex = d;
 	return 0;
@@ -412,7 +278,7 @@ int df1_set_check(df1_t *h, enum df1_check c)
 		char v[16];
 
 		snprintf(v, sizeof v, "%d", (int)c);
-		return handle_fail_catalog(h, 2556, v, "BCC", "CRC");
+		return df1_fail_catalog(h, 2556, v, "BCC", "CRC");
 	}
 	h->cfg.check = c;
 	return 0;
@@ -423,7 +289,7 @@ int df1_set_station(df1_t *h, int own_station)
 	if (!h)
 		return DF1_E_INVAL;
 	if (own_station < 0 || own_station > STATION_MAX)
-		return handle_fail_catalog(h, 2552, own_station, STATION_MAX + 1);
+		return df1_fail_catalog(h, 2552, own_station, STATION_MAX + 1);
 	h->cfg.station = own_station;
 	return 0;
 }
@@ -444,7 +310,7 @@ int df1_set_plc(df1_t *h, enum df1_plc plc)
 		char v[16];
 
 		snprintf(v, sizeof v, "%d", (int)plc);
-		return handle_fail_catalog(h, 2555, v, "SLC", "MicroLogix", "PLC5", "PLC2");
+		return df1_fail_catalog(h, 2555, v, "SLC", "MicroLogix", "PLC5", "PLC2");
 	}
 	}
 }
@@ -465,7 +331,7 @@ int df1_set_cmd_timeout_ms(df1_t *h, int ms)
 	if (!h)
 		return DF1_E_INVAL;
 	if (ms < CMD_TIMEOUT_MIN || ms > CMD_TIMEOUT_MAX)
-		return handle_fail_catalog(h, 2559, ms, CMD_TIMEOUT_MIN, CMD_TIMEOUT_MAX);
+		return df1_fail_catalog(h, 2559, ms, CMD_TIMEOUT_MIN, CMD_TIMEOUT_MAX);
 	h->cfg.cmd_timeout_ms = ms;
 	return 0;
 }
@@ -475,9 +341,9 @@ int df1_set_retries(df1_t *h, int nak_retries, int enq_retries)
 	if (!h)
 		return DF1_E_INVAL;
 	if (nak_retries < 0 || nak_retries > RETRIES_MAX)
-		return handle_fail_catalog(h, 2557, nak_retries, RETRIES_MAX);
+		return df1_fail_catalog(h, 2557, nak_retries, RETRIES_MAX);
 	if (enq_retries < 0 || enq_retries > RETRIES_MAX)
-		return handle_fail_catalog(h, 2558, enq_retries, RETRIES_MAX);
+		return df1_fail_catalog(h, 2558, enq_retries, RETRIES_MAX);
 	h->cfg.nak_retries = nak_retries;
 	h->cfg.enq_retries = enq_retries;
 	return 0;
@@ -520,6 +386,7 @@ static const char *handle_option_name(enum df1_option opt)
 	case DF1_OPT_LOCAL_TCP: return "LOCAL_TCP";
 	case DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED: return "PLC5_TYPED_FLOAT_SWAPPED";
 	case DF1_OPT_SLC_IO_CODES_82: return "SLC_IO_CODES_82";
+	case DF1_OPT_LISTEN_ONLY: return "LISTEN_ONLY";
 	}
 	return NULL;
 }
@@ -538,6 +405,7 @@ static bool *handle_option_flag(struct df1_config *c, enum df1_option opt)
 	case DF1_OPT_LOCAL_TCP: return &c->local_tcp;
 	case DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED: return &c->plc5_float_swapped;
 	case DF1_OPT_SLC_IO_CODES_82: return &c->slc_io_82;
+	case DF1_OPT_LISTEN_ONLY: return &c->listen_only;
 	case DF1_OPT_MAX_PACKET: return NULL;
 	}
 	return NULL;
@@ -567,6 +435,9 @@ int df1_set_option(df1_t *h, enum df1_option opt, int value)
 		return df1_fail(h, DF1_E_CONFIG, -1, "invalid value %d for option %s: must be 0 or 1",
 		                value, name);
 	flag = handle_option_flag(&h->cfg, opt);
+	if (opt == DF1_OPT_LISTEN_ONLY && h->port && *flag != (value != 0))
+		return df1_fail(h, DF1_E_INVAL, -1, "option LISTEN_ONLY is set before df1_open(): "
+		                "%s is open", h->port_name);
 	*flag = value != 0;
 	if (opt == DF1_OPT_RS485)
 		return handle_apply(h, &old);
@@ -620,25 +491,16 @@ int df1_set_cancel_fd(df1_t *h, int fd)
 static void handle_port_reset(struct df1 *h)
 {
 	h->port = NULL;
+	h->port_data = NULL;
 	h->fd = -1;
-	h->own_fd = false;
-	h->peer_fd = -1;
-	h->saved_fl = -1;
-	h->is_socket = false;
-	h->have_saved_tios = false;
-	h->rs485_changed = false;
 }
 
-static int handle_open_with(struct df1 *h, const struct port_ops *ops, const char *target)
+/* After a backend's open: r is its result. A backend that fails has closed
+ * and freed what it opened; a descriptor given to df1_open_fd() stays the
+ * caller's. */
+static int handle_opened(struct df1 *h, const struct port_ops *ops, int r)
 {
-	int r = ops->open(h, target);
-
 	if (r < 0) {
-		/* a backend cleans up after itself; make sure nothing is left. A
-		 * descriptor given to df1_open_fd() stays the caller's on failure. */
-		h->own_fd = false;
-		if (h->fd >= 0 && ops->close)
-			ops->close(h);
 		handle_port_reset(h);
 		return r;
 	}
@@ -660,7 +522,7 @@ int df1_open(df1_t *h, const char *target)
 	df1_clear_error(h);
 	handle_port_reset(h);
 	ops = strncmp(target, "tcp:", 4) == 0 ? &port_tcp_ops : &port_termios_ops;
-	return handle_open_with(h, ops, target);
+	return handle_opened(h, ops, ops->open(h, target));
 }
 
 int df1_open_fd(df1_t *h, int fd, bool take_ownership)
@@ -673,9 +535,7 @@ int df1_open_fd(df1_t *h, int fd, bool take_ownership)
 		return df1_fail(h, DF1_E_INVAL, -1, "invalid descriptor %d", fd);
 	df1_clear_error(h);
 	handle_port_reset(h);
-	h->fd = fd;
-	h->own_fd = take_ownership;
-	return handle_open_with(h, &port_fd_ops, NULL);
+	return handle_opened(h, &port_fd_ops, port_fd_open(h, fd, take_ownership));
 }
 
 void df1_close(df1_t *h)

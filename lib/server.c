@@ -23,6 +23,7 @@
 #include "server.h"
 
 #include <stddef.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "link.h"
@@ -809,21 +810,88 @@ int server_handle(struct df1 *h, void *ctx, const uint8_t *cmd, size_t n, uint8_
 }
 
 /* ------------------------------------------------------------------------
+ * The responder's state: the server's, lent to link_serve()
+ * ------------------------------------------------------------------------ */
+
+struct server_state {
+	struct link_responder resp;  /* reply slots, faults, stations served */
+};
+
+static void server_free(struct df1 *h)
+{
+	free(h->srv);
+	h->srv = NULL;
+}
+
+struct link_responder *server_responder(struct df1 *h)
+{
+	if (!h->srv) {
+		h->srv = calloc(1, sizeof *h->srv);
+		if (!h->srv)
+			return NULL;
+		h->srv_free = server_free;
+	}
+	return &h->srv->resp;
+}
+
+/* ------------------------------------------------------------------------
  * Public API
  * ------------------------------------------------------------------------ */
 
+DF1_API int df1_server_set_fault(df1_t *h, enum df1_fault f, int per_mille, int value)
+{
+	struct link_responder *r;
+
+	if (!h)
+		return DF1_E_INVAL;
+	if ((int)f < 1 || (int)f >= FAULT_KINDS)
+		return df1_fail(h, DF1_E_INVAL, -1, "unknown fault kind %d", (int)f);
+	if (per_mille < 0 || per_mille > 1000)
+		return df1_fail(h, DF1_E_INVAL, -1, "fault probability %d: must be 0..1000 per mille",
+		                per_mille);
+	if (f == DF1_FAULT_DELAY_REPLY && (value < 0 || value > 3600000))
+		return df1_fail(h, DF1_E_INVAL, -1, "reply delay %d ms: must be 0..3600000", value);
+	if (f == DF1_FAULT_SILENT_STATION && (value < -1 || value > FAULT_SILENT_ALL))
+		return df1_fail(h, DF1_E_INVAL, -1,
+		                "silent station %d: must be -1 (none), 0..255, or %d (every station)",
+		                value, FAULT_SILENT_ALL);
+	r = server_responder(h);
+	if (!r)
+		return df1_fail(h, DF1_E_NOMEM, -1, "responder: out of memory");
+	r->faults.per_mille[f] = per_mille;
+	r->faults.value[f] = value;
+	if (f == DF1_FAULT_SILENT_STATION)
+		r->silenced = false; /* the ENQs after a silenced frame: answered again */
+	return 0;
+}
+
+DF1_API void df1_server_set_seed(df1_t *h, uint64_t seed)
+{
+	struct link_responder *r = h ? server_responder(h) : NULL;
+
+	if (r)
+		r->faults.rng = seed ? seed : 0x9E3779B97F4A7C15ull;
+}
+
+
 DF1_API int df1_server_add_station(df1_t *h, int station)
 {
+	struct link_responder *r;
+
 	if (!h)
 		return DF1_E_INVAL;
 	if (station < 0 || station > 254)   /* 255 is the broadcast address (spec 2.3) */
 		return df1_fail(h, DF1_E_INVAL, station, "station %d out of range 0-254", station);
-	h->serve_station[station] = true;
+	r = server_responder(h);
+	if (!r)
+		return df1_fail(h, DF1_E_NOMEM, station, "responder: out of memory");
+	r->serve_station[station] = true;
 	return 0;
 }
 
 DF1_API int df1_serve(df1_t *h, const struct df1_server_ops *ops, void *user, int timeout_ms)
 {
+	struct link_responder *resp;
 	struct server_ctx c;
 
 	if (!h)
@@ -833,7 +901,10 @@ DF1_API int df1_serve(df1_t *h, const struct df1_server_ops *ops, void *user, in
 		                ops ? "negative timeout" : "no server callbacks");
 	if (!df1_is_open(h))
 		return df1_fail(h, DF1_E_NOT_OPEN, -1, "df1_serve: handle is not open");
+	resp = server_responder(h);
+	if (!resp)
+		return df1_fail(h, DF1_E_NOMEM, -1, "df1_serve: out of memory");
 	c.ops = ops;
 	c.user = user;
-	return link_serve(h, server_handle, &c, df1_now_ms() + timeout_ms);
+	return link_serve(h, resp, server_handle, &c, df1_now_ms() + timeout_ms);
 }

@@ -24,6 +24,7 @@
 #define LIBDF1_SERVER_H
 
 #include "df1_int.h"
+#include "link.h"
 #include "plc_limits.h"
 
 /* ctx of server_handle(): the callbacks and their user pointer. */
@@ -49,6 +50,10 @@ struct server_ctx {
  * through ctx (a struct server_ctx *), write the reply app bytes. Returns the
  * reply length, 0 for no reply (too short to answer, or not a command), or DF1_E_*. */
 int server_handle(struct df1 *h, void *ctx, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap);
+
+/* The responder state of h (reply slots, faults, stations served), allocated
+ * on first use and freed by df1_free(); NULL when out of memory. */
+struct link_responder *server_responder(struct df1 *h);
 
 /* The default 06/03 diagnostic status (no diag_status callback): a generic
  * SLC 5/04 (type 5Bh) in the EE form of spec 4.9, in run mode. Returns bytes. */

@@ -395,9 +395,10 @@ int link_test(struct df1 *h, int station)
 }
 
 /* The rest of link.h, so that nothing can pull link.o into this binary. */
-int link_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms)
+int link_serve(struct df1 *h, struct link_responder *r, link_handler_fn fn, void *ctx,
+               int64_t deadline_ms)
 {
-	(void)h; (void)fn; (void)ctx; (void)deadline_ms;
+	(void)h; (void)r; (void)fn; (void)ctx; (void)deadline_ms;
 	return DF1_E_NOTSUP;
 }
 

@@ -1,5 +1,5 @@
 /*
- * test_link - the link layer (lib/link.c, lib/link_half.c) against a scripted
+ * test_link - the link layer (lib/link/: core.c, full.c, half.c) against a scripted
  * port (tests/mock_port.c): full-duplex master and responder, half-duplex
  * master and slave, the Active Station List, duplicates and stale replies,
  * counters by seed ID, fault injection; and master <-> responder pairs where
@@ -19,6 +19,7 @@
 #include "df1_int.h"
 #include "link.h"
 #include "link_int.h"
+#include "server.h"
 #include "mock_port.h"
 
 /* SLC 0F/A2 read N7:0, 20 bytes, to station 1 (TNS filled in by the link) */
@@ -201,7 +202,7 @@ static void assert_reply_ok(int r, const uint8_t *out, uint16_t tns)
  * Full duplex, master
  * ------------------------------------------------------------------------ */
 
-static void test_fd_normal_exchange_byte_exact(void **state)
+static void test_full_normal_exchange_byte_exact(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -229,7 +230,7 @@ static void test_fd_normal_exchange_byte_exact(void **state)
 	assert_int_equal(h->last_response, DF1_ACK);
 }
 
-static void test_fd_bcc_byte_exact(void **state)
+static void test_full_bcc_byte_exact(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -241,7 +242,7 @@ static void test_fd_bcc_byte_exact(void **state)
 	assert_write(0, A2_FD_BCC);
 }
 
-static void test_fd_lost_ack_enq_then_ack(void **state)
+static void test_full_lost_ack_enq_then_ack(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -261,7 +262,7 @@ static void test_fd_lost_ack_enq_then_ack(void **state)
 	assert_string_equal(log_text(2522), "ENQ Retry #1, due to error 2508");
 }
 
-static void test_fd_nak_then_ack_sends_twice(void **state)
+static void test_full_nak_then_ack_sends_twice(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -282,7 +283,7 @@ static void test_fd_nak_then_ack_sends_twice(void **state)
 	assert_int_equal(logged(2521), 1);
 }
 
-static void test_fd_nak_accepted_as_0f(void **state)
+static void test_full_nak_accepted_as_0f(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -295,7 +296,7 @@ static void test_fd_nak_accepted_as_0f(void **state)
 	assert_int_equal(mock_port_writes(), 3);
 }
 
-static void test_fd_enq_answered_nak_retransmits(void **state)
+static void test_full_enq_answered_nak_retransmits(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -314,7 +315,7 @@ static void test_fd_enq_answered_nak_retransmits(void **state)
 	assert_int_equal(cnt(h, 2541), 1);
 }
 
-static void test_fd_enq_exhaustion(void **state)
+static void test_full_enq_exhaustion(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -337,7 +338,7 @@ static void test_fd_enq_exhaustion(void **state)
 	assert_int_equal(mock_port_pending(), 0);
 }
 
-static void test_fd_nak_exhaustion(void **state)
+static void test_full_nak_exhaustion(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -356,7 +357,7 @@ static void test_fd_nak_exhaustion(void **state)
 	assert_int_equal(df1_last_error(h)->code, DF1_E_NAK_LIMIT);
 }
 
-static void test_fd_zero_retries_fail_at_once(void **state)
+static void test_full_zero_retries_fail_at_once(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -370,7 +371,7 @@ static void test_fd_zero_retries_fail_at_once(void **state)
 	assert_int_equal(mock_port_writes(), 2);
 }
 
-static void test_fd_garbage_between_frames(void **state)
+static void test_full_garbage_between_frames(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300], wire[FRAME_MAX_WIRE];
@@ -388,7 +389,7 @@ static void test_fd_garbage_between_frames(void **state)
 	assert_int_equal(cnt(h, 2533), 0);
 }
 
-static void test_fd_noise_sets_last_response_nak(void **state)
+static void test_full_noise_sets_last_response_nak(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -410,7 +411,7 @@ static void test_fd_noise_sets_last_response_nak(void **state)
 	assert_write_bytes(2, ACK, 2);
 }
 
-static void test_fd_initial_enq_gets_nak(void **state)
+static void test_full_initial_enq_gets_nak(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -423,7 +424,7 @@ static void test_fd_initial_enq_gets_nak(void **state)
 	assert_write_bytes(2, ACK, 2);
 }
 
-static void test_fd_duplicate_reply_dropped(void **state)
+static void test_full_duplicate_reply_dropped(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -444,7 +445,7 @@ static void test_fd_duplicate_reply_dropped(void **state)
 	assert_string_equal(log_text(2524), "Duplicate Message received from Slave 1");
 }
 
-static void test_fd_stale_tns_dropped(void **state)
+static void test_full_stale_tns_dropped(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -462,7 +463,7 @@ static void test_fd_stale_tns_dropped(void **state)
 	assert_int_equal(mock_port_writes(), 4); /* every good frame is ACKed */
 }
 
-static void test_fd_stale_never_returned(void **state)
+static void test_full_stale_never_returned(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -479,7 +480,7 @@ static void test_fd_stale_never_returned(void **state)
 	assert_int_equal(logged(2508), 1);
 }
 
-static void test_fd_reply_from_wrong_station_dropped(void **state)
+static void test_full_reply_from_wrong_station_dropped(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -491,7 +492,7 @@ static void test_fd_reply_from_wrong_station_dropped(void **state)
 	assert_int_equal(cnt(h, 2548), 1);
 }
 
-static void test_fd_reply_dst_not_compared(void **state)
+static void test_full_reply_dst_not_compared(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -503,7 +504,7 @@ static void test_fd_reply_dst_not_compared(void **state)
 	assert_int_equal(out[0], 0x0A);
 }
 
-static void test_fd_wrong_command_code(void **state)
+static void test_full_wrong_command_code(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -517,7 +518,7 @@ static void test_fd_wrong_command_code(void **state)
 	assert_int_equal(cnt(h, 2550), 1);
 }
 
-static void test_fd_error_reply_counted(void **state)
+static void test_full_error_reply_counted(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -529,7 +530,7 @@ static void test_fd_error_reply_counted(void **state)
 	assert_int_equal(cnt(h, 2540), 1);
 }
 
-static void test_fd_reply_before_ack_completes(void **state)
+static void test_full_reply_before_ack_completes(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -542,7 +543,7 @@ static void test_fd_reply_before_ack_completes(void **state)
 	assert_int_equal(logged(2514), 1);
 }
 
-static void test_fd_embedded_ack_inside_reply(void **state)
+static void test_full_embedded_ack_inside_reply(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300], wire[FRAME_MAX_WIRE], emb[FRAME_MAX_WIRE];
@@ -559,7 +560,7 @@ static void test_fd_embedded_ack_inside_reply(void **state)
 	assert_int_equal(mock_port_writes(), 2);
 }
 
-static void test_fd_noise_inside_frame_nak_then_good(void **state)
+static void test_full_noise_inside_frame_nak_then_good(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300], wire[FRAME_MAX_WIRE];
@@ -580,7 +581,7 @@ static void test_fd_noise_inside_frame_nak_then_good(void **state)
 	assert_string_equal(log_text(2514), "Invalid Symbol received after DLE - (0x99)");
 }
 
-static void test_fd_bad_crc_reply_nak_then_accepted(void **state)
+static void test_full_bad_crc_reply_nak_then_accepted(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300], wire[FRAME_MAX_WIRE];
@@ -600,7 +601,7 @@ static void test_fd_bad_crc_reply_nak_then_accepted(void **state)
 	assert_int_equal(logged(2506), 1);
 }
 
-static void test_fd_bad_bcc_reply_nak_then_accepted(void **state)
+static void test_full_bad_bcc_reply_nak_then_accepted(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300], wire[FRAME_MAX_WIRE];
@@ -627,7 +628,7 @@ static void test_fd_bad_bcc_reply_nak_then_accepted(void **state)
 	}
 }
 
-static void test_fd_too_short_frame_nak(void **state)
+static void test_full_too_short_frame_nak(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -642,7 +643,7 @@ static void test_fd_too_short_frame_nak(void **state)
 
 /* More than FRAME_MAX_DATA app bytes: 2512 with the limit, NAK, then the
  * good reply. */
-static void test_fd_too_long_frame_nak_2512(void **state)
+static void test_full_too_long_frame_nak_2512(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300], big[FRAME_MAX_WIRE + 8];
@@ -666,7 +667,7 @@ static void test_fd_too_long_frame_nak_2512(void **state)
 	assert_int_equal(cnt(h, 2533), 1);
 }
 
-static void test_fd_peer_command_acked_and_dropped(void **state)
+static void test_full_peer_command_acked_and_dropped(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300], app[32], wire[FRAME_MAX_WIRE];
@@ -683,7 +684,7 @@ static void test_fd_peer_command_acked_and_dropped(void **state)
 	assert_int_equal(cnt(h, 2550), 1);
 }
 
-static void test_fd_incomplete_frame_2518(void **state)
+static void test_full_incomplete_frame_2518(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300], wire[FRAME_MAX_WIRE];
@@ -697,7 +698,7 @@ static void test_fd_incomplete_frame_2518(void **state)
 	assert_int_equal(logged(2518), 1);
 }
 
-static void test_fd_port_error_passes_through(void **state)
+static void test_full_port_error_passes_through(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -709,7 +710,7 @@ static void test_fd_port_error_passes_through(void **state)
 	assert_int_equal(transact_a2(h, out, sizeof out), DF1_E_INTR);
 }
 
-static void test_fd_reply_buffer_too_small(void **state)
+static void test_full_reply_buffer_too_small(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[10];
@@ -719,7 +720,7 @@ static void test_fd_reply_buffer_too_small(void **state)
 	assert_int_equal(transact_a2(h, out, sizeof out), DF1_E_NOSPACE);
 }
 
-static void test_fd_not_open(void **state)
+static void test_full_not_open(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t out[300];
@@ -734,7 +735,7 @@ static void test_fd_not_open(void **state)
 	}
 }
 
-static void test_fd_link_test(void **state)
+static void test_full_link_test(void **state)
 {
 	struct df1 *h = *state;
 
@@ -756,7 +757,7 @@ static void test_mode_mismatch_and_flush(void **state)
 	assert_int_equal(transact_a2(h, out, sizeof out), DF1_E_NOTSUP);
 	assert_int_equal(link_test(h, 1), DF1_E_NOTSUP);
 	h->cfg.duplex = DF1_HALF_DUPLEX_MASTER;
-	assert_int_equal(link_serve(h, NULL, NULL, df1_now_ms()), DF1_E_INVAL);
+	assert_int_equal(link_serve(h, server_responder(h), NULL, NULL, df1_now_ms()), DF1_E_INVAL);
 	h->cfg.duplex = DF1_FULL_DUPLEX;
 	/* half a frame in the decoder and unread bytes, then a flush */
 	{
@@ -1423,7 +1424,7 @@ static int serve_script(struct df1 *h)
 
 	mock_port_expire();
 	while (mock_port_pending() > 0) {
-		int r = link_serve(h, test_handler, NULL, df1_now_ms() + 2000);
+		int r = link_serve(h, server_responder(h), test_handler, NULL, df1_now_ms() + 2000);
 
 		if (r < 0)
 			return r;
@@ -1682,7 +1683,7 @@ static void test_peer_command_ack_reply(void **state)
 	assert_write_bytes(1, want, wn);
 	assert_int_equal(cnt(h, 2529), 1);
 	assert_int_equal(cnt(h, 2536), 1);
-	assert_int_equal(h->link.replies[0].used, false);
+	assert_int_equal(server_responder(h)->replies[0].used, false);
 }
 
 static void test_peer_reply_nak_retransmitted(void **state)
@@ -1726,7 +1727,7 @@ static void test_peer_reply_enq_limit_drops(void **state)
 	assert_int_equal(serve_script(h), 1);
 	assert_int_equal(mock_port_writes(), 3);
 	assert_int_equal(cnt(h, 2544), 1);
-	assert_false(h->link.replies[0].used);
+	assert_false(server_responder(h)->replies[0].used);
 }
 
 static void test_peer_duplicate_command_not_run(void **state)
@@ -1833,7 +1834,7 @@ static void test_fault_api_validates(void **state)
 	assert_int_equal(df1_server_set_fault(h, DF1_FAULT_SILENT_STATION, 10, -2), DF1_E_INVAL);
 	assert_int_equal(df1_server_set_fault(NULL, DF1_FAULT_NOISE, 10, 0), DF1_E_INVAL);
 	assert_int_equal(df1_server_set_fault(h, DF1_FAULT_NOISE, 1000, 0), 0);
-	assert_int_equal(h->faults.per_mille[DF1_FAULT_NOISE], 1000);
+	assert_int_equal(server_responder(h)->faults.per_mille[DF1_FAULT_NOISE], 1000);
 }
 
 static void test_fault_rng_deterministic(void **state)
@@ -1845,18 +1846,18 @@ static void test_fault_rng_deterministic(void **state)
 	df1_server_set_fault(h, DF1_FAULT_NOISE, 300, 0);
 	df1_server_set_seed(h, 42);
 	for (int i = 0; i < 200; i++)
-		a[i] = link_fault(h, DF1_FAULT_NOISE);
+		a[i] = link_fault(server_responder(h), DF1_FAULT_NOISE);
 	df1_server_set_seed(h, 42);
 	for (int i = 0; i < 200; i++) {
-		b[i] = link_fault(h, DF1_FAULT_NOISE);
+		b[i] = link_fault(server_responder(h), DF1_FAULT_NOISE);
 		hits += b[i];
 	}
 	assert_memory_equal(a, b, sizeof a);
 	assert_true(hits > 30 && hits < 100); /* about 30 % */
-	assert_false(link_fault(h, DF1_FAULT_DROP_ACK)); /* off */
+	assert_false(link_fault(server_responder(h), DF1_FAULT_DROP_ACK)); /* off */
 }
 
-static void test_fault_drop_ack_fd(void **state)
+static void test_fault_drop_ack_full(void **state)
 {
 	struct df1 *h = *state;
 
@@ -2059,7 +2060,7 @@ static void test_fault_delay_reply(void **state)
 	mock_port_feed(ENQ, 2); /* answered while the reply waits */
 	/* no more reads: the mock waits (really) until the reply is due */
 	while (mock_port_writes() < 3 && df1_now_ms() - t0 < 2000) {
-		int r = link_serve(h, test_handler, NULL, df1_now_ms() + 200);
+		int r = link_serve(h, server_responder(h), test_handler, NULL, df1_now_ms() + 200);
 
 		assert_true(r >= 0);
 		total += r;
@@ -2153,7 +2154,7 @@ static void pair_idle(int64_t deadline_ms, void *user)
 	(void)user;
 	if (end > deadline_ms)
 		end = deadline_ms;
-	r = link_serve(pair.peer, test_handler, NULL, end);
+	r = link_serve(pair.peer, server_responder(pair.peer), test_handler, NULL, end);
 	assert_true(r >= 0);
 	pair.served += r;
 }
@@ -2381,38 +2382,38 @@ static void test_pair_delay_reply(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-		cmocka_unit_test_setup_teardown(test_fd_normal_exchange_byte_exact, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_bcc_byte_exact, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_lost_ack_enq_then_ack, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_nak_then_ack_sends_twice, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_nak_accepted_as_0f, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_enq_answered_nak_retransmits, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_enq_exhaustion, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_nak_exhaustion, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_zero_retries_fail_at_once, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_garbage_between_frames, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_noise_sets_last_response_nak, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_initial_enq_gets_nak, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_duplicate_reply_dropped, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_stale_tns_dropped, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_stale_never_returned, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_reply_from_wrong_station_dropped, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_reply_dst_not_compared, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_wrong_command_code, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_error_reply_counted, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_reply_before_ack_completes, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_embedded_ack_inside_reply, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_noise_inside_frame_nak_then_good, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_bad_crc_reply_nak_then_accepted, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_bad_bcc_reply_nak_then_accepted, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_too_short_frame_nak, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_too_long_frame_nak_2512, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_peer_command_acked_and_dropped, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_incomplete_frame_2518, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_port_error_passes_through, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_reply_buffer_too_small, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_not_open, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_fd_link_test, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_normal_exchange_byte_exact, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_bcc_byte_exact, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_lost_ack_enq_then_ack, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_nak_then_ack_sends_twice, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_nak_accepted_as_0f, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_enq_answered_nak_retransmits, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_enq_exhaustion, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_nak_exhaustion, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_zero_retries_fail_at_once, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_garbage_between_frames, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_noise_sets_last_response_nak, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_initial_enq_gets_nak, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_duplicate_reply_dropped, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_stale_tns_dropped, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_stale_never_returned, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_reply_from_wrong_station_dropped, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_reply_dst_not_compared, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_wrong_command_code, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_error_reply_counted, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_reply_before_ack_completes, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_embedded_ack_inside_reply, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_noise_inside_frame_nak_then_good, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_bad_crc_reply_nak_then_accepted, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_bad_bcc_reply_nak_then_accepted, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_too_short_frame_nak, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_too_long_frame_nak_2512, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_peer_command_acked_and_dropped, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_incomplete_frame_2518, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_port_error_passes_through, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_reply_buffer_too_small, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_not_open, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_link_test, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_mode_mismatch_and_flush, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_tx_delay_before_every_transmission, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_line_baud_paces_bytes, setup, teardown),
@@ -2457,7 +2458,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_peer_error_reply_counted_2539, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_fault_api_validates, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_fault_rng_deterministic, setup_peer, teardown),
-		cmocka_unit_test_setup_teardown(test_fault_drop_ack_fd, setup_peer, teardown),
+		cmocka_unit_test_setup_teardown(test_fault_drop_ack_full, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_fault_drop_ack_hd_executed_once, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_fault_nak_command, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_fault_corrupt_reply_then_good, setup_peer, teardown),

@@ -1,7 +1,9 @@
 /*
  * test_port.c - the port layer on real descriptors: pseudo-terminals through
  * the termios backend, loopback TCP, socketpairs/pipes/pty masters through
- * df1_open_fd(). Every wait is bounded by a deadline; nothing sleeps.
+ * df1_open_fd(); listen-only handles (DF1_OPT_LISTEN_ONLY) and df1_recv_raw on
+ * ptys, loopback TCP and a pipe. Every wait is bounded by a deadline; nothing
+ * sleeps.
  *
  * tcsetattr() is interposed (defined here, the real one found with
  * RTLD_NEXT) to record what the library asked for: Linux's pty driver forces
@@ -27,9 +29,11 @@
 #include <sys/stat.h>
 #include <sys/time.h>
 #include <termios.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "df1_int.h"
+#include "link.h"
 
 /* ---- tcsetattr interposition ------------------------------------------ */
 
@@ -550,7 +554,7 @@ static void test_port_fd_pty_master_survives_clients(void **state)
 	(void)state;
 	pty_make(&p);
 	assert_int_equal(df1_open_fd(srv, p.master, false), 0);
-	assert_true(srv->peer_fd >= 0);
+	assert_true(port_fd_peer(srv) >= 0);
 	/* the pair is raw now: no echo of what the server writes */
 	{
 		struct termios t;
@@ -572,11 +576,178 @@ static void test_port_fd_pty_master_survives_clients(void **state)
 		assert_int_equal(srv->port->read(srv, buf, sizeof buf, df1_now_ms() + 20), 0);
 	}
 	df1_close(srv);
-	assert_int_equal(srv->peer_fd, -1);
+	assert_int_equal(port_fd_peer(srv), -1);
 	assert_true(fcntl(p.master, F_GETFD) >= 0); /* not owned: still open */
 	df1_free(cli);
 	df1_free(srv);
 	pty_free(&p);
+}
+
+/* ---- listen-only ports and df1_recv_raw --------------------------------- */
+
+/* Every way of transmitting on a listen-only handle fails with DF1_E_NOTSUP,
+ * and nothing reaches the peer descriptor. */
+static void listen_only_never_transmits(df1_t *h, int peer)
+{
+	static const uint8_t enq[] = { 0x10, 0x05 };
+	struct pollfd p = { .fd = peer, .events = POLLIN };
+	uint8_t buf[8];
+	int16_t v;
+	ssize_t n;
+
+	assert_int_equal(h->port->write(h, enq, sizeof enq, df1_now_ms() + 100), DF1_E_NOTSUP);
+	assert_non_null(strstr(df1_last_error(h)->message, "listen only"));
+	assert_int_equal(link_send_raw(h, enq, sizeof enq), DF1_E_NOTSUP);
+	assert_int_equal(df1_read_int16(h, 1, "N7:0", &v, 1), DF1_E_NOTSUP);
+	assert_int_equal(df1_link_test(h, 1), DF1_E_NOTSUP);
+	/* nothing was sent: the peer has no data (a shut TCP side reads as EOF) */
+	if (poll(&p, 1, 0) == 1) {
+		n = read(peer, buf, sizeof buf);
+		assert_true(n <= 0);
+	}
+}
+
+static void test_port_listen_only_pty_reads_raw_never_writes(void **state)
+{
+	static const uint8_t line[] = { 0x10, 0x02, 0x01, 0x00, 0x10, 0x10, 0x10, 0x03, 0xAB };
+	struct pty p;
+	struct termios before, after;
+	struct timespec t0, when = { 0, 0 };
+	df1_t *h = handle_new(), *other = handle_new();
+	uint8_t buf[64];
+	size_t got = 0;
+	uint64_t cnt = 0;
+	int fd, pfd[2];
+
+	(void)state;
+	pty_make(&p);
+	assert_int_equal(tcgetattr(p.master, &before), 0);
+	assert_int_equal(df1_get_option(h, DF1_OPT_LISTEN_ONLY), 0);
+	assert_int_equal(df1_set_option(h, DF1_OPT_LISTEN_ONLY, 2), DF1_E_CONFIG);
+	assert_int_equal(df1_set_option(h, DF1_OPT_LISTEN_ONLY, 1), 0);
+	assert_int_equal(df1_get_option(h, DF1_OPT_LISTEN_ONLY), 1);
+	assert_int_equal(df1_port_fd(h), DF1_E_NOT_OPEN);
+	assert_int_equal(df1_recv_raw(h, buf, sizeof buf, 0, NULL), DF1_E_NOT_OPEN);
+	assert_int_equal(df1_set_serial(h, 38400, 8, 'N', 1), 0);
+	assert_int_equal(df1_open(h, p.path), 0);
+	/* read only, at the line settings, locked like any other open */
+	fd = df1_port_fd(h);
+	assert_true(fd >= 0);
+	assert_int_equal(fcntl(fd, F_GETFL) & O_ACCMODE, O_RDONLY);
+	assert_int_equal(tcgetattr(p.master, &after), 0);
+	assert_true(cfgetispeed(&after) == B38400);
+	assert_int_equal(df1_open(other, p.path), DF1_E_BUSY);
+	/* the option is read at open: not changed on an open handle */
+	assert_int_equal(df1_set_option(h, DF1_OPT_LISTEN_ONLY, 0), DF1_E_INVAL);
+	assert_int_equal(df1_set_option(h, DF1_OPT_LISTEN_ONLY, 1), 0);
+
+	/* nothing there: 0 at the deadline */
+	assert_int_equal(df1_recv_raw(h, buf, sizeof buf, 20, &when), 0);
+	assert_int_equal(df1_recv_raw(h, buf, sizeof buf, 0, NULL), 0);
+	assert_int_equal(df1_recv_raw(h, NULL, 4, 0, NULL), DF1_E_INVAL);
+	assert_int_equal(df1_recv_raw(h, buf, 0, 0, NULL), DF1_E_INVAL);
+	assert_int_equal(df1_recv_raw(h, buf, sizeof buf, -2, NULL), DF1_E_INVAL);
+	assert_int_equal(df1_recv_raw(NULL, buf, sizeof buf, 0, NULL), DF1_E_INVAL);
+
+	/* bytes as they are, DLEs and all, with a wall-clock time */
+	clock_gettime(CLOCK_REALTIME, &t0);
+	assert_int_equal(write(p.master, line, sizeof line), (ssize_t)sizeof line);
+	while (got < sizeof line) {
+		int n = df1_recv_raw(h, buf + got, sizeof buf - got, 2000, &when);
+
+		assert_true(n > 0);
+		got += (size_t)n;
+		assert_true(when.tv_sec > t0.tv_sec ||
+		            (when.tv_sec == t0.tv_sec && when.tv_nsec >= t0.tv_nsec));
+	}
+	assert_int_equal(got, sizeof line);
+	assert_memory_equal(buf, line, sizeof line);
+	assert_int_equal(df1_counter(h, 2561, &cnt), 0);
+	assert_int_equal(cnt, sizeof line);
+
+	/* a small buffer takes what fits; the rest comes next */
+	assert_int_equal(write(p.master, line, 4), 4);
+	got = 0;
+	while (got < 4) {
+		int n = df1_recv_raw(h, buf + got, 1, 2000, NULL);
+
+		assert_int_equal(n, 1);
+		got++;
+	}
+	assert_memory_equal(buf, line, 4);
+
+	/* the cancel fd ends a wait without a deadline */
+	assert_int_equal(pipe(pfd), 0);
+	assert_int_equal(write(pfd[1], "x", 1), 1);
+	assert_int_equal(df1_set_cancel_fd(h, pfd[0]), 0);
+	assert_int_equal(df1_recv_raw(h, buf, sizeof buf, -1, NULL), DF1_E_INTR);
+	assert_int_equal(df1_set_cancel_fd(h, -1), 0);
+	close(pfd[0]);
+	close(pfd[1]);
+
+	listen_only_never_transmits(h, p.master);
+
+	/* closed: the line's own settings are back, and the port is free */
+	df1_close(h);
+	assert_int_equal(tcgetattr(p.master, &after), 0);
+	assert_true(termios_same(&before, &after));
+	assert_int_equal(df1_open(other, p.path), 0);
+	df1_free(other);
+	df1_free(h);
+	pty_free(&p);
+}
+
+/* A listen-only tap is refused like any other open while a normal user
+ * holds the port. */
+static void test_port_listen_only_busy_like_any_open(void **state)
+{
+	struct pty p;
+	df1_t *h1 = handle_new(), *tap = handle_new();
+
+	(void)state;
+	pty_make(&p);
+	assert_int_equal(df1_set_option(tap, DF1_OPT_LISTEN_ONLY, 1), 0);
+	assert_int_equal(df1_open(h1, p.path), 0);
+	assert_int_equal(df1_open(tap, p.path), DF1_E_BUSY);
+	assert_non_null(strstr(df1_last_error(tap)->message, "port busy"));
+	assert_false(df1_is_open(tap));
+	df1_close(h1);
+	assert_int_equal(df1_open(tap, p.path), 0);
+	df1_free(tap);
+	df1_free(h1);
+	pty_free(&p);
+}
+
+/* An unknown baud rate is a configuration error, never a fallback. */
+static void test_port_unknown_baud_is_config_error(void **state)
+{
+	df1_t *h = handle_new();
+
+	(void)state;
+	assert_int_equal(df1_set_serial(h, 14400, 8, 'N', 1), DF1_E_CONFIG);
+	assert_non_null(strstr(df1_last_error(h)->message, "invalid baud rate 14400"));
+	df1_free(h);
+}
+
+/* The end of a FIFO given with df1_open_fd is DF1_E_CLOSED after its bytes. */
+static void test_port_recv_raw_fifo_end_is_closed(void **state)
+{
+	df1_t *h = handle_new();
+	uint8_t buf[16];
+	int pfd[2], n;
+
+	(void)state;
+	assert_int_equal(pipe(pfd), 0);
+	assert_int_equal(df1_set_option(h, DF1_OPT_LISTEN_ONLY, 1), 0);
+	assert_int_equal(df1_open_fd(h, pfd[0], true), 0);
+	assert_int_equal(df1_port_fd(h), pfd[0]);
+	assert_int_equal(write(pfd[1], "\x10\x06", 2), 2);
+	close(pfd[1]);
+	n = df1_recv_raw(h, buf, sizeof buf, 2000, NULL);
+	assert_int_equal(n, 2);
+	assert_memory_equal(buf, "\x10\x06", 2);
+	assert_int_equal(df1_recv_raw(h, buf, sizeof buf, 2000, NULL), DF1_E_CLOSED);
+	df1_free(h); /* owned: closes pfd[0] */
 }
 
 /* ---- TCP backend ------------------------------------------------------ */
@@ -638,7 +809,7 @@ static void tcp_round_trip(int family, const char *fmt)
 	snprintf(target, sizeof target, fmt, port);
 	assert_int_equal(df1_open(h, target), 0);
 	assert_ptr_equal(h->port, &port_tcp_ops);
-	assert_true(h->is_socket);
+	assert_ptr_equal(h->port->write, port_send_fd); /* send(MSG_NOSIGNAL) */
 	cfd = tcp_accept(lfd);
 	assert_true(cfd >= 0);
 	both_ways(h, cfd);
@@ -702,6 +873,114 @@ static void test_port_tcp_refused(void **state)
 	close(fd);
 }
 
+/* Listen-only TCP: the normal connect, then our sending side is shut (the peer
+ * reads EOF at once) and bytes from the peer come through df1_recv_raw. */
+static void test_port_listen_only_tcp_shut_for_sending(void **state)
+{
+	static const uint8_t bytes[] = { 0x10, 0x02, 0x00, 0x10, 0x03 };
+	int port = 0, lfd, cfd;
+	char target[64];
+	df1_t *h = handle_new();
+	uint8_t buf[16];
+	size_t got = 0;
+	struct pollfd p;
+
+	(void)state;
+	lfd = tcp_listener(AF_INET, &port);
+	assert_true(lfd >= 0);
+	snprintf(target, sizeof target, "tcp://127.0.0.1:%d", port);
+	assert_int_equal(df1_set_option(h, DF1_OPT_LISTEN_ONLY, 1), 0);
+	assert_int_equal(df1_open(h, target), 0);
+	cfd = tcp_accept(lfd);
+	assert_true(cfd >= 0);
+	p = (struct pollfd){ .fd = cfd, .events = POLLIN };
+	assert_int_equal(poll(&p, 1, 5000), 1);
+	assert_int_equal(read(cfd, buf, sizeof buf), 0); /* our FIN: nothing will ever come */
+	assert_int_equal(write(cfd, bytes, sizeof bytes), (ssize_t)sizeof bytes);
+	while (got < sizeof bytes) {
+		int n = df1_recv_raw(h, buf + got, sizeof buf - got, 2000, NULL);
+
+		assert_true(n > 0);
+		got += (size_t)n;
+	}
+	assert_memory_equal(buf, bytes, sizeof bytes);
+	listen_only_never_transmits(h, cfd);
+	/* the peer goes: DF1_E_CLOSED */
+	close(cfd);
+	assert_int_equal(df1_recv_raw(h, buf, sizeof buf, 2000, NULL), DF1_E_CLOSED);
+	df1_free(h);
+	close(lfd);
+}
+
+/* The listen-only connect has the normal deadline: a listener whose accept
+ * queue is full drops our SYN, and df1_open gives up after the handle's
+ * timeout (at least 1000 ms) with ETIMEDOUT; the cancel fd ends it sooner. */
+static void test_port_listen_only_tcp_connect_deadline(void **state)
+{
+	struct sockaddr_in a;
+	int lfd, port = 0, fill[8], nfill = 0, pfd[2];
+	bool full = false;
+	char target[64];
+	df1_t *h = handle_new();
+	int64_t t0;
+
+	(void)state;
+	lfd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+	assert_true(lfd >= 0);
+	memset(&a, 0, sizeof a);
+	a.sin_family = AF_INET;
+	a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+	assert_int_equal(bind(lfd, (struct sockaddr *)&a, sizeof a), 0);
+	assert_int_equal(listen(lfd, 0), 0);
+	{
+		socklen_t len = sizeof a;
+
+		assert_int_equal(getsockname(lfd, (struct sockaddr *)&a, &len), 0);
+		port = ntohs(a.sin_port);
+	}
+	/* fill the accept queue until a connect is left hanging */
+	while (nfill < 8 && !full) {
+		struct pollfd p;
+		int fd = socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+
+		assert_true(fd >= 0);
+		fill[nfill++] = fd;
+		if (connect(fd, (struct sockaddr *)&a, sizeof a) == 0)
+			continue;
+		assert_int_equal(errno, EINPROGRESS);
+		p = (struct pollfd){ .fd = fd, .events = POLLOUT };
+		full = poll(&p, 1, 300) == 0;
+	}
+	if (!full) {
+		for (int i = 0; i < nfill; i++)
+			close(fill[i]);
+		close(lfd);
+		df1_free(h);
+		skip(); /* this kernel takes every connection */
+	}
+	snprintf(target, sizeof target, "tcp://127.0.0.1:%d", port);
+	assert_int_equal(df1_set_option(h, DF1_OPT_LISTEN_ONLY, 1), 0);
+	assert_int_equal(df1_set_timeout_ms(h, 0), 0);
+	t0 = df1_now_ms();
+	assert_int_equal(df1_open(h, target), DF1_E_SYS);
+	assert_true(df1_now_ms() - t0 < 10000);
+	assert_int_equal(df1_last_error(h)->sys_errno, ETIMEDOUT);
+	assert_non_null(strstr(df1_last_error(h)->message, "no answer within 1000 ms"));
+	assert_false(df1_is_open(h));
+	/* a cancel fd that is readable ends the connect at once */
+	assert_int_equal(pipe(pfd), 0);
+	assert_int_equal(write(pfd[1], "x", 1), 1);
+	assert_int_equal(df1_set_cancel_fd(h, pfd[0]), 0);
+	assert_int_equal(df1_open(h, target), DF1_E_INTR);
+	assert_false(df1_is_open(h));
+	close(pfd[0]);
+	close(pfd[1]);
+	for (int i = 0; i < nfill; i++)
+		close(fill[i]);
+	close(lfd);
+	df1_free(h);
+}
+
 static void test_port_tcp_bad_targets(void **state)
 {
 	static const char *bad[] = {
@@ -744,6 +1023,12 @@ int main(void)
 		cmocka_unit_test(test_port_tcp_ipv6),
 		cmocka_unit_test(test_port_tcp_refused),
 		cmocka_unit_test(test_port_tcp_bad_targets),
+		cmocka_unit_test(test_port_listen_only_pty_reads_raw_never_writes),
+		cmocka_unit_test(test_port_listen_only_busy_like_any_open),
+		cmocka_unit_test(test_port_unknown_baud_is_config_error),
+		cmocka_unit_test(test_port_recv_raw_fifo_end_is_closed),
+		cmocka_unit_test(test_port_listen_only_tcp_shut_for_sending),
+		cmocka_unit_test(test_port_listen_only_tcp_connect_deadline),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

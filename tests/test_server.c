@@ -685,7 +685,7 @@ static void test_server_add_station_range(void **state)
 	(void)state;
 	assert_int_equal(df1_new(&h), 0);
 	assert_int_equal(df1_server_add_station(h, 7), 0);
-	assert_true(h->serve_station[7]);
+	assert_true(server_responder(h)->serve_station[7]);
 	assert_int_equal(df1_server_add_station(h, 255), DF1_E_INVAL);
 	assert_int_equal(df1_server_add_station(h, -1), DF1_E_INVAL);
 	assert_int_equal(df1_server_add_station(NULL, 1), DF1_E_INVAL);

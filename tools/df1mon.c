@@ -60,22 +60,24 @@ static int run_map(struct mon *m)
 /* ---- --sniff: a passive port ---- */
 
 /*
- * The tap is opened here rather than with df1_open, because libdf1 has no
- * receive-only path: a handle answers what it reads. It is opened read only
- * (O_RDONLY: nothing can be transmitted), locked with flock like libdf1's ports
- * (so a libdf1 program and df1mon do not steal each other's bytes), and, for a
- * terminal, set raw at the line settings; the saved termios is restored on
- * every exit path. tcp://HOST:PORT is read as a TCP client and never written.
- * Anything else (a FIFO, a file) is read as it is; its end ends the sniff.
+ * A tap is a listen-only libdf1 handle (DF1_OPT_LISTEN_ONLY): a serial device
+ * is opened read only (nothing can be transmitted), locked like every libdf1
+ * port (so a libdf1 program and df1mon do not steal each other's bytes) and set
+ * raw at the line settings, its termios restored when the handle closes, on
+ * every exit path; an unknown baud rate is an error, never a fallback.
+ * tcp://HOST:PORT is connected with the handle's deadline and shut for sending.
+ * Anything else (a FIFO, a file, a character device that is no terminal) goes
+ * to the handle with df1_open_fd() and is read as it is; its end ends the sniff. Bytes come from df1_recv_raw() with their
+ * time; the taps' descriptors (df1_port_fd) are watched in one poll() with the
+ * signal pipe, and used for TIOCMGET (the control lines of a pcap record).
  */
 struct tap {
 	const char *dev;
 	const char *dir;       /* "rx"/"tx" with two taps, else NULL */
 	uint8_t event;         /* RTAC event type of its records */
-	int fd;
-	bool tty, sock;
-	bool restore;
-	struct termios saved;
+	df1_t *h;              /* the listen-only handle, NULL until made */
+	int fd;                /* df1_port_fd(h) once open, else -1 */
+	bool file;             /* a FIFO or a file: its end is the end of the input */
 	bool modem;            /* TIOCMGET works */
 	bool eof;
 	struct stream st;
@@ -85,133 +87,68 @@ struct tap {
 #define RTAC_DATA_TX_END 0x03
 #define RTAC_DATA_RX_END 0x04
 
-static speed_t tap_speed(int baud)
+/* A failed library call on tap t: the usual "tool: DEV: [tag] text" line. */
+static int tap_fail(const struct mon *m, const struct tap *t, int r)
 {
-	switch (baud) {
-	case 1200: return B1200;
-	case 2400: return B2400;
-	case 4800: return B4800;
-	case 9600: return B9600;
-	case 19200: return B19200;
-	case 38400: return B38400;
-	case 57600: return B57600;
-	case 115200: return B115200;
-	default: return B19200;
-	}
-}
-
-static int tap_open_tcp(struct mon *m, struct tap *t)
-{
-	char host[256];
-	const char *hp = t->dev + 6, *colon = strrchr(hp, ':');
-	struct addrinfo hints, *res = NULL, *ai;
-	int rc, fd = -1, err = 0;
-
-	if (!colon || colon == hp || !colon[1] || (size_t)(colon - hp) >= sizeof host) {
-		fprintf(stderr, "%s: %s: expected tcp://HOST:PORT\n", m->cli.name, t->dev);
-		return CLI_EXIT_USAGE;
-	}
-	memcpy(host, hp, (size_t)(colon - hp));
-	host[colon - hp] = 0;
-	if (host[0] == '[' && host[strlen(host) - 1] == ']') {
-		memmove(host, host + 1, strlen(host));
-		host[strlen(host) - 1] = 0;
-	}
-	memset(&hints, 0, sizeof hints);
-	hints.ai_family = AF_UNSPEC;
-	hints.ai_socktype = SOCK_STREAM;
-	rc = getaddrinfo(host, colon + 1, &hints, &res);
-	if (rc != 0) {
-		fprintf(stderr, "%s: %s: %s\n", m->cli.name, t->dev, gai_strerror(rc));
-		return CLI_EXIT_FAIL;
-	}
-	for (ai = res; ai; ai = ai->ai_next) {
-		fd = socket(ai->ai_family, ai->ai_socktype | SOCK_CLOEXEC, ai->ai_protocol);
-		if (fd < 0) {
-			err = errno;
-			continue;
-		}
-		if (connect(fd, ai->ai_addr, ai->ai_addrlen) == 0)
-			break;
-		err = errno;
-		close(fd);
-		fd = -1;
-		if (cli_stop)
-			break;
-	}
-	freeaddrinfo(res);
-	if (fd < 0) {
-		fprintf(stderr, "%s: %s: %s\n", m->cli.name, t->dev, strerror(err ? err : ECONNREFUSED));
-		return CLI_EXIT_FAIL;
-	}
-	fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK);
-	t->fd = fd;
-	t->sock = true;
-	return CLI_CONTINUE;
+	return cli_report(m->cli.name, t->dev, -1, t->h, r);
 }
 
 static int tap_open(struct mon *m, struct tap *t)
 {
 	const struct cli *c = &m->cli;
-	struct termios tio;
-	int fd;
+	struct stat st;
+	bool plain;
+	int r, fd;
 
 	t->fd = -1;
-	if (strncmp(t->dev, "tcp://", 6) == 0)
-		return tap_open_tcp(m, t);
-	fd = open(t->dev, O_RDONLY | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
-	if (fd < 0) {
-		fprintf(stderr, "%s: %s: %s\n", m->cli.name, t->dev, strerror(errno));
+	r = df1_new(&t->h);
+	if (r < 0) {
+		t->h = NULL;
+		fprintf(stderr, "%s: %s: %s\n", c->name, df1_errname(r), df1_strerror(r));
 		return CLI_EXIT_FAIL;
 	}
-	t->fd = fd;
-	if (!isatty(fd))
-		return CLI_CONTINUE;
-	t->tty = true;
-	if (flock(fd, LOCK_EX | LOCK_NB) < 0) {
-		fprintf(stderr, "%s: %s: %s: port busy (in use by another process)\n", m->cli.name,
-		        t->dev, df1_errname(DF1_E_BUSY));
-		return CLI_EXIT_FAIL;
+	if ((r = df1_set_option(t->h, DF1_OPT_LISTEN_ONLY, 1)) < 0 ||
+	    (r = df1_set_serial(t->h, c->baud, c->data_bits, c->parity, c->stop_bits)) < 0 ||
+	    (r = df1_set_timeout_ms(t->h, c->timeout_ms)) < 0)
+		return tap_fail(m, t, r);
+	fd = cli_signal_fd();
+	if (fd >= 0 && (r = df1_set_cancel_fd(t->h, fd)) < 0) /* Ctrl-C ends a TCP connect */
+		return tap_fail(m, t, r);
+	/* a terminal (or tcp://) is the library's port; anything else that exists
+	 * (a FIFO, a file, a character device that is no terminal) is read as it is */
+	plain = strncmp(t->dev, "tcp:", 4) != 0 && stat(t->dev, &st) == 0 && !S_ISCHR(st.st_mode);
+	if (!plain) {
+		r = df1_open(t->h, t->dev);
+		if (r == DF1_E_NODEV && strncmp(t->dev, "tcp:", 4) != 0 && stat(t->dev, &st) == 0)
+			plain = true;  /* it is there, but not a serial port */
+		else if (r < 0)
+			return tap_fail(m, t, r);
 	}
-	if (tcgetattr(fd, &t->saved) < 0) {
-		fprintf(stderr, "%s: %s: tcgetattr: %s\n", m->cli.name, t->dev, strerror(errno));
-		return CLI_EXIT_FAIL;
+	if (plain) {
+		fd = open(t->dev, O_RDONLY | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+		if (fd < 0) {
+			fprintf(stderr, "%s: %s: %s\n", c->name, t->dev, strerror(errno));
+			return CLI_EXIT_FAIL;
+		}
+		r = df1_open_fd(t->h, fd, true);
+		if (r < 0) {
+			close(fd);
+			return tap_fail(m, t, r);
+		}
+		t->file = true;
 	}
-	tio = t->saved;
-	/* raw: no echo, no canonical mode, no signals, no mapping, no flow control */
-	tio.c_iflag = 0;
-	if (c->parity != 'N')
-		tio.c_iflag |= INPCK;
-	tio.c_oflag = 0;
-	tio.c_lflag = 0;
-	tio.c_cflag &= ~(tcflag_t)(CSIZE | PARENB | PARODD | CSTOPB | CRTSCTS);
-	tio.c_cflag |= CREAD | CLOCAL | (c->data_bits == 7 ? CS7 : CS8);
-	if (c->parity != 'N')
-		tio.c_cflag |= PARENB | (c->parity == 'O' ? PARODD : 0);
-	if (c->stop_bits == 2)
-		tio.c_cflag |= CSTOPB;
-	tio.c_cc[VMIN] = 0;
-	tio.c_cc[VTIME] = 0;
-	cfsetispeed(&tio, tap_speed(c->baud));
-	cfsetospeed(&tio, tap_speed(c->baud));
-	if (tcsetattr(fd, TCSANOW, &tio) < 0) {
-		fprintf(stderr, "%s: %s: tcsetattr: %s\n", m->cli.name, t->dev, strerror(errno));
-		return CLI_EXIT_FAIL;
-	}
-	t->restore = true;
-	t->modem = true;
+	t->fd = df1_port_fd(t->h);
+	if (t->fd < 0)
+		return tap_fail(m, t, t->fd);
+	t->modem = !t->file && isatty(t->fd);
 	return CLI_CONTINUE;
 }
 
 static void tap_close(struct tap *t)
 {
-	if (t->fd >= 0) {
-		if (t->restore)
-			tcsetattr(t->fd, TCSANOW, &t->saved);
-		close(t->fd);
-	}
+	df1_free(t->h); /* closes the port: a serial device gets its termios back */
+	t->h = NULL;
 	t->fd = -1;
-	t->restore = false;
 }
 
 /* RTAC control-line bits from the modem lines (0 when unknown). */
@@ -321,6 +258,7 @@ static int run_sniff(struct mon *m)
 
 	memset(taps, 0, sizeof taps);
 	taps[0].fd = taps[1].fd = -1;
+	taps[0].h = taps[1].h = NULL;
 	if (!m->cli.device || !*m->cli.device)
 		return cli_usage_error(&m->cli, "no device: use -d DEV, -N FILE or set DF1_DEVICE");
 	taps[0].dev = m->cli.device;
@@ -395,30 +333,30 @@ static int run_sniff(struct mon *m)
 		for (int k = 0; k < np && status == CLI_CONTINUE && !cli_stop; k++) {
 			struct tap *t;
 			uint8_t buf[SNIFF_CHUNK];
-			ssize_t n;
+			struct timespec when;
+			int n;
 			int64_t sec;
 			int32_t usec;
 
 			if (idx[k] < 0 || !(p[k].revents & (POLLIN | POLLHUP | POLLERR)))
 				continue;
 			t = &taps[idx[k]];
-			n = read(t->fd, buf, sizeof buf);
-			if (n < 0 && (errno == EAGAIN || errno == EINTR))
-				continue;
-			if (n <= 0) {
-				if (n == 0 && !t->tty && !t->sock) {
+			n = df1_recv_raw(t->h, buf, sizeof buf, 0, &when);
+			if (n == 0 || n == DF1_E_INTR)
+				continue;   /* nothing after all, or a signal: the loop looks at cli_stop */
+			if (n < 0) {
+				if (n == DF1_E_CLOSED && t->file) {
 					t->eof = true;   /* the end of a FIFO or file */
 					if (m->cli.verbose >= 1)
 						fprintf(stderr, "%s: %s: end of input\n", m->cli.name, t->dev);
 					continue;
 				}
-				fprintf(stderr, "%s: %s: %s\n", m->cli.name, t->dev,
-				        n == 0 ? "connection closed by peer"
-				        : errno == EIO ? "device closed or hung up (EIO)" : strerror(errno));
+				tap_fail(m, t, n);
 				status = CLI_EXIT_FAIL;
 				break;
 			}
-			wall_now(&sec, &usec);
+			sec = (int64_t)when.tv_sec;
+			usec = (int32_t)(when.tv_nsec / 1000);
 			records++;
 			bytes += (unsigned long long)n;
 			t->bytes += (unsigned long long)n;

@@ -7,6 +7,47 @@
 
 #include "df1_int.h"
 
+/* Responder (core.c): replies waiting to be sent or acknowledged. Full duplex
+ * keeps one in flight; a half-duplex slave queues them per station until polled. */
+#define LINK_REPLY_SLOTS 8
+struct link_reply {
+	bool used;
+	bool sent;                   /* transmitted, its ACK not seen yet */
+	bool stale_first;            /* DF1_FAULT_STALE_REPLY: an old-TNS copy goes out first */
+	bool stale_now;              /* full duplex: the frame in flight is that copy */
+	bool corrupt;                /* DF1_FAULT_CORRUPT_REPLY: next transmission has a bad check */
+	uint8_t stn;                 /* half duplex: the station that owes it */
+	uint32_t seq;                /* queue order */
+	int naks, enqs;              /* retries of this reply */
+	int64_t due_ms;              /* DF1_FAULT_DELAY_REPLY: not before this time */
+	int64_t ack_deadline_ms;     /* full duplex: ACK timer */
+	size_t len;
+	uint8_t app[FRAME_MAX_DATA];
+};
+
+/* Fault injection on the slave/peer side (df1_server_set_fault), indexed by enum df1_fault. */
+#define FAULT_KINDS 8
+struct link_faults {
+	int per_mille[FAULT_KINDS];
+	int value[FAULT_KINDS];
+	uint64_t rng;                /* xorshift64* state, from df1_server_set_seed */
+};
+
+/* DF1_FAULT_SILENT_STATION value that silences every station (df1_serve(3)) */
+#define FAULT_SILENT_ALL DF1_SILENT_ALL
+
+/* Everything a responder keeps between link_serve() calls. The server owns it
+ * (lib/server.c, server_responder()) and passes it to link_serve(). */
+struct link_responder {
+	struct link_reply replies[LINK_REPLY_SLOTS];
+	uint32_t seq;
+	int awaiting;                /* half-duplex slave: slot + 1 sent on the last poll, 0 none */
+	bool awaiting_stale;         /* ... and it was the stale copy */
+	bool silenced;               /* full duplex: last frame ignored (SILENT_STATION) */
+	bool serve_station[256];     /* stations we answer as (half-duplex slave) */
+	struct link_faults faults;
+};
+
 /* Master side: one transaction. cmd holds the app bytes (DST SRC CMD STS TNS ...);
  * the link assigns the TNS (bytes 4-5) and SRC, sends, handles ACK/NAK/ENQ/polls,
  * and returns the matching reply's app bytes (length) in reply, or DF1_E_*.
@@ -20,9 +61,14 @@ int link_test(struct df1 *h, int station);
  * the reply app bytes; it returns the reply length, 0 for no reply, or DF1_E_*. */
 typedef int (*link_handler_fn)(struct df1 *h, void *ctx, const uint8_t *cmd, size_t n,
                                uint8_t *reply, size_t cap);
-/* Receive and answer until deadline_ms; returns the number of commands handled
+/* Receive and answer until deadline_ms, keeping the replies and faults in r
+ * (lent for the call: h->resp); returns the number of commands handled
  * (>= 0), or DF1_E_CLOSED / DF1_E_INTR / DF1_E_SYS. */
-int link_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms);
+int link_serve(struct df1 *h, struct link_responder *r, link_handler_fn fn, void *ctx,
+               int64_t deadline_ms);
+
+/* The frame decoder's FRAME_OPT_* for the handle's configuration. */
+unsigned link_decoder_opts(const struct df1 *h);
 
 /* Send raw bytes: TX_Delay, trace callback, character counter, echo bookkeeping. */
 int link_send_raw(struct df1 *h, const uint8_t *buf, size_t n);

@@ -1,6 +1,7 @@
 /*
- * link_int.h - what lib/link.c (shared parts, full duplex) and lib/link_half.c
- * (half-duplex master and slave) share. Not used outside the link module.
+ * link_int.h - inside the link module: what core.c gives full.c and half.c,
+ * and the modes' entry points that link.c dispatches to. Not used outside
+ * lib/link/.
  */
 #ifndef LIBDF1_LINK_INT_H
 #define LIBDF1_LINK_INT_H
@@ -17,6 +18,8 @@ int64_t link_timeout_ms(const struct df1 *h);
 int link_send_sym(struct df1 *h, uint8_t sym);
 
 /* reception: 1 (sym filled), 0 (deadline passed), DF1_E_* */
+/* Noise or a broken symbol: the receiver's last response becomes NAK (spec 1.7). */
+void link_noise(struct df1 *h);
 int link_read_symbol(struct df1 *h, int64_t deadline_ms, struct df1_symbol *sym);
 void link_bad_check(struct df1 *h, const struct df1_symbol *s);
 bool link_log_error(struct df1 *h, const struct df1_symbol *s);
@@ -37,13 +40,11 @@ int link_take_reply(struct df1 *h, const uint8_t *cmd, const struct df1_symbol *
                     uint8_t *reply, size_t cap, size_t *len);
 
 /* faults */
-bool link_fault(struct df1 *h, enum df1_fault f);
-/* DF1_FAULT_SILENT_STATION value that silences every station (df1_serve(3)) */
-#define FAULT_SILENT_ALL DF1_SILENT_ALL
-bool link_fault_silent(struct df1 *h, uint8_t station);
+bool link_fault(struct link_responder *r, enum df1_fault f);
+bool link_fault_silent(struct link_responder *r, uint8_t station);
 /* Every station silent: not even a bare DLE ENQ is answered (full duplex). */
-bool link_fault_silent_all(struct df1 *h);
-size_t link_noise_bytes(struct df1 *h, uint8_t *out);
+bool link_fault_silent_all(struct link_responder *r);
+size_t link_noise_bytes(struct link_responder *r, uint8_t *out);
 
 /* reply slots */
 struct link_reply *link_slot_new(struct df1 *h, uint8_t stn, const uint8_t *app, size_t n);
@@ -52,9 +53,14 @@ struct link_reply *link_slot_oldest(struct df1 *h, bool all, uint8_t stn);
 void link_slots_clear(struct df1 *h);
 int link_slot_send(struct df1 *h, struct link_reply *r, bool stale, bool first);
 
-/* half duplex (link_half.c) */
-int link_half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap);
-int link_half_test(struct df1 *h, uint8_t station);
-int link_half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms);
+/* full duplex (full.c) */
+int full_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap);
+int full_test(struct df1 *h);
+int full_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms);
+
+/* half duplex (half.c) */
+int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap);
+int half_test(struct df1 *h, uint8_t station);
+int half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms);
 
 #endif

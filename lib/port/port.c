@@ -1,7 +1,7 @@
 /*
- * port.c - what every transport shares: the monotonic clock, the deadline wait
- * (port descriptor + the handle's cancel descriptor), and descriptor read/write
- * with the port_ops contracts (lib/port.h).
+ * port.c - what every transport shares: the deadline wait (port descriptor +
+ * the handle's cancel descriptor; the clock is lib/base/clock.c), and
+ * descriptor read/write with the port_ops contracts (lib/port/port.h).
  *
  * Waits are poll() against an absolute CLOCK_MONOTONIC deadline: after EINTR
  * the wait goes on for what is left of it, never for a fresh full timeout.
@@ -15,26 +15,9 @@
 #include <poll.h>
 #include <string.h>
 #include <sys/socket.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "df1_int.h"
-
-int64_t df1_now_ms(void)
-{
-	struct timespec ts;
-
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
-}
-
-uint64_t df1_now_us(void)
-{
-	struct timespec ts;
-
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (uint64_t)ts.tv_sec * 1000000u + (uint64_t)ts.tv_nsec / 1000u;
-}
 
 int port_fail_sys(struct df1 *h, int code, int err, const char *what)
 {
@@ -145,17 +128,26 @@ ssize_t port_read_fd(struct df1 *h, uint8_t *buf, size_t cap, int64_t deadline_m
 	}
 }
 
-ssize_t port_write_fd(struct df1 *h, const uint8_t *buf, size_t len, int64_t deadline_ms)
+int port_refuse_tx(struct df1 *h)
+{
+	return df1_fail(h, DF1_E_NOTSUP, -1, "%s is listen only: nothing is transmitted",
+	                h->port_name);
+}
+
+static ssize_t port_out(struct df1 *h, const uint8_t *buf, size_t len, int64_t deadline_ms,
+                        bool sock)
 {
 	size_t done = 0;
 
 	if (h->fd < 0)
 		return df1_fail(h, DF1_E_NOT_OPEN, -1, "port is not open");
+	if (h->cfg.listen_only)
+		return port_refuse_tx(h);
 	while (done < len) {
 		ssize_t n;
 		int rev;
 
-		if (h->is_socket)
+		if (sock)
 			n = send(h->fd, buf + done, len - done, MSG_NOSIGNAL);
 		else
 			n = write(h->fd, buf + done, len - done);
@@ -183,4 +175,14 @@ ssize_t port_write_fd(struct df1 *h, const uint8_t *buf, size_t len, int64_t dea
 			                h->port_name);
 	}
 	return (ssize_t)done;
+}
+
+ssize_t port_write_fd(struct df1 *h, const uint8_t *buf, size_t len, int64_t deadline_ms)
+{
+	return port_out(h, buf, len, deadline_ms, false);
+}
+
+ssize_t port_send_fd(struct df1 *h, const uint8_t *buf, size_t len, int64_t deadline_ms)
+{
+	return port_out(h, buf, len, deadline_ms, true);
 }

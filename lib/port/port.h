@@ -8,14 +8,17 @@
 
 #include <sys/types.h>
 #include "df1.h"
+#include "base.h"
 
 struct df1;
 
 struct port_ops {
 	const char *name;
-	/* Open target (device path or "tcp://host:port"); 0 or DF1_E_*. */
+	/* Open target (device path or "tcp://host:port"); 0 or DF1_E_*. The backend
+	 * keeps its own state behind h->port_data; on failure it has closed and
+	 * freed everything itself. NULL for the fd backend (port_fd_open). */
 	int (*open)(struct df1 *h, const char *target);
-	/* Close; restores termios settings saved at open. */
+	/* Close; restores termios settings saved at open, frees h->port_data. */
 	void (*close)(struct df1 *h);
 	/* Read up to cap bytes, waiting until deadline_ms (df1_now_ms() clock).
 	 * Returns bytes (> 0), 0 on deadline, DF1_E_CLOSED, DF1_E_INTR or DF1_E_SYS. */
@@ -32,18 +35,24 @@ extern const struct port_ops port_termios_ops;
 extern const struct port_ops port_tcp_ops;
 extern const struct port_ops port_fd_ops;   /* an fd given by df1_open_fd (pty, socket, pipe) */
 
-/* Monotonic clock in milliseconds / microseconds (CLOCK_MONOTONIC). */
-int64_t df1_now_ms(void);
-uint64_t df1_now_us(void);
-
 /* Helpers for backends: wait for fd readable/writable (and the cancel fd) until deadline.
  * Returns 1 ready, 0 deadline, DF1_E_INTR (cancel fd readable), DF1_E_SYS.
  * fd < 0: a pause only the cancel fd can end. */
 int port_wait(struct df1 *h, int fd, short events, int64_t deadline_ms);
-/* Generic descriptor I/O on h->fd with the read/write contracts above (lib/port.c);
- * the backends' read/write use them. */
+/* Generic descriptor I/O on h->fd with the read/write contracts above (lib/port/port.c);
+ * the backends' read/write use them. port_send_fd writes with send(MSG_NOSIGNAL)
+ * (sockets: no SIGPIPE). Both refuse a listen-only handle (port_refuse_tx). */
 ssize_t port_read_fd(struct df1 *h, uint8_t *buf, size_t cap, int64_t deadline_ms);
 ssize_t port_write_fd(struct df1 *h, const uint8_t *buf, size_t len, int64_t deadline_ms);
+ssize_t port_send_fd(struct df1 *h, const uint8_t *buf, size_t len, int64_t deadline_ms);
+/* DF1_E_NOTSUP "... is listen only" for any transmission on a listen-only handle. */
+int port_refuse_tx(struct df1 *h);
+
+/* The fd backend opens on a descriptor, not a target: h->fd = fd, its state in
+ * h->port_data; own: close fd at close. 0 or DF1_E_* (fd left as it was). */
+int port_fd_open(struct df1 *h, int fd, bool own);
+/* fd backend on a pty master: the slave-side descriptor it holds, else -1. */
+int port_fd_peer(const struct df1 *h);
 /* Record a failed system call: df1_fail(h, code, ...) with the message
  * "<what> <h->port_name>: <strerror(err)>" (sys_errno = err for DF1_E_SYS); returns code. */
 int port_fail_sys(struct df1 *h, int code, int err, const char *what);

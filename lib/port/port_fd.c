@@ -11,13 +11,17 @@
  * slave is opened again. A simulator serving the master would either spin or
  * have to treat "no client" as fatal. So on a pty master the port opens the
  * slave side itself (TIOCGPTPEER, else ptsname) and holds that descriptor
- * (h->peer_fd, never read or written): the master never sees a hangup, and
+ * (fd_port.peer_fd, never read or written): the master never sees a hangup, and
  * "no client attached" simply reads as no data until the deadline. Clients
  * come and go freely; the slave is still exclusive to the first client that
  * opens it with df1_open() (flock/TIOCEXCL), and a client's df1_open() flushes
  * whatever the master wrote while nobody listened. If the slave cannot be
  * opened (still locked: unlockpt() not called), the port works without it and
  * a hangup ends reads with DF1_E_CLOSED, as on any other descriptor.
+ *
+ * The backend's state (ownership, the flags to put back, the pty peer) is its
+ * struct fd_port behind h->port_data. A listen-only handle never writes to the
+ * descriptor (port_write_fd refuses); the descriptor itself stays as given.
  *
  * SIGPIPE: sockets are written with send(MSG_NOSIGNAL); on a pipe whose reader
  * is gone the application must ignore SIGPIPE to get DF1_E_CLOSED instead.
@@ -29,6 +33,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <sys/ioctl.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <termios.h>
 #include <unistd.h>
@@ -39,8 +44,16 @@
 #define TIOCGPTPEER _IO('T', 0x41) /* Linux 4.13 */
 #endif
 
+/* The backend's state (h->port_data), from open to close. */
+struct fd_port {
+	bool own;                    /* close the descriptor at close */
+	bool is_socket;              /* write with send(MSG_NOSIGNAL) */
+	int saved_fl;                /* file status flags to restore on close (-1: none) */
+	int peer_fd;                 /* on a pty master: our own fd on the slave side (-1) */
+};
+
 /* If fd is a pty master, open and keep its slave side (see above). */
-static void fd_hold_pty_peer(struct df1 *h)
+static void fd_hold_pty_peer(struct df1 *h, struct fd_port *fp)
 {
 	unsigned int ptn;
 	char path[64];
@@ -59,56 +72,81 @@ static void fd_hold_pty_peer(struct df1 *h)
 	peer = ioctl(h->fd, TIOCGPTPEER, O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
 	if (peer < 0 && ptsname_r(h->fd, path, sizeof path) == 0)
 		peer = open(path, O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
-	h->peer_fd = peer; /* -1 if neither worked */
-}
-
-static int fd_open(struct df1 *h, const char *target)
-{
-	struct stat st;
-	int fl;
-
-	if (target)
-		snprintf(h->port_name, sizeof h->port_name, "%s", target);
-	else
-		snprintf(h->port_name, sizeof h->port_name, "fd %d", h->fd);
-	h->peer_fd = -1;
-	h->saved_fl = -1;
-	fl = fcntl(h->fd, F_GETFL);
-	if (fl < 0)
-		return df1_fail(h, DF1_E_INVAL, -1, "fd %d is not an open descriptor", h->fd);
-	if (!(fl & O_NONBLOCK)) {
-		if (fcntl(h->fd, F_SETFL, fl | O_NONBLOCK) < 0)
-			return port_fail_sys(h, DF1_E_SYS, errno, "cannot set O_NONBLOCK on");
-		if (!h->own_fd)
-			h->saved_fl = fl;
-	}
-	h->is_socket = fstat(h->fd, &st) == 0 && S_ISSOCK(st.st_mode);
-	fd_hold_pty_peer(h);
-	return 0;
+	fp->peer_fd = peer; /* -1 if neither worked */
 }
 
 static void fd_close(struct df1 *h)
 {
-	if (h->peer_fd >= 0)
-		close(h->peer_fd);
-	h->peer_fd = -1;
-	if (h->fd >= 0) {
-		if (h->own_fd)
+	struct fd_port *fp = h->port_data;
+
+	if (fp && fp->peer_fd >= 0)
+		close(fp->peer_fd);
+	if (h->fd >= 0 && fp) {
+		if (fp->own)
 			close(h->fd);
-		else if (h->saved_fl >= 0)
-			(void)fcntl(h->fd, F_SETFL, h->saved_fl);
+		else if (fp->saved_fl >= 0)
+			(void)fcntl(h->fd, F_SETFL, fp->saved_fl);
 	}
-	h->saved_fl = -1;
+	free(fp);
+	h->port_data = NULL;
 	h->fd = -1;
-	h->is_socket = false;
+}
+
+int port_fd_open(struct df1 *h, int fd, bool own)
+{
+	struct stat st;
+	struct fd_port *fp;
+	int fl;
+
+	snprintf(h->port_name, sizeof h->port_name, "fd %d", fd);
+	fl = fcntl(fd, F_GETFL);
+	if (fl < 0)
+		return df1_fail(h, DF1_E_INVAL, -1, "fd %d is not an open descriptor", fd);
+	fp = calloc(1, sizeof *fp);
+	if (!fp)
+		return df1_fail(h, DF1_E_NOMEM, -1, "fd %d: out of memory", fd);
+	fp->saved_fl = -1;
+	fp->peer_fd = -1;
+	if (!(fl & O_NONBLOCK)) {
+		if (fcntl(fd, F_SETFL, fl | O_NONBLOCK) < 0) {
+			int err = errno;
+
+			free(fp);
+			return port_fail_sys(h, DF1_E_SYS, err, "cannot set O_NONBLOCK on");
+		}
+		if (!own)
+			fp->saved_fl = fl;
+	}
+	fp->own = own;
+	fp->is_socket = fstat(fd, &st) == 0 && S_ISSOCK(st.st_mode);
+	h->fd = fd;
+	h->port_data = fp;
+	fd_hold_pty_peer(h, fp);
+	return 0;
+}
+
+int port_fd_peer(const struct df1 *h)
+{
+	const struct fd_port *fp = h->port == &port_fd_ops ? h->port_data : NULL;
+
+	return fp ? fp->peer_fd : -1;
+}
+
+static ssize_t fd_write(struct df1 *h, const uint8_t *buf, size_t len, int64_t deadline_ms)
+{
+	const struct fd_port *fp = h->port_data;
+
+	if (fp && fp->is_socket)
+		return port_send_fd(h, buf, len, deadline_ms);
+	return port_write_fd(h, buf, len, deadline_ms);
 }
 
 const struct port_ops port_fd_ops = {
 	.name = "fd",
-	.open = fd_open,
+	.open = NULL,           /* port_fd_open(): a descriptor, not a target name */
 	.close = fd_close,
 	.read = port_read_fd,
-	.write = port_write_fd,
+	.write = fd_write,
 	.configure = NULL,
 	.drain = NULL,
 };

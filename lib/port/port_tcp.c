@@ -6,7 +6,9 @@
  * timeout (at least 1000 ms), trying each address getaddrinfo() returns;
  * name resolution itself is getaddrinfo()'s and not bounded by it. The socket
  * gets TCP_NODELAY (DF1 symbols are tiny and latency-bound) and SO_KEEPALIVE.
- * EOF from the peer is DF1_E_CLOSED.
+ * EOF from the peer is DF1_E_CLOSED. A listen-only handle (DF1_OPT_LISTEN_ONLY)
+ * connects the same way, with the same deadline, then shuts down its sending
+ * side (shutdown(SHUT_WR)). The backend keeps no state but the descriptor.
  */
 #include "port.h"
 
@@ -151,9 +153,14 @@ static int tcp_open(struct df1 *h, const char *target)
 	}
 	(void)setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
 	(void)setsockopt(fd, SOL_SOCKET, SO_KEEPALIVE, &one, sizeof one);
+	/* listen only: our half of the connection is closed for sending, so not
+	 * even a bug could put a byte on the line (the peer sees our FIN). */
+	if (h->cfg.listen_only && shutdown(fd, SHUT_WR) < 0) {
+		err = errno;
+		close(fd);
+		return port_fail_sys(h, DF1_E_SYS, err, "shutdown(SHUT_WR) on");
+	}
 	h->fd = fd;
-	h->own_fd = true;
-	h->is_socket = true;
 	return 0;
 }
 
@@ -162,7 +169,6 @@ static void tcp_close(struct df1 *h)
 	if (h->fd >= 0)
 		close(h->fd);
 	h->fd = -1;
-	h->is_socket = false;
 }
 
 const struct port_ops port_tcp_ops = {
@@ -170,7 +176,7 @@ const struct port_ops port_tcp_ops = {
 	.open = tcp_open,
 	.close = tcp_close,
 	.read = port_read_fd,
-	.write = port_write_fd,
+	.write = port_send_fd,  /* send(MSG_NOSIGNAL): a gone peer is DF1_E_CLOSED, no SIGPIPE */
 	.configure = NULL, /* serial settings do not apply */
 	.drain = NULL,
 };

@@ -2,14 +2,17 @@
  * port_termios.c - serial ports through POSIX termios (Linux).
  *
  * Open: O_RDWR|O_NOCTTY|O_NONBLOCK|O_CLOEXEC (no controlling tty, never block
- * in open() on DCD, no leak into children); exclusive use with flock(LOCK_EX)
+ * in open() on DCD, no leak into children; O_RDONLY instead when the handle is
+ * listen only, DF1_OPT_LISTEN_ONLY); exclusive use with flock(LOCK_EX)
  * (other libdf1 users and cooperating tools, root included) plus TIOCEXCL
  * (further open()s by non-root programs fail with EBUSY); the original termios
  * is saved and restored on close and on every error path after it was read.
+ * What the backend keeps from open to close (the saved termios, the RS-485
+ * flags it changed) is its own struct termios_port behind h->port_data.
  *
  * The line is raw: no echo, no canonical mode, no signals, no CR/NL mapping,
  * no software flow control; RTS/CTS only when asked; VMIN = VTIME = 0 because
- * every wait is a poll() against a deadline (lib/port.c).
+ * every wait is a poll() against a deadline (lib/port/port.c).
  */
 #include "port.h"
 
@@ -17,6 +20,7 @@
 #include <fcntl.h>
 #include <linux/serial.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/file.h>
 #include <sys/ioctl.h>
@@ -28,6 +32,14 @@
 #include "df1_int.h"
 
 #define RS485_BITS (SER_RS485_ENABLED | SER_RS485_RTS_ON_SEND | SER_RS485_RTS_AFTER_SEND)
+
+/* The backend's state (h->port_data), from open to close. */
+struct termios_port {
+	bool have_saved;             /* saved holds the termios found at open */
+	struct termios saved;
+	bool rs485_changed;          /* restore saved_rs485_flags on close */
+	uint32_t saved_rs485_flags;
+};
 
 static speed_t termios_speed(int baud)
 {
@@ -78,23 +90,24 @@ static int termios_rs485_ioctl_fail(struct df1 *h, const char *what)
  * when asked to enable it, or to undo what we enabled. */
 static int termios_rs485(struct df1 *h)
 {
+	struct termios_port *tp = h->port_data;
 	struct serial_rs485 rs;
 
-	if (!h->cfg.rs485 && !h->rs485_changed)
+	if (!h->cfg.rs485 && !tp->rs485_changed)
 		return 0;
 	memset(&rs, 0, sizeof rs);
 	if (ioctl(h->fd, TIOCGRS485, &rs) < 0)
 		return termios_rs485_ioctl_fail(h, "TIOCGRS485 on");
-	if (!h->rs485_changed)
-		h->saved_rs485_flags = rs.flags;
+	if (!tp->rs485_changed)
+		tp->saved_rs485_flags = rs.flags;
 	rs.flags &= ~(uint32_t)RS485_BITS;
 	if (h->cfg.rs485)
 		rs.flags |= SER_RS485_ENABLED | SER_RS485_RTS_ON_SEND;
 	else
-		rs.flags |= h->saved_rs485_flags & RS485_BITS;
+		rs.flags |= tp->saved_rs485_flags & RS485_BITS;
 	if (ioctl(h->fd, TIOCSRS485, &rs) < 0)
 		return termios_rs485_ioctl_fail(h, "TIOCSRS485 on");
-	h->rs485_changed = h->cfg.rs485;
+	tp->rs485_changed = h->cfg.rs485;
 	return 0;
 }
 
@@ -104,7 +117,7 @@ static int termios_configure(struct df1 *h)
 	speed_t speed = termios_speed(h->cfg.baud);
 	tcflag_t cmask;
 
-	if (h->fd < 0)
+	if (h->fd < 0 || !h->port_data)
 		return df1_fail(h, DF1_E_NOT_OPEN, -1, "port is not open");
 	if (speed == B0)
 		return df1_fail(h, DF1_E_CONFIG, -1, "invalid baud rate %d", h->cfg.baud);
@@ -165,37 +178,43 @@ static int termios_configure(struct df1 *h)
 
 static void termios_close(struct df1 *h)
 {
-	if (h->fd < 0)
-		return;
-	if (h->rs485_changed) {
+	struct termios_port *tp = h->port_data;
+
+	if (h->fd >= 0 && tp && tp->rs485_changed) {
 		struct serial_rs485 rs;
 
 		memset(&rs, 0, sizeof rs);
 		if (ioctl(h->fd, TIOCGRS485, &rs) == 0) {
-			rs.flags = (rs.flags & ~(uint32_t)RS485_BITS) | (h->saved_rs485_flags & RS485_BITS);
+			rs.flags = (rs.flags & ~(uint32_t)RS485_BITS) | (tp->saved_rs485_flags & RS485_BITS);
 			(void)ioctl(h->fd, TIOCSRS485, &rs);
 		}
-		h->rs485_changed = false;
 	}
-	if (h->have_saved_tios) {
+	if (h->fd >= 0 && tp && tp->have_saved) {
 		/* TCSANOW: TCSADRAIN could wait forever on a flow-controlled line */
-		(void)tcsetattr(h->fd, TCSANOW, &h->saved_tios);
-		h->have_saved_tios = false;
+		(void)tcsetattr(h->fd, TCSANOW, &tp->saved);
 	}
-	(void)ioctl(h->fd, TIOCNXCL);
-	close(h->fd); /* also drops the flock */
+	if (h->fd >= 0) {
+		(void)ioctl(h->fd, TIOCNXCL);
+		close(h->fd); /* also drops the flock */
+	}
+	free(tp);
+	h->port_data = NULL;
 	h->fd = -1;
 }
 
 static int termios_open(struct df1 *h, const char *path)
 {
+	struct termios_port *tp;
 	int fd, r;
 
 	snprintf(h->port_name, sizeof h->port_name, "%s", path);
-	h->have_saved_tios = false;
-	h->rs485_changed = false;
-	fd = open(path, O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+	tp = calloc(1, sizeof *tp);
+	if (!tp)
+		return df1_fail(h, DF1_E_NOMEM, -1, "%s: out of memory", path);
+	/* listen only: a descriptor that cannot transmit at all */
+	fd = open(path, (h->cfg.listen_only ? O_RDONLY : O_RDWR) | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
 	if (fd < 0) {
+		free(tp);
 		switch (errno) {
 		case ENOENT:
 		case ENODEV:
@@ -214,6 +233,7 @@ static int termios_open(struct df1 *h, const char *path)
 		}
 	}
 	h->fd = fd;
+	h->port_data = tp;
 	if (flock(fd, LOCK_EX | LOCK_NB) < 0) {
 		if (errno == EWOULDBLOCK)
 			r = df1_fail(h, DF1_E_BUSY, -1, "port busy: %s is in use by another process", path);
@@ -221,14 +241,14 @@ static int termios_open(struct df1 *h, const char *path)
 			r = port_fail_sys(h, DF1_E_SYS, errno, "cannot lock");
 		goto fail;
 	}
-	if (tcgetattr(fd, &h->saved_tios) < 0) {
+	if (tcgetattr(fd, &tp->saved) < 0) {
 		if (errno == ENOTTY || errno == EINVAL)
 			r = df1_fail(h, DF1_E_NODEV, -1, "%s is not a serial port", path);
 		else
 			r = port_fail_sys(h, DF1_E_SYS, errno, "tcgetattr on");
 		goto fail;
 	}
-	h->have_saved_tios = true;
+	tp->have_saved = true;
 	/* keeps out later open()s by non-root programs; flock above is the lock
 	 * that also holds against root. Failure is not fatal. */
 	(void)ioctl(fd, TIOCEXCL);
@@ -236,14 +256,15 @@ static int termios_open(struct df1 *h, const char *path)
 	if (r < 0)
 		goto fail;
 	/* input only: on a pty, flushing output from this side would also drop
-	 * what the peer has not read yet (the previous user's last DLE ACK). */
-	if (tcflush(fd, TCIFLUSH) < 0) {
+	 * what the peer has not read yet (the previous user's last DLE ACK). A
+	 * listen-only tap keeps everything: what is on the line is what it shows. */
+	if (!h->cfg.listen_only && tcflush(fd, TCIFLUSH) < 0) {
 		r = port_fail_sys(h, DF1_E_SYS, errno, "tcflush on");
 		goto fail;
 	}
 	return 0;
 fail:
-	termios_close(h); /* restores the saved termios; h->err keeps the first error */
+	termios_close(h); /* restores the saved termios, frees tp; h->err keeps the first error */
 	return r;
 }
 

@@ -1,5 +1,5 @@
 /*
- * link_half.c - DF1 half duplex (spec/protocol.md 2, seeds/004 "Network Reads"
+ * half.c - DF1 half duplex (spec/protocol.md 2, seeds/004 "Network Reads"
  * and "Active Station List"): the master's transaction (master message, ACK,
  * polls until the reply) and the slave that answers it.
  *
@@ -31,7 +31,7 @@
  *    other non-matching messages are stale (2548, 2510); polling goes on.
  *
  * Slave decisions:
- *  - Stations answered: h->serve_station[] (df1_server_add_station), or our own
+ *  - Stations answered: h->resp->serve_station[] (df1_server_add_station), or our own
  *    cfg.station when none was added.
  *  - A master message with a good check is ACKed and run; a bad one gets no
  *    answer at all (spec 2.3). A duplicate is ACKed and not run again: its reply
@@ -224,7 +224,7 @@ static int hd_failed(struct df1 *h, uint8_t stn, int code)
 	return code;
 }
 
-int link_half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap)
+int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap)
 {
 	uint8_t wire[FRAME_MAX_WIRE];
 	uint8_t stn = cmd[0];
@@ -328,7 +328,7 @@ int link_half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *rep
 	}
 }
 
-int link_half_test(struct df1 *h, uint8_t stn)
+int half_test(struct df1 *h, uint8_t stn)
 {
 	int cause = 0;
 	int r = hd_poll_once(h, stn, &cause);
@@ -361,7 +361,7 @@ int link_half_test(struct df1 *h, uint8_t stn)
 
 static bool hd_serves(const struct df1 *h, uint8_t stn, bool any_added)
 {
-	return any_added ? h->serve_station[stn] : stn == (uint8_t)h->cfg.station;
+	return any_added ? h->resp->serve_station[stn] : stn == (uint8_t)h->cfg.station;
 }
 
 /* A poll for one of our stations: the oldest queued reply, or DLE EOT. */
@@ -390,13 +390,13 @@ static int hd_slave_poll(struct df1 *h, uint8_t stn)
 		t = NULL; /* DF1_FAULT_DELAY_REPLY: not ready yet */
 	if (!t)
 		return link_send_sym(h, DF1_EOT);
-	h->link.awaiting = (int)(t - h->link.replies) + 1;
+	h->resp->awaiting = (int)(t - h->resp->replies) + 1;
 	if (t->stale_first) {
 		t->stale_first = false;
-		h->link.awaiting_stale = true;
+		h->resp->awaiting_stale = true;
 		return link_slot_send(h, t, true, true);
 	}
-	h->link.awaiting_stale = false;
+	h->resp->awaiting_stale = false;
 	r = link_slot_send(h, t, false, !t->sent);
 	t->sent = true;
 	return r;
@@ -418,13 +418,13 @@ static int hd_slave_msg(struct df1 *h, const struct df1_symbol *s, link_handler_
 	r = link_serve_screen(h, stn, s);
 	if (r <= 0)
 		return r;
-	if (link_fault(h, DF1_FAULT_NAK_COMMAND)) {
+	if (link_fault(h->resp, DF1_FAULT_NAK_COMMAND)) {
 		r = link_send_sym(h, DF1_NAK);
 		return r < 0 ? r : 0;
 	}
 	if (!link_slot_free_exists(h))
 		return 0; /* sink full: no ACK, the master sends it again later */
-	if (!link_fault(h, DF1_FAULT_DROP_ACK)) {
+	if (!link_fault(h->resp, DF1_FAULT_DROP_ACK)) {
 		r = link_send_sym(h, DF1_ACK);
 		if (r < 0)
 			return r;
@@ -438,13 +438,13 @@ static int hd_slave_msg(struct df1 *h, const struct df1_symbol *s, link_handler_
 	return 1;
 }
 
-int link_half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms)
+int half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms)
 {
 	bool any_added = false;
 	int served = 0;
 
 	for (int i = 0; i < 256; i++)
-		any_added = any_added || h->serve_station[i];
+		any_added = any_added || h->resp->serve_station[i];
 	for (;;) {
 		struct df1_symbol s;
 		int r, awaiting;
@@ -461,12 +461,12 @@ int link_half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadli
 			return served;
 		/* An ACK is for our reply only before the master moves on (its next
 		 * poll or message); slave frames in between are our own echo. */
-		awaiting = h->link.awaiting;
-		awaiting_stale = h->link.awaiting_stale;
+		awaiting = h->resp->awaiting;
+		awaiting_stale = h->resp->awaiting_stale;
 		if (s.kind == DF1_SYM_ACK || s.kind == DF1_SYM_POLL ||
 		    (s.kind == DF1_SYM_FRAME && s.master_msg)) {
-			h->link.awaiting = 0;
-			h->link.awaiting_stale = false;
+			h->resp->awaiting = 0;
+			h->resp->awaiting_stale = false;
 		}
 		r = 0;
 		switch (s.kind) {
@@ -474,7 +474,7 @@ int link_half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadli
 			if (awaiting > 0) {
 				df1_count(h, 2536); /* CNT_ACKS_RCVD */
 				if (!awaiting_stale)
-					h->link.replies[awaiting - 1].used = false;
+					h->resp->replies[awaiting - 1].used = false;
 			}
 			break;
 		case DF1_SYM_NAK:
@@ -484,13 +484,13 @@ int link_half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadli
 			link_slots_clear(h);
 			break;
 		case DF1_SYM_POLL:
-			if (hd_serves(h, s.station, any_added) && !link_fault_silent(h, s.station))
+			if (hd_serves(h, s.station, any_added) && !link_fault_silent(h->resp, s.station))
 				r = hd_slave_poll(h, s.station);
 			break;
 		case DF1_SYM_FRAME:
 			/* slave messages on the line are other stations' business */
 			if (s.master_msg && hd_serves(h, s.station, any_added) &&
-			    !link_fault_silent(h, s.station)) {
+			    !link_fault_silent(h->resp, s.station)) {
 				r = hd_slave_msg(h, &s, fn, ctx);
 				if (r > 0) {
 					served++;

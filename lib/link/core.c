@@ -1,0 +1,575 @@
+/*
+ * core.c - what every DF1 link mode shares (spec/protocol.md 1-2, DESIGN.md 4,
+ * seeds/004): setup, transmission with TX_Delay, line pacing, trace, echo
+ * discard and the character counters; symbol reception with deadlines;
+ * duplicate detection; the master's reply matching; the responder's reply
+ * queue and where faults act. Used by full.c (full-duplex peer) and half.c
+ * (half-duplex master and slave); link.c above them picks the mode. It calls
+ * neither of them. The fault dice are in fault.c.
+ *
+ * Decisions the sources leave open (documented here, relied on by tests):
+ *  - The receiver's last-response variable starts as NAK: an ENQ before any
+ *    frame was taken must make the sender retransmit, not believe a frame got
+ *    through (spec 1.7: noise also sets NAK).
+ *  - Every wait is a port read against an absolute deadline. A read that
+ *    returns 0 means its deadline passed (port contract); the link does not
+ *    second-guess it with the clock. A symbol under way when the deadline
+ *    passes gets until its last byte + the inter-character gap (timeout_ms,
+ *    clamped to 100..1000 ms) to finish; a symbol cut short is 2518 and sets
+ *    the last response to NAK.
+ *  - Full-duplex master: ACK timeout -> DLE ENQ, at most enq_retries ENQs, the
+ *    next timeout is DF1_E_ENQ_LIMIT (the serial-tap capture: three ENQs 1 s
+ *    apart, then the sender gave up). NAK (also the peer's NAK answer to an ENQ)
+ *    -> retransmit, at most nak_retries times, the next NAK is DF1_E_NAK_LIMIT.
+ *    After the ACK the reply is awaited max(timeout_ms, cmd_timeout_ms). A
+ *    matching reply that arrives before the ACK (ACK lost in noise) completes
+ *    the transaction: the reply proves delivery.
+ *  - A DLE NAK answering a frame of ours is 2517 NTC_RCVD_NAK_SYMBOL (and a
+ *    retransmission); one when no frame of ours waits for a response is
+ *    2511 ERR_RCVD_NAK_SYMBOL, counted (2534) and otherwise ignored.
+ *  - Replies are matched on the full 16-bit TNS and SRC == the command's DST.
+ *    DST is not compared: behind a 1770-KF2 the reply's DST is the KF2's node,
+ *    not our SRC (spec 1.9, M p.14-3). CMD must be the command's CMD | 40h, or
+ *    the transaction ends with DF1_E_BAD_FUNCTION (2505).
+ *  - Duplicate detection keeps the first 6 bytes of the last message accepted
+ *    per station (h->stations[]): in full duplex and on the half-duplex master
+ *    keyed by the SRC / the polled station, on the half-duplex slave by the
+ *    addressed STN. A duplicate is ACKed and dropped (2549, 2524).
+ *  - A command frame received by a full-duplex master while it waits for its
+ *    reply is ACKed (it did arrive intact) and dropped, counted as received
+ *    (2528) and invalid (2550, 2510): link_transact is not a responder.
+ *  - Full duplex has no Active Station List (one peer on a point-to-point link);
+ *    the list and its single probing poll are the half-duplex master's.
+ *  - 2525/2526 count frames on the wire (retransmissions and duplicates
+ *    included; a frame with a bad check is 2546/2547, not 2526); 2527 and
+ *    2529 count distinct command / reply messages (retransmissions are 2541).
+ *    2561 counts every byte read, including the echo discarded on 2-wire
+ *    lines. Port read errors (2551) are counted by the port backends.
+ *  - Full-duplex responder: one reply in flight; a new command supersedes a
+ *    reply still waiting for its ACK (the master has moved on).
+ *  - Faults: DROP_ACK and NAK_COMMAND act on new commands only (duplicates are
+ *    ACKed), so one dropped ACK leads to exactly one execution. DROP_ACK leaves
+ *    the last response at ACK, as a lost ACK would: an ENQ then gets the ACK.
+ *    STALE_REPLY sends a copy of the reply with TNS - 2 first; CORRUPT_REPLY
+ *    inverts the last check byte of the first transmission; NOISE puts 3 random
+ *    non-DLE bytes before a reply frame; DELAY_REPLY holds the reply back for
+ *    `value` ms while the link keeps answering; SILENT_STATION ignores frames
+ *    (and, in full duplex, the ENQs that follow them) for station `value`, or
+ *    for every station and every ENQ with value FAULT_SILENT_ALL (256).
+ */
+#include "link.h"
+
+#include <string.h>
+
+#include "link_int.h"
+
+/* ------------------------------------------------------------------------
+ * Setup
+ * ------------------------------------------------------------------------ */
+
+/* The decoder follows the configuration (the setters may change it at any time). */
+int link_setup(struct df1 *h)
+{
+	unsigned opts;
+
+	if (!h->port || h->fd < 0)
+		return df1_fail(h, DF1_E_NOT_OPEN, -1, "handle is not open");
+	opts = link_decoder_opts(h);
+	if (h->dec.max_len == 0 || h->dec.check != h->cfg.check || h->dec.opts != opts)
+		frame_decoder_init(&h->dec, h->cfg.check, opts);
+	if (h->last_response != DF1_ACK && h->last_response != DF1_NAK)
+		h->last_response = DF1_NAK;
+	return 0;
+}
+
+/* The check we send with: the configured one; AUTO (decoder only) answers in
+ * what the decoder has locked onto. */
+enum df1_check link_tx_check(const struct df1 *h)
+{
+	if (h->cfg.check == DF1_CHECK_BCC || h->cfg.check == DF1_CHECK_CRC)
+		return h->cfg.check;
+	return h->dec.locked == DF1_CHECK_BCC ? DF1_CHECK_BCC : DF1_CHECK_CRC;
+}
+
+int64_t link_timeout_ms(const struct df1 *h)
+{
+	return h->cfg.timeout_ms > 0 ? h->cfg.timeout_ms : 0;
+}
+
+/* ------------------------------------------------------------------------
+ * Transmission
+ * ------------------------------------------------------------------------ */
+
+/* Wait until deadline_ms without reading: poll() on the cancel fd only. */
+static int link_pause(struct df1 *h, int64_t deadline_ms)
+{
+	if (df1_now_ms() >= deadline_ms)
+		return 0;
+	return port_wait(h, -1, 0, deadline_ms);
+}
+
+static int link_write(struct df1 *h, const uint8_t *buf, size_t n, int64_t deadline_ms)
+{
+	size_t off = 0;
+
+	while (off < n) {
+		ssize_t w = h->port->write(h, buf + off, n - off, deadline_ms);
+
+		if (w < 0)
+			return (int)w;
+		if (w == 0)
+			return df1_fail(h, DF1_E_SYS, -1, "write to %s made no progress", h->port_name);
+		if (h->trace_fn)
+			h->trace_fn(h->trace_user, DF1_DIR_TX, buf + off, (size_t)w, df1_now_us());
+		off += (size_t)w;
+	}
+	return 0;
+}
+
+/* Remember our own bytes: on a 2-wire line they come back and are dropped. */
+static void link_echo_add(struct df1 *h, const uint8_t *buf, size_t n)
+{
+	size_t cap = sizeof h->echo_buf;
+
+	if (h->echo_pos >= h->echo_len) {
+		h->echo_pos = h->echo_len = 0;
+	} else if (h->echo_pos > 0) {
+		memmove(h->echo_buf, h->echo_buf + h->echo_pos, h->echo_len - h->echo_pos);
+		h->echo_len -= h->echo_pos;
+		h->echo_pos = 0;
+	}
+	if (h->echo_len + n > cap) {
+		/* more than a frame not yet read back: keep what fits */
+		n = h->echo_len < cap ? cap - h->echo_len : 0;
+	}
+	memcpy(h->echo_buf + h->echo_len, buf, n);
+	h->echo_len += n;
+}
+
+int link_send_raw(struct df1 *h, const uint8_t *buf, size_t n)
+{
+	int64_t wire_ms, deadline;
+	int r;
+
+	if (!h->port || h->fd < 0)
+		return df1_fail(h, DF1_E_NOT_OPEN, -1, "handle is not open");
+	if (h->cfg.listen_only)
+		return port_refuse_tx(h); /* before TX_Delay: nothing is waited for either */
+	if (n == 0)
+		return 0;
+	if (h->cfg.tx_delay_ms > 0) {
+		/* TX_Delay before every transmission (seeds/004, radio key-up) */
+		r = link_pause(h, df1_now_ms() + h->cfg.tx_delay_ms);
+		if (r < 0)
+			return r;
+	}
+	wire_ms = h->cfg.line_baud > 0 ? (int64_t)(n * 10 * 1000 / (size_t)h->cfg.line_baud) + 1 : 0;
+	deadline = df1_now_ms() + (link_timeout_ms(h) > 1000 ? link_timeout_ms(h) : 1000) + wire_ms;
+	if (h->cfg.line_baud <= 0) {
+		r = link_write(h, buf, n, deadline);
+		if (r < 0)
+			return r;
+	} else {
+		/* a slow line: about 4 ms of characters per write, each handed
+		 * over when its last character would have arrived on the wire
+		 * (10 bits per character), so the far end never sees a byte early */
+		uint64_t start = df1_now_us();
+		size_t chunk = (size_t)h->cfg.line_baud / 10 / 250;
+		size_t off;
+
+		if (chunk < 1)
+			chunk = 1;
+		for (off = 0; off < n;) {
+			size_t c = n - off < chunk ? n - off : chunk;
+			uint64_t due_us = start + (uint64_t)(off + c) * 10u * 1000000u /
+			                  (uint64_t)h->cfg.line_baud;
+
+			r = link_pause(h, (int64_t)((due_us + 999) / 1000));
+			if (r < 0)
+				return r;
+			r = link_write(h, buf + off, c, deadline);
+			if (r < 0)
+				return r;
+			off += c;
+		}
+	}
+	df1_count_n(h, 2560, n); /* CRD_CHAR_SENT */
+	if (h->cfg.echo_discard)
+		link_echo_add(h, buf, n);
+	return 0;
+}
+
+/* DLE ACK / NAK / EOT / ENQ with its counter; ACK and NAK become the last response. */
+int link_send_sym(struct df1 *h, uint8_t sym)
+{
+	uint8_t b[2] = { DF1_DLE, sym };
+	int r = link_send_raw(h, b, sizeof b);
+
+	if (r < 0)
+		return r;
+	switch (sym) {
+	case DF1_ACK:
+		df1_count(h, 2535); /* CNT_ACKS_SENT */
+		h->last_response = DF1_ACK;
+		break;
+	case DF1_NAK:
+		df1_count(h, 2533); /* CNT_NAKS_SENT */
+		h->last_response = DF1_NAK;
+		break;
+	case DF1_EOT:
+		df1_count(h, 2537); /* CNT_EOTS_SENT */
+		break;
+	default:
+		break;
+	}
+	return 0;
+}
+
+void link_flush(struct df1 *h)
+{
+	frame_decoder_reset(&h->dec);
+	h->rx_len = h->rx_pos = 0;
+	h->echo_len = h->echo_pos = 0;
+}
+
+/* ------------------------------------------------------------------------
+ * Reception
+ * ------------------------------------------------------------------------ */
+
+/* Noise or a broken symbol: the receiver's last response becomes NAK (spec 1.7). */
+void link_noise(struct df1 *h)
+{
+	h->last_response = DF1_NAK;
+}
+
+/* One port read into the empty rx buffer. Returns bytes now buffered (0 when
+ * all were our echo), or DF1_E_* ; *expired when the read hit its deadline. */
+static int link_fill(struct df1 *h, int64_t deadline_ms, bool *expired)
+{
+	ssize_t n;
+	size_t i = 0;
+
+	*expired = false;
+	h->rx_pos = h->rx_len = 0;
+	n = h->port->read(h, h->rxbuf, sizeof h->rxbuf, deadline_ms);
+	if (n < 0)
+		return (int)n; /* the backend counted 2551 and recorded the error */
+	if (n == 0) {
+		*expired = true;
+		return 0;
+	}
+	h->rx_last_ms = df1_now_ms();
+	if (h->trace_fn)
+		h->trace_fn(h->trace_user, DF1_DIR_RX, h->rxbuf, (size_t)n, df1_now_us());
+	df1_count_n(h, 2561, (uint64_t)n); /* CRD_CHAR_RECV */
+	/* 2-wire line: our own bytes come back first; drop exactly those */
+	while (h->echo_pos < h->echo_len && i < (size_t)n) {
+		if (h->rxbuf[i] != h->echo_buf[h->echo_pos]) {
+			h->echo_pos = h->echo_len = 0; /* echo lost (collision): stop expecting it */
+			break;
+		}
+		i++;
+		h->echo_pos++;
+	}
+	h->rx_pos = i;
+	h->rx_len = (size_t)n;
+	return (int)(h->rx_len - h->rx_pos);
+}
+
+static int64_t link_gap_ms(const struct df1 *h)
+{
+	int64_t g = link_timeout_ms(h);
+
+	return g < 100 ? 100 : g > 1000 ? 1000 : g;
+}
+
+/* How far past its deadline a symbol under way may run: twice the time of the
+ * longest frame at the configured baud rate, at least a second. */
+static int64_t link_overrun_ms(const struct df1 *h)
+{
+	int64_t baud = h->cfg.baud > 0 ? h->cfg.baud : 1200;
+	int64_t ms = 2 * (int64_t)FRAME_MAX_WIRE * 10 * 1000 / baud;
+
+	return ms < 1000 ? 1000 : ms;
+}
+
+int link_read_symbol(struct df1 *h, int64_t deadline_ms, struct df1_symbol *sym)
+{
+	int64_t hard = deadline_ms + link_overrun_ms(h);
+
+	for (;;) {
+		bool busy, expired;
+		int64_t dl;
+		int r;
+
+		if (h->rx_pos < h->rx_len) {
+			size_t noise = h->dec.noise;
+
+			h->rx_pos += frame_decoder_feed(&h->dec, h->rxbuf + h->rx_pos,
+			                                h->rx_len - h->rx_pos, sym);
+			if (h->dec.noise != noise)
+				link_noise(h);
+			if (sym->kind != DF1_SYM_NONE)
+				return 1;
+			continue;
+		}
+		/* a symbol under way may finish past the deadline, within the character gap */
+		busy = frame_decoder_busy(&h->dec);
+		dl = deadline_ms;
+		if (busy) {
+			dl = h->rx_last_ms + link_gap_ms(h);
+			if (dl > hard)
+				dl = hard; /* a line that never stops talking */
+		}
+		r = link_fill(h, dl, &expired);
+		if (r < 0)
+			return r;
+		if (!expired)
+			continue;
+		if (busy) {
+			/* cut short: the line went quiet (or never stopped) mid-symbol */
+			if (h->dec.wire >= 2)
+				df1_log(h, 2518); /* NTC_NO_ETX_RCVD */
+			frame_decoder_reset(&h->dec);
+			link_noise(h);
+			if (df1_now_ms() < deadline_ms)
+				continue;
+		}
+		memset(sym, 0, sizeof *sym);
+		return 0;
+	}
+}
+
+/* 2506/2507 with counters 2547/2546 for a frame (or poll) with a bad check. */
+void link_bad_check(struct df1 *h, const struct df1_symbol *s)
+{
+	unsigned a = s->check_actual, e = s->check_expected;
+
+	if (s->check == DF1_CHECK_BCC) {
+		df1_count(h, 2546); /* CNT_BCC_ERRORS */
+		df1_log(h, 2507, (int)(a >> 8), (int)(a & 0xFF), (int)(e >> 8), (int)(e & 0xFF));
+	} else {
+		df1_count(h, 2547); /* CNT_CRC_ERRORS */
+		df1_log(h, 2506, (int)(a >> 8), (int)(a & 0xFF), (int)(e >> 8), (int)(e & 0xFF));
+	}
+}
+
+/* The notice of an ERROR symbol. Returns true if it broke a frame (or its header). */
+bool link_log_error(struct df1 *h, const struct df1_symbol *s)
+{
+	switch (s->error) {
+	case 2512:
+		df1_log(h, 2512, (int)(h->dec.max_len ? h->dec.max_len : FRAME_MAX_DATA));
+		return true;
+	case 2513:
+		df1_log(h, 2513, FRAME_MIN_DATA);
+		return true;
+	case 2518:
+		df1_log(h, 2518);
+		return true;
+	case 2507: /* a half-duplex poll with a wrong BCC */
+	case 2506:
+		link_bad_check(h, s);
+		return false;
+	case 2514:
+	default:
+		df1_log(h, 2514, (int)s->bad_byte);
+		/* DLE x outside anything is 2 bytes; inside a frame or header, more */
+		return s->wire_len > 2;
+	}
+}
+
+/* ------------------------------------------------------------------------
+ * Duplicate detection (spec 1.7, 2.3): SRC, CMD and both TNS bytes.
+ * ------------------------------------------------------------------------ */
+
+bool link_is_dup(const struct df1 *h, uint8_t key, const uint8_t *app, size_t n)
+{
+	const struct station_state *st = &h->stations[key];
+
+	if (!h->cfg.dup_detect || !st->have_last || n < 6)
+		return false;
+	return st->last_hdr[1] == app[1] && st->last_hdr[2] == app[2] &&
+	       st->last_hdr[4] == app[4] && st->last_hdr[5] == app[5];
+}
+
+void link_remember(struct df1 *h, uint8_t key, const uint8_t *app, size_t n)
+{
+	struct station_state *st = &h->stations[key];
+
+	if (n < 6)
+		return;
+	memcpy(st->last_hdr, app, 6);
+	st->have_last = true;
+}
+
+/* A duplicate: ACKed again and dropped (2526, 2549, 2524), counted even when
+ * the ACK cannot be sent. Returns the ACK's result. */
+int link_ack_dup(struct df1 *h, const struct df1_symbol *s)
+{
+	int r = link_send_sym(h, DF1_ACK);
+
+	df1_count(h, 2526); /* CNT_MSG_PACKETS_RCVD */
+	df1_count(h, 2549); /* CNT_DUPLICATE_MSGS_RCVD */
+	df1_log(h, 2524, (int)s->data[1]);
+	return r;
+}
+
+int link_serve_screen(struct df1 *h, uint8_t key, const struct df1_symbol *s)
+{
+	const uint8_t *d = s->data;
+	int r;
+
+	if (link_is_dup(h, key, d, s->len)) {
+		r = link_ack_dup(h, s);
+		return r < 0 ? r : 0;
+	}
+	if (d[2] & 0x40) {
+		/* a reply, and the responder has no command outstanding: stale */
+		r = link_send_sym(h, DF1_ACK);
+		link_remember(h, key, d, s->len);
+		df1_count(h, 2526); /* CNT_MSG_PACKETS_RCVD */
+		df1_count(h, 2548); /* CNT_STALE_MSGS_RCVD */
+		df1_log(h, 2510, (int)d[1], (int)d[0], (int)(d[4] | d[5] << 8));
+		return r < 0 ? r : 0;
+	}
+	return 1;
+}
+
+/* A message the master accepted (already ACKed): the reply it waits for?
+ * Returns 1 (matched: copied to reply, *len set), 0 (stale or unsolicited:
+ * counted and dropped) or DF1_E_* (wrong CMD, reply buffer too small). */
+int link_take_reply(struct df1 *h, const uint8_t *cmd, const struct df1_symbol *s,
+                    uint8_t *reply, size_t cap, size_t *len)
+{
+	const uint8_t *d = s->data;
+	uint16_t tns = (uint16_t)(d[4] | d[5] << 8);
+
+	df1_count(h, 2526); /* CNT_MSG_PACKETS_RCVD */
+	if (!(d[2] & 0x40)) {
+		/* a command: we are not the responder here */
+		df1_count(h, 2528); /* CNT_CMD_MSGS_RCVD */
+		df1_count(h, 2550); /* CNT_INVALID_MSGS_RCVD */
+		df1_log(h, 2510, (int)d[1], (int)d[0], (int)tns);
+		return 0;
+	}
+	if (!cmd || d[1] != cmd[0] || d[4] != cmd[4] || d[5] != cmd[5]) {
+		df1_count(h, 2548); /* CNT_STALE_MSGS_RCVD */
+		df1_log(h, 2510, (int)d[1], (int)d[0], (int)tns);
+		return 0;
+	}
+	if (d[2] != (uint8_t)(cmd[2] | 0x40)) {
+		df1_count(h, 2550);
+		df1_log(h, 2505, (int)cmd[0], (int)d[2], (int)(cmd[2] | 0x40));
+		return df1_fail(h, DF1_E_BAD_FUNCTION, cmd[0],
+		                "reply with command code 0x%02X, expected 0x%02X", d[2], cmd[2] | 0x40);
+	}
+	df1_count(h, 2530); /* CNT_REPLY_MSGS_RCVD */
+	if (d[3] != 0)
+		df1_count(h, 2540); /* CNT_ERROR_MSGS_RCVD */
+	df1_log(h, 2523, (int)cmd[0]);
+	if (s->len > cap)
+		return df1_fail(h, DF1_E_NOSPACE, cmd[0], "reply of %zu bytes, buffer holds %zu",
+		                s->len, cap);
+	memcpy(reply, d, s->len);
+	*len = s->len;
+	return 1;
+}
+
+/* ------------------------------------------------------------------------
+ * Reply slots (the responder's queue)
+ * ------------------------------------------------------------------------ */
+
+struct link_reply *link_slot_new(struct df1 *h, uint8_t stn, const uint8_t *app, size_t n)
+{
+	for (int i = 0; i < LINK_REPLY_SLOTS; i++) {
+		struct link_reply *r = &h->resp->replies[i];
+
+		if (r->used)
+			continue;
+		memset(r, 0, sizeof *r);
+		r->used = true;
+		r->stn = stn;
+		r->seq = ++h->resp->seq;
+		r->len = n;
+		memcpy(r->app, app, n);
+		r->corrupt = link_fault(h->resp, DF1_FAULT_CORRUPT_REPLY);
+		r->stale_first = link_fault(h->resp, DF1_FAULT_STALE_REPLY);
+		if (link_fault(h->resp, DF1_FAULT_DELAY_REPLY))
+			r->due_ms = df1_now_ms() + h->resp->faults.value[DF1_FAULT_DELAY_REPLY];
+		return r;
+	}
+	return NULL;
+}
+
+bool link_slot_free_exists(const struct df1 *h)
+{
+	for (int i = 0; i < LINK_REPLY_SLOTS; i++)
+		if (!h->resp->replies[i].used)
+			return true;
+	return false;
+}
+
+/* The oldest queued reply (for station stn, or any when all). */
+struct link_reply *link_slot_oldest(struct df1 *h, bool all, uint8_t stn)
+{
+	struct link_reply *best = NULL;
+
+	for (int i = 0; i < LINK_REPLY_SLOTS; i++) {
+		struct link_reply *r = &h->resp->replies[i];
+
+		if (!r->used || (!all && r->stn != stn))
+			continue;
+		if (!best || (int32_t)(r->seq - best->seq) < 0)
+			best = r;
+	}
+	return best;
+}
+
+void link_slots_clear(struct df1 *h)
+{
+	for (int i = 0; i < LINK_REPLY_SLOTS; i++)
+		h->resp->replies[i].used = false;
+	h->resp->awaiting = 0;
+	h->resp->awaiting_stale = false;
+}
+
+/* Encode (a stale copy of) a queued reply, with the faults of this
+ * transmission, and send it. first: the reply's first transmission. */
+int link_slot_send(struct df1 *h, struct link_reply *r, bool stale, bool first)
+{
+	uint8_t wire[3 + FRAME_MAX_WIRE];
+	uint8_t app[FRAME_MAX_DATA];
+	size_t off = 0, n;
+	int rc;
+
+	memcpy(app, r->app, r->len);
+	if (stale) {
+		/* TNS - 2, not - 1: a master that increments its TNS has just accepted
+		 * TNS - 1, and that copy would be a duplicate, not a stale reply. */
+		uint16_t tns = (uint16_t)((app[4] | app[5] << 8) - 2);
+
+		app[4] = (uint8_t)(tns & 0xFF);
+		app[5] = (uint8_t)(tns >> 8);
+	}
+	if (link_fault(h->resp, DF1_FAULT_NOISE))
+		off = link_noise_bytes(h->resp, wire);
+	n = frame_encode_slave(link_tx_check(h), app, r->len, wire + off, sizeof wire - off);
+	if (n == 0)
+		return df1_fail(h, DF1_E_INVAL, r->stn, "reply of %zu bytes does not fit a frame", r->len);
+	if (r->corrupt && !stale) {
+		wire[off + n - 1] ^= 0xFF; /* the last check byte: a receiver must reject it */
+		r->corrupt = false;        /* the retransmission is good */
+	}
+	rc = link_send_raw(h, wire, off + n);
+	if (rc < 0)
+		return rc;
+	df1_count(h, 2525); /* CNT_MSG_PACKETS_SENT */
+	if (first) {
+		df1_count(h, 2529); /* CNT_REPLY_MSGS_SENT */
+		if (app[3] != 0)
+			df1_count(h, 2539); /* CNT_ERROR_MSGS_SENT */
+	}
+	return 0;
+}
+

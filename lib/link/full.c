@@ -1,0 +1,418 @@
+/*
+ * full.c - the DF1 full-duplex peer (spec/protocol.md 1, DESIGN.md 4): the
+ * receiver rules, the master's transaction (ACK timer, ENQ and NAK retries)
+ * and the responder (one reply in flight). The decisions it follows are listed
+ * in core.c, which holds what it shares with half.c; link.c dispatches here.
+ */
+#include "link.h"
+
+#include "link_int.h"
+
+/* ------------------------------------------------------------------------
+ * Full duplex: the receiver (spec 1.7)
+ * ------------------------------------------------------------------------ */
+
+/* A frame with a bad check or an ERROR symbol: DLE NAK when a frame was broken,
+ * else only the last response becomes NAK. */
+static int full_reject(struct df1 *h, const struct df1_symbol *s)
+{
+	bool in_frame;
+
+	if (s->kind == DF1_SYM_FRAME) {
+		link_bad_check(h, s);
+		in_frame = true;
+	} else {
+		in_frame = link_log_error(h, s);
+	}
+	if (!in_frame) {
+		link_noise(h);
+		return 0;
+	}
+	return link_send_sym(h, DF1_NAK);
+}
+
+/* ------------------------------------------------------------------------
+ * Full duplex: master transaction
+ * ------------------------------------------------------------------------ */
+
+int full_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap)
+{
+	uint8_t wire[FRAME_MAX_WIRE];
+	size_t wn = frame_encode_full(link_tx_check(h), cmd, n, wire, sizeof wire);
+	int stn = cmd[0], naks = 0, enqs = 0, r;
+	int64_t reply_wait = link_timeout_ms(h);
+	int64_t deadline;
+	bool acked = false;
+
+	if (wn == 0)
+		return df1_fail(h, DF1_E_INVAL, stn, "command of %zu bytes does not fit a frame", n);
+	if (h->cfg.cmd_timeout_ms > reply_wait)
+		reply_wait = h->cfg.cmd_timeout_ms;
+	r = link_send_raw(h, wire, wn);
+	if (r < 0)
+		return r;
+	df1_count(h, 2525); /* CNT_MSG_PACKETS_SENT */
+	df1_count(h, 2527); /* CNT_CMD_MSGS_SENT */
+	deadline = df1_now_ms() + link_timeout_ms(h);
+	for (;;) {
+		struct df1_symbol s;
+		size_t len = 0;
+
+		r = link_read_symbol(h, deadline, &s);
+		if (r < 0)
+			return r;
+		if (r == 0) {
+			if (acked) {
+				df1_count(h, 2545); /* CNT_COMMAND_TIMEOUTS */
+				df1_log(h, 2508);
+				return df1_fail(h, DF1_E_TIMEOUT, stn, "no reply from station %d", stn);
+			}
+			/* ACK timeout: ask for the response again (spec 1.6 rule 4) */
+			if (enqs >= h->cfg.enq_retries) {
+				df1_count(h, 2544); /* CNT_ENQ_LIMIT_EXCEEDED */
+				df1_log(h, 2520, h->cfg.enq_retries);
+				return df1_fail(h, DF1_E_ENQ_LIMIT, stn,
+				                "no ACK from station %d after %d ENQ", stn, enqs);
+			}
+			enqs++;
+			df1_count(h, 2543); /* CNT_ENQ_RETRIES */
+			df1_log(h, 2522, enqs, 2508);
+			r = link_send_sym(h, DF1_ENQ);
+			if (r < 0)
+				return r;
+			deadline = df1_now_ms() + link_timeout_ms(h);
+			continue;
+		}
+		switch (s.kind) {
+		case DF1_SYM_ACK:
+			df1_count(h, 2536); /* CNT_ACKS_RCVD */
+			if (!acked) {
+				acked = true;
+				deadline = df1_now_ms() + reply_wait;
+			}
+			break;
+		case DF1_SYM_NAK:
+			df1_count(h, 2534); /* CNT_NAKS_RCVD */
+			if (acked) {
+				df1_log(h, 2511); /* no frame of ours is waiting for a response */
+				break;
+			}
+			df1_log(h, 2517);
+			if (naks >= h->cfg.nak_retries) {
+				df1_count(h, 2542); /* CNT_NAK_LIMIT_EXCEEDED */
+				df1_log(h, 2519, h->cfg.nak_retries);
+				return df1_fail(h, DF1_E_NAK_LIMIT, stn,
+				                "station %d answered NAK %d times", stn, naks + 1);
+			}
+			naks++;
+			df1_count(h, 2541); /* CNT_NAK_RETRIES */
+			df1_log(h, 2521, naks, 2517);
+			r = link_send_raw(h, wire, wn);
+			if (r < 0)
+				return r;
+			df1_count(h, 2525);
+			deadline = df1_now_ms() + link_timeout_ms(h);
+			break;
+		case DF1_SYM_ENQ:
+			/* the peer asks for our last response */
+			r = link_send_sym(h, h->last_response);
+			if (r < 0)
+				return r;
+			break;
+		case DF1_SYM_FRAME:
+			if (s.master_msg) {
+				link_noise(h); /* no half-duplex framing on a full-duplex link */
+				break;
+			}
+			if (!s.check_ok) {
+				r = full_reject(h, &s);
+				if (r < 0)
+					return r;
+				break;
+			}
+			if (link_is_dup(h, s.data[1], s.data, s.len)) {
+				r = link_send_sym(h, DF1_ACK);
+				if (r < 0)
+					return r;
+				df1_count(h, 2526); /* CNT_MSG_PACKETS_RCVD */
+				df1_count(h, 2549); /* CNT_DUPLICATE_MSGS_RCVD */
+				df1_log(h, 2524, (int)s.data[1]);
+				break;
+			}
+			r = link_send_sym(h, DF1_ACK);
+			if (r < 0)
+				return r;
+			link_remember(h, s.data[1], s.data, s.len);
+			r = link_take_reply(h, cmd, &s, reply, cap, &len);
+			if (r < 0)
+				return r;
+			if (r == 1)
+				return (int)len;
+			break;
+		case DF1_SYM_ERROR:
+			r = full_reject(h, &s);
+			if (r < 0)
+				return r;
+			break;
+		default: /* EOT, poll: not full-duplex symbols */
+			link_noise(h);
+			break;
+		}
+	}
+}
+
+/* Full duplex DLE ENQ: any response symbol means the peer is there. */
+int full_test(struct df1 *h)
+{
+	int64_t deadline;
+	int r = link_send_sym(h, DF1_ENQ);
+
+	if (r < 0)
+		return r;
+	deadline = df1_now_ms() + link_timeout_ms(h);
+	for (;;) {
+		struct df1_symbol s;
+
+		r = link_read_symbol(h, deadline, &s);
+		if (r < 0)
+			return r;
+		if (r == 0)
+			return df1_fail(h, DF1_E_TIMEOUT, -1, "no answer to DLE ENQ");
+		switch (s.kind) {
+		case DF1_SYM_ACK:
+			df1_count(h, 2536);
+			return 0;
+		case DF1_SYM_NAK:
+			df1_count(h, 2534);
+			return 0;
+		case DF1_SYM_ENQ:
+			r = link_send_sym(h, h->last_response);
+			break;
+		case DF1_SYM_FRAME:
+			if (s.master_msg) {
+				link_noise(h);
+			} else if (!s.check_ok) {
+				r = full_reject(h, &s);
+			} else if (link_is_dup(h, s.data[1], s.data, s.len)) {
+				r = link_ack_dup(h, &s);
+			} else {
+				size_t len;
+
+				r = link_send_sym(h, DF1_ACK);
+				link_remember(h, s.data[1], s.data, s.len);
+				if (r >= 0)
+					r = link_take_reply(h, NULL, &s, NULL, 0, &len);
+			}
+			break;
+		case DF1_SYM_ERROR:
+			r = full_reject(h, &s);
+			break;
+		default:
+			link_noise(h);
+			break;
+		}
+		if (r < 0)
+			return r;
+	}
+}
+
+/* ------------------------------------------------------------------------
+ * Full duplex: responder
+ * ------------------------------------------------------------------------ */
+
+static int full_tx_start(struct df1 *h, struct link_reply *t)
+{
+	bool first = !t->stale_now && t->naks == 0 && t->enqs == 0;
+	int r;
+
+	if (t->stale_first) {
+		t->stale_first = false;
+		t->stale_now = true;
+		first = true;
+	}
+	r = link_slot_send(h, t, t->stale_now, first);
+	if (r < 0)
+		return r;
+	t->sent = true;
+	t->ack_deadline_ms = df1_now_ms() + link_timeout_ms(h);
+	return 0;
+}
+
+/* The master's ACK of our reply. */
+static int full_tx_acked(struct df1 *h, struct link_reply *t)
+{
+	if (t->stale_now) {
+		/* the stale copy is through; the real reply goes next */
+		t->stale_now = false;
+		t->sent = false;
+		t->naks = t->enqs = 0;
+		return full_tx_start(h, t);
+	}
+	t->used = false;
+	return 0;
+}
+
+static int full_tx_nak(struct df1 *h, struct link_reply *t)
+{
+	int r;
+
+	if (t->naks >= h->cfg.nak_retries) {
+		df1_count(h, 2542);
+		df1_log(h, 2519, h->cfg.nak_retries);
+		t->used = false;
+		return 0;
+	}
+	t->naks++;
+	df1_count(h, 2541);
+	df1_log(h, 2521, t->naks, 2517);
+	r = link_slot_send(h, t, t->stale_now, false);
+	if (r < 0)
+		return r;
+	t->ack_deadline_ms = df1_now_ms() + link_timeout_ms(h);
+	return 0;
+}
+
+static int full_tx_timeout(struct df1 *h, struct link_reply *t)
+{
+	int r;
+
+	if (t->enqs >= h->cfg.enq_retries) {
+		df1_count(h, 2544);
+		df1_log(h, 2520, h->cfg.enq_retries);
+		t->used = false;
+		return 0;
+	}
+	t->enqs++;
+	df1_count(h, 2543);
+	df1_log(h, 2522, t->enqs, 2508);
+	r = link_send_sym(h, DF1_ENQ);
+	if (r < 0)
+		return r;
+	t->ack_deadline_ms = df1_now_ms() + link_timeout_ms(h);
+	return 0;
+}
+
+/* A frame for the responder. Returns 1 when the handler ran, 0, or DF1_E_*. */
+static int full_serve_frame(struct df1 *h, const struct df1_symbol *s, link_handler_fn fn, void *ctx)
+{
+	uint8_t out[FRAME_MAX_DATA];
+	const uint8_t *d = s->data;
+	bool drop_ack;
+	int r, rlen;
+
+	if (s->master_msg) {
+		link_noise(h);
+		return 0;
+	}
+	if (!s->check_ok)
+		return full_reject(h, s);
+	if (link_fault_silent(h->resp, d[0])) {
+		h->resp->silenced = true; /* not even a response to the ENQs that follow */
+		return 0;
+	}
+	h->resp->silenced = false;
+	r = link_serve_screen(h, d[1], s);
+	if (r <= 0)
+		return r;
+	if (link_fault(h->resp, DF1_FAULT_NAK_COMMAND)) {
+		r = link_send_sym(h, DF1_NAK);
+		return r < 0 ? r : 0;
+	}
+	drop_ack = link_fault(h->resp, DF1_FAULT_DROP_ACK);
+	if (drop_ack) {
+		h->last_response = DF1_ACK; /* as if our ACK was lost on the line */
+	} else {
+		r = link_send_sym(h, DF1_ACK);
+		if (r < 0)
+			return r;
+	}
+	link_remember(h, d[1], d, s->len);
+	df1_count(h, 2526);
+	df1_count(h, 2528); /* CNT_CMD_MSGS_RCVD */
+	/* a new command: the master no longer waits for an older reply */
+	link_slots_clear(h);
+	rlen = fn(h, ctx, d, s->len, out, sizeof out);
+	if (rlen > 0 && (size_t)rlen <= sizeof out && link_slot_new(h, d[1], out, (size_t)rlen) == NULL)
+		return df1_fail(h, DF1_E_NOSPACE, d[1], "no reply slot free");
+	return 1;
+}
+
+int full_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms)
+{
+	int served = 0;
+
+	for (;;) {
+		struct link_reply *t = link_slot_oldest(h, true, 0);
+		int64_t now = df1_now_ms(), dl = deadline_ms;
+		enum { W_END, W_ACK, W_DUE } which = W_END;
+		struct df1_symbol s;
+		int r = 0;
+
+		if (t && !t->sent && t->due_ms <= now) {
+			r = full_tx_start(h, t);
+			if (r < 0)
+				return r;
+		}
+		if (now >= deadline_ms)
+			return served;
+		if (served > 0 && !t && h->rx_pos >= h->rx_len && !frame_decoder_busy(&h->dec))
+			return served; /* answered, nothing in flight: back to the caller */
+		if (t && t->sent && t->ack_deadline_ms < dl) {
+			dl = t->ack_deadline_ms;
+			which = W_ACK;
+		} else if (t && !t->sent && t->due_ms < dl) {
+			dl = t->due_ms;
+			which = W_DUE;
+		}
+		r = link_read_symbol(h, dl, &s);
+		if (r < 0)
+			return r;
+		if (r == 0) {
+			if (which == W_END)
+				return served;
+			if (which == W_ACK)
+				r = full_tx_timeout(h, t);
+			else
+				t->due_ms = 0;
+			if (r < 0)
+				return r;
+			continue;
+		}
+		switch (s.kind) {
+		case DF1_SYM_ACK:
+			df1_count(h, 2536);
+			if (t && t->sent)
+				r = full_tx_acked(h, t);
+			break;
+		case DF1_SYM_NAK:
+			df1_count(h, 2534);
+			if (t && t->sent) {
+				df1_log(h, 2517);
+				r = full_tx_nak(h, t);
+			} else {
+				df1_log(h, 2511); /* no frame of ours is waiting for a response */
+			}
+			break;
+		case DF1_SYM_ENQ:
+			if (!h->resp->silenced && !link_fault_silent_all(h->resp))
+				r = link_send_sym(h, h->last_response);
+			break;
+		case DF1_SYM_FRAME:
+			r = full_serve_frame(h, &s, fn, ctx);
+			if (r > 0) {
+				served++;
+				r = 0;
+			}
+			break;
+		case DF1_SYM_ERROR:
+			r = full_reject(h, &s);
+			break;
+		default:
+			link_noise(h);
+			break;
+		}
+		if (r < 0)
+			return r;
+	}
+}
+

@@ -1,0 +1,24 @@
+/*
+ * opts.c - the frame decoder options (FRAME_OPT_*) that the link settings
+ * imply. Its own file: the handle sets up its decoder with it at df1_new()
+ * without pulling in the link layer's code (tests/test_client.c replaces all
+ * of link.h but this).
+ */
+#include "link.h"
+
+unsigned link_decoder_opts(const struct df1 *h)
+{
+	unsigned opts = 0;
+
+	if (h->cfg.nak_0f)
+		opts |= FRAME_OPT_ACCEPT_NAK_0F;
+	if (h->cfg.hd_bcc_stx)
+		opts |= FRAME_OPT_HD_BCC_STX;
+	if (h->cfg.eot_bcc)
+		opts |= FRAME_OPT_EOT_TRAILER;
+	if (!h->cfg.embedded)
+		opts |= FRAME_OPT_NO_EMBEDDED;
+	if (h->cfg.duplex != DF1_FULL_DUPLEX)
+		opts |= FRAME_OPT_HALF_DUPLEX;
+	return opts;
+}
