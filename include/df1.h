@@ -133,11 +133,9 @@ enum df1_severity {
 	X(ERR_BAD_PLC_TYPE, 2502, ERROR, \
 	  "Item: %d, Invalid or Unsupported PLC Type (%s) should be one of %s, %s, %s, %s", \
 	  "a mapping row's PLC type is invalid or unsupported") \
-	X(ERR_ADDRESS_SYNTAX, 2503, ERROR, \
-	  "Item: %d, Invalid Address Syntax (%s)", \
+	X(ERR_ADDRESS_SYNTAX, 2503, ERROR, "Item: %d, Invalid Address Syntax (%s)", \
 	  "a mapping row's address does not follow the address format") \
-	X(ERR_ADDRESS_RANGE, 2504, ERROR, \
-	  "Item: %d, Address is out of range (%s, len=%d)", \
+	X(ERR_ADDRESS_RANGE, 2504, ERROR, "Item: %d, Address is out of range (%s, len=%d)", \
 	  "a mapping row's address is outside the valid address range") \
 	X(ERR_BAD_FUNCTION_CODE, 2505, ERROR, \
 	  "Response with wrong command code (slv=%d, actual=%d, expected=%d)", \
@@ -148,52 +146,39 @@ enum df1_severity {
 	X(ERR_BAD_BCC, 2507, ERROR, \
 	  "Response with wrong BCC (actual=0x%02x%02x, expected=0x%02x%02x)", \
 	  "a received frame had a bad BCC: line problems") \
-	X(ERR_COMMAND_TIMEOUT, 2508, ERROR, \
-	  "Command Timed Out", \
+	X(ERR_COMMAND_TIMEOUT, 2508, ERROR, "Command Timed Out", \
 	  "no valid reply to a command arrived in time") \
-	X(ERR_INACTIVE_STATION, 2509, ERROR, \
-	  "Slave Station (%d) Inactive", \
+	X(ERR_INACTIVE_STATION, 2509, ERROR, "Slave Station (%d) Inactive", \
 	  "too many errors: the slave was removed from the active station list") \
 	X(ERR_WRONG_MESSAGE, 2510, ERROR, \
 	  "Wrong Message Received Src:0x%02x, Dst:0x%02x, Tns:0x%04x", \
 	  "an unexpected or wrong message was received") \
 	X(ERR_RCVD_NAK_SYMBOL, 2511, ERROR, "Received NAK Symbol", "a DLE NAK was received") \
-	X(NTC_RCVD_MSG_TOO_LONG, 2512, NOTICE, \
-	  "Received Message Too Long (> %d bytes)", \
+	X(NTC_RCVD_MSG_TOO_LONG, 2512, NOTICE, "Received Message Too Long (> %d bytes)", \
 	  "a received message was longer than the maximum DF1 message") \
-	X(NTC_RCVD_MSG_TOO_SHORT, 2513, NOTICE, \
-	  "Received Message Too Short (< %d bytes)", \
+	X(NTC_RCVD_MSG_TOO_SHORT, 2513, NOTICE, "Received Message Too Short (< %d bytes)", \
 	  "a received message was too short to be a DF1 message") \
-	X(NTC_INVALID_SYMBOL, 2514, NOTICE, \
-	  "Invalid Symbol received after DLE - (0x%02x)", \
+	X(NTC_INVALID_SYMBOL, 2514, NOTICE, "Invalid Symbol received after DLE - (0x%02x)", \
 	  "the byte after a DLE was not a valid symbol there") \
-	X(NTC_ACK_EXPECTED, 2515, NOTICE, \
-	  "ACK Expected (last symbol received was 0x%02x)", \
+	X(NTC_ACK_EXPECTED, 2515, NOTICE, "ACK Expected (last symbol received was 0x%02x)", \
 	  "an ACK was expected but something else arrived") \
 	X(NTC_EOT_STX_EXPECTED, 2516, NOTICE, \
 	  "EOT or STX Expected (last symbol received was 0x%02x)", \
 	  "a poll's answer (EOT or a message) was expected but something else arrived") \
 	X(NTC_RCVD_NAK_SYMBOL, 2517, NOTICE, "Received NAK Symbol", "a DLE NAK was received") \
-	X(NTC_NO_ETX_RCVD, 2518, NOTICE, \
-	  "Incomplete Message, No ETX received", \
+	X(NTC_NO_ETX_RCVD, 2518, NOTICE, "Incomplete Message, No ETX received", \
 	  "a message began with SOH/STX but never reached DLE ETX") \
-	X(NTC_NAK_LIMIT_EXCEEDED, 2519, NOTICE, \
-	  "NAK Retry Limit (%d) exceeded", \
+	X(NTC_NAK_LIMIT_EXCEEDED, 2519, NOTICE, "NAK Retry Limit (%d) exceeded", \
 	  "a message failed more often than the NAK retry limit") \
-	X(NTC_ENQ_LIMIT_EXCEEDED, 2520, NOTICE, \
-	  "ENQ Retry Limit (%d) exceeded", \
+	X(NTC_ENQ_LIMIT_EXCEEDED, 2520, NOTICE, "ENQ Retry Limit (%d) exceeded", \
 	  "polling for a reply failed more often than the ENQ retry limit") \
-	X(NTC_NAK_RETRY, 2521, NOTICE, \
-	  "NAK Retry #%d, due to error %d", \
+	X(NTC_NAK_RETRY, 2521, NOTICE, "NAK Retry #%d, due to error %d", \
 	  "sending a message failed; it will be retried") \
-	X(NTC_ENQ_RETRY, 2522, NOTICE, \
-	  "ENQ Retry #%d, due to error %d", \
+	X(NTC_ENQ_RETRY, 2522, NOTICE, "ENQ Retry #%d, due to error %d", \
 	  "sending a poll failed; it will be retried") \
-	X(NTC_REPLY_MSG_RCVD, 2523, NOTICE, \
-	  "Reply Message received from Slave %d", \
+	X(NTC_REPLY_MSG_RCVD, 2523, NOTICE, "Reply Message received from Slave %d", \
 	  "a good reply arrived from a slave") \
-	X(NTC_DUPLICATE_MSG_RCVD, 2524, NOTICE, \
-	  "Duplicate Message received from Slave %d", \
+	X(NTC_DUPLICATE_MSG_RCVD, 2524, NOTICE, "Duplicate Message received from Slave %d", \
 	  "a slave sent a message again (its ACK was probably lost)") \
 	X(CNT_MSG_PACKETS_SENT, 2525, COUNTER, NULL, "message packets transmitted") \
 	X(CNT_MSG_PACKETS_RCVD, 2526, COUNTER, NULL, "message packets received") \
@@ -211,27 +196,22 @@ enum df1_severity {
 	X(CNT_EOTS_RCVD, 2538, COUNTER, NULL, "EOT symbols received") \
 	X(CNT_ERROR_MSGS_SENT, 2539, COUNTER, NULL, "error messages transmitted") \
 	X(CNT_ERROR_MSGS_RCVD, 2540, COUNTER, NULL, "error messages received") \
-	X(CNT_NAK_RETRIES, 2541, COUNTER, \
-	  NULL, \
+	X(CNT_NAK_RETRIES, 2541, COUNTER, NULL, \
 	  "message retries (no ACK, a NAK, or another communication error)") \
 	X(CNT_NAK_LIMIT_EXCEEDED, 2542, COUNTER, NULL, "messages aborted at the NAK retry limit") \
-	X(CNT_ENQ_RETRIES, 2543, COUNTER, \
-	  NULL, \
+	X(CNT_ENQ_RETRIES, 2543, COUNTER, NULL, \
 	  "poll retries (no answer, a NAK, or another error)") \
 	X(CNT_ENQ_LIMIT_EXCEEDED, 2544, COUNTER, NULL, "messages aborted at the ENQ retry limit") \
-	X(CNT_COMMAND_TIMEOUTS, 2545, COUNTER, \
-	  NULL, \
+	X(CNT_COMMAND_TIMEOUTS, 2545, COUNTER, NULL, \
 	  "transactions over the command timeout (a NAK is sent to end them)") \
 	X(CNT_BCC_ERRORS, 2546, COUNTER, NULL, "BCC errors detected in received data") \
 	X(CNT_CRC_ERRORS, 2547, COUNTER, NULL, "CRC errors detected in received data") \
 	X(CNT_STALE_MSGS_RCVD, 2548, COUNTER, NULL, "stale (leftover) messages received") \
 	X(CNT_DUPLICATE_MSGS_RCVD, 2549, COUNTER, NULL, "duplicate messages received (lost ACKs)") \
-	X(CNT_INVALID_MSGS_RCVD, 2550, COUNTER, \
-	  NULL, \
+	X(CNT_INVALID_MSGS_RCVD, 2550, COUNTER, NULL, \
 	  "invalid messages received (bad data, addressing)") \
 	X(CNT_COM_READ_ERRORS, 2551, COUNTER, NULL, "communication port read errors") \
-	X(CRT_BAD_STATION_ID, 2552, CRITICAL, \
-	  "Invalid station number (%d) must be less than %d", \
+	X(CRT_BAD_STATION_ID, 2552, CRITICAL, "Invalid station number (%d) must be less than %d", \
 	  "the network file's station is outside 0-254") \
 	X(CRT_BAD_DRIVER_MODE, 2553, CRITICAL, \
 	  "Invalid Driver Mode (%s), should be one of %s, %s, or %s", \

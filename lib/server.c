@@ -619,19 +619,15 @@ static int srv_plc2(struct srv *s)
 
 int server_default_diag(uint8_t *buf, size_t cap)
 {
-	/* M p.174 layout (1-based bytes): 1 mode/status, 2 EE, 3 interface type,
-	 * 4 processor type, 5 series/revision, 6-16 bulletin, 17-18 major error,
-	 * 19-20 mode/status word, 21-22 program ID, 23 RAM KB, 24 owner (3F none) */
-	static const uint8_t d[24] = {
-		0x00, 0xEE, 0x1F, 0x5B, 0x44,
-		'5', '/', '0', '4', ' ', ' ', ' ', ' ', ' ', ' ', ' ',
-		0x00, 0x00, 0x06, 0x00, 0x00, 0x00, 0x10, 0x3F,
+	/* an SLC 5/04 (series C, revision 4) in Run mode, 16 KB of RAM, no owner */
+	static const struct pccc_diag_info slc504 = {
+		.type_code = 0x5B, .interface_type = 0x1F, .series_rev = 0x44,
+		.bulletin = "5/04", .mode = 0x06, .ram_kb = 0x10, .owner = 0x3F,
 	};
 
-	if (!buf || cap < sizeof d)
+	if (!buf)
 		return DF1_E_NOSPACE;
-	memcpy(buf, d, sizeof d);
-	return (int)sizeof d;
+	return pccc_enc_diag_reply(buf, cap, &slc504);
 }
 
 static int apply_mode(struct srv *s, int mode)

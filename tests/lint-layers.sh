@@ -1,15 +1,18 @@
 #!/bin/sh
-# calls.sh - which lib/ source calls (or references) what another lib/ source
-# defines, read from the objects' symbol tables (nm), and whether any files or
-# layer folders call each other in a loop, or any lib/ headers include each
-# other in a loop. Run after `make`; B=build by default. Prints "A.c -> B.c"
-# edges, the layer edges, then the cycles found (none: "no cycles").
+# lint-layers.sh - which lib/ or tools/ source calls (or references) what
+# another source defines, read from the objects' symbol tables (nm), and
+# whether any files or layer folders call each other in a loop, or any lib/ or
+# tools/ headers include each other in a loop. Run after `make`; B=build by
+# default. Prints "A.c -> B.c" edges with -v, the layer edges, then the cycles
+# found (none: "no cycles"); exits 1 on a cycle. `make check` runs it.
 B=${B:-build}
+VERBOSE=0
+[ "${1:-}" = "-v" ] && VERBOSE=1
 cd "$(dirname "$0")/.." || exit 2
-python3 - "$B" <<'PY'
+python3 - "$B" "$VERBOSE" <<'PY'
 import subprocess, sys, glob, os
-b = sys.argv[1]
-objs = sorted(o for o in glob.glob(b + "/lib/**/*.o", recursive=True)
+b, verbose = sys.argv[1], sys.argv[2] == "1"
+objs = sorted(o for o in glob.glob(b + "/lib/**/*.o", recursive=True) + glob.glob(b + "/tools/*.o")
               if os.path.exists(os.path.relpath(o, b)[:-2] + ".c"))  # not stale ones
 if not objs:
     sys.exit("no objects under %s/lib: run make first" % b)
@@ -25,7 +28,7 @@ for o in objs:
             defs[f[2]] = src
 edges = {s: sorted({defs[u] for u in us if u in defs and defs[u] != s}) for s, us in uses.items()}
 for s in sorted(edges):
-    for d in edges[s]:
+    for d in edges[s] if verbose else ():
         print("%s -> %s" % (s, d))
 def cycles(g):
     found, state = [], {}
@@ -52,7 +55,7 @@ for s, ds in edges.items():
         if layer(s) != layer(d):
             lg.setdefault(layer(s), set()).add(layer(d))
 import re
-hdrs = {os.path.basename(h): h for h in glob.glob("lib/**/*.h", recursive=True)}
+hdrs = {os.path.basename(h): h for h in glob.glob("lib/**/*.h", recursive=True) + glob.glob("tools/*.h")}
 hg = {}
 for n, h in hdrs.items():
     with open(h) as f:
