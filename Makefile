@@ -61,7 +61,7 @@ SHARED := $(B)/$(SO_FILE)
 # keep objects of chained rules (tools, tests) for quick rebuilds
 .SECONDARY:
 
-.PHONY: all check test-run tests install uninstall clean demo bench lint-man check-exports deps
+.PHONY: all check test-run tests install uninstall clean demo bench lint-man lint-code check-exports deps
 all: $(STATIC) $(SHARED) $(TOOLS) $(B)/libdf1.pc
 
 # V=1 shows the full commands
@@ -125,7 +125,7 @@ deps:
 	@sh tools/deps.sh
 
 check: deps
-	$(MAKE) lint-man check-exports
+	$(MAKE) lint-man lint-code check-exports
 	$(MAKE) B=build test-run
 	$(MAKE) B=build/san SAN=1 test-run
 
@@ -136,6 +136,16 @@ check-exports: $(SHARED)
 
 lint-man:
 	@sh tests/lint-man.sh
+
+# The layers of DESIGN.md 2 kept: no two files or layers that call each other,
+# no bare catalog ID in code (DF1_ID_* names), no source file over 1000 lines.
+CODE_SRCS = include/df1.h $(wildcard lib/*.[ch] lib/*/*.[ch] tools/*.[ch])
+lint-code: all
+	@B=$(B) sh tests/lint-layers.sh
+	@python3 tests/lint-ids.py $(CODE_SRCS) && echo "catalog IDs: named in code"
+	@long=$$(wc -l $(CODE_SRCS) | awk '$$2 != "total" && $$1 > 1000 { print $$2 " (" $$1 " lines)" }'); \
+	if [ -n "$$long" ]; then echo "source files over 1000 lines: $$long"; exit 1; fi; \
+	echo "source files: none over 1000 lines"
 
 demo: deps
 	$(MAKE) all

@@ -95,17 +95,17 @@ static void cfg_map_row(struct cfg_load *l, struct cfg_row *row)
 	if (cfg_int(v, &x) && x >= 0 && x < STATION_LIMIT)
 		t.station = x;
 	else if (cfg_int(v, &x))
-		cfg_catalog(l, 2501, item, line,
+		cfg_catalog(l, DF1_ID_ERR_BAD_STATION, item, line,
 		            "Item: %d, Invalid station number (%d) must be less than %d", "ddd", -1, item,
 		            x, STATION_LIMIT);
 	else
-		cfg_catalog(l, 2501, item, line,
+		cfg_catalog(l, DF1_ID_ERR_BAD_STATION, item, line,
 		            "Item: %d, Invalid station number (%d) must be less than %d", "ddd", 1, item,
 		            v, STATION_LIMIT);
 
 	v = cfg_value(l, row, MF_PLC_TYPE);
 	if (cfg_plc(v, &t.plc) < 0)
-		cfg_catalog(l, 2502, item, line,
+		cfg_catalog(l, DF1_ID_ERR_BAD_PLC_TYPE, item, line,
 		            "Item: %d, Invalid or Unsupported PLC Type (%s) should be one of %s, %s, %s, %s",
 		            "dsssss", -1, item, v, PLC_CHOICES);
 
@@ -120,11 +120,13 @@ static void cfg_map_row(struct cfg_load *l, struct cfg_row *row)
 	addr = cfg_value(l, row, MF_ADDRESS);
 	rc = df1_addr_parse(addr, &t.addr);
 	if (rc == DF1_E_ADDR_SYNTAX || rc == DF1_E_INVAL)
-		cfg_catalog(l, 2503, item, line, "Item: %d, Invalid Address Syntax (%s)", "ds", -1, item,
+		cfg_catalog(l, DF1_ID_ERR_ADDRESS_SYNTAX, item, line,
+		            "Item: %d, Invalid Address Syntax (%s)", "ds", -1, item,
 		            addr);
 	else if (rc < 0 || t.count < 1 || t.count > COUNT_MAX ||
 	         t.addr.element + t.count - 1 > ELEMENT_MAX)
-		cfg_catalog(l, 2504, item, line, "Item: %d, Address is out of range (%s, len=%d)", "dsd",
+		cfg_catalog(l, DF1_ID_ERR_ADDRESS_RANGE, item, line,
+		            "Item: %d, Address is out of range (%s, len=%d)", "dsd",
 		            -1, item, addr, t.count);
 
 	v = cfg_value(l, row, MF_SCAN_MS);

@@ -154,7 +154,8 @@ static void cfg_net_row(struct cfg_load *l, struct cfg_row *row)
 		if (cfg_int(v, &x) && x >= 0 && x < STATION_LIMIT)
 			c->station = x;
 		else
-			cfg_net_bad_int(l, 2552, line, v, "Invalid station number (%d) must be less than %d",
+			cfg_net_bad_int(l, DF1_ID_CRT_BAD_STATION_ID, line, v,
+			                "Invalid station number (%d) must be less than %d",
 			            "dd", STATION_LIMIT, 0);
 	}
 	v = cfg_value(l, row, NF_MODE);
@@ -166,14 +167,14 @@ static void cfg_net_row(struct cfg_load *l, struct cfg_row *row)
 		else if (cfg_ieq(v, "Peer"))
 			c->mode = DF1_MODE_PEER;
 		else
-			cfg_catalog(l, 2553, l->item, line,
+			cfg_catalog(l, DF1_ID_CRT_BAD_DRIVER_MODE, l->item, line,
 			            "Invalid Driver Mode (%s), should be one of %s, %s, or %s", "ssss", -1,
 			            v, "Master", "Slave", "Peer");
 		c->duplex_half = c->mode != DF1_MODE_PEER;
 	}
 	v = cfg_value(l, row, NF_PLC_TYPE);
 	if (*v && cfg_plc(v, &c->plc) < 0)
-		cfg_catalog(l, 2555, l->item, line,
+		cfg_catalog(l, DF1_ID_CRT_BAD_PLC_TYPE, l->item, line,
 		            "Invalid or Unsupported PLC Type (%s) should be one of %s, %s, %s, %s",
 		            "sssss", -1, v, PLC_CHOICES);
 	v = cfg_value(l, row, NF_ERROR_CODE);
@@ -183,7 +184,7 @@ static void cfg_net_row(struct cfg_load *l, struct cfg_row *row)
 		else if (cfg_ieq(v, "BCC"))
 			c->check = DF1_CHECK_BCC;
 		else
-			cfg_catalog(l, 2556, l->item, line,
+			cfg_catalog(l, DF1_ID_CRT_BAD_ERROR_CODE, l->item, line,
 			            "Invalid Error Code (%s), should be either %s, or %s", "sss", -1, v,
 			            "BCC", "CRC");
 	}
@@ -192,7 +193,8 @@ static void cfg_net_row(struct cfg_load *l, struct cfg_row *row)
 		if (cfg_int(v, &x) && x >= 0 && x <= RETRIES_MAX)
 			c->nak_retries = x;
 		else
-			cfg_net_bad_int(l, 2557, line, v, "Invalid NAK Retries (%d) should be in range [0, %d]",
+			cfg_net_bad_int(l, DF1_ID_CRT_BAD_NAK_RETRIES, line, v,
+			                "Invalid NAK Retries (%d) should be in range [0, %d]",
 			            "dd", RETRIES_MAX, 0);
 	}
 	v = cfg_value(l, row, NF_ENQ_RETRIES);
@@ -200,7 +202,8 @@ static void cfg_net_row(struct cfg_load *l, struct cfg_row *row)
 		if (cfg_int(v, &x) && x >= 0 && x <= RETRIES_MAX)
 			c->enq_retries = x;
 		else
-			cfg_net_bad_int(l, 2558, line, v, "Invalid ENQ Retries (%d) should be in range [0, %d]",
+			cfg_net_bad_int(l, DF1_ID_CRT_BAD_ENQ_RETRIES, line, v,
+			                "Invalid ENQ Retries (%d) should be in range [0, %d]",
 			            "dd", RETRIES_MAX, 0);
 	}
 	v = cfg_value(l, row, NF_CMD_TIMEOUT);
@@ -208,7 +211,7 @@ static void cfg_net_row(struct cfg_load *l, struct cfg_row *row)
 		if (cfg_int(v, &x) && x >= CMD_TIMEOUT_MIN && x <= CMD_TIMEOUT_MAX)
 			c->cmd_timeout_ms = x;
 		else
-			cfg_net_bad_int(l, 2559, line, v,
+			cfg_net_bad_int(l, DF1_ID_CRT_BAD_CMD_TIMEOUT, line, v,
 			            "Invalid Cmd Timeout (%d) should be in range [%d, %d]", "ddd",
 			            CMD_TIMEOUT_MIN, CMD_TIMEOUT_MAX);
 	}

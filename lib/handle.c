@@ -50,7 +50,9 @@ const struct df1_error_detail *df1_last_error(const df1_t *h)
 
 static bool handle_counter_valid(int id)
 {
-	return (id >= 2525 && id <= 2551) || id == 2560 || id == 2561;
+	const struct df1_catalog_entry *e = df1_catalog_by_id(id);
+
+	return e && e->severity == DF1_SEV_COUNTER;
 }
 
 int df1_counter(const df1_t *h, int id, uint64_t *value)
@@ -264,7 +266,8 @@ int df1_set_duplex(df1_t *h, enum df1_duplex d)
 		char v[16];
 
 		snprintf(v, sizeof v, "%d", (int)d);
-		return df1_fail_catalog(h, 2553, v, "Master", "Slave", "Peer");
+		return df1_fail_catalog(h, DF1_ID_CRT_BAD_DRIVER_MODE, v, "Master", "Slave",
+		                        "Peer");
 	}
 	h->cfg.duplex = d;
 	return 0;
@@ -278,7 +281,7 @@ int df1_set_check(df1_t *h, enum df1_check c)
 		char v[16];
 
 		snprintf(v, sizeof v, "%d", (int)c);
-		return df1_fail_catalog(h, 2556, v, "BCC", "CRC");
+		return df1_fail_catalog(h, DF1_ID_CRT_BAD_ERROR_CODE, v, "BCC", "CRC");
 	}
 	h->cfg.check = c;
 	return 0;
@@ -289,7 +292,7 @@ int df1_set_station(df1_t *h, int own_station)
 	if (!h)
 		return DF1_E_INVAL;
 	if (own_station < 0 || own_station > STATION_MAX)
-		return df1_fail_catalog(h, 2552, own_station, STATION_MAX + 1);
+		return df1_fail_catalog(h, DF1_ID_CRT_BAD_STATION_ID, own_station, STATION_MAX + 1);
 	h->cfg.station = own_station;
 	return 0;
 }
@@ -310,7 +313,8 @@ int df1_set_plc(df1_t *h, enum df1_plc plc)
 		char v[16];
 
 		snprintf(v, sizeof v, "%d", (int)plc);
-		return df1_fail_catalog(h, 2555, v, "SLC", "MicroLogix", "PLC5", "PLC2");
+		return df1_fail_catalog(h, DF1_ID_CRT_BAD_PLC_TYPE, v, "SLC", "MicroLogix", "PLC5",
+		                        "PLC2");
 	}
 	}
 }
@@ -331,7 +335,8 @@ int df1_set_cmd_timeout_ms(df1_t *h, int ms)
 	if (!h)
 		return DF1_E_INVAL;
 	if (ms < CMD_TIMEOUT_MIN || ms > CMD_TIMEOUT_MAX)
-		return df1_fail_catalog(h, 2559, ms, CMD_TIMEOUT_MIN, CMD_TIMEOUT_MAX);
+		return df1_fail_catalog(h, DF1_ID_CRT_BAD_CMD_TIMEOUT, ms, CMD_TIMEOUT_MIN,
+		                        CMD_TIMEOUT_MAX);
 	h->cfg.cmd_timeout_ms = ms;
 	return 0;
 }
@@ -341,9 +346,9 @@ int df1_set_retries(df1_t *h, int nak_retries, int enq_retries)
 	if (!h)
 		return DF1_E_INVAL;
 	if (nak_retries < 0 || nak_retries > RETRIES_MAX)
-		return df1_fail_catalog(h, 2557, nak_retries, RETRIES_MAX);
+		return df1_fail_catalog(h, DF1_ID_CRT_BAD_NAK_RETRIES, nak_retries, RETRIES_MAX);
 	if (enq_retries < 0 || enq_retries > RETRIES_MAX)
-		return df1_fail_catalog(h, 2558, enq_retries, RETRIES_MAX);
+		return df1_fail_catalog(h, DF1_ID_CRT_BAD_ENQ_RETRIES, enq_retries, RETRIES_MAX);
 	h->cfg.nak_retries = nak_retries;
 	h->cfg.enq_retries = enq_retries;
 	return 0;

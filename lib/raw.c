@@ -42,7 +42,7 @@ DF1_API int df1_recv_raw(df1_t *h, uint8_t *buf, size_t cap, int timeout_ms, str
 		return (int)n; /* 0 at the deadline, or DF1_E_* (the detail is recorded) */
 	if (when)
 		df1_wall_clock(when);
-	df1_count_n(h, 2561, (uint64_t)n); /* CRD_CHAR_RECV */
+	df1_count_n(h, DF1_ID_CRD_CHAR_RECV, (uint64_t)n);
 	if (h->trace_fn)
 		h->trace_fn(h->trace_user, DF1_DIR_RX, buf, (size_t)n, df1_now_us());
 	return (int)n;

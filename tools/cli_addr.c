@@ -44,11 +44,11 @@ bool cli_addr_step(const struct df1_addr *a, size_t i, struct df1_addr *out)
 
 int cli_address_error(const struct cli *c, int item, const char *text, int err, size_t n)
 {
-	int id = err == DF1_E_ADDR_RANGE ? 2504 : 2503;
+	int id = err == DF1_E_ADDR_RANGE ? DF1_ID_ERR_ADDRESS_RANGE : DF1_ID_ERR_ADDRESS_SYNTAX;
 	const struct df1_catalog_entry *e = df1_catalog_by_id(id);
 
 	fprintf(stderr, "%s: %s: [%d] %s: Item: %d, ", c->name, text, id, e ? e->mnemonic : "?", item);
-	if (id == 2504)
+	if (id == DF1_ID_ERR_ADDRESS_RANGE)
 		fprintf(stderr, "Address is out of range (%s, len=%zu)\n", text, n);
 	else
 		fprintf(stderr, "Invalid Address Syntax (%s)\n", text);

@@ -548,13 +548,13 @@ static void fmt_check(const struct df1_symbol *s, char *buf, size_t cap)
 static const char *error_text(int id, uint8_t bad_byte, char *buf, size_t cap)
 {
 	switch (id) {
-	case 2507: return "poll with wrong BCC";
-	case 2512: return "received message too long";
-	case 2513: return "received message too short";
-	case 2514:
+	case DF1_ID_ERR_BAD_BCC: return "poll with wrong BCC";
+	case DF1_ID_NTC_RCVD_MSG_TOO_LONG: return "received message too long";
+	case DF1_ID_NTC_RCVD_MSG_TOO_SHORT: return "received message too short";
+	case DF1_ID_NTC_INVALID_SYMBOL:
 		snprintf(buf, cap, "invalid symbol received after DLE (0x%02X)", bad_byte);
 		return buf;
-	case 2518: return "incomplete message, no ETX received";
+	case DF1_ID_NTC_NO_ETX_RCVD: return "incomplete message, no ETX received";
 	default: {
 		const struct df1_catalog_entry *e = df1_catalog_by_id(id);
 		return e && e->description ? e->description : "malformed input";
@@ -775,7 +775,8 @@ static void print_error(struct decode_ctx *x, FILE *f, const struct decode_where
                         const char *text, const struct df1_symbol *s)
 {
 	char tag[64], full[320], chk[64];
-	bool has_check = s && (id == 2507 || id == 2512 || id == 2513);
+	bool has_check = s && (id == DF1_ID_ERR_BAD_BCC || id == DF1_ID_NTC_RCVD_MSG_TOO_LONG ||
+	                       id == DF1_ID_NTC_RCVD_MSG_TOO_SHORT);
 
 	error_tag(id, tag, sizeof tag);
 	snprintf(full, sizeof full, "%s: %s", tag, text);
@@ -848,10 +849,11 @@ bool decode_print(struct decode_ctx *x, FILE *out, const char *prefix, const str
 		free(v);
 		break;
 	case DF1_SYM_ERROR:
-		if (s->error == 2507) {
+		if (s->error == DF1_ID_ERR_BAD_BCC) {
 			x->symbols++;
 			x->bad++;
-		} else if (s->error == 2512 || s->error == 2513) {
+		} else if (s->error == DF1_ID_NTC_RCVD_MSG_TOO_LONG ||
+		           s->error == DF1_ID_NTC_RCVD_MSG_TOO_SHORT) {
 			x->frames++;
 			if (s->check_ok) {
 				x->errors++;

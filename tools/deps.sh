@@ -10,6 +10,7 @@ have_header csv.h || missing="$missing libcsv-dev"
 have_header stdarg.h && printf '#include <stdarg.h>\n#include <stddef.h>\n#include <setjmp.h>\n#include <cmocka.h>\n' \
 	| ${CC:-cc} -E -x c - >/dev/null 2>&1 || missing="$missing libcmocka-dev"
 command -v mandoc >/dev/null 2>&1 || missing="$missing mandoc"
+command -v python3 >/dev/null 2>&1 || missing="$missing python3"
 [ -z "$missing" ] && exit 0
 cmd="apt-get install -y$missing"
 as=

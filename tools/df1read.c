@@ -329,7 +329,7 @@ int main(int argc, char **argv)
 	}
 	if (r.cli.verbose >= 1) {
 		uint64_t cmds = 0;
-		df1_counter(h, 2527, &cmds);
+		df1_counter(h, DF1_ID_CNT_CMD_MSGS_SENT, &cmds);
 		fprintf(stderr, "%s: %zu address%s, %u read%s, %llu command%s sent\n", r.cli.name,
 		        r.nitems, r.nitems == 1 ? "" : "es", r.reads, r.reads == 1 ? "" : "s",
 		        (unsigned long long)cmds, cmds == 1 ? "" : "s");

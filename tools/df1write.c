@@ -341,7 +341,7 @@ int main(int argc, char **argv)
 		report_progress(&w);
 	} else if (w.cli.verbose >= 1) {
 		uint64_t cmds = 0;
-		df1_counter(h, 2527, &cmds);
+		df1_counter(h, DF1_ID_CNT_CMD_MSGS_SENT, &cmds);
 		fprintf(stderr, "%s: %zu operand%s written, %llu command%s sent\n", w.cli.name, w.nitems,
 		        w.nitems == 1 ? "" : "s", (unsigned long long)cmds, cmds == 1 ? "" : "s");
 	}

@@ -9,6 +9,7 @@ void print_counters(struct mon *m, bool final)
 {
 	FILE *f = stdout;
 	bool first = true;
+	const struct df1_catalog_entry *e;
 
 	if (!m->h)
 		return;
@@ -25,11 +26,11 @@ void print_counters(struct mon *m, bool final)
 		fprintf(f, "{\"t\":%.3f,\"final\":%s,\"counters\":[", mon_elapsed(m), final ? "true" : "false");
 		break;
 	}
-	for (int id = 2501; id <= 2561; id++) {
-		const struct df1_catalog_entry *e = df1_catalog_by_id(id);
+	for (size_t i = 0; (e = df1_catalog_at(i)) != NULL; i++) {
+		int id = e->id;
 		uint64_t v = 0;
 
-		if (!e || e->severity != DF1_SEV_COUNTER || df1_counter(m->h, id, &v) < 0)
+		if (e->severity != DF1_SEV_COUNTER || df1_counter(m->h, id, &v) < 0)
 			continue;
 		switch (m->cli.format) {
 		case CLI_FMT_PLAIN:

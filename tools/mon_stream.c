@@ -122,7 +122,7 @@ void stream_finish_cut(struct mon *m, struct stream *s, const struct timebase *t
 			continue;
 		if ((i == 0 && sym.kind == DF1_SYM_FRAME && m->cli.check == DF1_CHECK_AUTO &&
 		     sym.check == DF1_CHECK_BCC && !sym.check_ok) ||
-		    (i == 1 && sym.kind == DF1_SYM_ERROR && sym.error == 2518)) {
+		    (i == 1 && sym.kind == DF1_SYM_ERROR && sym.error == DF1_ID_NTC_NO_ETX_RCVD)) {
 			/* a true verdict on the bytes that were there */
 			if (!cut || i == 0)
 				print_symbol(m, s, tb, &sym, s->off);
@@ -135,7 +135,7 @@ void stream_finish_cut(struct mon *m, struct stream *s, const struct timebase *t
 			memset(&w, 0, sizeof w);
 			w.index = ++m->index;
 			w.dir = s->dir;
-			decode_print_error(&m->dx, stdout, NULL, &w, 2518,
+			decode_print_error(&m->dx, stdout, NULL, &w, DF1_ID_NTC_NO_ETX_RCVD,
 			                   "input ended inside a symbol");
 		}
 		break;

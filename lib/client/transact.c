@@ -63,7 +63,7 @@ int client_bad_reply(struct df1 *h, int station, const char *what, const char *f
 	va_start(ap, fmt);
 	vsnprintf(buf, sizeof buf, fmt, ap);
 	va_end(ap);
-	df1_count(h, 2550);     /* CNT_INVALID_MSGS_RCVD */
+	df1_count(h, DF1_ID_CNT_INVALID_MSGS_RCVD);
 	return client_fail(h, DF1_E_BAD_REPLY, station, what, "%s", buf);
 }
 

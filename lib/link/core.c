@@ -193,7 +193,7 @@ int link_send_raw(struct df1 *h, const uint8_t *buf, size_t n)
 			off += c;
 		}
 	}
-	df1_count_n(h, 2560, n); /* CRD_CHAR_SENT */
+	df1_count_n(h, DF1_ID_CRD_CHAR_SENT, n);
 	if (h->cfg.echo_discard)
 		link_echo_add(h, buf, n);
 	return 0;
@@ -209,15 +209,15 @@ int link_send_sym(struct df1 *h, uint8_t sym)
 		return r;
 	switch (sym) {
 	case DF1_ACK:
-		df1_count(h, 2535); /* CNT_ACKS_SENT */
+		df1_count(h, DF1_ID_CNT_ACKS_SENT);
 		h->last_response = DF1_ACK;
 		break;
 	case DF1_NAK:
-		df1_count(h, 2533); /* CNT_NAKS_SENT */
+		df1_count(h, DF1_ID_CNT_NAKS_SENT);
 		h->last_response = DF1_NAK;
 		break;
 	case DF1_EOT:
-		df1_count(h, 2537); /* CNT_EOTS_SENT */
+		df1_count(h, DF1_ID_CNT_EOTS_SENT);
 		break;
 	default:
 		break;
@@ -261,7 +261,7 @@ static int link_fill(struct df1 *h, int64_t deadline_ms, bool *expired)
 	h->rx_last_ms = df1_now_ms();
 	if (h->trace_fn)
 		h->trace_fn(h->trace_user, DF1_DIR_RX, h->rxbuf, (size_t)n, df1_now_us());
-	df1_count_n(h, 2561, (uint64_t)n); /* CRD_CHAR_RECV */
+	df1_count_n(h, DF1_ID_CRD_CHAR_RECV, (uint64_t)n);
 	/* 2-wire line: our own bytes come back first; drop exactly those */
 	while (h->echo_pos < h->echo_len && i < (size_t)n) {
 		if (h->rxbuf[i] != h->echo_buf[h->echo_pos]) {
@@ -329,7 +329,7 @@ int link_read_symbol(struct df1 *h, int64_t deadline_ms, struct df1_symbol *sym)
 		if (busy) {
 			/* cut short: the line went quiet (or never stopped) mid-symbol */
 			if (h->dec.wire >= 2)
-				df1_log(h, 2518); /* NTC_NO_ETX_RCVD */
+				df1_log(h, DF1_ID_NTC_NO_ETX_RCVD);
 			frame_decoder_reset(&h->dec);
 			link_noise(h);
 			if (df1_now_ms() < deadline_ms)
@@ -346,11 +346,13 @@ void link_bad_check(struct df1 *h, const struct df1_symbol *s)
 	unsigned a = s->check_actual, e = s->check_expected;
 
 	if (s->check == DF1_CHECK_BCC) {
-		df1_count(h, 2546); /* CNT_BCC_ERRORS */
-		df1_log(h, 2507, (int)(a >> 8), (int)(a & 0xFF), (int)(e >> 8), (int)(e & 0xFF));
+		df1_count(h, DF1_ID_CNT_BCC_ERRORS);
+		df1_log(h, DF1_ID_ERR_BAD_BCC, (int)(a >> 8), (int)(a & 0xFF), (int)(e >> 8),
+		        (int)(e & 0xFF));
 	} else {
-		df1_count(h, 2547); /* CNT_CRC_ERRORS */
-		df1_log(h, 2506, (int)(a >> 8), (int)(a & 0xFF), (int)(e >> 8), (int)(e & 0xFF));
+		df1_count(h, DF1_ID_CNT_CRC_ERRORS);
+		df1_log(h, DF1_ID_ERR_BAD_CRC, (int)(a >> 8), (int)(a & 0xFF), (int)(e >> 8),
+		        (int)(e & 0xFF));
 	}
 }
 
@@ -358,22 +360,23 @@ void link_bad_check(struct df1 *h, const struct df1_symbol *s)
 bool link_log_error(struct df1 *h, const struct df1_symbol *s)
 {
 	switch (s->error) {
-	case 2512:
-		df1_log(h, 2512, (int)(h->dec.max_len ? h->dec.max_len : FRAME_MAX_DATA));
+	case DF1_ID_NTC_RCVD_MSG_TOO_LONG:
+		df1_log(h, DF1_ID_NTC_RCVD_MSG_TOO_LONG,
+		        (int)(h->dec.max_len ? h->dec.max_len : FRAME_MAX_DATA));
 		return true;
-	case 2513:
-		df1_log(h, 2513, FRAME_MIN_DATA);
+	case DF1_ID_NTC_RCVD_MSG_TOO_SHORT:
+		df1_log(h, DF1_ID_NTC_RCVD_MSG_TOO_SHORT, FRAME_MIN_DATA);
 		return true;
-	case 2518:
-		df1_log(h, 2518);
+	case DF1_ID_NTC_NO_ETX_RCVD:
+		df1_log(h, DF1_ID_NTC_NO_ETX_RCVD);
 		return true;
-	case 2507: /* a half-duplex poll with a wrong BCC */
-	case 2506:
+	case DF1_ID_ERR_BAD_BCC: /* a half-duplex poll with a wrong BCC */
+	case DF1_ID_ERR_BAD_CRC:
 		link_bad_check(h, s);
 		return false;
-	case 2514:
+	case DF1_ID_NTC_INVALID_SYMBOL:
 	default:
-		df1_log(h, 2514, (int)s->bad_byte);
+		df1_log(h, DF1_ID_NTC_INVALID_SYMBOL, (int)s->bad_byte);
 		/* DLE x outside anything is 2 bytes; inside a frame or header, more */
 		return s->wire_len > 2;
 	}
@@ -409,9 +412,9 @@ int link_ack_dup(struct df1 *h, const struct df1_symbol *s)
 {
 	int r = link_send_sym(h, DF1_ACK);
 
-	df1_count(h, 2526); /* CNT_MSG_PACKETS_RCVD */
-	df1_count(h, 2549); /* CNT_DUPLICATE_MSGS_RCVD */
-	df1_log(h, 2524, (int)s->data[1]);
+	df1_count(h, DF1_ID_CNT_MSG_PACKETS_RCVD);
+	df1_count(h, DF1_ID_CNT_DUPLICATE_MSGS_RCVD);
+	df1_log(h, DF1_ID_NTC_DUPLICATE_MSG_RCVD, (int)s->data[1]);
 	return r;
 }
 
@@ -428,9 +431,9 @@ int link_serve_screen(struct df1 *h, uint8_t key, const struct df1_symbol *s)
 		/* a reply, and the responder has no command outstanding: stale */
 		r = link_send_sym(h, DF1_ACK);
 		link_remember(h, key, d, s->len);
-		df1_count(h, 2526); /* CNT_MSG_PACKETS_RCVD */
-		df1_count(h, 2548); /* CNT_STALE_MSGS_RCVD */
-		df1_log(h, 2510, (int)d[1], (int)d[0], (int)(d[4] | d[5] << 8));
+		df1_count(h, DF1_ID_CNT_MSG_PACKETS_RCVD);
+		df1_count(h, DF1_ID_CNT_STALE_MSGS_RCVD);
+		df1_log(h, DF1_ID_ERR_WRONG_MESSAGE, (int)d[1], (int)d[0], (int)(d[4] | d[5] << 8));
 		return r < 0 ? r : 0;
 	}
 	return 1;
@@ -445,29 +448,30 @@ int link_take_reply(struct df1 *h, const uint8_t *cmd, const struct df1_symbol *
 	const uint8_t *d = s->data;
 	uint16_t tns = (uint16_t)(d[4] | d[5] << 8);
 
-	df1_count(h, 2526); /* CNT_MSG_PACKETS_RCVD */
+	df1_count(h, DF1_ID_CNT_MSG_PACKETS_RCVD);
 	if (!(d[2] & 0x40)) {
 		/* a command: we are not the responder here */
-		df1_count(h, 2528); /* CNT_CMD_MSGS_RCVD */
-		df1_count(h, 2550); /* CNT_INVALID_MSGS_RCVD */
-		df1_log(h, 2510, (int)d[1], (int)d[0], (int)tns);
+		df1_count(h, DF1_ID_CNT_CMD_MSGS_RCVD);
+		df1_count(h, DF1_ID_CNT_INVALID_MSGS_RCVD);
+		df1_log(h, DF1_ID_ERR_WRONG_MESSAGE, (int)d[1], (int)d[0], (int)tns);
 		return 0;
 	}
 	if (!cmd || d[1] != cmd[0] || d[4] != cmd[4] || d[5] != cmd[5]) {
-		df1_count(h, 2548); /* CNT_STALE_MSGS_RCVD */
-		df1_log(h, 2510, (int)d[1], (int)d[0], (int)tns);
+		df1_count(h, DF1_ID_CNT_STALE_MSGS_RCVD);
+		df1_log(h, DF1_ID_ERR_WRONG_MESSAGE, (int)d[1], (int)d[0], (int)tns);
 		return 0;
 	}
 	if (d[2] != (uint8_t)(cmd[2] | 0x40)) {
-		df1_count(h, 2550);
-		df1_log(h, 2505, (int)cmd[0], (int)d[2], (int)(cmd[2] | 0x40));
+		df1_count(h, DF1_ID_CNT_INVALID_MSGS_RCVD);
+		df1_log(h, DF1_ID_ERR_BAD_FUNCTION_CODE, (int)cmd[0], (int)d[2],
+		        (int)(cmd[2] | 0x40));
 		return df1_fail(h, DF1_E_BAD_FUNCTION, cmd[0],
 		                "reply with command code 0x%02X, expected 0x%02X", d[2], cmd[2] | 0x40);
 	}
-	df1_count(h, 2530); /* CNT_REPLY_MSGS_RCVD */
+	df1_count(h, DF1_ID_CNT_REPLY_MSGS_RCVD);
 	if (d[3] != 0)
-		df1_count(h, 2540); /* CNT_ERROR_MSGS_RCVD */
-	df1_log(h, 2523, (int)cmd[0]);
+		df1_count(h, DF1_ID_CNT_ERROR_MSGS_RCVD);
+	df1_log(h, DF1_ID_NTC_REPLY_MSG_RCVD, (int)cmd[0]);
 	if (s->len > cap)
 		return df1_fail(h, DF1_E_NOSPACE, cmd[0], "reply of %zu bytes, buffer holds %zu",
 		                s->len, cap);
@@ -564,11 +568,11 @@ int link_slot_send(struct df1 *h, struct link_reply *r, bool stale, bool first)
 	rc = link_send_raw(h, wire, off + n);
 	if (rc < 0)
 		return rc;
-	df1_count(h, 2525); /* CNT_MSG_PACKETS_SENT */
+	df1_count(h, DF1_ID_CNT_MSG_PACKETS_SENT);
 	if (first) {
-		df1_count(h, 2529); /* CNT_REPLY_MSGS_SENT */
+		df1_count(h, DF1_ID_CNT_REPLY_MSGS_SENT);
 		if (app[3] != 0)
-			df1_count(h, 2539); /* CNT_ERROR_MSGS_SENT */
+			df1_count(h, DF1_ID_CNT_ERROR_MSGS_SENT);
 	}
 	return 0;
 }

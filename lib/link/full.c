@@ -51,8 +51,8 @@ int full_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 	r = link_send_raw(h, wire, wn);
 	if (r < 0)
 		return r;
-	df1_count(h, 2525); /* CNT_MSG_PACKETS_SENT */
-	df1_count(h, 2527); /* CNT_CMD_MSGS_SENT */
+	df1_count(h, DF1_ID_CNT_MSG_PACKETS_SENT);
+	df1_count(h, DF1_ID_CNT_CMD_MSGS_SENT);
 	deadline = df1_now_ms() + link_timeout_ms(h);
 	for (;;) {
 		struct df1_symbol s;
@@ -63,20 +63,20 @@ int full_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 			return r;
 		if (r == 0) {
 			if (acked) {
-				df1_count(h, 2545); /* CNT_COMMAND_TIMEOUTS */
-				df1_log(h, 2508);
+				df1_count(h, DF1_ID_CNT_COMMAND_TIMEOUTS);
+				df1_log(h, DF1_ID_ERR_COMMAND_TIMEOUT);
 				return df1_fail(h, DF1_E_TIMEOUT, stn, "no reply from station %d", stn);
 			}
 			/* ACK timeout: ask for the response again (spec 1.6 rule 4) */
 			if (enqs >= h->cfg.enq_retries) {
-				df1_count(h, 2544); /* CNT_ENQ_LIMIT_EXCEEDED */
-				df1_log(h, 2520, h->cfg.enq_retries);
+				df1_count(h, DF1_ID_CNT_ENQ_LIMIT_EXCEEDED);
+				df1_log(h, DF1_ID_NTC_ENQ_LIMIT_EXCEEDED, h->cfg.enq_retries);
 				return df1_fail(h, DF1_E_ENQ_LIMIT, stn,
 				                "no ACK from station %d after %d ENQ", stn, enqs);
 			}
 			enqs++;
-			df1_count(h, 2543); /* CNT_ENQ_RETRIES */
-			df1_log(h, 2522, enqs, 2508);
+			df1_count(h, DF1_ID_CNT_ENQ_RETRIES);
+			df1_log(h, DF1_ID_NTC_ENQ_RETRY, enqs, DF1_ID_ERR_COMMAND_TIMEOUT);
 			r = link_send_sym(h, DF1_ENQ);
 			if (r < 0)
 				return r;
@@ -85,32 +85,33 @@ int full_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 		}
 		switch (s.kind) {
 		case DF1_SYM_ACK:
-			df1_count(h, 2536); /* CNT_ACKS_RCVD */
+			df1_count(h, DF1_ID_CNT_ACKS_RCVD);
 			if (!acked) {
 				acked = true;
 				deadline = df1_now_ms() + reply_wait;
 			}
 			break;
 		case DF1_SYM_NAK:
-			df1_count(h, 2534); /* CNT_NAKS_RCVD */
+			df1_count(h, DF1_ID_CNT_NAKS_RCVD);
 			if (acked) {
-				df1_log(h, 2511); /* no frame of ours is waiting for a response */
+				/* no frame of ours is waiting for a response */
+				df1_log(h, DF1_ID_ERR_RCVD_NAK_SYMBOL);
 				break;
 			}
-			df1_log(h, 2517);
+			df1_log(h, DF1_ID_NTC_RCVD_NAK_SYMBOL);
 			if (naks >= h->cfg.nak_retries) {
-				df1_count(h, 2542); /* CNT_NAK_LIMIT_EXCEEDED */
-				df1_log(h, 2519, h->cfg.nak_retries);
+				df1_count(h, DF1_ID_CNT_NAK_LIMIT_EXCEEDED);
+				df1_log(h, DF1_ID_NTC_NAK_LIMIT_EXCEEDED, h->cfg.nak_retries);
 				return df1_fail(h, DF1_E_NAK_LIMIT, stn,
 				                "station %d answered NAK %d times", stn, naks + 1);
 			}
 			naks++;
-			df1_count(h, 2541); /* CNT_NAK_RETRIES */
-			df1_log(h, 2521, naks, 2517);
+			df1_count(h, DF1_ID_CNT_NAK_RETRIES);
+			df1_log(h, DF1_ID_NTC_NAK_RETRY, naks, DF1_ID_NTC_RCVD_NAK_SYMBOL);
 			r = link_send_raw(h, wire, wn);
 			if (r < 0)
 				return r;
-			df1_count(h, 2525);
+			df1_count(h, DF1_ID_CNT_MSG_PACKETS_SENT);
 			deadline = df1_now_ms() + link_timeout_ms(h);
 			break;
 		case DF1_SYM_ENQ:
@@ -134,9 +135,9 @@ int full_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 				r = link_send_sym(h, DF1_ACK);
 				if (r < 0)
 					return r;
-				df1_count(h, 2526); /* CNT_MSG_PACKETS_RCVD */
-				df1_count(h, 2549); /* CNT_DUPLICATE_MSGS_RCVD */
-				df1_log(h, 2524, (int)s.data[1]);
+				df1_count(h, DF1_ID_CNT_MSG_PACKETS_RCVD);
+				df1_count(h, DF1_ID_CNT_DUPLICATE_MSGS_RCVD);
+				df1_log(h, DF1_ID_NTC_DUPLICATE_MSG_RCVD, (int)s.data[1]);
 				break;
 			}
 			r = link_send_sym(h, DF1_ACK);
@@ -180,10 +181,10 @@ int full_test(struct df1 *h)
 			return df1_fail(h, DF1_E_TIMEOUT, -1, "no answer to DLE ENQ");
 		switch (s.kind) {
 		case DF1_SYM_ACK:
-			df1_count(h, 2536);
+			df1_count(h, DF1_ID_CNT_ACKS_RCVD);
 			return 0;
 		case DF1_SYM_NAK:
-			df1_count(h, 2534);
+			df1_count(h, DF1_ID_CNT_NAKS_RCVD);
 			return 0;
 		case DF1_SYM_ENQ:
 			r = link_send_sym(h, h->last_response);
@@ -257,14 +258,14 @@ static int full_tx_nak(struct df1 *h, struct link_reply *t)
 	int r;
 
 	if (t->naks >= h->cfg.nak_retries) {
-		df1_count(h, 2542);
-		df1_log(h, 2519, h->cfg.nak_retries);
+		df1_count(h, DF1_ID_CNT_NAK_LIMIT_EXCEEDED);
+		df1_log(h, DF1_ID_NTC_NAK_LIMIT_EXCEEDED, h->cfg.nak_retries);
 		t->used = false;
 		return 0;
 	}
 	t->naks++;
-	df1_count(h, 2541);
-	df1_log(h, 2521, t->naks, 2517);
+	df1_count(h, DF1_ID_CNT_NAK_RETRIES);
+	df1_log(h, DF1_ID_NTC_NAK_RETRY, t->naks, DF1_ID_NTC_RCVD_NAK_SYMBOL);
 	r = link_slot_send(h, t, t->stale_now, false);
 	if (r < 0)
 		return r;
@@ -277,14 +278,14 @@ static int full_tx_timeout(struct df1 *h, struct link_reply *t)
 	int r;
 
 	if (t->enqs >= h->cfg.enq_retries) {
-		df1_count(h, 2544);
-		df1_log(h, 2520, h->cfg.enq_retries);
+		df1_count(h, DF1_ID_CNT_ENQ_LIMIT_EXCEEDED);
+		df1_log(h, DF1_ID_NTC_ENQ_LIMIT_EXCEEDED, h->cfg.enq_retries);
 		t->used = false;
 		return 0;
 	}
 	t->enqs++;
-	df1_count(h, 2543);
-	df1_log(h, 2522, t->enqs, 2508);
+	df1_count(h, DF1_ID_CNT_ENQ_RETRIES);
+	df1_log(h, DF1_ID_NTC_ENQ_RETRY, t->enqs, DF1_ID_ERR_COMMAND_TIMEOUT);
 	r = link_send_sym(h, DF1_ENQ);
 	if (r < 0)
 		return r;
@@ -327,8 +328,8 @@ static int full_serve_frame(struct df1 *h, const struct df1_symbol *s, link_hand
 			return r;
 	}
 	link_remember(h, d[1], d, s->len);
-	df1_count(h, 2526);
-	df1_count(h, 2528); /* CNT_CMD_MSGS_RCVD */
+	df1_count(h, DF1_ID_CNT_MSG_PACKETS_RCVD);
+	df1_count(h, DF1_ID_CNT_CMD_MSGS_RCVD);
 	/* a new command: the master no longer waits for an older reply */
 	link_slots_clear(h);
 	rlen = fn(h, ctx, d, s->len, out, sizeof out);
@@ -380,17 +381,18 @@ int full_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms
 		}
 		switch (s.kind) {
 		case DF1_SYM_ACK:
-			df1_count(h, 2536);
+			df1_count(h, DF1_ID_CNT_ACKS_RCVD);
 			if (t && t->sent)
 				r = full_tx_acked(h, t);
 			break;
 		case DF1_SYM_NAK:
-			df1_count(h, 2534);
+			df1_count(h, DF1_ID_CNT_NAKS_RCVD);
 			if (t && t->sent) {
-				df1_log(h, 2517);
+				df1_log(h, DF1_ID_NTC_RCVD_NAK_SYMBOL);
 				r = full_tx_nak(h, t);
 			} else {
-				df1_log(h, 2511); /* no frame of ours is waiting for a response */
+				/* no frame of ours is waiting for a response */
+				df1_log(h, DF1_ID_ERR_RCVD_NAK_SYMBOL);
 			}
 			break;
 		case DF1_SYM_ENQ:

@@ -78,12 +78,12 @@ static int hd_answer(struct df1 *h, uint8_t stn, const uint8_t *cmd, int64_t dea
 		if (r < 0)
 			return r;
 		if (r == 0) {
-			*cause = 2508;
+			*cause = DF1_ID_ERR_COMMAND_TIMEOUT;
 			return ANS_TIMEOUT;
 		}
 		switch (s.kind) {
 		case DF1_SYM_EOT:
-			df1_count(h, 2538); /* CNT_EOTS_RCVD */
+			df1_count(h, DF1_ID_CNT_EOTS_RCVD);
 			return ANS_EOT;
 		case DF1_SYM_FRAME:
 			if (s.master_msg)
@@ -91,16 +91,17 @@ static int hd_answer(struct df1 *h, uint8_t stn, const uint8_t *cmd, int64_t dea
 			if (!s.check_ok) {
 				/* no ACK: the slave sends the same message on the next poll */
 				link_bad_check(h, &s);
-				*cause = s.check == DF1_CHECK_BCC ? 2507 : 2506;
+				*cause = s.check == DF1_CHECK_BCC ? DF1_ID_ERR_BAD_BCC
+				                                  : DF1_ID_ERR_BAD_CRC;
 				return ANS_BAD;
 			}
 			if (link_is_dup(h, stn, s.data, s.len)) {
 				r = link_send_sym(h, DF1_ACK);
 				if (r < 0)
 					return r;
-				df1_count(h, 2526); /* CNT_MSG_PACKETS_RCVD */
-				df1_count(h, 2549); /* CNT_DUPLICATE_MSGS_RCVD */
-				df1_log(h, 2524, (int)stn);
+				df1_count(h, DF1_ID_CNT_MSG_PACKETS_RCVD);
+				df1_count(h, DF1_ID_CNT_DUPLICATE_MSGS_RCVD);
+				df1_log(h, DF1_ID_NTC_DUPLICATE_MSG_RCVD, (int)stn);
 				return ANS_SKIP;
 			}
 			r = link_send_sym(h, DF1_ACK);
@@ -112,21 +113,22 @@ static int hd_answer(struct df1 *h, uint8_t stn, const uint8_t *cmd, int64_t dea
 				return r;
 			return r == 1 ? ANS_REPLY : ANS_SKIP;
 		case DF1_SYM_ERROR:
-			if (s.master_msg || (s.has_station && s.error == 2507))
+			if (s.master_msg || (s.has_station && s.error == DF1_ID_ERR_BAD_BCC))
 				break; /* a broken master message or poll: our echo, garbled */
 			if (!link_log_error(h, &s))
-				df1_log(h, 2516, (int)s.bad_byte); /* DLE x: not EOT, not STX */
+				/* DLE x: not EOT, not STX */
+				df1_log(h, DF1_ID_NTC_EOT_STX_EXPECTED, (int)s.bad_byte);
 			*cause = s.error;
 			return ANS_BAD;
 		case DF1_SYM_NAK:
-			df1_count(h, 2534); /* CNT_NAKS_RCVD */
-			df1_log(h, 2517);
-			df1_log(h, 2516, DF1_NAK); /* NTC_EOT_STX_EXPECTED */
-			*cause = 2517;
+			df1_count(h, DF1_ID_CNT_NAKS_RCVD);
+			df1_log(h, DF1_ID_NTC_RCVD_NAK_SYMBOL);
+			df1_log(h, DF1_ID_NTC_EOT_STX_EXPECTED, DF1_NAK);
+			*cause = DF1_ID_NTC_RCVD_NAK_SYMBOL;
 			return ANS_BAD;
 		case DF1_SYM_ACK:
-			df1_count(h, 2536); /* a stray ACK */
-			df1_log(h, 2516, DF1_ACK); /* NTC_EOT_STX_EXPECTED */
+			df1_count(h, DF1_ID_CNT_ACKS_RCVD); /* a stray ACK */
+			df1_log(h, DF1_ID_NTC_EOT_STX_EXPECTED, DF1_ACK);
 			break;
 		default: /* a poll: our echo or another master */
 			break;
@@ -142,7 +144,7 @@ static int hd_send_poll(struct df1 *h, uint8_t stn)
 
 	if (r < 0)
 		return r;
-	df1_count(h, 2531); /* CNT_POLL_MSGS_SENT */
+	df1_count(h, DF1_ID_CNT_POLL_MSGS_SENT);
 	return 0;
 }
 
@@ -157,30 +159,30 @@ static int hd_wait_ack(struct df1 *h, int64_t deadline_ms, int *cause)
 		if (r < 0)
 			return r;
 		if (r == 0) {
-			*cause = 2508;
+			*cause = DF1_ID_ERR_COMMAND_TIMEOUT;
 			return 0;
 		}
 		switch (s.kind) {
 		case DF1_SYM_ACK:
-			df1_count(h, 2536); /* CNT_ACKS_RCVD */
+			df1_count(h, DF1_ID_CNT_ACKS_RCVD);
 			return 1;
 		case DF1_SYM_NAK:
-			df1_count(h, 2534);
-			df1_log(h, 2517);
-			*cause = 2517;
+			df1_count(h, DF1_ID_CNT_NAKS_RCVD);
+			df1_log(h, DF1_ID_NTC_RCVD_NAK_SYMBOL);
+			*cause = DF1_ID_NTC_RCVD_NAK_SYMBOL;
 			return 0;
 		case DF1_SYM_EOT:
-			df1_log(h, 2515, DF1_EOT); /* NTC_ACK_EXPECTED */
+			df1_log(h, DF1_ID_NTC_ACK_EXPECTED, DF1_EOT);
 			break;
 		case DF1_SYM_FRAME:
 			if (!s.master_msg)
-				df1_log(h, 2515, DF1_STX);
+				df1_log(h, DF1_ID_NTC_ACK_EXPECTED, DF1_STX);
 			break;
 		case DF1_SYM_ERROR:
-			if (s.master_msg || (s.has_station && s.error == 2507))
+			if (s.master_msg || (s.has_station && s.error == DF1_ID_ERR_BAD_BCC))
 				break; /* a master message or poll, garbled: not the slave's */
 			link_log_error(h, &s); /* what was wrong with it (2512-2514, 2518) */
-			df1_log(h, 2515, (int)s.bad_byte);
+			df1_log(h, DF1_ID_NTC_ACK_EXPECTED, (int)s.bad_byte);
 			break;
 		default:
 			break;
@@ -213,7 +215,7 @@ static int hd_probe(struct df1 *h, uint8_t stn)
 		return r;
 	if (r == ANS_EOT || r == ANS_SKIP)
 		return 0;
-	df1_log(h, 2509, (int)stn); /* ERR_INACTIVE_STATION */
+	df1_log(h, DF1_ID_ERR_INACTIVE_STATION, (int)stn);
 	return df1_fail(h, DF1_E_INACTIVE, stn, "slave station %d inactive", stn);
 }
 
@@ -248,23 +250,23 @@ int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 		r = link_send_raw(h, wire, wn);
 		if (r < 0)
 			return r;
-		df1_count(h, 2525); /* CNT_MSG_PACKETS_SENT */
+		df1_count(h, DF1_ID_CNT_MSG_PACKETS_SENT);
 		if (tries == 0)
-			df1_count(h, 2527); /* CNT_CMD_MSGS_SENT */
+			df1_count(h, DF1_ID_CNT_CMD_MSGS_SENT);
 		r = hd_wait_ack(h, df1_now_ms() + link_timeout_ms(h), &cause);
 		if (r < 0)
 			return r;
 		if (r == 1)
 			break;
 		if (tries >= h->cfg.nak_retries) {
-			df1_count(h, 2542); /* CNT_NAK_LIMIT_EXCEEDED */
-			df1_log(h, 2519, h->cfg.nak_retries);
+			df1_count(h, DF1_ID_CNT_NAK_LIMIT_EXCEEDED);
+			df1_log(h, DF1_ID_NTC_NAK_LIMIT_EXCEEDED, h->cfg.nak_retries);
 			return hd_failed(h, stn, df1_fail(h, DF1_E_NAK_LIMIT, stn,
 			                 "station %d did not ACK the command (%d tries)", stn, tries + 1));
 		}
 		tries++;
-		df1_count(h, 2541); /* CNT_NAK_RETRIES */
-		df1_log(h, 2521, tries, cause);
+		df1_count(h, DF1_ID_CNT_NAK_RETRIES);
+		df1_log(h, DF1_ID_NTC_NAK_RETRY, tries, cause);
 	}
 
 	/* 2. polls until the reply, the ENQ retry limit or Cmd_Timeout */
@@ -279,8 +281,8 @@ int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 			r = link_send_sym(h, DF1_NAK); /* end the slave's processing (seeds/004) */
 			if (r < 0)
 				return r;
-			df1_count(h, 2545); /* CNT_COMMAND_TIMEOUTS */
-			df1_log(h, 2508);
+			df1_count(h, DF1_ID_CNT_COMMAND_TIMEOUTS);
+			df1_log(h, DF1_ID_ERR_COMMAND_TIMEOUT);
 			return hd_failed(h, stn, df1_fail(h, DF1_E_TIMEOUT, stn,
 			                 "no reply from station %d within %lld ms", stn, (long long)wait));
 		}
@@ -315,14 +317,14 @@ int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 		case ANS_BAD:
 		default:
 			if (enqs >= h->cfg.enq_retries) {
-				df1_count(h, 2544); /* CNT_ENQ_LIMIT_EXCEEDED */
-				df1_log(h, 2520, h->cfg.enq_retries);
+				df1_count(h, DF1_ID_CNT_ENQ_LIMIT_EXCEEDED);
+				df1_log(h, DF1_ID_NTC_ENQ_LIMIT_EXCEEDED, h->cfg.enq_retries);
 				return hd_failed(h, stn, df1_fail(h, DF1_E_ENQ_LIMIT, stn,
 				                 "no valid answer to %d polls of station %d", enqs + 1, stn));
 			}
 			enqs++;
-			df1_count(h, 2543); /* CNT_ENQ_RETRIES */
-			df1_log(h, 2522, enqs, cause);
+			df1_count(h, DF1_ID_CNT_ENQ_RETRIES);
+			df1_log(h, DF1_ID_NTC_ENQ_RETRY, enqs, cause);
 			break;
 		}
 	}
@@ -343,11 +345,11 @@ int half_test(struct df1 *h, uint8_t stn)
 		return df1_fail(h, DF1_E_TIMEOUT, stn, "station %d did not answer the poll", stn);
 	default:
 		switch (cause) {
-		case 2506:
+		case DF1_ID_ERR_BAD_CRC:
 			return df1_fail(h, DF1_E_CRC, stn, "station %d answered with a bad CRC", stn);
-		case 2507:
+		case DF1_ID_ERR_BAD_BCC:
 			return df1_fail(h, DF1_E_BCC, stn, "station %d answered with a bad BCC", stn);
-		case 2517:
+		case DF1_ID_NTC_RCVD_NAK_SYMBOL:
 			return df1_fail(h, DF1_E_NAK, stn, "station %d answered NAK", stn);
 		default:
 			return df1_fail(h, DF1_E_BAD_REPLY, stn, "station %d answered garbage", stn);
@@ -370,7 +372,7 @@ static int hd_slave_poll(struct df1 *h, uint8_t stn)
 	struct link_reply *t;
 	int r;
 
-	df1_count(h, 2532); /* CNT_POLL_MSGS_RCVD */
+	df1_count(h, DF1_ID_CNT_POLL_MSGS_RCVD);
 	for (;;) {
 		t = link_slot_oldest(h, false, stn);
 		if (!t || !t->sent)
@@ -378,12 +380,12 @@ static int hd_slave_poll(struct df1 *h, uint8_t stn)
 		/* sent on an earlier poll and not ACKed: again, up to nak_retries times */
 		if (t->naks < h->cfg.nak_retries) {
 			t->naks++;
-			df1_count(h, 2541); /* CNT_NAK_RETRIES */
-			df1_log(h, 2521, t->naks, 2515);
+			df1_count(h, DF1_ID_CNT_NAK_RETRIES);
+			df1_log(h, DF1_ID_NTC_NAK_RETRY, t->naks, DF1_ID_NTC_ACK_EXPECTED);
 			break;
 		}
-		df1_count(h, 2542);
-		df1_log(h, 2519, h->cfg.nak_retries);
+		df1_count(h, DF1_ID_CNT_NAK_LIMIT_EXCEEDED);
+		df1_log(h, DF1_ID_NTC_NAK_LIMIT_EXCEEDED, h->cfg.nak_retries);
 		t->used = false;
 	}
 	if (t && t->due_ms > df1_now_ms())
@@ -430,8 +432,8 @@ static int hd_slave_msg(struct df1 *h, const struct df1_symbol *s, link_handler_
 			return r;
 	}
 	link_remember(h, stn, d, s->len);
-	df1_count(h, 2526); /* CNT_MSG_PACKETS_RCVD */
-	df1_count(h, 2528); /* CNT_CMD_MSGS_RCVD */
+	df1_count(h, DF1_ID_CNT_MSG_PACKETS_RCVD);
+	df1_count(h, DF1_ID_CNT_CMD_MSGS_RCVD);
 	rlen = fn(h, ctx, d, s->len, out, sizeof out);
 	if (rlen > 0 && (size_t)rlen <= sizeof out)
 		(void)link_slot_new(h, stn, out, (size_t)rlen);
@@ -472,15 +474,15 @@ int half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms
 		switch (s.kind) {
 		case DF1_SYM_ACK:
 			if (awaiting > 0) {
-				df1_count(h, 2536); /* CNT_ACKS_RCVD */
+				df1_count(h, DF1_ID_CNT_ACKS_RCVD);
 				if (!awaiting_stale)
 					h->resp->replies[awaiting - 1].used = false;
 			}
 			break;
 		case DF1_SYM_NAK:
 			/* the master's global link reset (spec 2.1) */
-			df1_count(h, 2534);
-			df1_log(h, 2517);
+			df1_count(h, DF1_ID_CNT_NAKS_RCVD);
+			df1_log(h, DF1_ID_NTC_RCVD_NAK_SYMBOL);
 			link_slots_clear(h);
 			break;
 		case DF1_SYM_POLL:

@@ -92,7 +92,7 @@ static bool port_errno_closed(int err)
 
 static ssize_t port_read_failed(struct df1 *h, int code, int err)
 {
-	df1_count(h, 2551); /* CNT_COM_READ_ERRORS */
+	df1_count(h, DF1_ID_CNT_COM_READ_ERRORS);
 	if (code == DF1_E_CLOSED && err == 0)
 		return df1_fail(h, DF1_E_CLOSED, -1, "%s: connection closed by peer", h->port_name);
 	return port_fail_sys(h, code, err, "read from");

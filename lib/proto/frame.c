@@ -301,7 +301,7 @@ static void symbol_error(struct frame_decoder *d, struct df1_symbol *sym, int id
 /* A DLE STX / DLE SOH cut the current symbol short: report it, start anew. */
 static void restart(struct frame_decoder *d, struct df1_symbol *sym, int id, uint8_t b, bool in_frame)
 {
-	symbol_error(d, sym, id, id == 2514 ? b : 0, 2, in_frame);
+	symbol_error(d, sym, id, id == DF1_ID_NTC_INVALID_SYMBOL ? b : 0, 2, in_frame);
 	begin_frame(d, b == DF1_SOH);
 }
 
@@ -335,10 +335,10 @@ static void frame_done(struct frame_decoder *d, struct df1_symbol *sym, enum df1
 	sym->wire_len = d->wire;
 	if (d->overflow) {
 		sym->kind = DF1_SYM_ERROR;
-		sym->error = 2512;
+		sym->error = DF1_ID_NTC_RCVD_MSG_TOO_LONG;
 	} else if (d->len < FRAME_MIN_DATA) {
 		sym->kind = DF1_SYM_ERROR;
-		sym->error = 2513;
+		sym->error = DF1_ID_NTC_RCVD_MSG_TOO_SHORT;
 	} else {
 		sym->kind = DF1_SYM_FRAME;
 	}
@@ -435,7 +435,7 @@ static bool after_dle(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b
 			simple(d, sym, DF1_SYM_NAK);
 			return true;
 		}
-		symbol_error(d, sym, 2514, b, 0, false);
+		symbol_error(d, sym, DF1_ID_NTC_INVALID_SYMBOL, b, 0, false);
 		return true;
 	}
 }
@@ -464,10 +464,10 @@ static bool data_dle(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b)
 		return true;
 	}
 	if (b == DF1_STX || b == DF1_SOH) {
-		restart(d, sym, 2518, b, true);
+		restart(d, sym, DF1_ID_NTC_NO_ETX_RCVD, b, true);
 		return true;
 	}
-	symbol_error(d, sym, 2514, b, 0, true);
+	symbol_error(d, sym, DF1_ID_NTC_INVALID_SYMBOL, b, 0, true);
 	return true;
 }
 
@@ -475,9 +475,9 @@ static bool data_dle(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b)
 static bool poll_error(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b)
 {
 	if (b == DF1_STX || b == DF1_SOH)
-		restart(d, sym, 2514, b, false);
+		restart(d, sym, DF1_ID_NTC_INVALID_SYMBOL, b, false);
 	else
-		symbol_error(d, sym, 2514, b, 0, false);
+		symbol_error(d, sym, DF1_ID_NTC_INVALID_SYMBOL, b, 0, false);
 	return true;
 }
 
@@ -524,7 +524,7 @@ static bool step(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b, boo
 			simple(d, sym, DF1_SYM_POLL);
 		} else {
 			simple(d, sym, DF1_SYM_ERROR);
-			sym->error = 2507;
+			sym->error = DF1_ID_ERR_BAD_BCC;
 		}
 		return true;
 	case ST_SOH_STN:
@@ -539,17 +539,17 @@ static bool step(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b, boo
 			return false;
 		}
 		if (b == DF1_STX || b == DF1_SOH) {
-			restart(d, sym, 2518, b, true);
+			restart(d, sym, DF1_ID_NTC_NO_ETX_RCVD, b, true);
 			return true;
 		}
-		symbol_error(d, sym, 2514, b, 0, true);
+		symbol_error(d, sym, DF1_ID_NTC_INVALID_SYMBOL, b, 0, true);
 		return true;
 	case ST_SOH_DLE:
 		if (b == DF1_DLE) {
 			d->state = ST_SOH_STX;
 			return false;
 		}
-		symbol_error(d, sym, 2514, b, 0, true);
+		symbol_error(d, sym, DF1_ID_NTC_INVALID_SYMBOL, b, 0, true);
 		return true;
 	case ST_SOH_STX:
 		if (b == DF1_STX) {
@@ -560,10 +560,10 @@ static bool step(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b, boo
 			return false;
 		}
 		if (b == DF1_SOH) {
-			restart(d, sym, 2518, b, true);
+			restart(d, sym, DF1_ID_NTC_NO_ETX_RCVD, b, true);
 			return true;
 		}
-		symbol_error(d, sym, 2514, b, 0, true);
+		symbol_error(d, sym, DF1_ID_NTC_INVALID_SYMBOL, b, 0, true);
 		return true;
 	case ST_DATA:
 		if (b == DF1_DLE)
