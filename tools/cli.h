@@ -192,6 +192,12 @@ void cli_trace(void *user, enum df1_dir dir, const uint8_t *bytes, size_t n, uin
  * SIGPIPE is ignored so a closed stdout shows as a write error. Returns the fd or -1. */
 extern volatile sig_atomic_t cli_stop;
 int cli_signals_install(void);
+/* A responder (df1sim): also SIGUSR1, which sets cli_mute, and SIGUSR2, which
+ * clears it, through the same self-pipe; cli_signal_drain() empties the pipe
+ * once the flags are read. */
+extern volatile sig_atomic_t cli_mute;
+int cli_signals_install_mute(void);
+void cli_signal_drain(void);
 int cli_signal_fd(void);       /* read end of the self-pipe, or -1 */
 int cli_stop_signal(void);     /* the signal that stopped us, or 0 */
 /* Stop after ms milliseconds as a signal would (SIGALRM through the same handler and

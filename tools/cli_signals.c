@@ -1,6 +1,7 @@
 /*
- * cli_signals - SIGINT/SIGTERM through a self-pipe, --duration's timer, the
- * stop signal re-raised at exit (see cli.h).
+ * cli_signals - SIGINT/SIGTERM through a self-pipe, SIGUSR1/SIGUSR2 to mute and
+ * restore a responder, --duration's timer, the stop signal re-raised at exit
+ * (see cli.h).
  */
 #include "cli_int.h"
 
@@ -11,6 +12,7 @@
 #include <unistd.h>
 
 volatile sig_atomic_t cli_stop;
+volatile sig_atomic_t cli_mute;
 static volatile sig_atomic_t stop_signal;
 static int sig_pipe[2] = { -1, -1 };
 
@@ -18,8 +20,15 @@ static void on_signal(int sig)
 {
 	int saved = errno;
 
-	cli_stop = 1;
-	stop_signal = sig;
+	if (sig == SIGUSR1) {
+		cli_mute = 1;
+	} else if (sig == SIGUSR2) {
+		cli_mute = 0;
+	} else {
+		cli_stop = 1;
+		stop_signal = sig;
+	}
+	/* a full pipe already has a byte waiting: the flags say what came */
 	if (sig_pipe[1] >= 0) {
 		ssize_t w = write(sig_pipe[1], "s", 1);
 		(void)w;
@@ -27,7 +36,7 @@ static void on_signal(int sig)
 	errno = saved;
 }
 
-int cli_signals_install(void)
+static int signals_install(bool mute)
 {
 	struct sigaction sa;
 
@@ -42,10 +51,33 @@ int cli_signals_install(void)
 	sa.sa_flags = SA_RESETHAND;
 	sigaction(SIGINT, &sa, NULL);
 	sigaction(SIGTERM, &sa, NULL);
-	sa.sa_handler = SIG_IGN;
 	sa.sa_flags = 0;
+	if (mute) {
+		sigaction(SIGUSR1, &sa, NULL);
+		sigaction(SIGUSR2, &sa, NULL);
+	}
+	sa.sa_handler = SIG_IGN;
 	sigaction(SIGPIPE, &sa, NULL);
 	return sig_pipe[0];
+}
+
+int cli_signals_install(void)
+{
+	return signals_install(false);
+}
+
+int cli_signals_install_mute(void)
+{
+	return signals_install(true);
+}
+
+void cli_signal_drain(void)
+{
+	char buf[64];
+
+	while (sig_pipe[0] >= 0 && read(sig_pipe[0], buf, sizeof buf) > 0) {
+		/* the flags say what came */
+	}
 }
 
 int cli_stop_after_ms(long ms)

@@ -59,68 +59,6 @@ bool sim_parse_percent(const char *s, int *per_mille)
 }
 
 /* ------------------------------------------------------------------------
- * Signals
- * ------------------------------------------------------------------------ */
-
-volatile sig_atomic_t sim_stop;
-volatile sig_atomic_t sim_mute;         /* 1 after SIGUSR1, 0 after SIGUSR2 */
-static int sig_pipe[2] = { -1, -1 };
-
-/* SIGINT/SIGTERM stop, SIGUSR1/SIGUSR2 mute and unmute; every signal also
- * writes the self-pipe, the handle's cancel descriptor, so that a wait in
- * df1_serve() ends at once (DF1_E_INTR) and the main loop sees the flags. */
-static void on_signal(int sig)
-{
-	int saved = errno;
-	char c = (char)sig;
-
-	if (sig == SIGUSR1)
-		sim_mute = 1;
-	else if (sig == SIGUSR2)
-		sim_mute = 0;
-	else
-		sim_stop = 1;
-	if (sig_pipe[1] >= 0 && write(sig_pipe[1], &c, 1) < 0) {
-		/* the pipe is full: a byte is already waiting */
-	}
-	errno = saved;
-}
-
-int sim_signals_install(void)
-{
-	struct sigaction sa;
-
-	if (sig_pipe[0] < 0 && pipe2(sig_pipe, O_CLOEXEC | O_NONBLOCK) < 0) {
-		sig_pipe[0] = sig_pipe[1] = -1;
-		return -1;
-	}
-	memset(&sa, 0, sizeof sa);
-	sa.sa_handler = on_signal;
-	sigemptyset(&sa.sa_mask);
-	sigaction(SIGINT, &sa, NULL);
-	sigaction(SIGTERM, &sa, NULL);
-	sigaction(SIGUSR1, &sa, NULL);
-	sigaction(SIGUSR2, &sa, NULL);
-	sa.sa_handler = SIG_IGN;
-	sigaction(SIGPIPE, &sa, NULL);
-	return sig_pipe[0];
-}
-
-int sim_signal_fd(void)
-{
-	return sig_pipe[0];
-}
-
-void sim_signal_drain(void)
-{
-	char buf[64];
-
-	while (sig_pipe[0] >= 0 && read(sig_pipe[0], buf, sizeof buf) > 0) {
-		/* drain: the flags say what happened */
-	}
-}
-
-/* ------------------------------------------------------------------------
  * Transports
  * ------------------------------------------------------------------------ */
 

@@ -1,7 +1,7 @@
 /*
  * cli_sim - the code of a tool that serves, beside tools/cli.h (df1sim, and
- * any later responder such as a gateway): SIGINT/SIGTERM to stop and
- * SIGUSR1/SIGUSR2 to mute through one self-pipe; the transports a simulator
+ * any later responder such as a gateway; its signals are cli.h's
+ * cli_signals_install_mute): the transports a simulator
  * serves on (a pseudo-terminal behind a symbolic link, a TCP listener); the
  * --log command log (one line per command answered, from the frame trace);
  * option numbers. Tools use only include/df1.h.
@@ -20,16 +20,6 @@ bool sim_parse_long(const char *s, long lo, long hi, long *out);
 /* A probability in percent, "0".."100", decimals allowed ("0.5", "2.5%"), as per
  * mille (the library's unit), rounded. */
 bool sim_parse_percent(const char *s, int *per_mille);
-
-/* Signals: SIGINT/SIGTERM set sim_stop, SIGUSR1 sets sim_mute, SIGUSR2 clears it;
- * each writes a byte to a self-pipe whose read end (for df1_set_cancel_fd and
- * poll) is returned, so that a wait ends at once. SIGPIPE is ignored. -1 (errno)
- * if the pipe cannot be made. */
-extern volatile sig_atomic_t sim_stop;
-extern volatile sig_atomic_t sim_mute;
-int sim_signals_install(void);
-int sim_signal_fd(void);
-void sim_signal_drain(void);   /* empty the pipe: the flags say what came */
 
 /* A pseudo-terminal with a symbolic link to its slave side. The tool keeps its
  * own raw descriptor on the slave side, so the master never sees a hangup

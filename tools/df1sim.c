@@ -469,8 +469,8 @@ static void sim_wakeup(df1_t *h, struct sim *s)
 {
 	bool mute;
 
-	sim_signal_drain();
-	mute = sim_mute != 0;
+	cli_signal_drain();
+	mute = cli_mute != 0;
 	if (mute == s->muted)
 		return;
 	if (mute)
@@ -488,12 +488,12 @@ static int serve_open(df1_t *h, struct sim *s)
 {
 	int r;
 
-	while (!sim_stop) {
+	while (!cli_stop) {
 		sim_wakeup(h, s);
 		r = df1_serve(h, &sim_ops, s, 1000);
-		if (r >= 0 || (r == DF1_E_INTR && !sim_stop))
+		if (r >= 0 || (r == DF1_E_INTR && !cli_stop))
 			continue;
-		if (r == DF1_E_INTR || sim_stop)
+		if (r == DF1_E_INTR || cli_stop)
 			return 0;
 		return r;
 	}
@@ -503,10 +503,10 @@ static int serve_open(df1_t *h, struct sim *s)
 static int serve_tcp(df1_t *h, struct sim *s, int lfd, const char *shown)
 {
 	for (;;) {
-		struct pollfd pfd[2] = { { lfd, POLLIN, 0 }, { sim_signal_fd(), POLLIN, 0 } };
+		struct pollfd pfd[2] = { { lfd, POLLIN, 0 }, { cli_signal_fd(), POLLIN, 0 } };
 		int cfd, r, one = 1;
 
-		if (sim_stop)
+		if (cli_stop)
 			return 0;
 		r = poll(pfd, 2, -1);
 		if (r < 0) {
@@ -515,7 +515,7 @@ static int serve_tcp(df1_t *h, struct sim *s, int lfd, const char *shown)
 			msg("%s: poll: %s", shown, strerror(errno));
 			return CLI_EXIT_FAIL;
 		}
-		if (sim_stop)
+		if (cli_stop)
 			return 0;
 		if (pfd[1].revents) {
 			sim_wakeup(h, s);       /* SIGUSR1 / SIGUSR2 */
@@ -664,12 +664,12 @@ int main(int argc, char **argv)
 	status = setup_handle(h, &o, &sim);
 	if (status)
 		goto out;
-	if (sim_signals_install() < 0) {
+	if (cli_signals_install_mute() < 0) {
 		msg("pipe: %s", strerror(errno));
 		status = CLI_EXIT_FAIL;
 		goto out;
 	}
-	df1_set_cancel_fd(h, sim_signal_fd());
+	df1_set_cancel_fd(h, cli_signal_fd());
 
 	if (o.pty) {
 		status = sim_pty_create(&pty, o.pty, err, sizeof err);
@@ -708,7 +708,7 @@ int main(int argc, char **argv)
 		r = serve_open(h, &sim);
 		status = r < 0 ? report(h, shown, r) : 0;
 	}
-	if (status == 0 && sim_stop && o.verbose)
+	if (status == 0 && cli_stop && o.verbose)
 		msg("stopped by signal");
 out:
 	if (h) {
