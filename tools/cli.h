@@ -72,6 +72,7 @@ enum cli_opt_id {
 #define CLI_ACCEPT_ALL (CLI_ACCEPT_LINK | CLI_ACCEPT_OUTPUT)
 
 #define CLI_FMT_BIT(f) (1u << (f))   /* enum cli_format: cli_text.h */
+#define CLI_PLC_BIT(p) (1u << (p))   /* enum df1_plc */
 
 /* Keys of a tool's own long-only options start here (short ones use the letter). */
 #define CLI_KEY_EXTRA 1000
@@ -97,6 +98,10 @@ struct cli_tool {
 	unsigned long accepts;             /* CLI_ACCEPT(...) bits */
 	unsigned formats;                  /* CLI_FMT_BIT(...); plain is always accepted */
 	bool check_auto;                   /* --check auto is allowed (decoders) */
+	unsigned plcs;                     /* CLI_PLC_BIT(...) --plc accepts; 0: every one */
+	/* --help text of a common option where the tool's meaning differs (a responder's
+	 * --duplex half); NULL: the common text */
+	const char *common_help[CLI_OPT_COUNT_];
 	const struct cli_extra_opt *extra; /* terminated by { NULL }, or NULL */
 	cli_extra_fn on_extra;
 	const char *help_tail;             /* extra text at the end of --help, or NULL */
@@ -160,8 +165,13 @@ int cli_usage_error(const struct cli *c, const char *fmt, ...) __attribute__((fo
 void cli_cleanup(struct cli *c);
 
 /* Numbers: decimal (or 0x hex) integer in [lo, hi]; on error prints
- * "NAME: --OPT: invalid value 'x' (expected LO..HI)" and returns CLI_EXIT_USAGE. */
+ * "NAME: --OPT: invalid value 'x' (expected LO-HI)" and returns CLI_EXIT_USAGE. */
 int cli_parse_int(const struct cli *c, const char *opt, const char *arg, long lo, long hi, int *out);
+/* The same number without a message (parts of a value: a list, MS:P): true if s is one. */
+bool cli_long_in(const char *s, long lo, long hi, long *out);
+/* A bad option value: prints "NAME: --OPT: invalid value 'x' (expected WHAT)" and
+ * returns CLI_EXIT_USAGE. */
+int cli_bad_value(const struct cli *c, const char *opt, const char *arg, const char *expected);
 
 /* Build the handle from the options (df1_new, setters or the network file, logging
  * and tracing by -v), then df1_open the device. On error prints

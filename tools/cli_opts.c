@@ -33,7 +33,7 @@ const struct cli_common_opt cli_common_opts[] = {
 	{ CLI_OPT_CHECK, "check", required_argument, LONG_ONLY(CLI_OPT_CHECK), "crc|bcc",
 	  "error check (default crc)" },
 	{ CLI_OPT_PLC, "plc", required_argument, LONG_ONLY(CLI_OPT_PLC), "TYPE",
-	  "slc, micrologix, slc502, plc5 or plc2 (default slc)" },
+	  "the controller family" /* --help: the families the tool accepts, plc_list() */ },
 	{ CLI_OPT_TIMEOUT, "timeout", required_argument, 'o', "MS",
 	  "ACK and reply timeout 0-360000 (default 1000)" },
 	{ CLI_OPT_CMD_TIMEOUT, "cmd-timeout", required_argument, LONG_ONLY(CLI_OPT_CMD_TIMEOUT), "MS",
@@ -87,6 +87,32 @@ bool cli_accepts(const struct cli *c, enum cli_opt_id id)
 static bool format_ok(const struct cli *c, enum cli_format f)
 {
 	return f == CLI_FMT_PLAIN || (c->tool->formats & CLI_FMT_BIT(f));
+}
+
+static const char *const plc_names[] = { "slc", "micrologix", "slc502", "plc5", "plc2" };
+#define N_PLCS ((int)(sizeof plc_names / sizeof plc_names[0]))
+
+static bool plc_ok(const struct cli *c, int p)
+{
+	return p >= 0 && p < N_PLCS && (!c->tool->plcs || (c->tool->plcs & CLI_PLC_BIT(p)));
+}
+
+/* "slc, micrologix, slc502, plc5 or plc2": the families --plc accepts. */
+static void plc_list(const struct cli *c, char *buf, size_t cap)
+{
+	int n = 0, k = 0;
+	size_t len = 0;
+
+	buf[0] = '\0';
+	for (int p = 0; p < N_PLCS; p++)
+		n += plc_ok(c, p);
+	for (int p = 0; p < N_PLCS && len < cap; p++) {
+		if (!plc_ok(c, p))
+			continue;
+		k++;
+		len += (size_t)snprintf(buf + len, cap - len, "%s%s",
+		                        k == 1 ? "" : k == n ? " or " : ", ", plc_names[p]);
+	}
 }
 
 static const char *format_list(const struct cli *c)
@@ -161,7 +187,12 @@ void cli_usage(const struct cli *c, FILE *f)
 		if (!cli_accepts(c, o->id))
 			continue;
 		snprintf(help, sizeof help, "%s", o->help);
-		if (o->id == CLI_OPT_FORMAT) {
+		if (o->id == CLI_OPT_PLC) {
+			char list[80];
+			plc_list(c, list, sizeof list);
+			snprintf(help, sizeof help, "%s (default %s)", list,
+			         plc_ok(c, c->plc) ? plc_names[c->plc] : "slc");
+		} else if (o->id == CLI_OPT_FORMAT) {
 			arg = format_list(c);
 			snprintf(help, sizeof help, "output format (default plain)");
 		} else if (o->id == CLI_OPT_CHECK && t->check_auto) {
@@ -169,6 +200,8 @@ void cli_usage(const struct cli *c, FILE *f)
 			snprintf(help, sizeof help, "error check (default %s)",
 			         c->check == DF1_CHECK_AUTO ? "auto" : c->check == DF1_CHECK_BCC ? "bcc" : "crc");
 		}
+		if (t->common_help[o->id])
+			snprintf(help, sizeof help, "%s", t->common_help[o->id]);
 		usage_line(f, o->key, o->name, arg, o->has_arg, help);
 	}
 	usage_line(f, CLI_KEY_HELP, "help", NULL, no_argument, "print this help and exit");
@@ -179,14 +212,26 @@ void cli_usage(const struct cli *c, FILE *f)
 		fprintf(f, "%s", t->help_tail);
 }
 
-int cli_parse_int(const struct cli *c, const char *opt, const char *arg, long lo, long hi, int *out)
+bool cli_long_in(const char *s, long lo, long hi, long *out)
 {
 	char *end;
 	long v;
 
+	if (!s || !*s)
+		return false;
 	errno = 0;
-	v = strtol(arg, &end, 0);
-	if (!*arg || *end || errno || v < lo || v > hi) {
+	v = strtol(s, &end, 0);
+	if (*end || errno || v < lo || v > hi)
+		return false;
+	*out = v;
+	return true;
+}
+
+int cli_parse_int(const struct cli *c, const char *opt, const char *arg, long lo, long hi, int *out)
+{
+	long v;
+
+	if (!cli_long_in(arg, lo, hi, &v)) {
 		fprintf(stderr, "%s: %s: invalid value '%s' (expected %ld-%ld)\n", c->name, opt, arg, lo, hi);
 		return CLI_EXIT_USAGE;
 	}
@@ -194,9 +239,9 @@ int cli_parse_int(const struct cli *c, const char *opt, const char *arg, long lo
 	return CLI_CONTINUE;
 }
 
-static int bad_choice(const struct cli *c, const char *opt, const char *arg, const char *choices)
+int cli_bad_value(const struct cli *c, const char *opt, const char *arg, const char *expected)
 {
-	fprintf(stderr, "%s: %s: invalid value '%s' (expected %s)\n", c->name, opt, arg, choices);
+	fprintf(stderr, "%s: %s: invalid value '%s' (expected %s)\n", c->name, opt, arg, expected);
 	return CLI_EXIT_USAGE;
 }
 
@@ -220,7 +265,7 @@ static int parse_baud(struct cli *c, const char *arg)
 			return CLI_CONTINUE;
 		}
 	}
-	return bad_choice(c, "--baud", arg, "1200, 2400, 4800, 9600, 19200, 38400, 57600 or 115200");
+	return cli_bad_value(c, "--baud", arg, "1200, 2400, 4800, 9600, 19200, 38400, 57600 or 115200");
 }
 
 /* One common option. */
@@ -234,7 +279,7 @@ int cli_common_option(struct cli *c, enum cli_opt_id id, const char *arg)
 	switch (id) {
 	case CLI_OPT_DEVICE:
 		if (!*arg)
-			return bad_choice(c, "--device", arg, "a device path or tcp://HOST:PORT");
+			return cli_bad_value(c, "--device", arg, "a device path or tcp://HOST:PORT");
 		c->device = arg;
 		return CLI_CONTINUE;
 	case CLI_OPT_NET:
@@ -254,7 +299,7 @@ int cli_common_option(struct cli *c, enum cli_opt_id id, const char *arg)
 		else if (strcasecmp(arg, "odd") == 0 || strcasecmp(arg, "o") == 0)
 			c->parity = 'O';
 		else
-			return bad_choice(c, "--parity", arg, "none, even or odd");
+			return cli_bad_value(c, "--parity", arg, "none, even or odd");
 		return CLI_CONTINUE;
 	case CLI_OPT_DATA_BITS:
 		return cli_parse_int(c, "--data-bits", arg, 7, 8, &c->data_bits);
@@ -266,7 +311,7 @@ int cli_common_option(struct cli *c, enum cli_opt_id id, const char *arg)
 		else if (word_in(arg, no))
 			c->handshake = false;
 		else
-			return bad_choice(c, "--handshake", arg, "yes or no");
+			return cli_bad_value(c, "--handshake", arg, "yes or no");
 		return CLI_CONTINUE;
 	case CLI_OPT_DUPLEX:
 		if (strcasecmp(arg, "full") == 0)
@@ -274,7 +319,7 @@ int cli_common_option(struct cli *c, enum cli_opt_id id, const char *arg)
 		else if (strcasecmp(arg, "half") == 0)
 			c->half_duplex = true;
 		else
-			return bad_choice(c, "--duplex", arg, "full or half");
+			return cli_bad_value(c, "--duplex", arg, "full or half");
 		return CLI_CONTINUE;
 	case CLI_OPT_CHECK:
 		if (strcasecmp(arg, "crc") == 0)
@@ -284,7 +329,7 @@ int cli_common_option(struct cli *c, enum cli_opt_id id, const char *arg)
 		else if (c->tool->check_auto && strcasecmp(arg, "auto") == 0)
 			c->check = DF1_CHECK_AUTO;
 		else
-			return bad_choice(c, "--check", arg, c->tool->check_auto ? "crc, bcc or auto" : "crc or bcc");
+			return cli_bad_value(c, "--check", arg, c->tool->check_auto ? "crc, bcc or auto" : "crc or bcc");
 		return CLI_CONTINUE;
 	case CLI_OPT_PLC: {
 		static const char *const slc[] = { "slc", "slc500", "slc503", "slc504", "slc505", "slc5/03",
@@ -293,18 +338,25 @@ int cli_common_option(struct cli *c, enum cli_opt_id id, const char *arg)
 		static const char *const slc502[] = { "slc502", "slc501", "slc5/02", "slc5/01", NULL };
 		static const char *const plc5[] = { "plc5", "plc-5", NULL };
 		static const char *const plc2[] = { "plc2", "plc-2", NULL };
+		char list[80];
+
 		if (word_in(arg, slc))
-			c->plc = DF1_PLC_SLC;
+			v = DF1_PLC_SLC;
 		else if (word_in(arg, ml))
-			c->plc = DF1_PLC_MICROLOGIX;
+			v = DF1_PLC_MICROLOGIX;
 		else if (word_in(arg, slc502))
-			c->plc = DF1_PLC_SLC502;
+			v = DF1_PLC_SLC502;
 		else if (word_in(arg, plc5))
-			c->plc = DF1_PLC_PLC5;
+			v = DF1_PLC_PLC5;
 		else if (word_in(arg, plc2))
-			c->plc = DF1_PLC_PLC2;
+			v = DF1_PLC_PLC2;
 		else
-			return bad_choice(c, "--plc", arg, "slc, micrologix, slc502, plc5 or plc2");
+			v = -1;
+		if (v < 0 || !plc_ok(c, v)) {
+			plc_list(c, list, sizeof list);
+			return cli_bad_value(c, "--plc", arg, list);
+		}
+		c->plc = (enum df1_plc)v;
 		return CLI_CONTINUE;
 	}
 	case CLI_OPT_TIMEOUT:
@@ -331,7 +383,7 @@ int cli_common_option(struct cli *c, enum cli_opt_id id, const char *arg)
 			v = -1;
 		if (v < 0 || !format_ok(c, (enum cli_format)v)) {
 			const char *list = format_list(c);
-			return bad_choice(c, "--format", arg,
+			return cli_bad_value(c, "--format", arg,
 			                  strcmp(list, "plain|csv|json") == 0 ? "plain, csv or json"
 			                  : strcmp(list, "plain|json") == 0   ? "plain or json"
 			                  : strcmp(list, "plain|csv") == 0    ? "plain or csv"
