@@ -1,5 +1,5 @@
 /*
- * cli - the command-line code shared by df1read, df1write and df1mon
+ * cli - the command-line code shared by df1read, df1write, df1mon and df1sim
  * (DESIGN.md 8, STYLE.md 7.9): the common options, parsed with getopt_long
  * from one table; per-tool option sets and extra options; building and
  * opening the handle; error reports in the catalog format; -v logging and

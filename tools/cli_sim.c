@@ -1,8 +1,8 @@
 /*
- * cli_sim.c - the code of a tool that serves (tools/cli_sim.h): signals through
- * a self-pipe, the pseudo-terminal and TCP transports of a simulator, the
- * --log command log, option numbers. Moved out of df1sim.c unchanged in
- * behaviour: its messages and exit statuses are df1sim's.
+ * cli_sim.c - the code of a tool that serves (tools/cli_sim.h): the
+ * pseudo-terminal and TCP transports of a simulator, the --log command log,
+ * fault probabilities. Moved out of df1sim.c unchanged in behaviour: its
+ * messages and exit statuses are df1sim's.
  */
 #include "cli_sim.h"
 
@@ -23,23 +23,8 @@
 #include "cli.h"
 
 /* ------------------------------------------------------------------------
- * Numbers
+ * Probabilities
  * ------------------------------------------------------------------------ */
-
-bool sim_parse_long(const char *s, long lo, long hi, long *out)
-{
-	char *end;
-	long v;
-
-	if (!s || !*s)
-		return false;
-	errno = 0;
-	v = strtol(s, &end, 0);
-	if (errno || *end || v < lo || v > hi)
-		return false;
-	*out = v;
-	return true;
-}
 
 bool sim_parse_percent(const char *s, int *per_mille)
 {
@@ -158,7 +143,7 @@ static bool parse_listen(const char *spec, char *host, size_t hcap, char *port, 
 	{
 		long v;
 
-		if (!sim_parse_long(s, 0, 65535, &v) || strlen(s) >= pcap)
+		if (!cli_long_in(s, 0, 65535, &v) || strlen(s) >= pcap)
 			return false;
 		snprintf(port, pcap, "%ld", v);
 	}

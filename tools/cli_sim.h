@@ -4,7 +4,8 @@
  * cli_signals_install_mute): the transports a simulator
  * serves on (a pseudo-terminal behind a symbolic link, a TCP listener); the
  * --log command log (one line per command answered, from the frame trace);
- * option numbers. Tools use only include/df1.h.
+ * fault probabilities (numbers are cli.h's cli_long_in, cli_parse_int).
+ * Tools use only include/df1.h.
  */
 #ifndef DF1_TOOLS_CLI_SIM_H
 #define DF1_TOOLS_CLI_SIM_H
@@ -15,8 +16,6 @@
 #include <stdio.h>
 #include "df1.h"
 
-/* Decimal integer in [lo, hi] (0x hex accepted). */
-bool sim_parse_long(const char *s, long lo, long hi, long *out);
 /* A probability in percent, "0".."100", decimals allowed ("0.5", "2.5%"), as per
  * mille (the library's unit), rounded. */
 bool sim_parse_percent(const char *s, int *per_mille);

@@ -4,7 +4,8 @@
  * or TCP (DESIGN.md 8, man/man1/df1sim.1). Options and transport set-up on
  * the library's data table (df1_table(3): files, --data, the processor of the
  * diagnostic status, the serving callbacks) and df1_serve(); the shared code
- * is tools/cli.h and tools/cli_sim.h (signals, pty and TCP, --log).
+ * is tools/cli.h (cli_parse: the line options, df1sim's own as extra options;
+ * signals) and tools/cli_sim.h (pty and TCP, --log, fault probabilities).
  *
  * stdout: the device served, one line, once ready. stderr: messages.
  * SIGUSR1 silences every station (no ACK, no reply, no answer to polls or
@@ -13,7 +14,6 @@
  * 2 (usage or configuration error).
  */
 #include <errno.h>
-#include <getopt.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <poll.h>
@@ -21,7 +21,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -30,9 +29,6 @@
 #include "cli_sim.h"
 
 #define PROG "df1sim"
-
-static const struct cli_tool sim_tool = { .name = PROG };
-static struct cli cli;          /* the shared CLI code's view of df1sim: its name */
 
 static void msg(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 static void msg(const char *fmt, ...)
@@ -137,7 +133,8 @@ static void on_log(void *user, int catalog_id, enum df1_severity sev, const char
 }
 
 /* ------------------------------------------------------------------------
- * Options
+ * Options: the shared parser (tools/cli.h) with the line options that mean
+ * the same for a responder, and df1sim's own
  * ------------------------------------------------------------------------ */
 
 struct fault_opt {
@@ -148,12 +145,11 @@ struct fault_opt {
 };
 
 struct opts {
+	struct cli cli;                 /* --parity, --stop-bits, --duplex, --check, --plc, -v */
 	const char *pty, *device, *listen;
-	bool half;
-	enum df1_check check;
+	int where;                      /* how many of --pty, -d, --listen */
 	int stations[256];
 	int nstations;
-	enum df1_plc plc;
 	const char *processor;
 	const char *data;
 	struct fault_opt faults[8];     /* by enum df1_fault */
@@ -161,95 +157,54 @@ struct opts {
 	int line_baud;
 	bool plc5_float_swapped;
 	const char *log;
-	int baud, data_bits, stop_bits;
-	char parity;
-	int verbose;
+	int baud, data_bits;            /* -d only; the library checks them when it opens DEV */
 };
 
 enum {
-	OPT_PTY = 1000, OPT_LISTEN, OPT_DUPLEX, OPT_CHECK, OPT_STATION, OPT_PLC, OPT_PROCESSOR,
-	OPT_DATA, OPT_DROP_ACK, OPT_CORRUPT, OPT_NAK, OPT_DELAY, OPT_SILENT, OPT_STALE, OPT_NOISE,
-	OPT_SEED, OPT_LINE_BAUD, OPT_LOG, OPT_DATA_BITS, OPT_STOP_BITS, OPT_PLC5_FLOAT_SWAPPED,
+	OPT_PTY = CLI_KEY_EXTRA, OPT_LISTEN, OPT_STATION, OPT_DATA_BITS, OPT_LINE_BAUD, OPT_PROCESSOR,
+	OPT_PLC5_FLOAT_SWAPPED, OPT_DATA, OPT_DROP_ACK, OPT_CORRUPT, OPT_NAK, OPT_DELAY, OPT_SILENT,
+	OPT_STALE, OPT_NOISE, OPT_SEED, OPT_LOG,
 };
 
-static const struct option long_opts[] = {
-	{ "pty", required_argument, NULL, OPT_PTY },
-	{ "device", required_argument, NULL, 'd' },
-	{ "listen", required_argument, NULL, OPT_LISTEN },
-	{ "duplex", required_argument, NULL, OPT_DUPLEX },
-	{ "check", required_argument, NULL, OPT_CHECK },
-	{ "station", required_argument, NULL, OPT_STATION },
-	{ "plc", required_argument, NULL, OPT_PLC },
-	{ "processor", required_argument, NULL, OPT_PROCESSOR },
-	{ "plc5-float-swapped", no_argument, NULL, OPT_PLC5_FLOAT_SWAPPED },
-	{ "data", required_argument, NULL, OPT_DATA },
-	{ "drop-ack", required_argument, NULL, OPT_DROP_ACK },
-	{ "corrupt", required_argument, NULL, OPT_CORRUPT },
-	{ "nak", required_argument, NULL, OPT_NAK },
-	{ "delay", required_argument, NULL, OPT_DELAY },
-	{ "silent", required_argument, NULL, OPT_SILENT },
-	{ "stale", required_argument, NULL, OPT_STALE },
-	{ "noise", required_argument, NULL, OPT_NOISE },
-	{ "seed", required_argument, NULL, OPT_SEED },
-	{ "line-baud", required_argument, NULL, OPT_LINE_BAUD },
-	{ "log", required_argument, NULL, OPT_LOG },
-	{ "baud", required_argument, NULL, 'b' },
-	{ "parity", required_argument, NULL, 'P' },
-	{ "data-bits", required_argument, NULL, OPT_DATA_BITS },
-	{ "stop-bits", required_argument, NULL, OPT_STOP_BITS },
-	{ "verbose", no_argument, NULL, 'v' },
-	{ "help", no_argument, NULL, 'h' },
-	{ "version", no_argument, NULL, 'V' },
-	{ NULL, 0, NULL, 0 },
+/* -d, --station and -b are df1sim's own: -d is the device served (never
+ * DF1_DEVICE), --station the list of stations served, -b and --data-bits go
+ * to the port as given (any rate, 5-8 bits) and are ignored without -d. */
+static const struct cli_extra_opt sim_opts[] = {
+	{ "pty", required_argument, OPT_PTY, "PATH", "create a pseudo-terminal, symlink PATH to it" },
+	{ "device", required_argument, 'd', "DEV", "serve a serial port (or tcp://HOST:PORT as a client)" },
+	{ "listen", required_argument, OPT_LISTEN, "ADDR", "serve TCP clients one after another on ADDR" },
+	{ "station", required_argument, OPT_STATION, "N[,N...]",
+	  "stations served 0-254, ranges A-B allowed (default 1)" },
+	{ "baud", required_argument, 'b', "N", "-d only: baud rate (default 19200)" },
+	{ "data-bits", required_argument, OPT_DATA_BITS, "N", "-d only: data bits 5-8 (default 8)" },
+	{ "line-baud", required_argument, OPT_LINE_BAUD, "N", "pace the bytes sent as a line at N baud (default 0: off)" },
+	{ "processor", required_argument, OPT_PROCESSOR, "NAME",
+	  "the processor of the diagnostic status (default per --plc)" },
+	{ "plc5-float-swapped", no_argument, OPT_PLC5_FLOAT_SWAPPED, NULL,
+	  "--plc plc5: typed read/write floats word-swapped" },
+	{ "data", required_argument, OPT_DATA, "FILE", "initial values: ADDRESS=VALUE[,VALUE...] per line" },
+	{ "drop-ack", required_argument, OPT_DROP_ACK, "P", "fault: do not ACK a received command" },
+	{ "corrupt", required_argument, OPT_CORRUPT, "P", "fault: send a reply with a wrong BCC/CRC" },
+	{ "nak", required_argument, OPT_NAK, "P", "fault: answer a good command with NAK" },
+	{ "delay", required_argument, OPT_DELAY, "MS[:P]", "fault: delay replies by MS ms (P default 100)" },
+	{ "silent", required_argument, OPT_SILENT, "STATION", "fault: never answer this station" },
+	{ "stale", required_argument, OPT_STALE, "P", "fault: send a reply with an old TNS first" },
+	{ "noise", required_argument, OPT_NOISE, "P", "fault: send garbage bytes between frames" },
+	{ "seed", required_argument, OPT_SEED, "N", "random seed of the faults (default 1)" },
+	{ "log", required_argument, OPT_LOG, "FILE", "one line per command answered" },
+	{ NULL, 0, 0, NULL, NULL },
 };
 
-static void usage(FILE *f)
-{
-	fprintf(f,
-	        "Usage: %s (--pty PATH | -d DEV | --listen [tcp://][HOST:]PORT) [OPTIONS]\n"
-	        "A simulated PLC (DF1 half-duplex slave or full-duplex peer) with a data table\n"
-	        "and fault injection. Prints the device it serves on stdout once ready.\n"
-	        "\n"
-	        "Where:\n"
-	        "  --pty PATH            create a pseudo-terminal, symlink PATH to it\n"
-	        "  -d, --device DEV      serve a serial port (or tcp://HOST:PORT as a client)\n"
-	        "  --listen ADDR         serve TCP clients one after another on ADDR\n"
-	        "                        (tcp://127.0.0.1:PORT; loopback unless HOST is given;\n"
-	        "                        port 0 picks a free port)\n"
-	        "Link:\n"
-	        "  --duplex full|half    full-duplex peer or half-duplex slave (full)\n"
-	        "  --check crc|bcc       error check (crc)\n"
-	        "  --station N[,N...]    stations served, 0-254, ranges A-B allowed (1)\n"
-	        "  -b, --baud N          -d only: baud rate (19200)\n"
-	        "  -P, --parity P        -d only: none|even|odd (none)\n"
-	        "  --data-bits N         -d only: 5..8 (8)\n"
-	        "  --stop-bits N         -d only: 1 or 2 (1)\n"
-	        "  --line-baud N         pace transmitted bytes as a line at N baud\n"
-	        "PLC:\n"
-	        "  --plc TYPE            slc|micrologix|slc502|plc5 (slc)\n"
-	        "  --plc5-float-swapped  --plc plc5: typed read/write (0F/68, 0F/67) floats\n"
-	        "                        word-swapped, not plain little-endian\n"
-	        "  --processor NAME      diagnostic status identity, e.g. slc5/04, ml1400,\n"
-	        "                        plc5/40, or a type code (default per --plc)\n"
-	        "  --data FILE           initial values: ADDRESS=VALUE[,VALUE...] per line\n"
-	        "Faults (P = probability in percent, 0-100, steps of 0.1):\n"
-	        "  --drop-ack P          do not ACK a received command\n"
-	        "  --corrupt P           send a reply with a wrong BCC/CRC\n"
-	        "  --nak P               answer a good command with NAK\n"
-	        "  --delay MS[:P]        delay replies by MS ms (P default 100)\n"
-	        "  --silent STATION      never answer this station\n"
-	        "  --stale P             send a reply with an old TNS first\n"
-	        "  --noise P             send garbage bytes between frames\n"
-	        "  --seed N              random seed of the faults (1)\n"
-	        "Output:\n"
-	        "  --log FILE            one line per command answered\n"
-	        "  -v, --verbose         link events on stderr; twice: bytes too\n"
-	        "  -h, --help            this help\n"
-	        "  -V, --version         version\n"
-	        "Signals: SIGUSR1 silences every station, SIGUSR2 makes them answer again.\n"
-	        "Exit status: 0 stopped by SIGINT/SIGTERM, 1 communication error, 2 usage.\n",
-	        PROG);
-}
+/* The fault options, OPT_DROP_ACK.. in order. */
+static const struct {
+	enum df1_fault kind;
+	const char *opt;
+} fault_opts[] = {
+	{ DF1_FAULT_DROP_ACK, "--drop-ack" },     { DF1_FAULT_CORRUPT_REPLY, "--corrupt" },
+	{ DF1_FAULT_NAK_COMMAND, "--nak" },       { DF1_FAULT_DELAY_REPLY, "--delay" },
+	{ DF1_FAULT_SILENT_STATION, "--silent" }, { DF1_FAULT_STALE_REPLY, "--stale" },
+	{ DF1_FAULT_NOISE, "--noise" },
+};
 
 static bool parse_stations(const char *s, struct opts *o)
 {
@@ -266,10 +221,10 @@ static bool parse_stations(const char *s, struct opts *o)
 
 		if (dash) {
 			*dash = '\0';
-			if (!sim_parse_long(tok, 0, 254, &lo) || !sim_parse_long(dash + 1, 0, 254, &hi) || hi < lo)
+			if (!cli_long_in(tok, 0, 254, &lo) || !cli_long_in(dash + 1, 0, 254, &hi) || hi < lo)
 				return false;
 		} else {
-			if (!sim_parse_long(tok, 0, 254, &lo))
+			if (!cli_long_in(tok, 0, 254, &lo))
 				return false;
 			hi = lo;
 		}
@@ -282,166 +237,122 @@ static bool parse_stations(const char *s, struct opts *o)
 	return o->nstations > 0;
 }
 
-static int set_fault(struct opts *o, enum df1_fault k, const char *name, const char *arg)
+static int set_fault(struct opts *o, int i, const char *arg)
 {
-	struct fault_opt *f = &o->faults[k];
+	struct fault_opt *f = &o->faults[fault_opts[i].kind];
+	const char *opt = fault_opts[i].opt;
 	char buf[64], *colon;
 	long ms;
 
-	f->kind = k;
+	f->kind = fault_opts[i].kind;
 	f->given = true;
 	f->value = 0;
-	if (k == DF1_FAULT_SILENT_STATION) {
-		if (!sim_parse_long(arg, 0, 254, &ms))
-			return cli_usage_error(&cli, "--%s: invalid station '%s' (expected 0..254)", name, arg);
-		f->per_mille = 1000;
-		f->value = (int)ms;
-		return 0;
-	}
-	if (k == DF1_FAULT_DELAY_REPLY) {
+	f->per_mille = 1000;
+	switch (f->kind) {
+	case DF1_FAULT_SILENT_STATION:
+		return cli_parse_int(&o->cli, opt, arg, 0, 254, &f->value);
+	case DF1_FAULT_DELAY_REPLY:
 		if (strlen(arg) >= sizeof buf)
-			return cli_usage_error(&cli, "--%s: invalid value '%s'", name, arg);
+			return cli_bad_value(&o->cli, opt, arg, "MS[:P]");
 		strcpy(buf, arg);
 		colon = strchr(buf, ':');
 		if (colon)
 			*colon++ = '\0';
-		if (!sim_parse_long(buf, 0, 60000, &ms))
-			return cli_usage_error(&cli, "--%s: invalid delay '%s' (expected 0..60000 ms)", name, buf);
+		if (!cli_long_in(buf, 0, 60000, &ms) || (colon && !sim_parse_percent(colon, &f->per_mille)))
+			return cli_bad_value(&o->cli, opt, arg, "MS[:P], MS 0-60000, P 0-100 percent");
 		f->value = (int)ms;
-		f->per_mille = 1000;
-		if (colon && !sim_parse_percent(colon, &f->per_mille))
-			return cli_usage_error(&cli, "--%s: invalid probability '%s' (expected 0..100 percent)", name, colon);
-		return 0;
+		return CLI_CONTINUE;
+	default:
+		if (!sim_parse_percent(arg, &f->per_mille))
+			return cli_bad_value(&o->cli, opt, arg, "0-100 percent");
+		return CLI_CONTINUE;
 	}
-	if (!sim_parse_percent(arg, &f->per_mille))
-		return cli_usage_error(&cli, "--%s: invalid probability '%s' (expected 0..100 percent)", name, arg);
-	return 0;
 }
 
-/* Returns -1 to go on, else an exit status. */
-static int parse_args(int argc, char **argv, struct opts *o)
+static int on_option(struct cli *c, int key, const char *arg, void *user)
 {
-	int c, where = 0;
-	long v;
+	struct opts *o = user;
 	unsigned long long u;
 	char *end;
 
+	switch (key) {
+	case OPT_PTY: o->pty = arg; o->where++; break;
+	case 'd': o->device = arg; o->where++; break;
+	case OPT_LISTEN: o->listen = arg; o->where++; break;
+	case OPT_STATION:
+		if (!parse_stations(arg, o))
+			return cli_bad_value(c, "--station", arg, "N[,N...] or A-B within 0-254");
+		break;
+	case 'b': return cli_parse_int(c, "--baud", arg, 50, 4000000, &o->baud);
+	case OPT_DATA_BITS: return cli_parse_int(c, "--data-bits", arg, 5, 8, &o->data_bits);
+	case OPT_LINE_BAUD: return cli_parse_int(c, "--line-baud", arg, 0, 4000000, &o->line_baud);
+	case OPT_PROCESSOR: o->processor = arg; break;
+	case OPT_PLC5_FLOAT_SWAPPED: o->plc5_float_swapped = true; break;
+	case OPT_DATA: o->data = arg; break;
+	case OPT_SEED:
+		errno = 0;
+		u = strtoull(arg, &end, 0);
+		if (errno || !*arg || *end || arg[0] == '-')
+			return cli_bad_value(c, "--seed", arg, "an integer 0 or more");
+		o->seed = u;
+		break;
+	case OPT_LOG: o->log = arg; break;
+	default:
+		if (key >= OPT_DROP_ACK && key <= OPT_NOISE)
+			return set_fault(o, key - OPT_DROP_ACK, arg);
+		return cli_usage_error(c, "unknown option");
+	}
+	return CLI_CONTINUE;
+}
+
+static const struct cli_tool sim_tool = {
+	.name = PROG,
+	.synopsis = "(--pty PATH | -d DEV | --listen [tcp://][HOST:]PORT) [OPTIONS]",
+	.summary = "A simulated PLC (DF1 half-duplex slave or full-duplex peer) with a data table\n"
+	           "and fault injection. Prints the device it serves on stdout once ready.",
+	.accepts = CLI_ACCEPT(CLI_OPT_PARITY) | CLI_ACCEPT(CLI_OPT_STOP_BITS) | CLI_ACCEPT(CLI_OPT_DUPLEX) |
+	           CLI_ACCEPT(CLI_OPT_CHECK) | CLI_ACCEPT(CLI_OPT_PLC) | CLI_ACCEPT(CLI_OPT_VERBOSE),
+	.plcs = CLI_PLC_BIT(DF1_PLC_SLC) | CLI_PLC_BIT(DF1_PLC_MICROLOGIX) | CLI_PLC_BIT(DF1_PLC_SLC502) |
+	        CLI_PLC_BIT(DF1_PLC_PLC5),
+	.common_help = {
+		[CLI_OPT_PARITY] = "-d only: parity (default none)",
+		[CLI_OPT_STOP_BITS] = "-d only: stop bits (default 1)",
+		[CLI_OPT_DUPLEX] = "full-duplex peer or half-duplex slave (default full)",
+		[CLI_OPT_VERBOSE] = "link events on stderr; -vv also every byte",
+	},
+	.extra = sim_opts,
+	.on_extra = on_option,
+	.exit_text = "0 stopped by SIGINT/SIGTERM, 1 communication error, 2 usage.",
+	.help_tail = "\nADDR: [tcp://][HOST:]PORT, loopback unless HOST is given; port 0 picks a free port.\n"
+	             "NAME: e.g. slc5/04, ml1400, plc5/40, or a type code such as 0x5B.\n"
+	             "P: a probability in percent, 0-100, steps of 0.1.\n"
+	             "Signals: SIGUSR1 silences every station, SIGUSR2 makes them answer again.\n"
+	             "See df1sim(1).\n",
+};
+
+/* CLI_CONTINUE to go on, else an exit status. */
+static int parse_args(int argc, char **argv, struct opts *o)
+{
+	int r;
+
 	memset(o, 0, sizeof *o);
-	o->check = DF1_CHECK_CRC;
+	cli_init(&o->cli, &sim_tool);
 	o->stations[0] = 1;
 	o->nstations = 1;
-	o->plc = DF1_PLC_SLC;
 	o->seed = 1;
 	o->baud = 19200;
 	o->data_bits = 8;
-	o->stop_bits = 1;
-	o->parity = 'N';
-	opterr = 0;
-	while ((c = getopt_long(argc, argv, ":d:b:P:vhV", long_opts, NULL)) != -1) {
-		switch (c) {
-		case OPT_PTY: o->pty = optarg; where++; break;
-		case 'd': o->device = optarg; where++; break;
-		case OPT_LISTEN: o->listen = optarg; where++; break;
-		case OPT_DUPLEX:
-			if (strcasecmp(optarg, "full") == 0)
-				o->half = false;
-			else if (strcasecmp(optarg, "half") == 0)
-				o->half = true;
-			else
-				return cli_usage_error(&cli, "--duplex: invalid value '%s' (expected full or half)", optarg);
-			break;
-		case OPT_CHECK:
-			if (strcasecmp(optarg, "crc") == 0)
-				o->check = DF1_CHECK_CRC;
-			else if (strcasecmp(optarg, "bcc") == 0)
-				o->check = DF1_CHECK_BCC;
-			else
-				return cli_usage_error(&cli, "--check: invalid value '%s' (expected crc or bcc)", optarg);
-			break;
-		case OPT_STATION:
-			if (!parse_stations(optarg, o))
-				return cli_usage_error(&cli, "--station: invalid list '%s' (expected N[,N...] in 0..254)", optarg);
-			break;
-		case OPT_PLC:
-			if (strcasecmp(optarg, "slc") == 0)
-				o->plc = DF1_PLC_SLC;
-			else if (strcasecmp(optarg, "micrologix") == 0)
-				o->plc = DF1_PLC_MICROLOGIX;
-			else if (strcasecmp(optarg, "slc502") == 0)
-				o->plc = DF1_PLC_SLC502;
-			else if (strcasecmp(optarg, "plc5") == 0)
-				o->plc = DF1_PLC_PLC5;
-			else
-				return cli_usage_error(&cli, "--plc: invalid value '%s' (expected slc, micrologix, slc502 or plc5)",
-				                   optarg);
-			break;
-		case OPT_PROCESSOR: o->processor = optarg; break;
-		case OPT_PLC5_FLOAT_SWAPPED: o->plc5_float_swapped = true; break;
-		case OPT_DATA: o->data = optarg; break;
-		case OPT_DROP_ACK: if (set_fault(o, DF1_FAULT_DROP_ACK, "drop-ack", optarg)) return CLI_EXIT_USAGE; break;
-		case OPT_CORRUPT: if (set_fault(o, DF1_FAULT_CORRUPT_REPLY, "corrupt", optarg)) return CLI_EXIT_USAGE; break;
-		case OPT_NAK: if (set_fault(o, DF1_FAULT_NAK_COMMAND, "nak", optarg)) return CLI_EXIT_USAGE; break;
-		case OPT_DELAY: if (set_fault(o, DF1_FAULT_DELAY_REPLY, "delay", optarg)) return CLI_EXIT_USAGE; break;
-		case OPT_SILENT: if (set_fault(o, DF1_FAULT_SILENT_STATION, "silent", optarg)) return CLI_EXIT_USAGE; break;
-		case OPT_STALE: if (set_fault(o, DF1_FAULT_STALE_REPLY, "stale", optarg)) return CLI_EXIT_USAGE; break;
-		case OPT_NOISE: if (set_fault(o, DF1_FAULT_NOISE, "noise", optarg)) return CLI_EXIT_USAGE; break;
-		case OPT_SEED:
-			errno = 0;
-			u = strtoull(optarg, &end, 0);
-			if (errno || !*optarg || *end || optarg[0] == '-')
-				return cli_usage_error(&cli, "--seed: invalid value '%s'", optarg);
-			o->seed = u;
-			break;
-		case OPT_LINE_BAUD:
-			if (!sim_parse_long(optarg, 0, 4000000, &v))
-				return cli_usage_error(&cli, "--line-baud: invalid value '%s' (expected 0..4000000)", optarg);
-			o->line_baud = (int)v;
-			break;
-		case OPT_LOG: o->log = optarg; break;
-		case 'b':
-			if (!sim_parse_long(optarg, 50, 4000000, &v))
-				return cli_usage_error(&cli, "--baud: invalid value '%s'", optarg);
-			o->baud = (int)v;
-			break;
-		case 'P':
-			if (strcasecmp(optarg, "none") == 0 || strcasecmp(optarg, "n") == 0)
-				o->parity = 'N';
-			else if (strcasecmp(optarg, "even") == 0 || strcasecmp(optarg, "e") == 0)
-				o->parity = 'E';
-			else if (strcasecmp(optarg, "odd") == 0 || strcasecmp(optarg, "o") == 0)
-				o->parity = 'O';
-			else
-				return cli_usage_error(&cli, "--parity: invalid value '%s' (expected none, even or odd)", optarg);
-			break;
-		case OPT_DATA_BITS:
-			if (!sim_parse_long(optarg, 5, 8, &v))
-				return cli_usage_error(&cli, "--data-bits: invalid value '%s' (expected 5..8)", optarg);
-			o->data_bits = (int)v;
-			break;
-		case OPT_STOP_BITS:
-			if (!sim_parse_long(optarg, 1, 2, &v))
-				return cli_usage_error(&cli, "--stop-bits: invalid value '%s' (expected 1 or 2)", optarg);
-			o->stop_bits = (int)v;
-			break;
-		case 'v': o->verbose++; break;
-		case 'h': usage(stdout); return 0;
-		case 'V': cli_print_version(stdout, PROG); return 0;
-		case ':':
-			return cli_usage_error(&cli, "option '%s' needs a value", argv[optind - 1]);
-		default:
-			if (optopt && optopt < 256)
-				return cli_usage_error(&cli, "unknown option '-%c'", optopt);
-			return cli_usage_error(&cli, "unknown option '%s'", argv[optind - 1]);
-		}
-	}
-	if (optind < argc)
-		return cli_usage_error(&cli, "unexpected argument '%s'", argv[optind]);
-	if (where != 1)
-		return cli_usage_error(&cli, where ? "give only one of --pty, -d and --listen"
-		                         : "one of --pty PATH, -d DEV or --listen ADDR is required");
-	if (o->plc5_float_swapped && o->plc != DF1_PLC_PLC5)
-		return cli_usage_error(&cli, "--plc5-float-swapped goes with --plc plc5 only");
-	return -1;
+	r = cli_parse(&o->cli, argc, argv, o);
+	if (r != CLI_CONTINUE)
+		return r;
+	if (o->cli.argc > 0)
+		return cli_usage_error(&o->cli, "unexpected argument '%s'", o->cli.argv[0]);
+	if (o->where != 1)
+		return cli_usage_error(&o->cli, o->where ? "give only one of --pty, -d and --listen"
+		                                         : "one of --pty PATH, -d DEV or --listen ADDR is required");
+	if (o->plc5_float_swapped && o->cli.plc != DF1_PLC_PLC5)
+		return cli_usage_error(&o->cli, "--plc5-float-swapped goes with --plc plc5 only");
+	return CLI_CONTINUE;
 }
 
 /* ------------------------------------------------------------------------
@@ -554,15 +465,15 @@ static int setup_handle(df1_t *h, const struct opts *o, struct sim *s)
 {
 	int r = 0;
 
-	r = r < 0 ? r : df1_set_duplex(h, o->half ? DF1_HALF_DUPLEX_SLAVE : DF1_FULL_DUPLEX);
-	r = r < 0 ? r : df1_set_check(h, o->check);
-	r = r < 0 ? r : df1_set_plc(h, o->plc);
+	r = r < 0 ? r : df1_set_duplex(h, o->cli.half_duplex ? DF1_HALF_DUPLEX_SLAVE : DF1_FULL_DUPLEX);
+	r = r < 0 ? r : df1_set_check(h, o->cli.check);
+	r = r < 0 ? r : df1_set_plc(h, o->cli.plc);
 	r = r < 0 ? r : df1_set_option(h, DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED, o->plc5_float_swapped);
 	r = r < 0 ? r : df1_set_station(h, o->stations[0]);
 	for (int i = 0; r >= 0 && i < o->nstations; i++)
 		r = df1_server_add_station(h, o->stations[i]);
 	if (r >= 0 && o->device)
-		r = df1_set_serial(h, o->baud, o->data_bits, o->parity, o->stop_bits);
+		r = df1_set_serial(h, o->baud, o->data_bits, o->cli.parity, o->cli.stop_bits);
 	for (int k = 0; r >= 0 && k < 8; k++)
 		if (o->faults[k].given)
 			r = df1_server_set_fault(h, o->faults[k].kind, o->faults[k].per_mille, o->faults[k].value);
@@ -575,9 +486,9 @@ static int setup_handle(df1_t *h, const struct opts *o, struct sim *s)
 		return CLI_EXIT_USAGE;
 	}
 	df1_server_set_seed(h, o->seed);
-	if (o->verbose)
+	if (o->cli.verbose)
 		df1_set_log(h, on_log, s);
-	if (o->verbose >= 2 || s->log.fp)
+	if (o->cli.verbose >= 2 || s->log.fp)
 		df1_set_trace(h, on_trace, s);
 	return 0;
 }
@@ -595,23 +506,23 @@ static int sim_build(struct sim *s, const struct opts *o)
 	int r;
 
 	memset(s, 0, sizeof *s);
-	s->plc = o->plc;
-	s->half = o->half;
-	s->verbose = o->verbose;
+	s->plc = o->cli.plc;
+	s->half = o->cli.half_duplex;
+	s->verbose = o->cli.verbose;
 	s->nstations = o->nstations;
 	memcpy(s->stations, o->stations, sizeof s->stations);
 	if (o->faults[DF1_FAULT_SILENT_STATION].given) {
 		s->silent_pm = o->faults[DF1_FAULT_SILENT_STATION].per_mille;
 		s->silent_station = o->faults[DF1_FAULT_SILENT_STATION].value;
 	}
-	if (df1_table_new(&tmpl, o->plc) < 0 || df1_table_add_default_files(tmpl) < 0) {
+	if (df1_table_new(&tmpl, o->cli.plc) < 0 || df1_table_add_default_files(tmpl) < 0) {
 		df1_table_free(tmpl);
 		msg("out of memory");
 		return CLI_EXIT_FAIL;
 	}
 	s->tables[s->stations[0]] = tmpl;       /* sim_free() frees it from here on */
 	if (o->processor && df1_table_set_processor(tmpl, o->processor) < 0) {
-		cli_usage_error(&cli, "--processor: unknown processor '%s' (e.g. slc5/04, ml1400, plc5/40, 0x5B)",
+		cli_usage_error(&o->cli, "--processor: unknown processor '%s' (e.g. slc5/04, ml1400, plc5/40, 0x5B)",
 		            o->processor);
 		return CLI_EXIT_USAGE;
 	}
@@ -626,7 +537,7 @@ static int sim_build(struct sim *s, const struct opts *o)
 		}
 	}
 	if (o->log) {
-		r = sim_cmdlog_open(&s->log, o->log, o->check, o->half, s->tables, s->stations[0]);
+		r = sim_cmdlog_open(&s->log, o->log, o->cli.check, o->cli.half_duplex, s->tables, s->stations[0]);
 		if (r == -1) {
 			msg("--log %s: %s", o->log, strerror(errno));
 			return CLI_EXIT_USAGE;
@@ -648,9 +559,8 @@ int main(int argc, char **argv)
 	df1_t *h = NULL;
 	int status, r, lfd = -1;
 
-	cli_init(&cli, &sim_tool);
 	status = parse_args(argc, argv, &o);
-	if (status >= 0)
+	if (status != CLI_CONTINUE)
 		return status;
 	status = sim_build(&sim, &o);
 	if (status)
@@ -708,7 +618,7 @@ int main(int argc, char **argv)
 		r = serve_open(h, &sim);
 		status = r < 0 ? report(h, shown, r) : 0;
 	}
-	if (status == 0 && cli_stop && o.verbose)
+	if (status == 0 && cli_stop && o.cli.verbose)
 		msg("stopped by signal");
 out:
 	if (h) {
