@@ -30,16 +30,6 @@ int table_fail(struct df1_table *t, int err, const char *fmt, ...)
  * ------------------------------------------------------------------------ */
 
 /* An ST element: LEN(2) + 82 characters, bytes swapped per word (spec 5). */
-static void table_put_string(uint8_t *p84, const char *s, size_t n)
-{
-	memset(p84, 0, 84);
-	if (n > DF1_STRING_MAX)
-		n = DF1_STRING_MAX;
-	put_le16(p84, (uint16_t)n);
-	for (size_t i = 0; i < n; i++)
-		p84[2 + (i ^ 1u)] = (uint8_t)s[i];
-}
-
 /* Initial contents of element n (df1sim(1), DATA TABLE). */
 static void table_elem_init(enum df1_file_type type, int n, uint8_t *p)
 {
@@ -62,7 +52,7 @@ static void table_elem_init(enum df1_file_type type, int n, uint8_t *p)
 		break;
 	case DF1_FT_ST:
 		snprintf(text, sizeof text, "STRING %d", n);
-		table_put_string(p, text, strlen(text));
+		(void)value_put_string(p, text);    /* a few characters: it fits */
 		break;
 	default:                /* O I S B R A: zero */
 		memset(p, 0, (size_t)df1_file_type_element_size(type));
@@ -420,73 +410,41 @@ static uint8_t *table_elem(const struct table_file *f, const struct df1_addr *a)
 	return p;
 }
 
+/* The values reaching the table are of the address's kind and checked (a
+ * string's length included), so the codec cannot refuse them. */
 void table_put_value(struct table_file *f, const struct df1_addr *a, const struct df1_value *v)
 {
 	uint8_t *p = table_elem(f, a);
 
-	switch (v->kind) {
-	case DF1_VAL_BIT: {
+	if (v->kind == DF1_VAL_BIT) {
 		uint8_t *b = p + a->bit / 8;
 		uint8_t m = (uint8_t)(1u << (a->bit % 8));
 
 		*b = v->v.bit ? (uint8_t)(*b | m) : (uint8_t)(*b & ~m);
-		break;
+		return;
 	}
-	case DF1_VAL_INT16:
-		put_le16(p, (uint16_t)v->v.i16);
-		break;
-	case DF1_VAL_INT32:
-		put_le32(p, (uint32_t)v->v.i32);
-		break;
-	case DF1_VAL_FLOAT:
-		value_put_float(p, v->v.f, VALUE_FLOAT_LE);
-		break;
-	case DF1_VAL_STRING:
-		table_put_string(p, v->v.str.text, v->v.str.len);
-		break;
-	case DF1_VAL_TCR:
-		put_le16(p, v->v.tcr.ctl);
-		put_le16(p + 2, (uint16_t)v->v.tcr.pre);
-		put_le16(p + 4, (uint16_t)v->v.tcr.acc);
-		break;
-	}
+	(void)value_encode_kind(v->kind, v, p, VALUE_FLOAT_LE);
 }
 
 void table_get_value(const struct table_file *f, const struct df1_addr *a, struct df1_value *v)
 {
 	const uint8_t *p = table_elem(f, a);
-	size_t len;
+	enum df1_value_kind k = df1_addr_value_kind(a);
+	uint8_t st[84];
 
-	memset(v, 0, sizeof *v);
-	v->kind = df1_addr_value_kind(a);
-	switch (v->kind) {
-	case DF1_VAL_BIT:
+	if (k == DF1_VAL_BIT) {
+		memset(v, 0, sizeof *v);
+		v->kind = k;
 		v->v.bit = (p[a->bit / 8] >> (a->bit % 8)) & 1u;
-		break;
-	case DF1_VAL_INT16:
-		v->v.i16 = (int16_t)le16(p);
-		break;
-	case DF1_VAL_INT32:
-		v->v.i32 = (int32_t)le32(p);
-		break;
-	case DF1_VAL_FLOAT:
-		v->v.f = value_get_float(p, VALUE_FLOAT_LE);
-		break;
-	case DF1_VAL_STRING:
-		len = le16(p);
-		if (len > DF1_STRING_MAX)
-			len = DF1_STRING_MAX;       /* a raw write may have stored any LEN */
-		for (size_t i = 0; i < len; i++)
-			v->v.str.text[i] = (char)p[2 + (i ^ 1u)];
-		v->v.str.text[len] = '\0';
-		v->v.str.len = (uint16_t)len;
-		break;
-	case DF1_VAL_TCR:
-		v->v.tcr.ctl = le16(p);
-		v->v.tcr.pre = (int16_t)le16(p + 2);
-		v->v.tcr.acc = (int16_t)le16(p + 4);
-		break;
+		return;
 	}
+	if (k == DF1_VAL_STRING && le16(p) > DF1_STRING_MAX) {
+		/* a raw write may have stored any LEN: serve the characters there are */
+		memcpy(st, p, sizeof st);
+		put_le16(st, DF1_STRING_MAX);
+		p = st;
+	}
+	(void)value_decode_kind(k, p, v, VALUE_FLOAT_LE);
 }
 
 /* An address as text for a message: "N7:0", or "file 7" when it has no text form. */

@@ -99,17 +99,11 @@ static size_t value_elem_layout(enum df1_file_type t, enum df1_value_kind *k)
 	return (size_t)size;
 }
 
-int value_decode_element(enum df1_file_type t, const uint8_t *p, size_t n, struct df1_value *v,
-                         enum value_float_order o)
+int value_decode_kind(enum df1_value_kind k, const uint8_t *p, struct df1_value *v,
+                      enum value_float_order o)
 {
-	enum df1_value_kind k = DF1_VAL_INT16;
-	size_t size = value_elem_layout(t, &k);
 	int r;
 
-	if (!p || !v || size == 0)
-		return DF1_E_INVAL;
-	if (n < size)
-		return DF1_E_TOO_SHORT;
 	memset(v, 0, sizeof *v);
 	v->kind = k;
 	switch (k) {
@@ -136,7 +130,22 @@ int value_decode_element(enum df1_file_type t, const uint8_t *p, size_t n, struc
 	default:
 		return DF1_E_INVAL;
 	}
-	return (int)size;
+	return 0;
+}
+
+int value_decode_element(enum df1_file_type t, const uint8_t *p, size_t n, struct df1_value *v,
+                         enum value_float_order o)
+{
+	enum df1_value_kind k = DF1_VAL_INT16;
+	size_t size = value_elem_layout(t, &k);
+	int r;
+
+	if (!p || !v || size == 0)
+		return DF1_E_INVAL;
+	if (n < size)
+		return DF1_E_TOO_SHORT;
+	r = value_decode_kind(k, p, v, o);
+	return r < 0 ? r : (int)size;
 }
 
 /* An integer value of either width, for the lossless int16 <-> int32 conversions. */
@@ -151,18 +160,12 @@ static bool value_int(const struct df1_value *v, int64_t *out)
 	return true;
 }
 
-int value_encode_element(enum df1_file_type t, const struct df1_value *v, uint8_t *p, size_t cap,
-                         enum value_float_order o)
+int value_encode_kind(enum df1_value_kind k, const struct df1_value *v, uint8_t *p,
+                      enum value_float_order o)
 {
-	enum df1_value_kind k = DF1_VAL_INT16;
-	size_t size = value_elem_layout(t, &k);
 	int64_t i;
 	int r;
 
-	if (!p || !v || size == 0)
-		return DF1_E_INVAL;
-	if (cap < size)
-		return DF1_E_NOSPACE;
 	switch (k) {
 	case DF1_VAL_INT16:
 		if (!value_int(v, &i))
@@ -200,5 +203,20 @@ int value_encode_element(enum df1_file_type t, const struct df1_value *v, uint8_
 	default:
 		return DF1_E_INVAL;
 	}
-	return (int)size;
+	return 0;
+}
+
+int value_encode_element(enum df1_file_type t, const struct df1_value *v, uint8_t *p, size_t cap,
+                         enum value_float_order o)
+{
+	enum df1_value_kind k = DF1_VAL_INT16;
+	size_t size = value_elem_layout(t, &k);
+	int r;
+
+	if (!p || !v || size == 0)
+		return DF1_E_INVAL;
+	if (cap < size)
+		return DF1_E_NOSPACE;
+	r = value_encode_kind(k, v, p, o);
+	return r < 0 ? r : (int)size;
 }

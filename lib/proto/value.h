@@ -54,6 +54,14 @@ void value_put_float(uint8_t *p, float f, enum value_float_order o);
 /* ST element (84 bytes) <-> text; put fails with DF1_E_RANGE above 82 characters. */
 int value_get_string(const uint8_t *p84, char *out, size_t cap);
 int value_put_string(uint8_t *p84, const char *text);
+/* One value of kind k from / to the wire bytes at p, the caller having checked that
+ * they are there (an element, or a sub-element word): the codec of the two below.
+ * Returns 0, or DF1_E_TYPE / DF1_E_RANGE (encode), DF1_E_RANGE (a string's LEN over
+ * 82), DF1_E_INVAL (a kind without bytes, such as a bit). */
+int value_decode_kind(enum df1_value_kind k, const uint8_t *p, struct df1_value *v,
+                      enum value_float_order o);
+int value_encode_kind(enum df1_value_kind k, const struct df1_value *v, uint8_t *p,
+                      enum value_float_order o);
 /* One element of file type t from / to wire bytes (element size per type). */
 int value_decode_element(enum df1_file_type t, const uint8_t *p, size_t n, struct df1_value *v,
                          enum value_float_order o);
