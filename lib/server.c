@@ -619,7 +619,7 @@ static int srv_plc2(struct srv *s)
 
 int server_default_diag(uint8_t *buf, size_t cap)
 {
-	/* an SLC 5/04 (series C, revision 4) in Run mode, 16 KB of RAM, no owner */
+	/* an SLC 5/04 series C release 5 (44h) in Run mode, 16 KB of RAM, no owner */
 	static const struct pccc_diag_info slc504 = {
 		.type_code = 0x5B, .interface_type = 0x1F, .series_rev = 0x44,
 		.bulletin = "5/04", .mode = 0x06, .ram_kb = 0x10, .owner = 0x3F,
