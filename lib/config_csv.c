@@ -11,7 +11,9 @@
  * spreadsheet) and comment rows (a line whose first non-blank character is '#',
  * or a row whose first cell, trimmed, starts with '#'; a tag cannot start with
  * '#'). A UTF-8 byte order mark at the start of the file is skipped. Values are
- * trimmed of spaces and tabs; an empty cell means "not given".
+ * trimmed of spaces and tabs; an empty cell means "not given". A NUL byte in a
+ * cell is an error naming the row (in the header: the load fails); the row is
+ * skipped.
  *
  * Columns: an unknown column name is an error naming it (a mistyped field silently
  * taking its default would be worse), as is a column given twice or a value
@@ -271,6 +273,7 @@ static void cfg_on_field(void *s, size_t len, void *data)
 		row->overflow = true;
 		return;
 	}
+	row->has_nul[i] = len > 0 && s && memchr(s, '\0', len) != NULL;
 	row->too_long[i] = len >= CFG_FIELD_MAX;
 	if (row->too_long[i])
 		len = CFG_FIELD_MAX - 1;
@@ -286,7 +289,7 @@ static bool cfg_row_is_blank(const struct cfg_row *row)
 	int i;
 
 	for (i = 0; i < row->nfields; i++)
-		if (row->field[i][0] != '\0')
+		if (row->field[i][0] != '\0' || row->has_nul[i])
 			return false;
 	return !row->overflow;
 }
@@ -316,6 +319,11 @@ static void cfg_header(struct cfg_load *l, struct cfg_row *row)
 		cfg_report(l, 0, 0, row->line, "Too many columns (more than %d)", CFG_MAX_COLS);
 	for (i = 0; i < row->nfields; i++) {
 		l->colmap[i] = -1;
+		if (row->has_nul[i]) {
+			cfg_report(l, 0, 0, row->line, "Column %d of the header (%.64s) holds a NUL byte",
+			           i + 1, row->field[i]);
+			continue;
+		}
 		if (row->field[i][0] == '\0')
 			continue;
 		l->colmap[i] = cfg_field_index(l, row->field[i]);
@@ -359,16 +367,29 @@ const char *cfg_value(const struct cfg_load *l, const struct cfg_row *row, int f
 	return "";
 }
 
-/* Cells the header does not name, overlong cells; reported with the row's item. */
-void cfg_check_cells(struct cfg_load *l, const struct cfg_row *row, bool with_item)
+/* Cells the header does not name, overlong cells, cells with a NUL byte (C
+ * would see them cut at it); reported with the row's item. Returns the number
+ * of cells with a NUL byte. */
+int cfg_check_cells(struct cfg_load *l, const struct cfg_row *row, bool with_item)
 {
-	int i;
+	int i, nul = 0;
 	const char *prefix = with_item ? "Item: " : "Row ";
 
 	if (row->overflow)
 		cfg_report(l, 0, l->item, row->line, "%s%d, too many cells (more than %d)", prefix,
 		           l->item, CFG_MAX_COLS);
 	for (i = 0; i < row->nfields; i++) {
+		if (row->has_nul[i]) {
+			nul++;
+			if (i >= l->ncols || l->colmap[i] < 0)
+				cfg_report(l, 0, l->item, row->line,
+				           "%s%d, the value in column %d holds a NUL byte", prefix,
+				           l->item, i + 1);
+			else
+				cfg_report(l, 0, l->item, row->line, "%s%d, %s holds a NUL byte", prefix,
+				           l->item, l->names[l->colmap[i]]);
+			continue;
+		}
 		if (row->field[i][0] == '\0')
 			continue;
 		if (i >= l->ncols || l->colmap[i] < 0)
@@ -379,6 +400,7 @@ void cfg_check_cells(struct cfg_load *l, const struct cfg_row *row, bool with_it
 			cfg_report(l, 0, l->item, row->line, "%s%d, %s is too long (max %d characters)",
 			           prefix, l->item, l->names[l->colmap[i]], CFG_FIELD_MAX - 1);
 	}
+	return nul;
 }
 
 static void cfg_on_row(int c, void *data)

@@ -35,6 +35,7 @@ struct cfg_row {
 	int line;                           /* line of the row's first field */
 	bool overflow;                      /* more than CFG_MAX_COLS cells */
 	bool too_long[CFG_MAX_COLS];
+	bool has_nul[CFG_MAX_COLS];         /* a NUL byte inside the cell */
 	char field[CFG_MAX_COLS][CFG_FIELD_MAX];
 };
 
@@ -87,7 +88,7 @@ bool cfg_int(const char *s, int *out);
 int cfg_plc(const char *s, enum df1_plc *plc);
 /* the reader: a row's cell by field, the per-row checks, reading a file */
 const char *cfg_value(const struct cfg_load *l, const struct cfg_row *row, int f);
-void cfg_check_cells(struct cfg_load *l, const struct cfg_row *row, bool with_item);
+int cfg_check_cells(struct cfg_load *l, const struct cfg_row *row, bool with_item);
 int cfg_read(struct cfg_load *l, FILE *f, const char *path);
 FILE *cfg_open(struct cfg_load *l, const char *path);
 void cfg_init(struct cfg_load *l, df1_config_issue_fn fn, void *user,

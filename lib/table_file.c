@@ -8,6 +8,8 @@
  *   T4:0=PRE=500 ACC=0 EN=1         a whole T/C/R element (df1_value_parse's text)
  *   ST9:0="a, \"quoted\" string"    quotes keep commas, blanks and '#'; \" \\ \xHH
  *
+ * A UTF-8 byte order mark at the start of the file is skipped.
+ *
  * A load is all or nothing: the lines go into a copy that replaces the table's
  * contents only when every line was good. A save writes a temporary file in
  * the same directory and renames it over the target.
@@ -255,9 +257,12 @@ int df1_table_load(struct df1_table *t, const char *path)
 	}
 	errno = 0;
 	while (getline(&line, &cap, fp) >= 0) {
-		char *s = table_strip(line);
+		char *s = line;
 
 		lineno++;
+		if (lineno == 1 && strncmp(s, "\xEF\xBB\xBF", 3) == 0)
+			s += 3;         /* a UTF-8 byte order mark, as the CSV loaders skip it */
+		s = table_strip(s);
 		if (!*s)
 			continue;
 		if (!table_line(work, s, err, sizeof err)) {

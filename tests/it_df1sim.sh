@@ -123,6 +123,12 @@ start --pty "$T/plc" --data "$T/good.txt"
 if [ "$line" = "$T/plc" ]; then ok "data: a good file loads"; else fail "data: good file: '$line'"; cat "$T/err"; fi
 stop TERM
 
+# a UTF-8 byte order mark, as editors save it, is skipped as the CSV loaders skip it
+printf '\357\273\277N7:0=10,20,30\n' > "$T/bom.txt"
+start --pty "$T/plc" --data "$T/bom.txt"
+if [ "$line" = "$T/plc" ]; then ok "data: a file with a UTF-8 BOM loads"; else fail "data: BOM file: '$line' $(cat "$T/err")"; fi
+stop TERM
+
 printf 'N7:0=1\nF8:0=abc\n' > "$T/bad.txt"
 "$SIM" --pty "$T/plc" --data "$T/bad.txt" > "$T/o" 2> "$T/e"
 rc=$?
