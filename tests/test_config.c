@@ -256,20 +256,47 @@ static void test_config_net_valid_file_gives_values(void **state)
 	assert_int_equal(c.tx_delay_ms, 20);
 }
 
-static void test_config_net_header_only_gives_defaults(void **state)
+/* A network file must hold a data row: a header alone (or with blank and
+ * comment rows only) would configure the line with every default, on
+ * /dev/ttyS0, without a word. No seed ID (2552-2559) names a missing row:
+ * catalog ID 0, a text naming the file, DF1_E_CONFIG, *c untouched. */
+static void test_config_net_header_only_is_an_error(void **state)
 {
+	static const char *const texts[] = {
+		"Station,Mode,Baud\n",
+		"Station,Mode,Baud",                      /* no final newline */
+		"Station,Mode,Baud\n,,\"\"\n",             /* a blank row is no data row */
+		"# comment\nStation,Mode,Baud\n\n# more\n",
+	};
 	struct df1_net_config c;
 	struct issues is;
+	char path[64];
+	size_t i;
+	int rc;
 
 	(void)state;
-	assert_int_equal(net_load_text("Station,Mode,Baud\n", &c, &is), 0);
-	assert_seed_defaults(&c);
-	/* empty cells and missing columns take the defaults too */
-	assert_int_equal(net_load_text("Station,Mode,Baud\n,,\"\"\n", &c, &is), 0);
-	assert_seed_defaults(&c);
+	for (i = 0; i < sizeof texts / sizeof texts[0]; i++) {
+		temp_file(path, sizeof path, texts[i]);
+		memset(&is, 0, sizeof is);
+		memset(&c, 0x5A, sizeof c);
+		rc = df1_net_config_load(path, &c, collect_issue, &is);
+		if (rc != DF1_E_CONFIG || is.n != 1)
+			dump_issues(&is);
+		assert_int_equal(rc, DF1_E_CONFIG);
+		assert_int_equal(c.station, 0x5A5A5A5A);
+		assert_int_equal(is.n, 1);
+		assert_int_equal(is.v[0].catalog_id, 0);
+		assert_int_equal(is.v[0].item, 0);
+		assert_non_null(strstr(is.v[0].text, path));
+		assert_non_null(strstr(is.v[0].text, "no data row"));
+		unlink(path);
+	}
+	/* one data row: the cells given, the defaults for the rest */
 	assert_int_equal(net_load_text("Station\n7\n", &c, &is), 0);
 	assert_int_equal(c.station, 7);
 	assert_int_equal(c.baud, 9600);
+	assert_int_equal(net_load_text("Station,Mode,Baud\n,Master,\n", &c, &is), 0);
+	assert_seed_defaults(&c);
 }
 
 struct net_valid_case {
@@ -1035,7 +1062,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_config_net_defaults_match_seed),
 		cmocka_unit_test(test_config_net_valid_file_gives_values),
-		cmocka_unit_test(test_config_net_header_only_gives_defaults),
+		cmocka_unit_test(test_config_net_header_only_is_an_error),
 		cmocka_unit_test(test_config_net_boundary_values_accepted),
 		cmocka_unit_test(test_config_net_handshake_and_mode_duplex),
 		cmocka_unit_test(test_config_net_com_port_forms),
