@@ -22,7 +22,9 @@
  *
  * Both loaders: an unreadable file is DF1_E_SYS (errno kept) with an issue naming
  * the path; malformed CSV (a quote inside an unquoted field, text after a closing
- * quote, end of file inside quotes) is DF1_E_CONFIG with the line number.
+ * quote, end of file inside quotes) is DF1_E_CONFIG with the line number, and so
+ * is a field longer than CFG_FIELD_LIMIT (64 KiB) bytes in the file (a cell
+ * holds 255 characters; longer ones are the row's error, up to that limit).
  * The library never prints: every problem goes to the issue callback.
  */
 #include "config_int.h"
@@ -453,6 +455,17 @@ static int cfg_feed(struct cfg_load *l, const char *buf, size_t n)
 		char c = buf[i];
 		bool nl = c == '\n' || c == '\r';
 
+		/* a field ends at a comma or a line end outside quotes (comments are
+		 * not fields) */
+		if (!l->in_quotes && (c == ',' || nl)) {
+			l->field_len = 0;
+		} else if (!l->in_comment && !(l->line_start && c == '#') &&
+		           ++l->field_len > CFG_FIELD_LIMIT) {
+			cfg_report(l, 0, 0, l->line, "Field too long at line %d: longer than %d bytes "
+			           "(a cell holds at most %d characters)", l->line, CFG_FIELD_LIMIT,
+			           CFG_FIELD_MAX - 1);
+			return DF1_E_CONFIG;
+		}
 		if (l->in_comment) {
 			if (nl)
 				l->in_comment = false;
@@ -508,12 +521,17 @@ int cfg_read(struct cfg_load *l, FILE *f, const char *path)
 	l->in_quotes = l->in_comment = l->prev_cr = false;
 	l->line_start = true;
 	l->seg_len = l->seg_line_start = 0;
+	l->field_len = 0;
 	l->have_header = false;
 	l->item = 0;
 	l->stop = 0;
 	cfg_row_reset(&l->row);
 	if (csv_init(&l->parser, CSV_STRICT | CSV_STRICT_FINI | CSV_APPEND_NULL) != 0)
 		return DF1_E_NOMEM;
+	/* libcsv grows its field buffer by a block at a time (128 bytes by default:
+	 * a long field meant a realloc every 128 bytes); fields stop at
+	 * CFG_FIELD_LIMIT (cfg_feed), so a few blocks at most */
+	csv_set_blk_size(&l->parser, CFG_CSV_BLOCK);
 	while (rc == 0 && (n = fread(buf, 1, sizeof buf, f)) > 0) {
 		const char *p = buf;
 

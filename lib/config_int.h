@@ -18,6 +18,8 @@
 #define CFG_FIELD_MAX 256          /* bytes per cell, with the NUL (Com_Port is 255 max) */
 #define CFG_SEG_MAX 4096           /* bytes handed to libcsv at a time */
 #define CFG_READ_CHUNK 4096
+#define CFG_FIELD_LIMIT 65536      /* bytes of one field in the file: more fails the load */
+#define CFG_CSV_BLOCK 4096         /* libcsv's field buffer grows by this much */
 #define STATION_LIMIT 255          /* "must be less than %d" */
 #define RETRIES_MAX 10
 #define CMD_TIMEOUT_MIN 500
@@ -53,6 +55,7 @@ struct cfg_load {
 	int line;
 	bool in_quotes, line_start, in_comment, prev_cr;
 	size_t seg_len, seg_line_start;
+	size_t field_len;                   /* bytes of the field being read */
 	char seg[CFG_SEG_MAX];
 	struct cfg_row row;
 	int stop;                           /* < 0: stop handling rows, return this */

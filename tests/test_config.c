@@ -991,6 +991,63 @@ static void test_config_nul_byte_in_a_cell_is_an_error(void **state)
 	assert_non_null(strstr(is.v[0].text, "NUL"));
 }
 
+/* A field longer than 65536 bytes (a cell is at most 255 characters; a field
+ * that long is not a configuration file) stops the load with an error giving
+ * its line, before libcsv buffers megabytes of it. */
+static void test_config_field_over_the_limit_is_an_error(void **state)
+{
+	enum { LIMIT = 65536 };
+	const char *head = "Tag,Station,PLC_Type,Address\nok,1,SLC,N7:0\n";
+	size_t hn = strlen(head), n;
+	char *text = malloc(hn + 3 * LIMIT + 64);
+	struct map_result r = { 0 };
+	struct df1_net_config c;
+	struct issues is;
+
+	(void)state;
+	assert_non_null(text);
+	/* LIMIT bytes: no more than a cell that is too long, the row is skipped */
+	memcpy(text, head, hn);
+	memset(text + hn, 'x', LIMIT);
+	n = hn + LIMIT;
+	n += (size_t)sprintf(text + n, ",1,SLC,N7:1\nlast,1,SLC,N7:2\n");
+	assert_int_equal(map_load_bytes(text, n, false, &r), 2);
+	assert_int_equal(r.issues.n, 2);
+	assert_int_equal(r.issues.v[0].item, 2);
+	assert_non_null(strstr(r.issues.v[0].text, "too long"));
+	/* one byte more: the load fails, naming the line */
+	memset(text + hn, 'x', LIMIT + 1);
+	n = hn + LIMIT + 1;
+	n += (size_t)sprintf(text + n, ",1,SLC,N7:1\nlast,1,SLC,N7:2\n");
+	assert_int_equal(map_load_bytes(text, n, false, &r), DF1_E_CONFIG);
+	assert_int_equal(r.issues.n, 1);
+	assert_int_equal(r.issues.v[0].line, 3);
+	assert_non_null(strstr(r.issues.v[0].text, "line 3"));
+	assert_non_null(strstr(r.issues.v[0].text, "longer than 65536 bytes"));
+	/* quoted, over several lines, in the last column: the same */
+	memcpy(text, head, hn);
+	n = hn + (size_t)sprintf(text + hn, "q,1,SLC,\"");
+	for (int i = 0; i < 3; i++) {
+		memset(text + n, 'y', LIMIT / 2);
+		n += LIMIT / 2;
+		text[n++] = '\n';
+	}
+	text[n++] = '"';
+	text[n++] = '\n';
+	assert_int_equal(map_load_bytes(text, n, false, &r), DF1_E_CONFIG);
+	assert_int_equal(r.issues.n, 1);
+	assert_non_null(strstr(r.issues.v[0].text, "longer than 65536 bytes"));
+	/* the network file too */
+	n = (size_t)sprintf(text, "Station,Com_Port\n5,");
+	memset(text + n, 'z', LIMIT + 1);
+	n += LIMIT + 1;
+	text[n++] = '\n';
+	assert_int_equal(net_load_bytes(text, n, &c, &is), DF1_E_CONFIG);
+	assert_int_equal(is.n, 1);
+	assert_non_null(strstr(is.v[0].text, "longer than 65536 bytes"));
+	free(text);
+}
+
 /* Scan_Ms 0 is df1_tag_add's "every scan" (df1.h); negative is not a period. */
 static void test_config_map_scan_ms_zero_is_every_scan(void **state)
 {
@@ -1081,6 +1138,7 @@ int main(void)
 		cmocka_unit_test(test_config_map_row_fields_limits),
 		cmocka_unit_test(test_config_nul_byte_in_a_cell_is_an_error),
 		cmocka_unit_test(test_config_map_scan_ms_zero_is_every_scan),
+		cmocka_unit_test(test_config_field_over_the_limit_is_an_error),
 		cmocka_unit_test(test_config_map_row_fn_error_stops),
 		cmocka_unit_test(test_config_map_missing_file_names_path),
 		cmocka_unit_test(test_config_map_example_loads),
