@@ -6,8 +6,8 @@
  * Address are required (a missing column fails the load); Command (Read, Write,
  * ReadWrite; also RW and "Read/Write"; default Read), Type (informational, up to
  * 15 characters), Count (elements, 1-1000, default 1), Scan_Ms (0-86400000,
- * 0 = every scan as df1_tag_add() takes it, default 1000) are optional. Item numbers are 1-based data rows (blank and comment
- * rows not counted). Per row:
+ * 0 = every scan as df1_tag_add() takes it, default 1000) are optional. Item
+ * numbers are 1-based data rows (blank and comment rows not counted). Per row:
  *   Station not 0-254 (or not a number)      2501 ERR_BAD_STATION
  *   PLC_Type invalid or unsupported          2502 ERR_BAD_PLC_TYPE
  *   Address malformed                        2503 ERR_ADDRESS_SYNTAX
