@@ -3,6 +3,7 @@
 # bench_poll: 200 tags over 5 stations on a simulated 19200-baud half-duplex
 # line (df1sim --line-baud 19200, both ends paced): measured scan time against
 # the wire-time bound, transactions per scan against a one-tag-per-read poller.
+# bench_load: df1_tag_load_map of 40 000 tags, df1_map_load of a 10 MB field.
 set -u
 B=${1:-build}
 CC=${CC:-cc}
@@ -15,6 +16,10 @@ cleanup() {
 trap cleanup EXIT INT TERM
 
 mkdir -p "$B/bench"
+# bench_load: configuration files on big input (40 000 tags, a 10 MB field)
+$CC -O2 -g -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra -Iinclude -o "$B/bench/bench_load" \
+	bench/bench_load.c "$B/libdf1.a" -lcsv -lm -lpthread || exit 1
+"$B/bench/bench_load" "$T" "${BENCH_TAGS:-40000}" || exit 1
 $CC -O2 -g -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra -Iinclude -o "$B/bench/bench_poll" \
 	bench/bench_poll.c "$B/libdf1.a" -lcsv -lm -lpthread || exit 1
 

@@ -11,7 +11,9 @@
  * spreadsheet) and comment rows (a line whose first non-blank character is '#',
  * or a row whose first cell, trimmed, starts with '#'; a tag cannot start with
  * '#'). A UTF-8 byte order mark at the start of the file is skipped. Values are
- * trimmed of spaces and tabs; an empty cell means "not given".
+ * trimmed of spaces and tabs; an empty cell means "not given". A NUL byte in a
+ * cell is an error naming the row (in the header: the load fails); the row is
+ * skipped.
  *
  * Columns: an unknown column name is an error naming it (a mistyped field silently
  * taking its default would be worse), as is a column given twice or a value
@@ -20,7 +22,9 @@
  *
  * Both loaders: an unreadable file is DF1_E_SYS (errno kept) with an issue naming
  * the path; malformed CSV (a quote inside an unquoted field, text after a closing
- * quote, end of file inside quotes) is DF1_E_CONFIG with the line number.
+ * quote, end of file inside quotes) is DF1_E_CONFIG with the line number, and so
+ * is a field longer than CFG_FIELD_LIMIT (64 KiB) bytes in the file (a cell
+ * holds 255 characters; longer ones are the row's error, up to that limit).
  * The library never prints: every problem goes to the issue callback.
  */
 #include "config_int.h"
@@ -271,6 +275,7 @@ static void cfg_on_field(void *s, size_t len, void *data)
 		row->overflow = true;
 		return;
 	}
+	row->has_nul[i] = len > 0 && s && memchr(s, '\0', len) != NULL;
 	row->too_long[i] = len >= CFG_FIELD_MAX;
 	if (row->too_long[i])
 		len = CFG_FIELD_MAX - 1;
@@ -286,7 +291,7 @@ static bool cfg_row_is_blank(const struct cfg_row *row)
 	int i;
 
 	for (i = 0; i < row->nfields; i++)
-		if (row->field[i][0] != '\0')
+		if (row->field[i][0] != '\0' || row->has_nul[i])
 			return false;
 	return !row->overflow;
 }
@@ -316,6 +321,11 @@ static void cfg_header(struct cfg_load *l, struct cfg_row *row)
 		cfg_report(l, 0, 0, row->line, "Too many columns (more than %d)", CFG_MAX_COLS);
 	for (i = 0; i < row->nfields; i++) {
 		l->colmap[i] = -1;
+		if (row->has_nul[i]) {
+			cfg_report(l, 0, 0, row->line, "Column %d of the header (%.64s) holds a NUL byte",
+			           i + 1, row->field[i]);
+			continue;
+		}
 		if (row->field[i][0] == '\0')
 			continue;
 		l->colmap[i] = cfg_field_index(l, row->field[i]);
@@ -359,16 +369,29 @@ const char *cfg_value(const struct cfg_load *l, const struct cfg_row *row, int f
 	return "";
 }
 
-/* Cells the header does not name, overlong cells; reported with the row's item. */
-void cfg_check_cells(struct cfg_load *l, const struct cfg_row *row, bool with_item)
+/* Cells the header does not name, overlong cells, cells with a NUL byte (C
+ * would see them cut at it); reported with the row's item. Returns the number
+ * of cells with a NUL byte. */
+int cfg_check_cells(struct cfg_load *l, const struct cfg_row *row, bool with_item)
 {
-	int i;
+	int i, nul = 0;
 	const char *prefix = with_item ? "Item: " : "Row ";
 
 	if (row->overflow)
 		cfg_report(l, 0, l->item, row->line, "%s%d, too many cells (more than %d)", prefix,
 		           l->item, CFG_MAX_COLS);
 	for (i = 0; i < row->nfields; i++) {
+		if (row->has_nul[i]) {
+			nul++;
+			if (i >= l->ncols || l->colmap[i] < 0)
+				cfg_report(l, 0, l->item, row->line,
+				           "%s%d, the value in column %d holds a NUL byte", prefix,
+				           l->item, i + 1);
+			else
+				cfg_report(l, 0, l->item, row->line, "%s%d, %s holds a NUL byte", prefix,
+				           l->item, l->names[l->colmap[i]]);
+			continue;
+		}
 		if (row->field[i][0] == '\0')
 			continue;
 		if (i >= l->ncols || l->colmap[i] < 0)
@@ -379,6 +402,7 @@ void cfg_check_cells(struct cfg_load *l, const struct cfg_row *row, bool with_it
 			cfg_report(l, 0, l->item, row->line, "%s%d, %s is too long (max %d characters)",
 			           prefix, l->item, l->names[l->colmap[i]], CFG_FIELD_MAX - 1);
 	}
+	return nul;
 }
 
 static void cfg_on_row(int c, void *data)
@@ -431,6 +455,17 @@ static int cfg_feed(struct cfg_load *l, const char *buf, size_t n)
 		char c = buf[i];
 		bool nl = c == '\n' || c == '\r';
 
+		/* a field ends at a comma or a line end outside quotes (comments are
+		 * not fields) */
+		if (!l->in_quotes && (c == ',' || nl)) {
+			l->field_len = 0;
+		} else if (!l->in_comment && !(l->line_start && c == '#') &&
+		           ++l->field_len > CFG_FIELD_LIMIT) {
+			cfg_report(l, 0, 0, l->line, "Field too long at line %d: longer than %d bytes "
+			           "(a cell holds at most %d characters)", l->line, CFG_FIELD_LIMIT,
+			           CFG_FIELD_MAX - 1);
+			return DF1_E_CONFIG;
+		}
 		if (l->in_comment) {
 			if (nl)
 				l->in_comment = false;
@@ -486,12 +521,17 @@ int cfg_read(struct cfg_load *l, FILE *f, const char *path)
 	l->in_quotes = l->in_comment = l->prev_cr = false;
 	l->line_start = true;
 	l->seg_len = l->seg_line_start = 0;
+	l->field_len = 0;
 	l->have_header = false;
 	l->item = 0;
 	l->stop = 0;
 	cfg_row_reset(&l->row);
 	if (csv_init(&l->parser, CSV_STRICT | CSV_STRICT_FINI | CSV_APPEND_NULL) != 0)
 		return DF1_E_NOMEM;
+	/* libcsv grows its field buffer by a block at a time (128 bytes by default:
+	 * a long field meant a realloc every 128 bytes); fields stop at
+	 * CFG_FIELD_LIMIT (cfg_feed), so a few blocks at most */
+	csv_set_blk_size(&l->parser, CFG_CSV_BLOCK);
 	while (rc == 0 && (n = fread(buf, 1, sizeof buf, f)) > 0) {
 		const char *p = buf;
 

@@ -18,6 +18,8 @@
 #define CFG_FIELD_MAX 256          /* bytes per cell, with the NUL (Com_Port is 255 max) */
 #define CFG_SEG_MAX 4096           /* bytes handed to libcsv at a time */
 #define CFG_READ_CHUNK 4096
+#define CFG_FIELD_LIMIT 65536      /* bytes of one field in the file: more fails the load */
+#define CFG_CSV_BLOCK 4096         /* libcsv's field buffer grows by this much */
 #define STATION_LIMIT 255          /* "must be less than %d" */
 #define RETRIES_MAX 10
 #define CMD_TIMEOUT_MIN 500
@@ -35,6 +37,7 @@ struct cfg_row {
 	int line;                           /* line of the row's first field */
 	bool overflow;                      /* more than CFG_MAX_COLS cells */
 	bool too_long[CFG_MAX_COLS];
+	bool has_nul[CFG_MAX_COLS];         /* a NUL byte inside the cell */
 	char field[CFG_MAX_COLS][CFG_FIELD_MAX];
 };
 
@@ -52,6 +55,7 @@ struct cfg_load {
 	int line;
 	bool in_quotes, line_start, in_comment, prev_cr;
 	size_t seg_len, seg_line_start;
+	size_t field_len;                   /* bytes of the field being read */
 	char seg[CFG_SEG_MAX];
 	struct cfg_row row;
 	int stop;                           /* < 0: stop handling rows, return this */
@@ -87,7 +91,7 @@ bool cfg_int(const char *s, int *out);
 int cfg_plc(const char *s, enum df1_plc *plc);
 /* the reader: a row's cell by field, the per-row checks, reading a file */
 const char *cfg_value(const struct cfg_load *l, const struct cfg_row *row, int f);
-void cfg_check_cells(struct cfg_load *l, const struct cfg_row *row, bool with_item);
+int cfg_check_cells(struct cfg_load *l, const struct cfg_row *row, bool with_item);
 int cfg_read(struct cfg_load *l, FILE *f, const char *path);
 FILE *cfg_open(struct cfg_load *l, const char *path);
 void cfg_init(struct cfg_load *l, df1_config_issue_fn fn, void *user,

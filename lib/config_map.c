@@ -5,16 +5,16 @@
  * Mapping file (seeds/004, "Mapping Parameters"): columns Tag, Station, PLC_Type,
  * Address are required (a missing column fails the load); Command (Read, Write,
  * ReadWrite; also RW and "Read/Write"; default Read), Type (informational, up to
- * 15 characters), Count (elements, 1-1000, default 1), Scan_Ms (1-86400000,
- * default 1000) are optional. Item numbers are 1-based data rows (blank and comment
- * rows not counted). Per row:
+ * 15 characters), Count (elements, 1-1000, default 1), Scan_Ms (0-86400000,
+ * 0 = every scan as df1_tag_add() takes it, default 1000) are optional. Item
+ * numbers are 1-based data rows (blank and comment rows not counted). Per row:
  *   Station not 0-254 (or not a number)      2501 ERR_BAD_STATION
  *   PLC_Type invalid or unsupported          2502 ERR_BAD_PLC_TYPE
  *   Address malformed                        2503 ERR_ADDRESS_SYNTAX
  *   Address out of range, Count below 1, or element + Count - 1 above 999
  *                                            2504 ERR_ADDRESS_RANGE (len = Count)
- *   Tag missing or longer than 63, Command, Type, Count not a number, Scan_Ms
- *                                            catalog 0, "Item: n, ..." text
+ *   Tag missing or longer than 63, Command, Type, Count not a number, Scan_Ms,
+ *   a NUL byte in any cell                   catalog 0, "Item: n, ..." text
  * Bad rows are reported and skipped. In strict mode the file is checked first and
  * row_fn is called only when every row is valid. A row_fn returning a negative
  * value stops the load, which returns that value. On any failure the caller should
@@ -56,7 +56,8 @@ static void cfg_map_row(struct cfg_load *l, struct cfg_row *row)
 	long lv;
 
 	memset(&t, 0, sizeof t);
-	cfg_check_cells(l, row, true);
+	if (cfg_check_cells(l, row, true) > 0)
+		return;         /* a NUL byte: the cells are not what they seem */
 
 	v = cfg_value(l, row, MF_TAG);
 	if (!*v)
@@ -132,11 +133,12 @@ static void cfg_map_row(struct cfg_load *l, struct cfg_row *row)
 	v = cfg_value(l, row, MF_SCAN_MS);
 	t.scan_ms = 1000;
 	if (*v) {
-		if (cfg_long(v, &lv) && lv >= 1 && lv <= SCAN_MS_MAX)
+		/* 0: every scan (df1_tag_add) */
+		if (cfg_long(v, &lv) && lv >= 0 && lv <= SCAN_MS_MAX)
 			t.scan_ms = (int)lv;
 		else
 			cfg_report(l, 0, item, line, "Item: %d, Invalid Scan_Ms (%.64s) should be in range "
-			           "[1, %ld]", item, v, SCAN_MS_MAX);
+			           "[0, %ld]", item, v, SCAN_MS_MAX);
 	}
 
 	if (l->issues != before || !m->deliver)

@@ -3,9 +3,11 @@
  * and applying it to a handle. The CSV rules are config_csv.c's.
  *
  * Network file (seeds/004, "Network Configuration Parameters"): the first data
- * row is used, later rows are ignored; a file with a header and no data row gives
- * the defaults. Every invalid value is reported, then the load fails with
- * DF1_E_CONFIG and *c is left untouched:
+ * row is used, later rows are ignored. A file with a header and no data row
+ * (blank and comment rows do not count) is an error naming the file, catalog
+ * ID 0 (none of 2552-2559 fits): the module does not start. Every invalid
+ * value is reported, then the load fails with DF1_E_CONFIG and *c is left
+ * untouched:
  *   Station      0-254, default 5                     2552 CRT_BAD_STATION_ID
  *   Mode         Master | Slave | Peer, default Master 2553 CRT_BAD_DRIVER_MODE
  *                (2554 CRT_UNSUPPORTED_MODE never fires: libdf1 supports all three)
@@ -291,6 +293,13 @@ int df1_net_config_load(const char *path, struct df1_net_config *c, df1_config_i
 	fclose(f);
 	if (rc == 0 && l.stop < 0)
 		rc = l.stop;
+	if (rc == 0 && l.item == 0) {
+		/* a header alone would configure every default (Com_Port 1, /dev/ttyS0)
+		 * without a word; no seed ID names this, so catalog ID 0 */
+		cfg_report(&l, 0, 0, 0, "%.150s: no data row (a network file holds one row of "
+		           "settings under its header)", path);
+		rc = DF1_E_CONFIG;
+	}
 	if (rc == 0 && l.issues > 0)
 		rc = DF1_E_CONFIG;
 	if (rc == 0)

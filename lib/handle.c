@@ -18,6 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <unistd.h>
 
 #define STATION_MAX 254
@@ -526,7 +527,8 @@ int df1_open(df1_t *h, const char *target)
 		return df1_fail(h, DF1_E_INVAL, -1, "handle is already open on %s", h->port_name);
 	df1_clear_error(h);
 	handle_port_reset(h);
-	ops = strncmp(target, "tcp:", 4) == 0 ? &port_tcp_ops : &port_termios_ops;
+	/* a URI scheme is case-insensitive (RFC 3986 3.1): "TCP://" too */
+	ops = strncasecmp(target, "tcp:", 4) == 0 ? &port_tcp_ops : &port_termios_ops;
 	return handle_opened(h, ops, ops->open(h, target));
 }
 

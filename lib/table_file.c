@@ -8,6 +8,9 @@
  *   T4:0=PRE=500 ACC=0 EN=1         a whole T/C/R element (df1_value_parse's text)
  *   ST9:0="a, \"quoted\" string"    quotes keep commas, blanks and '#'; \" \\ \xHH
  *
+ * A UTF-8 byte order mark at the start of the file is skipped; a NUL byte in a
+ * line is an error naming the line (a quoted string gets one with \x00).
+ *
  * A load is all or nothing: the lines go into a copy that replaces the table's
  * contents only when every line was good. A save writes a temporary file in
  * the same directory and renames it over the target.
@@ -236,6 +239,7 @@ int df1_table_load(struct df1_table *t, const char *path)
 	char *line = NULL, err[256];
 	size_t cap = 0;
 	int lineno = 0, rc = 0, saved;
+	ssize_t len;
 	FILE *fp;
 
 	if (!t)
@@ -254,10 +258,18 @@ int df1_table_load(struct df1_table *t, const char *path)
 		return table_fail(t, DF1_E_NOMEM, "out of memory");
 	}
 	errno = 0;
-	while (getline(&line, &cap, fp) >= 0) {
-		char *s = table_strip(line);
+	while ((len = getline(&line, &cap, fp)) >= 0) {
+		char *s = line;
 
 		lineno++;
+		if (memchr(line, '\0', (size_t)len)) {
+			/* C would see the line cut there ("N7:0=5\0junk" as N7:0=5) */
+			rc = table_fail(t, DF1_E_CONFIG, "%s:%d: a NUL byte in the line", path, lineno);
+			break;
+		}
+		if (lineno == 1 && strncmp(s, "\xEF\xBB\xBF", 3) == 0)
+			s += 3;         /* a UTF-8 byte order mark, as the CSV loaders skip it */
+		s = table_strip(s);
 		if (!*s)
 			continue;
 		if (!table_line(work, s, err, sizeof err)) {

@@ -74,6 +74,20 @@ done
 printf 'Mode,Com_Port\nSlave,%s\n' "$T/notatty" > "$T/slave_net.csv"
 expect 2 "network file Mode=Slave" -- "$R" -N "$T/slave_net.csv" N7:0
 err_has "Mode=Slave: 2554" "df1read: $T/slave_net.csv: [2554] CRT_UNSUPPORTED_MODE: Unsupported Driver Mode (Slave)"
+# a network file must hold a data row: a header alone is a configuration error
+# (exit 2), and nothing is opened, neither the device given (which would fail
+# loudly: it does not exist) nor the file's default port /dev/ttyS0
+printf 'Station,Mode,Baud\n' > "$T/hdr_net.csv"
+expect 2 "network file with only a header" -- "$R" -N "$T/hdr_net.csv" -d "$T/hdr-nodev" N7:0
+err_has "header only: the file and the reason" "df1read: $T/hdr_net.csv: "
+err_has "header only: no data row" "no data row"
+check "header only: the device is not opened" '! grep -q "hdr-nodev" "$T/err"'
+check "header only: stdout empty" '[ ! -s "$T/out" ]'
+expect 2 "network file with only a header, DF1_DEVICE" -- env DF1_DEVICE="$T/hdr-nodev" "$R" -N "$T/hdr_net.csv" N7:0
+check "header only, DF1_DEVICE: not opened" '! grep -q "hdr-nodev" "$T/err"'
+expect 2 "network file with only a header, no device given" -- env -u DF1_DEVICE "$R" -N "$T/hdr_net.csv" N7:0
+err_has "header only, no device: no data row" "no data row"
+check "header only, no device: /dev/ttyS0 not opened" '! grep -q "ttyS0" "$T/err"'
 expect 1 "device that does not exist" -- "$R" -d "$T/nodev" N7:0
 expect 0 "--help" -- "$R" --help
 check "--help: usage" 'grep -q "^Usage: df1read \[OPTIONS\] ADDRESS\[,COUNT\]\.\.\." "$T/out"'

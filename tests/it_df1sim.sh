@@ -107,8 +107,20 @@ if [ -x "$BIN/df1read" ]; then
 	fi
 fi
 if kill -0 "$pid" 2>/dev/null; then ok "listen: still running after SIGUSR1/SIGUSR2"; else fail "listen: SIGUSR1/2 ended df1sim"; fi
+# a URI scheme is case-insensitive: TCP://HOST:PORT is the same target (df1_open(3))
+if [ -x "$BIN/df1read" ]; then
+	up="TCP:${line#tcp:}"
+	got=$("$BIN/df1read" -d "$up" N7:5 2> "$T/e")
+	if [ "$got" = 5 ]; then ok "listen: df1read -d $up"; else fail "df1read -d $up: '$got' ($(cat "$T/e"))"; fi
+fi
 stop TERM
 if [ "$rc" -eq 0 ]; then ok "listen: SIGTERM exits 0"; else fail "listen: exit status $rc"; fi
+start --listen TCP://127.0.0.1:0
+case "$line" in
+tcp://127.0.0.1:[1-9]*) ok "listen: TCP:// in capitals, announces $line" ;;
+*) fail "listen: TCP://127.0.0.1:0 announced '$line' ($(cat "$T/err"))" ;;
+esac
+[ -n "$pid" ] && stop TERM
 
 # 5. --data: initial values are accepted; errors name file and line, exit 2
 cat > "$T/good.txt" <<'EOF'
@@ -121,6 +133,12 @@ B3:1/3=1,1
 EOF
 start --pty "$T/plc" --data "$T/good.txt"
 if [ "$line" = "$T/plc" ]; then ok "data: a good file loads"; else fail "data: good file: '$line'"; cat "$T/err"; fi
+stop TERM
+
+# a UTF-8 byte order mark, as editors save it, is skipped as the CSV loaders skip it
+printf '\357\273\277N7:0=10,20,30\n' > "$T/bom.txt"
+start --pty "$T/plc" --data "$T/bom.txt"
+if [ "$line" = "$T/plc" ]; then ok "data: a file with a UTF-8 BOM loads"; else fail "data: BOM file: '$line' $(cat "$T/err")"; fi
 stop TERM
 
 printf 'N7:0=1\nF8:0=abc\n' > "$T/bad.txt"

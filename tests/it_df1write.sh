@@ -41,6 +41,10 @@ err_has "2504" "df1write: N7:1000: [2504] ERR_ADDRESS_RANGE: Item: 2,"
 expect 2 "values past element 999" -- "$W" -d /nonexistent N7:999=1,2
 err_has "2504 len" "(N7:999, len=2)"
 expect 2 "bits past a timer's word" -- "$W" -d /nonexistent T4:0/DN=1,1,1,1
+# one 0x prefix, then hex digits (df1_value_parse(3)): refused before the device is opened
+expect 2 "a second 0x prefix" -- "$W" -d /nonexistent N7:0=0x0x12
+err_has "a second 0x prefix: the value named" "df1write: N7:0: '0x0x12': DF1_E_TYPE"
+expect 2 "a negative second 0x prefix" -- "$W" -d /nonexistent N7:0=-0x0x1
 expect 2 "no device" -- "$W" N7:0=1
 expect 2 "-f csv" -- "$W" -d /nonexistent -f csv N7:0=1
 expect 2 "invalid network file" -- "$W" -N tests/data/net_invalid.csv N7:0=1

@@ -81,6 +81,30 @@ static void temp_file(char *buf, size_t cap, const char *text)
 	close(fd);
 }
 
+/* The same with n bytes of text, which may hold NUL bytes. */
+static void temp_file_bytes(char *buf, size_t cap, const char *text, size_t n)
+{
+	int fd;
+
+	snprintf(buf, cap, "/tmp/df1_test_config_XXXXXX");
+	fd = mkstemp(buf);
+	assert_true(fd >= 0);
+	assert_int_equal(write(fd, text, n), (ssize_t)n);
+	close(fd);
+}
+
+static int net_load_bytes(const char *text, size_t n, struct df1_net_config *c, struct issues *is)
+{
+	char path[64];
+	int rc;
+
+	temp_file_bytes(path, sizeof path, text, n);
+	memset(is, 0, sizeof *is);
+	rc = df1_net_config_load(path, c, collect_issue, is);
+	unlink(path);
+	return rc;
+}
+
 static int net_load_text(const char *text, struct df1_net_config *c, struct issues *is)
 {
 	char path[64];
@@ -142,6 +166,17 @@ static int map_load_text(const char *text, bool strict, struct map_result *r)
 	int rc;
 
 	temp_file(path, sizeof path, text);
+	rc = map_load_path(path, strict, r);
+	unlink(path);
+	return rc;
+}
+
+static int map_load_bytes(const char *text, size_t n, bool strict, struct map_result *r)
+{
+	char path[64];
+	int rc;
+
+	temp_file_bytes(path, sizeof path, text, n);
 	rc = map_load_path(path, strict, r);
 	unlink(path);
 	return rc;
@@ -221,20 +256,47 @@ static void test_config_net_valid_file_gives_values(void **state)
 	assert_int_equal(c.tx_delay_ms, 20);
 }
 
-static void test_config_net_header_only_gives_defaults(void **state)
+/* A network file must hold a data row: a header alone (or with blank and
+ * comment rows only) would configure the line with every default, on
+ * /dev/ttyS0, without a word. No seed ID (2552-2559) names a missing row:
+ * catalog ID 0, a text naming the file, DF1_E_CONFIG, *c untouched. */
+static void test_config_net_header_only_is_an_error(void **state)
 {
+	static const char *const texts[] = {
+		"Station,Mode,Baud\n",
+		"Station,Mode,Baud",                      /* no final newline */
+		"Station,Mode,Baud\n,,\"\"\n",             /* a blank row is no data row */
+		"# comment\nStation,Mode,Baud\n\n# more\n",
+	};
 	struct df1_net_config c;
 	struct issues is;
+	char path[64];
+	size_t i;
+	int rc;
 
 	(void)state;
-	assert_int_equal(net_load_text("Station,Mode,Baud\n", &c, &is), 0);
-	assert_seed_defaults(&c);
-	/* empty cells and missing columns take the defaults too */
-	assert_int_equal(net_load_text("Station,Mode,Baud\n,,\"\"\n", &c, &is), 0);
-	assert_seed_defaults(&c);
+	for (i = 0; i < sizeof texts / sizeof texts[0]; i++) {
+		temp_file(path, sizeof path, texts[i]);
+		memset(&is, 0, sizeof is);
+		memset(&c, 0x5A, sizeof c);
+		rc = df1_net_config_load(path, &c, collect_issue, &is);
+		if (rc != DF1_E_CONFIG || is.n != 1)
+			dump_issues(&is);
+		assert_int_equal(rc, DF1_E_CONFIG);
+		assert_int_equal(c.station, 0x5A5A5A5A);
+		assert_int_equal(is.n, 1);
+		assert_int_equal(is.v[0].catalog_id, 0);
+		assert_int_equal(is.v[0].item, 0);
+		assert_non_null(strstr(is.v[0].text, path));
+		assert_non_null(strstr(is.v[0].text, "no data row"));
+		unlink(path);
+	}
+	/* one data row: the cells given, the defaults for the rest */
 	assert_int_equal(net_load_text("Station\n7\n", &c, &is), 0);
 	assert_int_equal(c.station, 7);
 	assert_int_equal(c.baud, 9600);
+	assert_int_equal(net_load_text("Station,Mode,Baud\n,Master,\n", &c, &is), 0);
+	assert_seed_defaults(&c);
 }
 
 struct net_valid_case {
@@ -876,6 +938,137 @@ static void test_config_map_row_fields_limits(void **state)
 	assert_non_null(strstr(r.issues.v[1].text, "Type"));
 }
 
+/* A NUL byte inside a cell would cut it in C ("N7:0\0junk" read as N7:0): the
+ * row is an error naming its item, whatever the column (and a header cell or
+ * a network file's row fails the load). */
+static void test_config_nul_byte_in_a_cell_is_an_error(void **state)
+{
+	static const char map[] = "Tag,Station,PLC_Type,Address\n"
+	                          "good,1,SLC,N7:1\n"
+	                          "cut,1,SLC,N7:0\0junk\n"
+	                          "\0,,,\n"                 /* a cell of one NUL: not blank */
+	                          "\"q\0\",1,SLC,N7:2\n"     /* quoted too */
+	                          "also,1,SLC,N7:3\n";
+	static const char map_header[] = "Tag,Station,PLC_Type,Address\0x\na,1,SLC,N7:0\n";
+	static const char net[] = "Station,Baud\n7\0 junk,19200\n";
+	struct map_result r = { 0 };
+	struct df1_net_config c;
+	struct issues is;
+
+	(void)state;
+	assert_int_equal(map_load_bytes(map, sizeof map - 1, false, &r), 2);
+	assert_int_equal(r.tags.n, 2);
+	assert_string_equal(r.tags.v[0].name, "good");
+	assert_string_equal(r.tags.v[1].name, "also");
+	if (r.issues.n != 3)
+		dump_issues(&r.issues);
+	assert_int_equal(r.issues.n, 3);
+	assert_int_equal(r.issues.v[0].item, 2);
+	assert_int_equal(r.issues.v[0].line, 3);
+	assert_non_null(strstr(r.issues.v[0].text, "Item: 2,"));
+	assert_non_null(strstr(r.issues.v[0].text, "Address"));
+	assert_non_null(strstr(r.issues.v[0].text, "NUL"));
+	assert_int_equal(r.issues.v[1].item, 3);
+	assert_non_null(strstr(r.issues.v[1].text, "Item: 3,"));
+	assert_non_null(strstr(r.issues.v[1].text, "NUL"));
+	assert_int_equal(r.issues.v[2].item, 4);
+	assert_non_null(strstr(r.issues.v[2].text, "Tag"));
+	assert_non_null(strstr(r.issues.v[2].text, "NUL"));
+	/* strict: the load fails */
+	assert_int_equal(map_load_bytes(map, sizeof map - 1, true, &r), DF1_E_CONFIG);
+	assert_int_equal(r.tags.n, 0);
+	/* in the header: the load fails */
+	assert_int_equal(map_load_bytes(map_header, sizeof map_header - 1, false, &r), DF1_E_CONFIG);
+	assert_int_equal(r.tags.n, 0);
+	assert_true(r.issues.n >= 1);
+	assert_non_null(strstr(r.issues.v[0].text, "NUL"));
+	/* the network file: a critical error, *c untouched */
+	memset(&c, 0x5A, sizeof c);
+	assert_int_equal(net_load_bytes(net, sizeof net - 1, &c, &is), DF1_E_CONFIG);
+	assert_int_equal(c.station, 0x5A5A5A5A);
+	assert_int_equal(is.n, 1);
+	assert_non_null(strstr(is.v[0].text, "Station"));
+	assert_non_null(strstr(is.v[0].text, "NUL"));
+}
+
+/* A field longer than 65536 bytes (a cell is at most 255 characters; a field
+ * that long is not a configuration file) stops the load with an error giving
+ * its line, before libcsv buffers megabytes of it. */
+static void test_config_field_over_the_limit_is_an_error(void **state)
+{
+	enum { LIMIT = 65536 };
+	const char *head = "Tag,Station,PLC_Type,Address\nok,1,SLC,N7:0\n";
+	size_t hn = strlen(head), n;
+	char *text = malloc(hn + 3 * LIMIT + 64);
+	struct map_result r = { 0 };
+	struct df1_net_config c;
+	struct issues is;
+
+	(void)state;
+	assert_non_null(text);
+	/* LIMIT bytes: no more than a cell that is too long, the row is skipped */
+	memcpy(text, head, hn);
+	memset(text + hn, 'x', LIMIT);
+	n = hn + LIMIT;
+	n += (size_t)sprintf(text + n, ",1,SLC,N7:1\nlast,1,SLC,N7:2\n");
+	assert_int_equal(map_load_bytes(text, n, false, &r), 2);
+	assert_int_equal(r.issues.n, 2);
+	assert_int_equal(r.issues.v[0].item, 2);
+	assert_non_null(strstr(r.issues.v[0].text, "too long"));
+	/* one byte more: the load fails, naming the line */
+	memset(text + hn, 'x', LIMIT + 1);
+	n = hn + LIMIT + 1;
+	n += (size_t)sprintf(text + n, ",1,SLC,N7:1\nlast,1,SLC,N7:2\n");
+	assert_int_equal(map_load_bytes(text, n, false, &r), DF1_E_CONFIG);
+	assert_int_equal(r.issues.n, 1);
+	assert_int_equal(r.issues.v[0].line, 3);
+	assert_non_null(strstr(r.issues.v[0].text, "line 3"));
+	assert_non_null(strstr(r.issues.v[0].text, "longer than 65536 bytes"));
+	/* quoted, over several lines, in the last column: the same */
+	memcpy(text, head, hn);
+	n = hn + (size_t)sprintf(text + hn, "q,1,SLC,\"");
+	for (int i = 0; i < 3; i++) {
+		memset(text + n, 'y', LIMIT / 2);
+		n += LIMIT / 2;
+		text[n++] = '\n';
+	}
+	text[n++] = '"';
+	text[n++] = '\n';
+	assert_int_equal(map_load_bytes(text, n, false, &r), DF1_E_CONFIG);
+	assert_int_equal(r.issues.n, 1);
+	assert_non_null(strstr(r.issues.v[0].text, "longer than 65536 bytes"));
+	/* the network file too */
+	n = (size_t)sprintf(text, "Station,Com_Port\n5,");
+	memset(text + n, 'z', LIMIT + 1);
+	n += LIMIT + 1;
+	text[n++] = '\n';
+	assert_int_equal(net_load_bytes(text, n, &c, &is), DF1_E_CONFIG);
+	assert_int_equal(is.n, 1);
+	assert_non_null(strstr(is.v[0].text, "longer than 65536 bytes"));
+	free(text);
+}
+
+/* Scan_Ms 0 is df1_tag_add's "every scan" (df1.h); negative is not a period. */
+static void test_config_map_scan_ms_zero_is_every_scan(void **state)
+{
+	struct map_result r = { 0 };
+
+	(void)state;
+	assert_int_equal(map_load_text("Tag,Station,PLC_Type,Address,Scan_Ms\n"
+	                               "fast,1,SLC,N7:0,0\n"
+	                               "neg,1,SLC,N7:1,-1\n"
+	                               "max,1,SLC,N7:2,86400000\n"
+	                               "over,1,SLC,N7:3,86400001\n", false, &r), 2);
+	assert_string_equal(r.tags.v[0].name, "fast");
+	assert_int_equal(r.tags.v[0].scan_ms, 0);
+	assert_string_equal(r.tags.v[1].name, "max");
+	assert_int_equal(r.tags.v[1].scan_ms, 86400000);
+	assert_int_equal(r.issues.n, 2);
+	assert_int_equal(r.issues.v[0].item, 2);
+	assert_non_null(strstr(r.issues.v[0].text, "[0, 86400000]"));
+	assert_int_equal(r.issues.v[1].item, 4);
+}
+
 static void test_config_map_row_fn_error_stops(void **state)
 {
 	struct map_result r = { 0 };
@@ -926,7 +1119,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_config_net_defaults_match_seed),
 		cmocka_unit_test(test_config_net_valid_file_gives_values),
-		cmocka_unit_test(test_config_net_header_only_gives_defaults),
+		cmocka_unit_test(test_config_net_header_only_is_an_error),
 		cmocka_unit_test(test_config_net_boundary_values_accepted),
 		cmocka_unit_test(test_config_net_handshake_and_mode_duplex),
 		cmocka_unit_test(test_config_net_com_port_forms),
@@ -943,6 +1136,9 @@ int main(void)
 		cmocka_unit_test(test_config_map_address_forms_and_counts),
 		cmocka_unit_test(test_config_map_header_problems_fail_the_load),
 		cmocka_unit_test(test_config_map_row_fields_limits),
+		cmocka_unit_test(test_config_nul_byte_in_a_cell_is_an_error),
+		cmocka_unit_test(test_config_map_scan_ms_zero_is_every_scan),
+		cmocka_unit_test(test_config_field_over_the_limit_is_an_error),
 		cmocka_unit_test(test_config_map_row_fn_error_stops),
 		cmocka_unit_test(test_config_map_missing_file_names_path),
 		cmocka_unit_test(test_config_map_example_loads),

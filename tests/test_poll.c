@@ -460,6 +460,75 @@ static void test_api_load_map(void **state)
 	df1_free(h);
 }
 
+/* A big mapping file loads whole and right: every row a tag with its own
+ * values, found by name, duplicates still caught (the load is linear in the
+ * rows; no timing is asserted here, bench/ measures it). */
+static void test_api_load_map_40000_tags(void **state)
+{
+	enum { N = 40000 };
+	static const char *const cmd[] = { "Read", "Write", "ReadWrite" };
+	static const enum df1_access acc[] = { DF1_ACCESS_READ, DF1_ACCESS_WRITE, DF1_ACCESS_READWRITE };
+	char path[] = "/tmp/df1_test_poll_map_XXXXXX", name[16], want[32], got[32];
+	int fd = mkstemp(path), i;
+	FILE *f;
+	df1_t *h;
+
+	(void)state;
+	assert_true(fd >= 0);
+	f = fdopen(fd, "w");
+	assert_non_null(f);
+	fprintf(f, "Tag,Command,Type,Station,PLC_Type,Address,Count,Scan_Ms\n");
+	for (i = 0; i < N; i++)
+		fprintf(f, "t%05d,%s,INT,%d,SLC,N%d:%d,%d,%d\n", i, cmd[i % 3], 1 + i % 5,
+		        10 + i / 1000, i % 1000, i % 1000 == 999 ? 1 : 1 + i % 2, 100 * (i % 7));
+	/* the same names again further down: reported, the first kept */
+	fprintf(f, "t00000,Read,INT,9,SLC,N7:0,1,1000\nt%05d,Read,INT,9,SLC,N7:0,1,1000\n", N - 1);
+	assert_int_equal(fclose(f), 0);
+
+	assert_int_equal(df1_new(&h), 0);
+	issues_seen = 0;
+	assert_int_equal(df1_tag_load_map(h, path, false, on_issue, NULL), N);
+	assert_int_equal(issues_seen, 2);
+	assert_int_equal(df1_tag_count(h), N);
+	for (i = 0; i < N; i++) {
+		struct df1_tag_state st;
+
+		snprintf(name, sizeof name, "t%05d", i);
+		assert_int_equal(df1_tag_find(h, name), i);
+		assert_int_equal(df1_tag_get(h, i, &st), 0);
+		assert_string_equal(st.config->name, name);
+		assert_int_equal(st.config->access, acc[i % 3]);
+		assert_int_equal(st.config->station, 1 + i % 5);
+		assert_int_equal(st.config->plc, DF1_PLC_SLC);
+		assert_int_equal(st.config->count, i % 1000 == 999 ? 1 : 1 + i % 2);
+		assert_int_equal(st.config->scan_ms, 100 * (i % 7));
+		snprintf(want, sizeof want, "N%d:%d", 10 + i / 1000, i % 1000);
+		assert_true(df1_addr_format(&st.config->addr, got, sizeof got) > 0);
+		assert_string_equal(got, want);
+	}
+	assert_int_equal(df1_tag_find(h, "t40000"), DF1_E_INVAL);
+	assert_int_equal(df1_tag_find(h, "t0000"), DF1_E_INVAL);
+	/* the whole file again, strict: every name is taken, nothing added */
+	issues_seen = 0;
+	assert_int_equal(df1_tag_load_map(h, path, true, on_issue, NULL), DF1_E_CONFIG);
+	assert_int_equal(issues_seen, N + 2);
+	assert_int_equal(df1_tag_count(h), N);
+	/* df1_tag_add after it: a new name gets the next id, a taken one is refused */
+	{
+		struct df1_tag_config c = { .access = DF1_ACCESS_READ, .station = 1, .plc = DF1_PLC_SLC,
+		                            .count = 1, .scan_ms = 1000 };
+
+		assert_int_equal(df1_addr_parse("N7:0", &c.addr), 0);
+		snprintf(c.name, sizeof c.name, "t%05d", 123);
+		assert_int_equal(df1_tag_add(h, &c), DF1_E_CONFIG);
+		snprintf(c.name, sizeof c.name, "extra");
+		assert_int_equal(df1_tag_add(h, &c), N);
+		assert_int_equal(df1_tag_find(h, "extra"), N);
+	}
+	df1_free(h);
+	unlink(path);
+}
+
 /* ------------------------------------------------------------------------
  * Against df1sim
  * ------------------------------------------------------------------------ */
@@ -1468,6 +1537,7 @@ int main(void)
 		cmocka_unit_test(test_plan_greedy_is_minimal),
 		cmocka_unit_test(test_api_tags),
 		cmocka_unit_test(test_api_load_map),
+		cmocka_unit_test(test_api_load_map_40000_tags),
 		cmocka_unit_test(test_api_station_health_alias),
 		cmocka_unit_test_setup_teardown(test_coalesce_two_files, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_coalesce_slc502_limit, fix_setup, fix_teardown),

@@ -844,6 +844,15 @@ static void test_port_tcp_ipv6(void **state)
 	tcp_round_trip(AF_INET6, "tcp://[::1]:%d");
 }
 
+/* URI scheme names are case-insensitive (RFC 3986 3.1; df1_open(3)) */
+static void test_port_tcp_scheme_any_case(void **state)
+{
+	(void)state;
+	tcp_round_trip(AF_INET, "TCP://127.0.0.1:%d");
+	tcp_round_trip(AF_INET, "Tcp://127.0.0.1:%d");
+	tcp_round_trip(AF_INET, "TCP:127.0.0.1:%d");
+}
+
 static void test_port_tcp_refused(void **state)
 {
 	struct sockaddr_in a;
@@ -986,7 +995,7 @@ static void test_port_tcp_bad_targets(void **state)
 	static const char *bad[] = {
 		"tcp://", "tcp://127.0.0.1", "tcp://127.0.0.1:", "tcp://:502", "tcp://127.0.0.1:0",
 		"tcp://127.0.0.1:65536", "tcp://127.0.0.1:12x", "tcp://::1:502", "tcp://[::1]502",
-		"tcp://[::1", "tcp://127.0.0.1:-5",
+		"tcp://[::1", "tcp://127.0.0.1:-5", "TCP://", "TCP://127.0.0.1",
 	};
 	df1_t *h = handle_new();
 	size_t i;
@@ -1021,6 +1030,7 @@ int main(void)
 		cmocka_unit_test(test_port_tcp_ipv4),
 		cmocka_unit_test(test_port_tcp_localhost_name),
 		cmocka_unit_test(test_port_tcp_ipv6),
+		cmocka_unit_test(test_port_tcp_scheme_any_case),
 		cmocka_unit_test(test_port_tcp_refused),
 		cmocka_unit_test(test_port_tcp_bad_targets),
 		cmocka_unit_test(test_port_listen_only_pty_reads_raw_never_writes),

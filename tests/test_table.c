@@ -736,6 +736,50 @@ static void test_table_load_data_file(void **state)
 	df1_table_free(t);
 }
 
+/* A UTF-8 byte order mark at the start of the file is skipped, as the CSV
+ * loaders skip it (df1sim(1) DATA TABLE); anywhere else it is text. A NUL byte
+ * is refused, as the CSV loaders refuse it. */
+static void test_table_load_skips_utf8_bom(void **state)
+{
+	struct df1_table *t = default_table(DF1_PLC_SLC);
+	struct df1_value v[2];
+	char path[512], want[768];
+
+	(void)state;
+	snprintf(path, sizeof path, "%s/bom.txt", tmpdir);
+	write_file(path, "\xEF\xBB\xBFN7:0=41,42\n");
+	assert_int_equal(df1_table_load(t, path), 0);
+	assert_int_equal(df1_table_read(t, "N7:0", v, 2), 2);
+	assert_int_equal(v[0].v.i16, 41);
+	assert_int_equal(v[1].v.i16, 42);
+	/* a mark before a comment line, then data */
+	write_file(path, "\xEF\xBB\xBF# saved by an editor\nN7:1=7\n");
+	assert_int_equal(df1_table_load(t, path), 0);
+	assert_int_equal(df1_table_read(t, "N7:1", v, 1), 1);
+	assert_int_equal(v[0].v.i16, 7);
+	/* a NUL byte would cut the line ("N7:0=5\0junk" read as N7:0=5): an error
+	 * naming the line, nothing stored */
+	{
+		static const char nul[] = "N7:0=9\nN7:1=5\0junk\n";
+		FILE *f = fopen(path, "wb");
+
+		assert_non_null(f);
+		assert_int_equal(fwrite(nul, 1, sizeof nul - 1, f), sizeof nul - 1);
+		assert_int_equal(fclose(f), 0);
+		assert_int_equal(df1_table_load(t, path), DF1_E_CONFIG);
+		snprintf(want, sizeof want, "%s:2: a NUL byte in the line", path);
+		assert_string_equal(df1_table_error_text(t), want);
+		assert_int_equal(df1_table_read(t, "N7:0", v, 1), 1);
+		assert_int_equal(v[0].v.i16, 41);
+	}
+	/* only the first line's: on line 2 it is part of the address */
+	write_file(path, "N7:0=1\n\xEF\xBB\xBFN7:1=2\n");
+	assert_int_equal(df1_table_load(t, path), DF1_E_CONFIG);
+	snprintf(want, sizeof want, "%s:2: ", path);
+	assert_memory_equal(df1_table_error_text(t), want, strlen(want));
+	df1_table_free(t);
+}
+
 static void test_table_load_errors_name_file_and_line(void **state)
 {
 	static const struct {
@@ -916,6 +960,7 @@ int main(void)
 		cmocka_unit_test(test_table_diag_status_plc5_eb_form),
 		cmocka_unit_test(test_table_diag_encoder_round_trips),
 		cmocka_unit_test(test_table_load_data_file),
+		cmocka_unit_test(test_table_load_skips_utf8_bom),
 		cmocka_unit_test(test_table_load_errors_name_file_and_line),
 		cmocka_unit_test(test_table_save_load_round_trip),
 		cmocka_unit_test(test_table_save_is_atomic_and_leaves_no_temporary),

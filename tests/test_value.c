@@ -440,6 +440,18 @@ static void test_value_parse_int16(void **state)
 	assert_int_equal(df1_value_parse(&n7, "4 2", &v), DF1_E_TYPE);
 	assert_int_equal(df1_value_parse(&n7, "--1", &v), DF1_E_TYPE);
 	assert_int_equal(df1_value_parse(&n7, "0x", &v), DF1_E_TYPE);
+	/* one 0x prefix, then hex digits only (df1_value_parse(3)): a second
+	 * prefix is not a number, whatever strtoull makes of it */
+	assert_int_equal(df1_value_parse(&n7, "0x0x12", &v), DF1_E_TYPE);
+	assert_int_equal(df1_value_parse(&n7, "-0x0x1", &v), DF1_E_TYPE);
+	assert_int_equal(df1_value_parse(&n7, "0X0X12", &v), DF1_E_TYPE);
+	assert_int_equal(df1_value_parse(&n7, "+0x0x7", &v), DF1_E_TYPE);
+	assert_int_equal(df1_value_parse(&n7, "0x-1", &v), DF1_E_TYPE);
+	assert_int_equal(df1_value_parse(&n7, "0x 1", &v), DF1_E_TYPE);
+	assert_int_equal(df1_value_parse(&n7, "0x12", &v), 0);
+	assert_int_equal(v.v.i16, 18);
+	assert_int_equal(df1_value_parse(&n7, "0X1f", &v), 0);
+	assert_int_equal(v.v.i16, 31);
 
 	/* T/C/R words and the other word files are int16 too */
 	{
@@ -470,6 +482,17 @@ static void test_value_parse_int32_float(void **state)
 	assert_int_equal(df1_value_parse(&l, "2147483648", &v), DF1_E_RANGE);
 	assert_int_equal(df1_value_parse(&l, "-2147483649", &v), DF1_E_RANGE);
 	assert_int_equal(df1_value_parse(&l, "2.5", &v), DF1_E_TYPE);
+	assert_int_equal(df1_value_parse(&l, "0x0x12", &v), DF1_E_TYPE);
+	assert_int_equal(df1_value_parse(&l, "-0x0x1", &v), DF1_E_TYPE);
+	{
+		/* the T/C/R items share the integer parser */
+		struct df1_addr t4 = mk(DF1_FT_T, 4, 0, NONE, NONE);
+
+		assert_int_equal(df1_value_parse(&t4, "CTL=0x0x8000", &v), DF1_E_TYPE);
+		assert_int_equal(df1_value_parse(&t4, "PRE=0x0x5", &v), DF1_E_TYPE);
+		assert_int_equal(df1_value_parse(&t4, "PRE=0x10", &v), 0);
+		assert_int_equal(v.v.tcr.pre, 16);
+	}
 
 	assert_int_equal(df1_value_parse(&f, "1.5", &v), 0);
 	assert_int_equal(v.kind, DF1_VAL_FLOAT);

@@ -14,6 +14,7 @@
 #include <arpa/inet.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <termios.h>
@@ -107,15 +108,15 @@ void sim_pty_destroy(struct sim_pty *p)
 	p->slave = -1;
 }
 
-/* "tcp://HOST:PORT", "HOST:PORT", ":PORT", "PORT", "[::1]:PORT". */
+/* "tcp://HOST:PORT" (also "TCP://"), "HOST:PORT", ":PORT", "PORT", "[::1]:PORT". */
 static bool parse_listen(const char *spec, char *host, size_t hcap, char *port, size_t pcap)
 {
 	const char *s = spec, *colon;
 	size_t hl;
 
-	if (strncmp(s, "tcp://", 6) == 0)
+	if (strncasecmp(s, "tcp://", 6) == 0)       /* the scheme in any case */
 		s += 6;
-	else if (strncmp(s, "tcp:", 4) == 0)
+	else if (strncasecmp(s, "tcp:", 4) == 0)
 		s += 4;
 	if (*s == '[') {
 		const char *rb = strchr(s, ']');

@@ -204,6 +204,7 @@ static void poll_free_engine(struct df1 *h)
 		free(e->tags[i]);
 	}
 	free(e->tags);
+	free(e->names);
 	free(e->blocks);
 	free(e->members);
 	free(e->raw);

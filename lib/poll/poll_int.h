@@ -188,6 +188,8 @@ struct poll_engine {
 
 	struct ptag **tags;
 	size_t ntags, tags_cap;
+	int *names;             /* index of the tag names (tags.c): open addressing, */
+	size_t names_cap;       /* names_cap slots (a power of two), tag id or -1 */
 
 	/* plan */
 	bool dirty;

@@ -1,6 +1,7 @@
 /*
  * port_tcp.c - raw DF1 over a TCP connection (a serial device server, df1sim
- * --listen): "tcp://host:port", "tcp://192.168.1.20:2101", "tcp://[::1]:2222".
+ * --listen): "tcp://host:port", "tcp://192.168.1.20:2101", "tcp://[::1]:2222";
+ * the scheme in any case ("TCP://host:port"), "tcp:host:port" too.
  *
  * The connect is non-blocking and bounded by a deadline of the handle's
  * timeout (at least 1000 ms), trying each address getaddrinfo() returns;
@@ -20,6 +21,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -114,7 +116,7 @@ static int tcp_open(struct df1 *h, const char *target)
 	int64_t deadline_ms = df1_now_ms() + wait_ms;
 
 	snprintf(h->port_name, sizeof h->port_name, "%s", target);
-	if (strncmp(rest, "tcp:", 4) == 0)
+	if (strncasecmp(rest, "tcp:", 4) == 0) /* the scheme in any case */
 		rest += 4;
 	if (strncmp(rest, "//", 2) == 0)
 		rest += 2;

@@ -237,7 +237,8 @@ int df1_value_format(const struct df1_value *v, enum df1_file_type t, char *buf,
  * Parsing
  * ------------------------------------------------------------------------ */
 
-/* Integer text: [+-] decimal or [+-]0x hex, nothing else. Hex up to max_pattern
+/* Integer text: [+-] decimal or [+-]0x hex (one prefix, then hex digits only),
+ * nothing else. Hex up to max_pattern
  * is a raw bit pattern (0xFFFF into 16 bits is -1). DF1_E_TYPE if not an integer
  * (a float such as "1.5" included), DF1_E_RANGE outside [lo, hi]. */
 static int valuefmt_parse_int(const char *s, size_t n, int64_t lo, int64_t hi, uint64_t max_pattern,
@@ -259,8 +260,10 @@ static int valuefmt_parse_int(const char *s, size_t n, int64_t lo, int64_t hi, u
 	hex = p[0] == '0' && (p[1] == 'x' || p[1] == 'X');
 	if (hex)
 		p += 2;
-	if (!(hex ? isxdigit((unsigned char)*p) : isdigit((unsigned char)*p)))
-		return DF1_E_TYPE;      /* strtoull would take a second sign or blanks */
+	/* digits of the base and nothing else: strtoull would take a second sign,
+	 * blanks, or (base 16) a second "0x" ("0x0x12" would be 18) */
+	if (!*p || strspn(p, hex ? "0123456789abcdefABCDEF" : "0123456789") != strlen(p))
+		return DF1_E_TYPE;
 	errno = 0;
 	u = strtoull(p, &end, hex ? 16 : 10);
 	if (*end != '\0')
