@@ -2,8 +2,9 @@
  * plc_limits.h - data per packet by PLC type and command (spec/protocol.md 6),
  * one table for every layer that plans or checks packets: the client splits
  * requests with it, the poll engine and df1_read_multi() size their block
- * reads with it, the responder cuts its typed replies and refuses what
- * exceeds it. Pure (lib/proto/limits.c).
+ * reads with it, the responder refuses SLC and PLC-2 requests that exceed it
+ * and cuts its PLC-5 typed replies to it (it takes PLC-5 typed and word range
+ * writes of any size that fits a frame). Pure (lib/proto/limits.c).
  *
  * The rules, per command:
  *   SLC 0F/A2 read: BYTE_SIZE <= 236 (SLC 5/03+, MicroLogix), 82 (5/01, 5/02)
