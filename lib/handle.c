@@ -19,6 +19,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/random.h>
+#include <time.h>
 #include <unistd.h>
 
 #define STATION_MAX 254
@@ -107,18 +109,62 @@ static void handle_reset_io(struct df1 *h)
 	frame_decoder_reset(&h->dec);
 }
 
+/* 16 random bits for a first TNS, never blocking: getrandom(2) without
+ * waiting for the entropy pool; where it fails (ENOSYS on an old kernel,
+ * EAGAIN before the pool is ready at early boot, a seccomp filter),
+ * /dev/urandom; where that cannot be read either, the monotonic and real
+ * clocks, the pid and a per-process count mixed by splitmix64's finaliser, so
+ * that even then two runs do not start where a clock's period says. */
+static uint16_t handle_random16(unsigned int n)
+{
+	uint16_t v;
+	ssize_t r;
+	int fd;
+
+	do
+		r = getrandom(&v, sizeof v, GRND_NONBLOCK);
+	while (r < 0 && errno == EINTR);
+	if (r == (ssize_t)sizeof v)
+		return v;
+	fd = open("/dev/urandom", O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+	if (fd >= 0) {
+		r = read(fd, &v, sizeof v);
+		close(fd);
+		if (r == (ssize_t)sizeof v)
+			return v;
+	}
+	{
+		struct timespec rt;
+		uint64_t x;
+
+		clock_gettime(CLOCK_REALTIME, &rt);
+		x = df1_now_us() ^ ((uint64_t)rt.tv_nsec << 20) ^ ((uint64_t)rt.tv_sec << 40) ^
+		    ((uint64_t)getpid() << 16) ^ (0x9E3779B97F4A7C15ull * (n + 1u));
+		x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+		x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+		return (uint16_t)(x ^ (x >> 31) ^ (x >> 47));
+	}
+}
+
 /* First TNS of a handle. A DF1 node drops a message with the same SRC, CMD and
  * TNS as the last one it took (duplicate detection), so a handle must not start
  * where the previous one, in this process or the previous run of a tool, ended.
- * The monotonic clock in microseconds (system-wide, so it also moves between
- * processes) advances far faster than any link can use TNS values; a per-process
- * count separates handles made in the same microsecond. */
+ * A clock does not do: a microsecond clock modulo 65536 comes round every
+ * 65.536 ms, and a tool run every second starts within a few hundred of where
+ * the last one did. A random start makes the chance that a run's first command
+ * repeats the previous run's last TNS 1 in 65536. Two handles made one after
+ * the other in a process never start on the same value. Tests that need a
+ * known TNS set h->next_tns. */
 static uint16_t handle_tns_seed(void)
 {
-	static atomic_uint made;
+	static atomic_uint made, last;
 	unsigned int n = atomic_fetch_add(&made, 1u);
+	uint16_t v = handle_random16(n);
 
-	return (uint16_t)(df1_now_us() + 40503u * n);
+	if (n > 0 && v == (uint16_t)atomic_load(&last))
+		v = (uint16_t)(v + 40503u);
+	atomic_store(&last, v);
+	return v;
 }
 
 int df1_new(df1_t **out)

@@ -334,10 +334,12 @@ static int srv_typed_read(struct srv *s)
 		s->len = (size_t)hl + len;
 		return 0;
 	}
-	/* as many whole elements as one reply holds (header at most 6 bytes) */
-	count = (size_t)r.size;
-	if (count * es > SERVER_TYPED_REPLY_MAX - 6)
-		count = (SERVER_TYPED_REPLY_MAX - 6) / es;
+	/* as many whole elements as one reply holds: the command's address + the
+	 * reply's type/data + data <= 240 (spec 6, plc_limits.h); the address is
+	 * what the command holds between TOTAL_TRANS and SIZE */
+	count = plc5_typed_per_packet(s->m->len - 6, td, es);
+	if ((size_t)r.size < count)
+		count = (size_t)r.size;
 	hl = pccc_enc_typed_array(s->data, sizeof s->data, td, (uint32_t)es, count);
 	if (hl < 0)
 		return srv_fail_sts(s, 0x10);

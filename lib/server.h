@@ -40,11 +40,11 @@ struct server_ctx {
 #define SERVER_PLC2_FILE_MICROLOGIX 7
 #define SERVER_PLC2_FILE_PLC5 9
 
-/* Data limits per reply / write (spec 6): lib/plc_limits.h's PLC_SLC_READ_MAX
- * (A1/A2), PLC_SLC_WRITE_MAX (A9/AA/AB), PLC_SLC502_MAX, PLC_PLC2_MAX (01 SIZE,
- * 08 data), PLC_ECHO_MAX (06/00), and these: */
-#define SERVER_TYPED_REPLY_MAX PLC_PLC5_PACKET_MAX /* 0F/68 reply: type/data parameter + data */
-#define SERVER_WORD_READ_MAX 244     /* 0F/01 reply data (KF2 p.136) */
+/* Data limits per reply / write (spec 6): lib/proto/plc_limits.h's
+ * PLC_SLC_READ_MAX (A1/A2), PLC_SLC_WRITE_MAX (A9/AA/AB), PLC_SLC502_MAX,
+ * PLC_PLC2_MAX (01 SIZE, 08 data), PLC_ECHO_MAX (06/00), plc5_typed_per_packet()
+ * (0F/68 reply: the command's address + type/data + data <= 240), and: */
+#define SERVER_WORD_READ_MAX PLC_WORD_READ_MAX   /* 0F/01 reply data (KF2 p.136) */
 
 /* The link handler (link_handler_fn): decode the command in cmd[0..n), run it
  * through ctx (a struct server_ctx *), write the reply app bytes. Returns the

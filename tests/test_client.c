@@ -66,7 +66,7 @@ static int link_test_calls;
 #define FILE_BYTES 8192
 static uint8_t mem[FILES][FILE_BYTES];
 static uint8_t plc2_mem[0x10000];
-static char plc5_ftype[FILES];     /* 'N' (default) 'F' 'T' 'L' 'S' (string) */
+static char plc5_ftype[FILES];     /* 'N' (default) 'F' 'T' 'C' 'R' 'L' 'S' (string) */
 
 static void mock_reset(void)
 {
@@ -165,7 +165,7 @@ static size_t plc5_esize(unsigned file)
 {
 	switch (plc5_ftype[file % FILES]) {
 	case 'F': case 'L': return 4;
-	case 'T': return 6;
+	case 'T': case 'C': case 'R': return 6;
 	case 'S': return 84;
 	default: return 2;
 	}
@@ -281,6 +281,8 @@ static int sim(const uint8_t *c, size_t n, uint8_t *data)
 				switch (sub >= 0 ? 'N' : plc5_ftype[file % FILES]) {
 				case 'F': desc[0] = 0x94; desc[1] = 0x08; dl = 2; break;
 				case 'T': desc[0] = 0x56; break;
+				case 'C': desc[0] = 0x66; break;
+				case 'R': desc[0] = 0x76; break;
 				case 'L': desc[0] = 0x44; break;
 				default: desc[0] = 0x42; break;
 				}
@@ -1038,6 +1040,107 @@ static void test_client_plc5_rmw_bits_vector(void **state)
 	assert_cmd(3, "01 00 0F 00 00 00 26 0E 04 01 00 FF FF 00 20");
 }
 
+/* ------------------------------------------------------------------------
+ * Packet boundaries (spec 6): for every PLC type and file type, the largest
+ * count goes in one packet and one more in two. The counts are worked out
+ * here from the spec's rules, not taken from the library:
+ *   SLC 5/03+ and MicroLogix: A2 read data <= 236, AA write data <= 234;
+ *   SLC 5/01-5/02: 82 both ways; PLC-2: 01 SIZE <= 244, 08 data <= 244;
+ *   PLC-5 typed read reply / typed write: address + type/data + data <= 240.
+ *     Address (spec 4.1): N7:0 = 06 07 00 (3 bytes), N7:300 = 06 07 FF 2C 01
+ *     (5), N300:0 = 06 FF 2C 01 00 (5). Type/data of an array (spec 4.3):
+ *     99 09 LL (3 bytes: the array size LL = descriptor + data <= 255) + the
+ *     element descriptor: 42 integer, 44 long, 56 timer, 66 counter, 76
+ *     control (1 byte), 94 08 float (2 bytes).
+ *     N7:0   3 + 4 + 2n <= 240: n <= 116   (117: 241)
+ *     N7:300 5 + 4 + 2n <= 240: n <= 115
+ *     F8:0   3 + 5 + 4n <= 240: n <= 58    (59: 244)
+ *     L9:0   3 + 4 + 4n <= 240: n <= 58
+ *     T4:0   3 + 4 + 6n <= 240: n <= 38    (39: 241); C and R the same
+ *     ST: one string per packet.
+ * ------------------------------------------------------------------------ */
+
+struct bound {
+	enum df1_plc plc;
+	const char *addr;
+	char ftype;             /* the mock PLC-5's file type (0: N) */
+	unsigned file;
+	size_t rmax, wmax;      /* elements in one read / write packet */
+};
+
+static const struct bound bounds[] = {
+	{ DF1_PLC_SLC, "N7:0", 0, 7, 118, 117 },
+	{ DF1_PLC_SLC, "B3:0", 0, 3, 118, 117 },
+	{ DF1_PLC_SLC, "F8:0", 0, 8, 59, 58 },
+	{ DF1_PLC_SLC, "L10:0", 0, 10, 59, 58 },
+	{ DF1_PLC_SLC, "T4:0", 0, 4, 39, 39 },
+	{ DF1_PLC_SLC, "C5:0", 0, 5, 39, 39 },
+	{ DF1_PLC_SLC, "R6:0", 0, 6, 39, 39 },
+	{ DF1_PLC_SLC, "ST9:0", 0, 9, 2, 2 },
+	{ DF1_PLC_MICROLOGIX, "N7:0", 0, 7, 118, 117 },
+	{ DF1_PLC_MICROLOGIX, "F8:0", 0, 8, 59, 58 },
+	{ DF1_PLC_MICROLOGIX, "T4:0", 0, 4, 39, 39 },
+	{ DF1_PLC_SLC502, "N7:0", 0, 7, 41, 41 },
+	{ DF1_PLC_SLC502, "F8:0", 0, 8, 20, 20 },
+	{ DF1_PLC_SLC502, "T4:0", 0, 4, 13, 13 },
+	{ DF1_PLC_PLC2, "N7:0", 0, 7, 122, 122 },
+	{ DF1_PLC_PLC5, "N7:0", 'N', 7, 116, 116 },
+	{ DF1_PLC_PLC5, "N7:300", 'N', 7, 115, 115 },
+	{ DF1_PLC_PLC5, "N300:0", 'N', 300, 115, 115 },
+	{ DF1_PLC_PLC5, "B3:0", 'N', 3, 116, 116 },
+	{ DF1_PLC_PLC5, "F8:0", 'F', 8, 58, 58 },
+	{ DF1_PLC_PLC5, "L9:0", 'L', 9, 58, 58 },
+	{ DF1_PLC_PLC5, "T4:0", 'T', 4, 38, 38 },
+	{ DF1_PLC_PLC5, "C5:0", 'C', 5, 38, 38 },
+	{ DF1_PLC_PLC5, "R6:0", 'R', 6, 38, 38 },
+	{ DF1_PLC_PLC5, "ST9:0", 'S', 9, 1, 1 },
+};
+
+/* PLC-5 command i: address + type/data + data of a 0F/67 within 240 bytes. */
+static void assert_plc5_write_fits(size_t i)
+{
+	assert_true(i < ncmds);
+	assert_int_equal(cmds[i].b[6], 0x67);
+	/* header 6, FNC 1, PKT_OFFSET 2, TOTAL_TRANS 2 */
+	assert_true(cmds[i].n - PCCC_HDR_LEN - 5 <= 240);
+}
+
+static void test_client_packet_boundaries(void **state)
+{
+	df1_t *h = *state;
+	static struct df1_value v[130];
+
+	for (size_t b = 0; b < sizeof bounds / sizeof bounds[0]; b++) {
+		const struct bound *c = &bounds[b];
+
+		print_message("%s %s: read %zu, write %zu per packet\n",
+		              c->plc == DF1_PLC_PLC5 ? "plc5" : c->plc == DF1_PLC_PLC2 ? "plc2" :
+		              c->plc == DF1_PLC_SLC502 ? "slc502" : "slc", c->addr, c->rmax, c->wmax);
+		set_plc(h, c->plc);
+		if (c->ftype)
+			plc5_ftype[c->file % FILES] = c->ftype;
+		for (size_t extra = 0; extra < 2; extra++) {
+			size_t n = c->rmax + extra, w = c->wmax + extra;
+
+			ncmds = 0;
+			assert_int_equal(df1_read(h, 1, c->addr, v, n), (int)n);
+			if (ncmds != 1 + extra)
+				fail_msg("%s read of %zu: %zu commands, want %zu", c->addr, n, ncmds, 1 + extra);
+			if (c->plc == DF1_PLC_PLC5 && c->ftype != 'S')
+				/* ELEMENTS of the first packet, after the 3- or 5-byte address */
+				assert_int_equal(le16(cmds[0].b + cmds[0].n - 2), c->rmax);
+			ncmds = 0;
+			assert_int_equal(df1_write(h, 1, c->addr, v, w), (int)w);
+			if (ncmds != 1 + extra)
+				fail_msg("%s write of %zu: %zu commands, want %zu", c->addr, w, ncmds, 1 + extra);
+			if (c->plc == DF1_PLC_PLC5)
+				for (size_t i = 0; i < ncmds; i++)
+					assert_plc5_write_fits(i);
+		}
+		plc5_ftype[c->file % FILES] = 'N';
+	}
+}
+
 static void test_client_plc5_split_300(void **state)
 {
 	df1_t *h = *state;
@@ -1046,11 +1149,12 @@ static void test_client_plc5_split_300(void **state)
 	set_plc(h, DF1_PLC_PLC5);
 	fill_words(7, 300);
 	assert_int_equal(df1_read_int16(h, 1, "N7:0", v, 300), 300);
-	/* (240 - 3 address - 8 type/data) / 2 = 114 per packet, offsets in elements */
+	/* 3 address + 4 type/data (99 09 E9 42) + 2 * 116 = 239 <= 240: 116 per
+	 * packet (spec 6), offsets in elements */
 	assert_int_equal(ncmds, 3);
-	assert_cmd(0, "01 00 0F 00 00 00 68 00 00 2C 01 06 07 00 72 00");
-	assert_cmd(1, "01 00 0F 00 00 00 68 72 00 2C 01 06 07 00 72 00");
-	assert_cmd(2, "01 00 0F 00 00 00 68 E4 00 2C 01 06 07 00 48 00");
+	assert_cmd(0, "01 00 0F 00 00 00 68 00 00 2C 01 06 07 00 74 00");
+	assert_cmd(1, "01 00 0F 00 00 00 68 74 00 2C 01 06 07 00 74 00");
+	assert_cmd(2, "01 00 0F 00 00 00 68 E8 00 2C 01 06 07 00 44 00");
 	for (int i = 0; i < 300; i++)
 		assert_int_equal(v[i], i);
 	/* write: (240 - 3 - 4 type/data) / 2 = 116 */
@@ -1322,6 +1426,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_client_plc5_typed_write_vector, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_rmw_bits_vector, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_split_300, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_client_packet_boundaries, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_float_and_timer, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_typed_float_swapped_option, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_strings_one_per_packet, setup, teardown),

@@ -11,7 +11,10 @@
 
 #include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "df1_int.h"
@@ -117,6 +120,79 @@ static void test_handle_new_free_null(void **state)
 	assert_int_equal(df1_counter(NULL, 2525, NULL), DF1_E_INVAL);
 	df1_set_log(NULL, NULL, NULL);
 	df1_counters_reset(NULL);
+}
+
+/* The first TNS of runs started at exact multiples of 65.536 ms (the period of
+ * a microsecond clock taken modulo 65536), each a new process as a tool run
+ * is: the first TNS values must spread as chance spreads 16-bit values, not
+ * cluster where the previous run started. A DF1 node's duplicate detection
+ * drops a command with the TNS of the last one it took (spec 1.7), so a run
+ * that starts with the previous run's TNS loses its first command. */
+#define TNS_RUNS 30
+#define TNS_NEAR 1024           /* "near": within 1024 either side */
+
+static unsigned tns_dist(unsigned a, unsigned b)
+{
+	unsigned d = (a - b) & 0xFFFFu;
+
+	return d < 0x8000u ? d : 0x10000u - d;
+}
+
+static void test_handle_tns_runs_spread(void **state)
+{
+	unsigned tns[TNS_RUNS], near = 0, same = 0, distinct = 0;
+	struct timespec t0;
+
+	(void)state;
+	clock_gettime(CLOCK_MONOTONIC, &t0);
+	for (int i = 0; i < TNS_RUNS; i++) {
+		struct timespec at = t0;
+		uint16_t v = 0;
+		int fd[2], st;
+		long long ns = (long long)t0.tv_nsec + (long long)(i + 1) * 65536000LL;
+		pid_t pid;
+
+		at.tv_sec += (time_t)(ns / 1000000000LL);
+		at.tv_nsec = (long)(ns % 1000000000LL);
+		assert_int_equal(pipe(fd), 0);
+		while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &at, NULL) == EINTR)
+			;
+		pid = fork();
+		assert_true(pid >= 0);
+		if (pid == 0) {         /* a new run: a fresh process, its first handle */
+			df1_t *h = NULL;
+
+			close(fd[0]);
+			if (df1_new(&h) == 0)
+				v = h->next_tns;
+			_exit(write(fd[1], &v, sizeof v) == (ssize_t)sizeof v ? 0 : 1);
+		}
+		close(fd[1]);
+		assert_int_equal(read(fd[0], &v, sizeof v), (int)sizeof v);
+		close(fd[0]);
+		assert_int_equal(waitpid(pid, &st, 0), pid);
+		assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 0);
+		tns[i] = v;
+	}
+	for (int i = 0; i < TNS_RUNS; i++) {
+		bool seen = false;
+
+		for (int j = 0; j < i; j++)
+			seen = seen || tns[j] == tns[i];
+		distinct += !seen;
+		if (i > 0) {
+			near += tns_dist(tns[i], tns[i - 1]) <= TNS_NEAR;
+			same += tns[i] == tns[i - 1];
+		}
+	}
+	print_message("first TNS of %d runs 65.536 ms apart: %u distinct, %u within %d of the "
+	              "previous run's, %u equal to it\n", TNS_RUNS, distinct, near, TNS_NEAR, same);
+	/* random: P(near) = 2049 / 65536 per pair, about 0.9 of 29 pairs;
+	 * 7 or more has a probability below 1e-4. 30 random values are all
+	 * distinct with probability 0.993; two or more repeats below 3e-5. */
+	assert_true(near <= 6);
+	assert_true(distinct >= TNS_RUNS - 1);
+	assert_true(same == 0 || same == 1);
 }
 
 static void test_handle_tns_differs_between_handles(void **state)
@@ -539,6 +615,7 @@ int main(void)
 		T(test_handle_defaults),
 		cmocka_unit_test(test_handle_new_free_null),
 		cmocka_unit_test(test_handle_tns_differs_between_handles),
+		cmocka_unit_test(test_handle_tns_runs_spread),
 		T(test_handle_station),
 		T(test_handle_duplex),
 		T(test_handle_plc),

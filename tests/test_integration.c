@@ -15,6 +15,7 @@
  * never a second command for it; df1sim -v: every repeat on the line
  * recognised as a duplicate); the same faults again with the same --seed;
  * --line-baud pacing; SIGUSR1/SIGUSR2 silencing and restoring every station;
+ * df1write runs 65.536 ms apart each written exactly once (a random first TNS);
  * df1sim -d on an existing tty (port busy to another process, its settings
  * back at exit); counters by ID; link test, echo, diagnostic status; bad
  * settings on an open handle; a network CSV driving a real connection; port
@@ -39,6 +40,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
 #include <termios.h>
 #include <time.h>
 #include <unistd.h>
@@ -1605,6 +1607,116 @@ static void test_it_fault_noise(void **state)
 
 /* ------------------------------------------------------------------------ */
 
+/* df1write run again and again at exact multiples of 65.536 ms (the period
+ * of a microsecond clock modulo 65536) against df1sim with duplicate
+ * detection (its default): each run is a new process whose first command
+ * must not carry the previous run's TNS, else df1sim ACKs it as a duplicate,
+ * drops it and the write is lost. Every run must succeed and df1sim's log must
+ * hold each write exactly once. */
+#define WRITE_RUNS 24            /* DF1_TNS_RUNS=n (up to 2000) for a longer measurement */
+
+static void test_it_runs_65ms_apart_write_once(void **state)
+{
+	struct fault_env *e = *state;
+	const char *bin = getenv("DF1_BIN"), *env = getenv("DF1_TNS_RUNS");
+	int runs = env && atoi(env) > 1 && atoi(env) <= 2000 ? atoi(env) : WRITE_RUNS;
+	char exe[512], arg[32], needle[48];
+	unsigned *tns = calloc((size_t)runs, sizeof *tns);
+	struct timespec t0;
+	const char *log;
+	int failed = 0, near = 0, same = 0, missing = 0;
+	long long late = 0;
+
+	assert_non_null(tns);
+	if (!bin || !*bin)
+		bin = "build/bin";
+	snprintf(exe, sizeof exe, "%s/df1write", bin);
+	if (simproc_start(&e->sim, false, NULL, true, NULL) != 0)
+		fail_msg("df1sim did not start");
+	clock_gettime(CLOCK_MONOTONIC, &t0);
+	for (int i = 0; i < runs; i++) {
+		long long ns = (long long)t0.tv_nsec + (long long)(i + 1 + late) * 65536000LL;
+		struct timespec at = { t0.tv_sec + (time_t)(ns / 1000000000LL), (long)(ns % 1000000000LL) };
+		struct timespec now;
+		pid_t pid;
+		int st;
+
+		/* the value names the run: N7:(20 + i % 230) = i */
+		snprintf(arg, sizeof arg, "N7:%d=%d", 20 + i % 230, i % 30000);
+		while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &at, NULL) == EINTR)
+			;
+		pid = fork();
+		assert_true(pid >= 0);
+		if (pid == 0) {
+			int fd = open("/dev/null", O_WRONLY);
+
+			if (fd >= 0) {
+				dup2(fd, 1);
+				dup2(fd, 2);
+			}
+			execl(exe, "df1write", "-d", e->sim.target, arg, (char *)NULL);
+			_exit(127);
+		}
+		assert_int_equal(waitpid(pid, &st, 0), pid);
+		if (!WIFEXITED(st) || WEXITSTATUS(st) != 0) {
+			print_message("run %d (%s): exit %d\n", i, arg, WIFEXITED(st) ? WEXITSTATUS(st) : -1);
+			failed++;
+		}
+		/* df1sim logs a write after its reply went out: wait for the line
+		 * (a write dropped as a duplicate never comes: 300 ms) */
+		for (int w = 0; w < 300; w++) {
+			char *text = simproc_slurp(e->sim.log, NULL);
+			int k = text ? log_lines(text, "cmd=0F/AA", NULL, NULL, 0) : 0;
+
+			free(text);
+			if (k >= i + 1 - missing)
+				break;
+			if (w == 299) {
+				print_message("run %d (%s): not in df1sim's log\n", i, arg);
+				missing++;
+			}
+			usleep(1000);
+		}
+		/* a run that overran its slot (a lost write waits for its timeout):
+		 * the next starts on the next multiple of 65.536 ms */
+		clock_gettime(CLOCK_MONOTONIC, &now);
+		while ((long long)(now.tv_sec - t0.tv_sec) * 1000000000LL + now.tv_nsec - t0.tv_nsec >
+		       (long long)(i + 2 + late) * 65536000LL)
+			late++;
+	}
+	log = fault_stop_log(e);
+	for (int i = 0; i < runs; i++) {
+		int k;
+
+		snprintf(needle, sizeof needle, "cmd=0F/AA addr=N7:%d ", 20 + i % 230);
+		k = log_lines(log, needle, NULL, NULL, 0);
+		if (runs <= 230 && k != 1)
+			fail_msg("%s: %d lines in df1sim's log, want 1", needle, k);
+	}
+	/* the TNS of each write df1sim took, in order */
+	{
+		int n = log_lines(log, "cmd=0F/AA", NULL, tns, runs);
+
+		assert_int_equal(n, runs - missing);
+		for (int i = 1; i < n && i < runs; i++) {
+			unsigned d = (tns[i] - tns[i - 1]) & 0xFFFFu;
+
+			near += (d < 0x8000u ? d : 0x10000u - d) <= 4096;
+			same += d == 0;
+		}
+	}
+	print_message("%d df1write runs 65.536 ms apart: %d failed, %d writes missing from df1sim's "
+	              "log, %d first TNS within 4096 of the previous run's, %d equal\n", runs, failed,
+	              missing, near, same);
+	free(tns);
+	assert_int_equal(failed, 0);
+	assert_int_equal(missing, 0);
+	/* random: P(near) = 8193 / 65536, about 2.9 of 23 pairs; 11 or more has
+	 * a probability below 4e-5 (a clock's start: most of them) */
+	if (runs == WRITE_RUNS)
+		assert_true(near <= 10);
+}
+
 #define GROUP_TEST(f) cmocka_unit_test_teardown(f, test_teardown)
 #define FAULT_TEST(f) cmocka_unit_test_setup_teardown(f, fault_setup, fault_teardown)
 
@@ -1699,6 +1811,7 @@ int main(void)
 	};
 	const struct CMUnitTest options[] = {    /* a simulator per test, as the faults */
 		FAULT_TEST(test_it_plc5_typed_float_swapped),
+		FAULT_TEST(test_it_runs_65ms_apart_write_once),
 	};
 	int failed = 0;
 

@@ -114,8 +114,8 @@ static struct poll_item item(int station, enum df1_plc plc, enum df1_file_type t
 	it.file = file;
 	it.first = first;
 	it.count = count;
-	it.cost = (int)plc_read_elem_cost(plc, t, (size_t)es, 0);
-	it.limit = (int)plc_read_limit(plc, 0);
+	it.cost = es;
+	it.limit = plc_read_limit(plc, t, (size_t)es, file, first, 0);
 	it.period_ms = 1000;
 	it.tag = tag;
 	return it;
@@ -191,11 +191,27 @@ static void test_plan_packet_limits(void **state)
 		it[i] = item(1, DF1_PLC_MICROLOGIX, DF1_FT_F, 8, i, 1, i);
 	assert_int_equal(poll_plan(it, 100, POLL_TX_OVERHEAD_FULL, b, 100), 2);
 	assert_int_equal(b[0].count, 59);
-	/* PLC-5 timers are budgeted 10 bytes: 225 / 10 = 22 per read */
-	for (int i = 0; i < 30; i++)
+	/* PLC-5 timers: 3 address + 4 type/data + 6 * 38 = 235 <= 240 (39: 241),
+	 * 38 per read (spec 6) */
+	for (int i = 0; i < 40; i++)
 		it[i] = item(1, DF1_PLC_PLC5, DF1_FT_T, 4, i, 1, i);
-	assert_int_equal(poll_plan(it, 30, POLL_TX_OVERHEAD_FULL, b, 30), 2);
-	assert_int_equal(b[0].count, 22);
+	assert_int_equal(poll_plan(it, 40, POLL_TX_OVERHEAD_FULL, b, 40), 2);
+	assert_int_equal(b[0].count, 38);
+	/* PLC-5 integers: 3 + 4 + 2 * 116 = 239, 116 per read; from N7:255 on the
+	 * address is 5 bytes (06 07 FF FF 00): 115 */
+	for (int i = 0; i < 117; i++)
+		it[i] = item(1, DF1_PLC_PLC5, DF1_FT_N, 7, i, 1, i);
+	assert_int_equal(poll_plan(it, 117, POLL_TX_OVERHEAD_FULL, b, 117), 2);
+	assert_int_equal(b[0].count, 116);
+	for (int i = 0; i < 116; i++)
+		it[i] = item(1, DF1_PLC_PLC5, DF1_FT_N, 7, 255 + i, 1, i);
+	assert_int_equal(poll_plan(it, 116, POLL_TX_OVERHEAD_FULL, b, 116), 2);
+	assert_int_equal(b[0].count, 115);
+	/* PLC-5 floats: 3 + 5 (99 09 EA 94 08) + 4 * 58 = 240 */
+	for (int i = 0; i < 59; i++)
+		it[i] = item(1, DF1_PLC_PLC5, DF1_FT_F, 8, i, 1, i);
+	assert_int_equal(poll_plan(it, 59, POLL_TX_OVERHEAD_FULL, b, 59), 2);
+	assert_int_equal(b[0].count, 58);
 	/* a PLC-5 string goes one per packet */
 	for (int i = 0; i < 3; i++)
 		it[i] = item(1, DF1_PLC_PLC5, DF1_FT_ST, 9, i, 1, i);
@@ -758,17 +774,18 @@ static void test_coalesce_slc502_limit(void **state)
 	assert_int_equal(tagst(f->h, 59).value.v.i16, 59);
 }
 
-/* PLC-5 typed reads (spec 6: 240-byte packets, 225 bytes of element data
- * budgeted, timers at 10 bytes) and stations in address order (seed 002),
+/* PLC-5 typed reads (spec 6: address + type/data + data <= 240 bytes: 58
+ * floats, 38 timers, 116 integers after a 3-byte address, see test_client's
+ * boundaries) and stations in address order (seed 002),
  * whatever order the tags were added in: df1sim's frame log. */
 static void test_coalesce_plc5_station_order(void **state)
 {
 	struct fix *f = *state;
 	static const char *const args[] = { "--plc", "plc5", "--station", "1-3", NULL };
 	static const char *const want[] = {
-		"station=1 cmd=0F/68 addr=F8:0 count=56", "station=1 cmd=0F/68 addr=F8:56 count=14",
-		"station=2 cmd=0F/68 addr=T4:0 count=22", "station=2 cmd=0F/68 addr=T4:22 count=8",
-		"station=3 cmd=0F/68 addr=N7:0 count=112", "station=3 cmd=0F/68 addr=N7:112 count=38",
+		"station=1 cmd=0F/68 addr=F8:0 count=58", "station=1 cmd=0F/68 addr=F8:58 count=12",
+		"station=2 cmd=0F/68 addr=T4:0 count=30",
+		"station=3 cmd=0F/68 addr=N7:0 count=116", "station=3 cmd=0F/68 addr=N7:116 count=34",
 	};
 	char name[16], addr[24], *text, *line, *save = NULL;
 	struct df1_tag_config c;
@@ -795,13 +812,13 @@ static void test_coalesce_plc5_station_order(void **state)
 		assert_true(df1_tag_add(f->h, &c) >= 0);
 	}
 	one_scan(f);
-	assert_int_equal(pstats(f->h).blocks, 6);
-	assert_int_equal(pstats(f->h).last_scan_transactions, 6);
+	assert_int_equal(pstats(f->h).blocks, 5);
+	assert_int_equal(pstats(f->h).last_scan_transactions, 5);
 	assert_true(all_good(f->h, 0, 250));
 	assert_int_equal(tagst(f->h, 0).value.v.i16, 149);
 	assert_true(tagst(f->h, 249).value.v.f == 69.5f);
-	/* the six reads, in this order, and nothing else */
-	assert_int_equal(log_wait(f, "cmd=0F/68", NULL, 6), 6);
+	/* the five reads, in this order, and nothing else */
+	assert_int_equal(log_wait(f, "cmd=0F/68", NULL, 5), 5);
 	text = simproc_slurp(f->sim.log, NULL);
 	assert_non_null(text);
 	for (line = strtok_r(text, "\n", &save); line; line = strtok_r(NULL, "\n", &save)) {
@@ -810,7 +827,7 @@ static void test_coalesce_plc5_station_order(void **state)
 		k++;
 	}
 	free(text);
-	assert_int_equal(k, 6);
+	assert_int_equal(k, 5);
 }
 
 /* DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED: a block of F tags is read as raw wire bytes

@@ -51,8 +51,8 @@ static struct poll_item item(enum df1_plc plc, enum df1_file_type t, int file, i
 	it.file = file;
 	it.first = first;
 	it.count = count;
-	it.cost = (int)plc_read_elem_cost(plc, t, (size_t)df1_file_type_element_size(t), 0);
-	it.limit = (int)plc_read_limit(plc, 0);
+	it.cost = df1_file_type_element_size(t);
+	it.limit = plc_read_limit(plc, t, (size_t)it.cost, file, first, 0);
 	it.tag = tag;
 	return it;
 }
@@ -145,6 +145,70 @@ static void test_packet_max(void **state)
  * Arguments (no I/O)
  * ------------------------------------------------------------------------ */
 
+/* Elements per packet, each command at its limit and one past it (spec 6,
+ * worked out as in test_client's boundaries): SLC A2 236 / AA 234 data bytes,
+ * SLC 5/02 82, PLC-2 244; PLC-5 typed address + 99 09 LL + descriptor + data
+ * <= 240, the address 3 bytes for N7:0 (06 07 00), 5 for N7:300, 7 for the
+ * logical ASCII $N7:0 (00 24 4E 37 3A 30 00). */
+static void test_per_packet(void **state)
+{
+	static const struct {
+		enum df1_plc plc;
+		bool write;
+		enum df1_file_type t;
+		size_t esize, alen, want;
+	} c[] = {
+		{ DF1_PLC_SLC, false, DF1_FT_N, 2, 0, 118 },
+		{ DF1_PLC_SLC, true, DF1_FT_N, 2, 0, 117 },
+		{ DF1_PLC_SLC, false, DF1_FT_F, 4, 0, 59 },
+		{ DF1_PLC_SLC, true, DF1_FT_F, 4, 0, 58 },
+		{ DF1_PLC_SLC, false, DF1_FT_T, 6, 0, 39 },
+		{ DF1_PLC_SLC, true, DF1_FT_T, 6, 0, 39 },
+		{ DF1_PLC_SLC, false, DF1_FT_ST, 84, 0, 2 },
+		{ DF1_PLC_MICROLOGIX, false, DF1_FT_L, 4, 0, 59 },
+		{ DF1_PLC_MICROLOGIX, true, DF1_FT_L, 4, 0, 58 },
+		{ DF1_PLC_SLC502, false, DF1_FT_N, 2, 0, 41 },
+		{ DF1_PLC_SLC502, true, DF1_FT_T, 6, 0, 13 },
+		{ DF1_PLC_SLC502, false, DF1_FT_ST, 84, 0, 0 },
+		{ DF1_PLC_PLC2, false, DF1_FT_N, 2, 0, 122 },
+		{ DF1_PLC_PLC2, true, DF1_FT_N, 2, 0, 122 },
+		{ DF1_PLC_PLC5, false, DF1_FT_N, 2, 3, 116 },   /* 3 + 4 + 232 = 239 */
+		{ DF1_PLC_PLC5, true, DF1_FT_N, 2, 3, 116 },
+		{ DF1_PLC_PLC5, false, DF1_FT_N, 2, 5, 115 },   /* 5 + 4 + 230 = 239 */
+		{ DF1_PLC_PLC5, false, DF1_FT_N, 2, 7, 114 },   /* 7 + 4 + 228 = 239 */
+		{ DF1_PLC_PLC5, false, DF1_FT_B, 2, 3, 116 },
+		{ DF1_PLC_PLC5, false, DF1_FT_F, 4, 3, 58 },    /* 3 + 5 + 232 = 240 */
+		{ DF1_PLC_PLC5, true, DF1_FT_F, 4, 3, 58 },
+		{ DF1_PLC_PLC5, false, DF1_FT_F, 4, 5, 57 },    /* 5 + 5 + 228 = 238 */
+		{ DF1_PLC_PLC5, false, DF1_FT_L, 4, 3, 58 },    /* 3 + 4 + 232 = 239 */
+		{ DF1_PLC_PLC5, false, DF1_FT_T, 6, 3, 38 },    /* 3 + 4 + 228 = 235 */
+		{ DF1_PLC_PLC5, true, DF1_FT_C, 6, 3, 38 },
+		{ DF1_PLC_PLC5, false, DF1_FT_R, 6, 5, 38 },    /* 5 + 4 + 228 = 237 */
+		{ DF1_PLC_PLC5, false, DF1_FT_ST, 84, 3, 1 },
+		{ DF1_PLC_PLC5, true, DF1_FT_ST, 84, 3, 1 },
+	};
+
+	(void)state;
+	for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+		size_t got = plc_per_packet(c[i].plc, c[i].write, c[i].t, c[i].esize, c[i].alen, 0);
+
+		if (got != c[i].want)
+			fail_msg("case %zu: %zu per packet, want %zu", i, got, c[i].want);
+	}
+	/* the responder's cut of a typed reply is the same rule */
+	assert_int_equal(plc5_typed_per_packet(3, plc5_td_type(DF1_FT_N, 2), 2), 116);
+	assert_int_equal(plc5_typed_per_packet(3, plc5_td_type(DF1_FT_F, 4), 4), 58);
+	assert_int_equal(plc5_typed_per_packet(3, plc5_td_type(DF1_FT_T, 6), 6), 38);
+	/* the planner's limit: whole elements from the block's first element */
+	assert_int_equal(plc_read_limit(DF1_PLC_PLC5, DF1_FT_N, 2, 7, 0, 0), 232);
+	assert_int_equal(plc_read_limit(DF1_PLC_PLC5, DF1_FT_N, 2, 7, 300, 0), 230);
+	assert_int_equal(plc_read_limit(DF1_PLC_PLC5, DF1_FT_F, 4, 8, 0, 0), 232);
+	assert_int_equal(plc_read_limit(DF1_PLC_SLC, DF1_FT_T, 6, 4, 0, 0), 234);
+	/* DF1_OPT_MAX_PACKET: that many bytes of element data */
+	assert_int_equal(plc_per_packet(DF1_PLC_PLC5, false, DF1_FT_N, 2, 3, 20), 10);
+	assert_int_equal(plc_per_packet(DF1_PLC_SLC, false, DF1_FT_N, 2, 0, 20), 10);
+}
+
 static void test_args(void **state)
 {
 	df1_t *h;
@@ -220,9 +284,10 @@ static int fix_teardown(void **state)
 	return 0;
 }
 
-static void start_as(struct fix *f, const char *const *args, enum df1_plc plc, bool half)
+static void start_data(struct fix *f, const char *data, const char *const *args,
+                       enum df1_plc plc, bool half)
 {
-	if (simproc_start(&f->sim, false, NULL, true, args) != 0)
+	if (simproc_start(&f->sim, false, data, true, args) != 0)
 		fail_msg("df1sim did not start");
 	assert_int_equal(df1_new(&f->h), 0);
 	assert_int_equal(df1_set_plc(f->h, plc), 0);
@@ -232,6 +297,11 @@ static void start_as(struct fix *f, const char *const *args, enum df1_plc plc, b
 		assert_int_equal(df1_set_duplex(f->h, DF1_HALF_DUPLEX_MASTER), 0);
 	if (df1_open(f->h, f->sim.target) < 0)
 		fail_msg("df1_open %s: %s", f->sim.target, df1_last_error(f->h)->message);
+}
+
+static void start_as(struct fix *f, const char *const *args, enum df1_plc plc, bool half)
+{
+	start_data(f, NULL, args, plc, half);
 }
 
 static void start(struct fix *f, const char *const *args, enum df1_plc plc)
@@ -437,6 +507,82 @@ static void test_slc502_limit(void **state)
 	assert_int_equal(log_count(f, NULL), 3);
 }
 
+/* PLC-5 typed packets (spec 6: address + type/data + data <= 240 bytes; spec
+ * 4.1 address N7:0 = 06 07 00, N7:300 = 06 07 FF 2C 01; spec 4.3 type/data
+ * 99 09 LL + descriptor 42 / 44 / 56 / 66 / 76 (1 byte) or 94 08 (float)):
+ * the largest count goes in one 0F/68 or 0F/67, one more in two, counted
+ * in df1sim's frame log; the values read are df1sim's initial ones. */
+static void test_plc5_packet_boundaries(void **state)
+{
+	static const char *const args[] = { "--plc", "plc5", NULL };
+	static const struct { const char *addr; int max; } c[] = {
+		{ "N7:0", 116 },        /* 3 + 4 + 2 * 116 = 239 */
+		{ "N7:130", 116 },
+		{ "F8:0", 58 },         /* 3 + 5 + 4 * 58 = 240 */
+		{ "L10:0", 58 },        /* 3 + 4 + 4 * 58 = 239 */
+		{ "T4:0", 38 },         /* 3 + 4 + 6 * 38 = 235; 39: 241 */
+		{ "C5:0", 38 },
+		{ "R6:0", 38 },
+	};
+	struct fix *f = *state;
+	static struct df1_value v[128];
+	struct df1_read_req r[2];
+	unsigned reads;
+	int seen = 0, nr = 0, nw = 0;
+
+	start_data(f, "N7:499=499\n", args, DF1_PLC_PLC5, false);      /* N7: 500 elements */
+	for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+		for (int extra = 0; extra < 2; extra++) {
+			int n = c[i].max + extra;
+
+			assert_int_equal(df1_read(f->h, 1, c[i].addr, v, (size_t)n), n);
+			seen += 1 + extra;
+			nr += 1 + extra;
+			assert_int_equal(log_wait(f, seen), seen);
+			if (log_count(f, "cmd=0F/68") != nr)
+				fail_msg("read %s x %d: %d reads logged, want %d in all", c[i].addr, n,
+				         log_count(f, "cmd=0F/68"), nr);
+			if (!strcmp(c[i].addr, "N7:0"))
+				for (int k = 0; k < n; k++)
+					assert_int_equal(v[k].v.i16, k);
+			if (!strcmp(c[i].addr, "F8:0"))
+				for (int k = 0; k < n; k++)
+					assert_true(v[k].v.f == (float)k + 0.5f);
+			assert_int_equal(df1_write(f->h, 1, c[i].addr, v, (size_t)n), n);
+			seen += 1 + extra;
+			nw += 1 + extra;
+			assert_int_equal(log_wait(f, seen), seen);
+			if (log_count(f, "cmd=0F/67") != nw)
+				fail_msg("write %s x %d: %d writes logged, want %d in all", c[i].addr, n,
+				         log_count(f, "cmd=0F/67"), nw);
+		}
+	}
+	/* N7:300: a 5-byte address (06 07 FF 2C 01), 5 + 4 + 2 * 115 = 239; 116: 241 */
+	assert_int_equal(df1_read(f->h, 1, "N7:300", v, 115), 115);
+	assert_int_equal(v[0].v.i16, 300);
+	assert_int_equal(v[114].v.i16, 414);
+	assert_int_equal(df1_read(f->h, 1, "N7:300", v, 116), 116);
+	seen += 3;
+	assert_int_equal(log_wait(f, seen), seen);
+	assert_int_equal(log_count(f, NULL), seen);
+	assert_int_equal(log_count(f, "addr=N7:300 count=115"), 2);
+	/* df1_read_multi: N7:0 x 60 and N7:60 x 56 touch, one block, one packet */
+	memset(r, 0, sizeof r);
+	r[0].text = "N7:0";
+	r[0].count = 60;
+	r[0].values = v;
+	r[1].text = "N7:60";
+	r[1].count = 56;
+	r[1].values = v + 60;
+	assert_int_equal(df1_read_multi(f->h, 1, r, 2, 0, &reads), 2);
+	assert_int_equal(reads, 1);
+	seen++;
+	assert_int_equal(log_wait(f, seen), seen);
+	assert_int_equal(log_count(f, NULL), seen);
+	/* the reads of 116 and 117 and this one */
+	assert_int_equal(log_count(f, "cmd=0F/68 addr=N7:0 count=116"), 3);
+}
+
 /* No answer ends the call: the requests not read keep result 0; station 1
  * still answers the same call. */
 static void test_no_answer_ends_call(void **state)
@@ -472,11 +618,13 @@ int main(void)
 		cmocka_unit_test(test_plan_fewest_tx),
 		cmocka_unit_test(test_plan_packets_whole_elements),
 		cmocka_unit_test(test_packet_max),
+		cmocka_unit_test(test_per_packet),
 		cmocka_unit_test(test_args),
 		cmocka_unit_test_setup_teardown(test_thirty_scattered, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_mixed_values, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_bad_address_keeps_others, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_slc502_limit, fix_setup, fix_teardown),
+		cmocka_unit_test_setup_teardown(test_plc5_packet_boundaries, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_no_answer_ends_call, fix_setup, fix_teardown),
 	};
 

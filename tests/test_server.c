@@ -407,12 +407,31 @@ static void test_server_plc5_typed_read_types(void **state)
 	/* long integers: integer elements of 4 bytes */
 	expect_reply("01 00 0F 00 05 00 68 00 00 01 00 06 0C 01 01 00",
 	             "00 01 4F 00 05 00 99 09 05 44 01 00 01 00");
-	/* more than one reply holds: as many whole elements as fit */
+	/* more than one reply holds: as many whole elements as fit, the command's
+	 * address (06 0A 00: 3 bytes) + type/data + data <= 240 (spec 6):
+	 * 3 + 4 (99 09 E9 42) + 2 * 116 = 239; 117 would be 241 */
 	n = run("01 00 0F 00 06 00 68 00 00 C8 00 06 0A 00 C8 00", r, sizeof r);
-	assert_true(n > 6 && n - 6 <= SERVER_TYPED_REPLY_MAX);
 	assert_int_equal(r[3], 0);
-	assert_memory_equal(r + 6, "\x99\x09\xEB\x42", 4);   /* 117 elements */
-	assert_int_equal(n - 6 - 4, 234);
+	assert_memory_equal(r + 6, "\x99\x09\xE9\x42", 4);   /* 116 elements */
+	assert_int_equal(n - 6 - 4, 232);
+	/* the largest count is answered whole: 116 asked, 116 sent */
+	n = run("01 00 0F 00 07 00 68 00 00 74 00 06 0A 00 74 00", r, sizeof r);
+	assert_memory_equal(r + 6, "\x99\x09\xE9\x42", 4);
+	assert_int_equal(n - 6 - 4, 232);
+	/* floats (F13, 60 elements): 3 + 5 (99 09 EA 94 08) + 4 * 58 = 240 */
+	tfile_init(13, DF1_FT_F, 60);
+	tfile_init(14, DF1_FT_T, 300);
+	n = run("01 00 0F 00 08 00 68 00 00 3B 00 06 0D 00 3B 00", r, sizeof r);
+	assert_memory_equal(r + 6, "\x99\x09\xEA\x94\x08", 5);
+	assert_int_equal(n - 6 - 5, 232);
+	/* timers (T14): 3 + 4 (99 09 E5 56) + 6 * 38 = 235; 39 would be 241 */
+	n = run("01 00 0F 00 09 00 68 00 00 27 00 06 0E 00 27 00", r, sizeof r);
+	assert_memory_equal(r + 6, "\x99\x09\xE5\x56", 4);
+	assert_int_equal(n - 6 - 4, 228);
+	/* a 5-byte address (T14:255 = 06 0E FF FF 00) leaves 5 + 4 + 6 * 38 = 237 */
+	n = run("01 00 0F 00 0A 00 68 00 00 27 00 06 0E FF FF 00 27 00", r, sizeof r);
+	assert_memory_equal(r + 6, "\x99\x09\xE5\x56", 4);
+	assert_int_equal(n - 6 - 4, 228);
 }
 
 static void test_server_plc5_typed_read_errors(void **state)

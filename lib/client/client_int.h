@@ -50,12 +50,12 @@
  * boundaries. Data bytes per packet:
  *   SLC 5/03+ and MicroLogix: read 236, write 234; SLC 5/01-5/02: 82 / 82;
  *   PLC-2: 244 / 244;
- *   PLC-5: typed read reply <= 240 bytes including the address, the type/data
- *     parameter and element descriptor (counted as 8 bytes, the worst case);
- *     timers/counters/controls are counted as 10 bytes (KF2 "five words") to
- *     stay inside the limit whatever the PLC returns; typed write data
- *     <= 240 - address - type/data bytes. Multi-packet PLC-5 transfers repeat
- *     the start address and count PKT_OFFSET / TOTAL_TRANS in elements.
+ *   PLC-5: address + type/data parameter (99 09 LL + element descriptor) +
+ *     data <= 240 bytes, for the typed read's reply and the typed write
+ *     (lib/proto/plc_limits.h derives the count: 116 integers, 58 floats, 38
+ *     timers/counters/controls after a 3-byte address). Multi-packet PLC-5
+ *     transfers repeat the start address and count PKT_OFFSET / TOTAL_TRANS in
+ *     elements.
  *   DF1_OPT_MAX_PACKET (h->cfg.max_packet) replaces the per-type limits with
  *     that many bytes of element data per packet (at most 244).
  *

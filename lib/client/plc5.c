@@ -7,16 +7,7 @@
 /* Type/data element type for a span: single words are integers. */
 static unsigned plc5_elem_type(const struct span *s)
 {
-	if (s->esize == 2)
-		return PCCC_TD_INTEGER;
-	switch (s->a.type) {
-	case DF1_FT_F: return PCCC_TD_FLOAT;
-	case DF1_FT_T: return PCCC_TD_TIMER;
-	case DF1_FT_C: return PCCC_TD_COUNTER;
-	case DF1_FT_R: return PCCC_TD_CONTROL;
-	case DF1_FT_ST: return PCCC_TD_STRING;
-	default: return PCCC_TD_INTEGER;        /* L */
-	}
+	return plc5_td_type(s->a.type, s->esize);
 }
 
 /* Does a reply's element type fit what was asked? */
@@ -40,34 +31,18 @@ int plc5_addr(struct df1 *h, int station, const char *what, const struct df1_add
 	return n;
 }
 
-/* Bytes of element data per typed packet. */
-static size_t plc5_budget(const struct df1 *h, size_t alen, size_t overhead, size_t frame_room)
-{
-	size_t b;
-
-	if (h->cfg.max_packet > 0)
-		b = h->cfg.max_packet < PLC_PACKET_HARD_MAX ? (size_t)h->cfg.max_packet : PLC_PACKET_HARD_MAX;
-	else
-		b = PLC_PLC5_PACKET_MAX > alen + overhead ? PLC_PLC5_PACKET_MAX - alen - overhead : 0;
-	return b < frame_room ? b : frame_room;
-}
-
 int plc5_read(struct df1 *h, int station, const char *what, const struct span *s, struct io *io)
 {
 	uint8_t cmd[FRAME_MAX_DATA], reply[FRAME_MAX_DATA], addr[DF1_ADDR_ASCII_MAX + 8];
 	struct pccc_hdr hd = { (uint8_t)station, (uint8_t)h->cfg.station, 0 };
-	size_t rsize = client_is_tcr(s->a.type) && s->esize == 6 ? PLC_PLC5_TCR_READ : s->esize;
-	size_t per, done = 0, budget;
+	size_t per, done = 0;
 	int alen = plc5_addr(h, station, what, &s->a, addr, sizeof addr);
 
 	if (alen < 0)
 		return alen;
-	/* the reply: header, type/data and descriptor, data */
-	budget = plc5_budget(h, (size_t)alen, PLC_PLC5_TD_MARGIN,
-	                     FRAME_MAX_DATA - PCCC_HDR_LEN - PLC_PLC5_TD_MARGIN);
-	per = budget / rsize;
-	if (s->a.type == DF1_FT_ST && s->esize == 84)
-		per = 1;        /* one string per packet: the reply is 3x LEN characters (RTA) */
+	/* the reply: address + type/data + data <= 240 (plc_limits.h); strings
+	 * one per packet: the reply is 3x LEN characters (RTA) */
+	per = plc_per_packet(DF1_PLC_PLC5, false, s->a.type, s->esize, (size_t)alen, h->cfg.max_packet);
 	if (per == 0)
 		return client_fail(h, DF1_E_NOTSUP, station, what, "a %zu-byte element exceeds the packet size", s->esize);
 	while (done < s->count) {
@@ -161,7 +136,7 @@ int plc5_write(struct df1 *h, int station, const char *what, const struct span *
 	uint8_t typed[FRAME_MAX_DATA];
 	struct pccc_hdr hd = { (uint8_t)station, (uint8_t)h->cfg.station, 0 };
 	unsigned etype = plc5_elem_type(s);
-	size_t per, done = 0, budget, hlen;
+	size_t per, done = 0;
 	int alen = plc5_addr(h, station, what, &s->a, addr, sizeof addr);
 	int r;
 
@@ -169,14 +144,8 @@ int plc5_write(struct df1 *h, int station, const char *what, const struct span *
 		return alen;
 	if (s->a.type == DF1_FT_ST && s->esize == 84)
 		return plc5_write_strings(h, station, what, s, io, addr, (size_t)alen);
-	/* the array header for one element tells its length (99 09 LL + descriptor) */
-	r = pccc_enc_typed_array(typed, sizeof typed, etype, (uint32_t)s->esize, 1);
-	if (r < 0)
-		return client_fail(h, r, station, what, "cannot encode the type/data parameter");
-	hlen = (size_t)r;
-	budget = plc5_budget(h, (size_t)alen, hlen,
-	                     FRAME_MAX_DATA - PCCC_HDR_LEN - 5 - (size_t)alen - hlen);
-	per = budget / s->esize;
+	/* address + type/data (99 09 LL + descriptor) + data <= 240 (plc_limits.h) */
+	per = plc_per_packet(DF1_PLC_PLC5, true, s->a.type, s->esize, (size_t)alen, h->cfg.max_packet);
 	if (per == 0)
 		return client_fail(h, DF1_E_NOTSUP, station, what, "a %zu-byte element exceeds the packet size", s->esize);
 	while (done < s->count) {
@@ -185,13 +154,13 @@ int plc5_write(struct df1 *h, int station, const char *what, const struct span *
 		int n, rc;
 
 		r = pccc_enc_typed_array(typed, sizeof typed, etype, (uint32_t)s->esize, k);
-		if (r < 0 || (size_t)r != hlen)
+		if (r < 0)
 			return client_fail(h, DF1_E_NOTSUP, station, what, "cannot encode the type/data parameter");
-		rc = io_gather(h, station, what, io, done, k, typed + hlen, s->esize);
+		rc = io_gather(h, station, what, io, done, k, typed + r, s->esize);
 		if (rc < 0)
 			return rc;
 		n = pccc_enc_plc5_typed_write(cmd, sizeof cmd, &hd, (uint16_t)done, (uint16_t)s->count,
-		                              addr, (size_t)alen, typed, hlen + k * s->esize);
+		                              addr, (size_t)alen, typed, (size_t)r + k * s->esize);
 		if (n < 0)
 			return client_fail(h, n, station, what, "cannot encode the write (%s)", df1_strerror(n));
 		rc = client_transact(h, station, what, cmd, (size_t)n, reply, sizeof reply, &d, &dlen);

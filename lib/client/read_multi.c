@@ -336,8 +336,8 @@ int df1_read_multi(df1_t *h, int station, struct df1_read_req *reqs, size_t n, u
 		it->file = a->file;
 		it->first = lo;
 		it->count = hi - lo + 1;
-		it->cost = (int)plc_read_elem_cost(h->cfg.plc, a->type, es, h->cfg.max_packet);
-		it->limit = (int)plc_read_limit(h->cfg.plc, h->cfg.max_packet);
+		it->cost = (int)es;
+		it->limit = plc_read_limit(h->cfg.plc, a->type, es, a->file, lo, h->cfg.max_packet);
 		it->tag = (int)i;
 	}
 	/* a PLC-5 typed packet carries an address and a type/data parameter whose

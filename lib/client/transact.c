@@ -105,7 +105,7 @@ void span_at(const struct span *s, size_t i, struct df1_addr *out)
 /* Data bytes per packet of a span's PLC type, for the SLC and PLC-2 commands. */
 size_t client_limit(const struct df1 *h, const struct span *s, bool write)
 {
-	return plc_packet_max(s->plc, write, h->cfg.max_packet);
+	return plc_per_packet(s->plc, write, s->a.type, s->esize, 0, h->cfg.max_packet) * s->esize;
 }
 
 /* ------------------------------------------------------------------------

@@ -31,9 +31,9 @@ int poll_replan(struct df1 *h, struct poll_engine *e)
 		it->file = t->cfg.addr.file;
 		it->first = t->e0;
 		it->count = t->ecount;
-		it->cost = (int)plc_read_elem_cost(t->cfg.plc, t->cfg.addr.type, t->esize,
-		                                   h->cfg.max_packet);
-		it->limit = (int)plc_read_limit(t->cfg.plc, h->cfg.max_packet);
+		it->cost = (int)t->esize;
+		it->limit = plc_read_limit(t->cfg.plc, t->cfg.addr.type, t->esize, t->cfg.addr.file,
+		                           t->e0, h->cfg.max_packet);
 		it->alone = t->how == HOW_ALONE || t->isolated;
 		it->period_ms = t->cfg.scan_ms;
 		it->tag = (int)i;

@@ -62,8 +62,9 @@ int poll_plan(struct poll_item *items, size_t n, int gap_max, struct poll_block 
 			long iend = (long)it->first + it->count;
 			long nend = iend > end ? iend : end;
 			long gap = (long)it->first - end;                     /* elements */
-			long before = poll_packets(cur->count, it->cost, it->limit);
-			long after = poll_packets(nend - cur->first, it->cost, it->limit);
+			const struct poll_item *b0 = &items[cur->member0];
+			long before = poll_packets(cur->count, b0->cost, b0->limit);
+			long after = poll_packets(nend - cur->first, b0->cost, b0->limit);
 			bool join;
 
 			if (gap_max == POLL_GAP_TOUCH_ONLY)

@@ -7,7 +7,9 @@
  * type are sorted by element and packed greedily from the lowest element: an
  * item joins the open block when the block then takes no more packets than
  * before (one packet of `limit` bytes carries limit / cost whole elements, the
- * client's split, unless a single item is already larger) and the gap it
+ * client's split, unless a single item is already larger; the block's packets
+ * are counted with its first item's limit, whose element starts every packet's
+ * PLC-5 address) and the gap it
  * bridges costs no more wire bytes than one more read transaction would
  * (gap_max bytes). Greedy packing from the left gives the fewest blocks for
  * these two rules (checked against an exhaustive search in tests/test_poll.c).
@@ -45,8 +47,10 @@ struct poll_item {
 	enum df1_file_type type;
 	int file;
 	int first, count;       /* elements covered: first .. first + count - 1 */
-	int cost;               /* packet bytes per element (plc_read_elem_cost) */
-	int limit;              /* packet bytes for this item's PLC type (plc_read_limit) */
+	int cost;               /* wire bytes per element (its size) */
+	int limit;              /* bytes of whole elements one packet carries from this
+	                         * item's first element (plc_read_limit): limit / cost
+	                         * elements a packet, as the client splits */
 	bool alone;
 	int period_ms;
 	int tag;                /* the caller's index, carried along */
