@@ -102,9 +102,68 @@ while IFS='|' read -r name chk hex desc; do
 		# the same bytes as a raw dump
 		hex2bin "$hex" > "$T/raw.bin"
 		expect 0 "vector $name raw dump" -- "$MON" -q --check "$chk" --read "$T/raw.bin"
+	else
+		# without --duplex the shape tells a poll or a master message (spec 2)
+		expect 0 "vector $name (auto duplex)" -- "$MON" -q --check "$chk" --decode "$hex"
+		check "vector $name (auto duplex): one symbol" '[ "$(wc -l < "$T/out")" -eq 1 ]'
+		case $name in
+		*-hd-poll-*) check "vector $name (auto duplex): a poll" 'grep -q "^ *1  POLL   BCC ok  stn " "$T/out"' ;;
+		*-hd-master-*) check "vector $name (auto duplex): a master message" 'grep -q " FRAME .*(master message to stn [0-9]*)$" "$T/out"' ;;
+		esac
 	fi
 done < "$T/vectors"
 check "all vectors seen" '[ "$nvec" -ge 50 ]'
+
+# ---- the duplex reading without --duplex (auto): a poll or a master message by
+# its shape (spec 2.1: DLE ENQ STN BCC, BCC the two's complement of STN, the STN
+# stuffed; 2.2: DLE SOH STN DLE STX), else the full-duplex DLE ENQ (spec 1.3) ----
+expect 0 "auto: poll of station 16, STN stuffed" -- "$MON" --decode "10 05 10 10 F0"
+out_is "auto: poll of station 16" "    1  POLL   BCC ok  stn  16"
+check "auto: poll 16: no noise" 'grep -q "^df1mon: frames 0 (good 0, bad 0), link symbols 1$" "$T/err"'
+expect 0 "auto: poll of station 1" -- "$MON" --decode "10 05 01 FF"
+out_is "auto: poll of station 1" "    1  POLL   BCC ok  stn   1"
+check "auto: poll 1: no noise" 'grep -q "^df1mon: frames 0 (good 0, bad 0), link symbols 1$" "$T/err"'
+expect 0 "auto: poll of station 1, json" -- "$MON" -f json --decode "10 05 01 FF"
+out_is "auto: poll json" '{"n":1,"kind":"POLL","check":"BCC","check_ok":true,"station":1}'
+expect 0 "auto: two polls in one argument" -- "$MON" --decode "10 05 10 10 F0 10 05 02 FE"
+check "auto: two polls" '[ "$(grep -c " POLL   BCC ok " "$T/out")" -eq 2 ] && sed -n 2p "$T/out" | grep -q "stn   2$"'
+# forced readings
+expect 0 "--duplex full: 10 05 01 FF is ENQ and noise" -- "$MON" --duplex full --decode "10 05 01 FF"
+out_is "--duplex full: ENQ" "    1  ENQ"
+check "--duplex full: 2 bytes of noise" 'grep -q "link symbols 1, 2 bytes of noise$" "$T/err"'
+expect 1 "--duplex half: a poll with a bad BCC" -- "$MON" --duplex half --decode "10 05 01 FE"
+check "--duplex half: 2507" 'grep -q "ERROR .*\[2507\]" "$T/out"'
+# not a poll's shape: the full-duplex ENQ, then what follows read on its own
+expect 0 "auto: poll shape with a bad BCC is ENQ and noise" -- "$MON" --decode "10 05 01 FE"
+out_is "auto: bad BCC: ENQ" "    1  ENQ"
+check "auto: bad BCC: 2 bytes of noise" 'grep -q "link symbols 1, 2 bytes of noise$" "$T/err"'
+expect 0 "auto: ENQ alone" -- "$MON" --decode "10 05"
+out_is "auto: ENQ alone" "    1  ENQ"
+expect 0 "auto: ENQ then ACK" -- "$MON" --decode "10 05 10 06"
+check "auto: ENQ then ACK" '[ "$(sed -n 1p "$T/out")" = "    1  ENQ" ] && [ "$(sed -n 2p "$T/out")" = "    2  ACK" ] && [ "$(wc -l < "$T/out")" -eq 2 ]'
+expect 0 "auto: ENQ ENQ" -- "$MON" --decode "10 05 10 05"
+check "auto: two ENQ" '[ "$(grep -c "^ *[12]  ENQ$" "$T/out")" -eq 2 ]'
+reply="10 02 00 01 4F 00 04 00 00 00 C0 3F 10 03 AD"
+expect 0 "auto: ENQ then a frame" -- "$MON" --decode "10 05 $reply"
+check "auto: ENQ then a frame: ENQ" '[ "$(sed -n 1p "$T/out")" = "    1  ENQ" ]'
+check "auto: ENQ then a frame: the frame" 'sed -n 2p "$T/out" | grep -q "^ *2  FRAME  BCC ok  dst   0  src   1  tns 0004  4F "'
+check "auto: ENQ then a frame: no error, no noise" 'grep -q "^df1mon: frames 1 (good 1, bad 0), link symbols 1$" "$T/err"'
+expect 0 "auto: ENQ, noise, then a frame" -- "$MON" --decode "10 05 33 $reply"
+check "auto: ENQ noise frame" '[ "$(sed -n 1p "$T/out")" = "    1  ENQ" ] && sed -n 2p "$T/out" | grep -q " FRAME  BCC ok " && grep -q "link symbols 1, 1 bytes of noise$" "$T/err"'
+expect 0 "auto: ENQ, DLE DLE noise, then a frame" -- "$MON" --decode "10 05 10 10 $reply"
+check "auto: ENQ DLE DLE frame" '[ "$(sed -n 1p "$T/out")" = "    1  ENQ" ] && sed -n 2p "$T/out" | grep -q " FRAME  BCC ok " && grep -q "link symbols 1, 2 bytes of noise$" "$T/err"'
+# the same as a raw dump, and one byte per stdin line (the decoder fed in pieces)
+hex2bin "10 05 10 10 F0 10 05 $reply 10 05 01 FF" > "$T/mixed.bin"
+expect 0 "auto: raw dump of polls, ENQ and a frame" -- "$MON" --read "$T/mixed.bin"
+check "auto: raw dump symbols" '[ "$(grep -c " POLL " "$T/out")" -eq 2 ] && [ "$(grep -c " ENQ$" "$T/out")" -eq 1 ] && [ "$(grep -c " FRAME " "$T/out")" -eq 1 ] && [ "$(wc -l < "$T/out")" -eq 4 ]'
+# a half-duplex master message, and a slave's reply after a poll
+expect 0 "auto: master message" -- "$MON" --decode "10 01 01 10 02 01 00 0F 00 01 00 A2 14 07 89 00 00 10 03 A8"
+check "auto: master message to stn 1" 'grep -q "^ *1  FRAME  BCC ok  dst   1  src   0  tns 0001  0F/A2 .*(master message to stn 1)$" "$T/out"'
+expect 0 "auto: poll, then the slave's message" -- "$MON" --decode "10 05 01 FF $reply"
+check "auto: poll then message" 'sed -n 1p "$T/out" | grep -q " POLL   BCC ok  stn   1$" && sed -n 2p "$T/out" | grep -q " FRAME  BCC ok  dst   0  src   1 "'
+# the full-duplex capture reads the same whatever the duplex setting
+expect 0 "capture, --duplex full" -- "$MON" --duplex full --read "$CAP"
+check "capture: auto duplex same as full" 'cmp -s "$T/out" "$T/cap.txt"'
 
 # all full-duplex frame vectors on stdin, one per line, with comments and blank lines
 {

@@ -17,7 +17,12 @@ int stream_init(struct mon *m, struct stream *s, const char *dir)
 		fprintf(stderr, "%s: decoder: %s\n", m->cli.name, df1_strerror(r));
 		return CLI_EXIT_FAIL;
 	}
-	df1_decoder_set_half_duplex(s->dec, m->cli.half_duplex);
+	/* --duplex forces a reading; without it the offline modes know a poll by its
+	 * shape. Not --sniff: the ENQ would wait for the line's next byte. */
+	if ((m->cli.given & CLI_ACCEPT(CLI_OPT_DUPLEX)) || m->mode == MODE_SNIFF)
+		df1_decoder_set_half_duplex(s->dec, m->cli.half_duplex);
+	else
+		df1_decoder_set_duplex_auto(s->dec, true);
 	return CLI_CONTINUE;
 }
 
@@ -99,7 +104,9 @@ void stream_feed(struct mon *m, struct stream *s, const struct timebase *tb,
 		s->off += k;
 		if (sym.kind != DF1_SYM_NONE)
 			print_symbol(m, s, tb, &sym, s->off);
-		if (k == 0 || (m->frame_limit && m->dx.frames >= m->frame_limit))
+		/* 0 bytes with a symbol: an auto-duplex ENQ, the byte is fed again */
+		if ((k == 0 && sym.kind == DF1_SYM_NONE) ||
+		    (m->frame_limit && m->dx.frames >= m->frame_limit))
 			break;
 	}
 }
@@ -116,8 +123,12 @@ void stream_finish_cut(struct mon *m, struct stream *s, const struct timebase *t
 
 	for (size_t i = 0; i < sizeof probe; i++) {
 		struct df1_symbol sym;
-		size_t k = df1_decoder_feed(s->dec, probe + i, 1, &sym);
-		(void)k;
+		size_t k;
+
+		/* 0 bytes with a symbol: one of the input alone (an auto-duplex ENQ);
+		 * the same probe byte goes on */
+		while ((k = df1_decoder_feed(s->dec, probe + i, 1, &sym)) == 0 && sym.kind != DF1_SYM_NONE)
+			print_symbol(m, s, tb, &sym, s->off);
 		if (sym.kind == DF1_SYM_NONE)
 			continue;
 		if ((i == 0 && sym.kind == DF1_SYM_FRAME && m->cli.check == DF1_CHECK_AUTO &&
