@@ -72,6 +72,69 @@ printf '\012\015\015\012\000\000\000\000' > "$T/ng.pcapng"
 expect 2 "pcapng refused" -- "$MON" --read "$T/ng.pcapng"
 check "pcapng: says so" 'grep -q "pcapng" "$T/err"'
 
+# ---- --read decodes as it reads (bounded memory, a live pipe) ----
+# the offset of the first record header of a pcap at or after byte MIN
+# (records: a 16-byte header whose bytes 8-11 are the included length, LE)
+rec_at() {
+	od -An -v -tu1 "$1" | tr -s ' ' '\n' | grep . | awk -v min="$2" '
+		{ b[NR - 1] = $1 }
+		END { p = 24
+			while (p + 16 <= NR) {
+				if (p >= min) { print p; exit }
+				p += 16 + b[p + 8] + 256 * b[p + 9] + 65536 * b[p + 10] + 16777216 * b[p + 11]
+			} }'
+}
+# half the capture into a FIFO, cut inside a record header: the frames of that
+# half are on df1mon's stdout while the writer still holds the rest
+cut=$(( $(rec_at "$CAP" 11000) + 7 ))
+mkfifo "$T/live.fifo"
+"$MON" --read "$T/live.fifo" > "$T/live.out" 2> "$T/live.err" &
+live_pid=$!
+echo "$live_pid" >> "$T/.sims"
+exec 3> "$T/live.fifo"
+head -c "$cut" "$CAP" >&3
+wait_for "live pipe: frames shown before the end of the input" 100 grep -q " FRAME  BCC ok " "$T/live.out"
+check "live pipe: df1mon still reading" '! grep -q "^df1mon: frames" "$T/live.err"'
+tail -c +$((cut + 1)) "$CAP" >&3
+exec 3>&-
+if wait_for "live pipe: ends at EOF" 100 grep -q "^df1mon: frames" "$T/live.err"; then
+	wait "$live_pid"; live_rc=$?
+else
+	lib_reap "$live_pid"; live_rc=none
+fi
+same "live pipe: exit status" "$live_rc" 0
+check "live pipe: the output of the whole file" 'cmp -s "$T/live.out" "$T/cap.txt"'
+check "live pipe: the same summary" 'grep -q "^df1mon: frames 134 (good 134, bad 0), link symbols 402$" "$T/live.err"'
+# the same through a pipe from stdin
+expect 0 "capture through a pipe" -- sh -c "cat \"$CAP\" | \"$MON\" -q --read -"
+check "pipe: same output" 'cmp -s "$T/out" "$T/cap.txt"'
+
+# an endless input (a raw dump of zero bytes: all noise) in constant memory; a
+# 1 GiB address-space cap keeps a regression from taking the machine's memory
+(ulimit -v 1048576; exec "$MON" -q --read /dev/zero) > /dev/null 2>&1 &
+zero_pid=$!
+echo "$zero_pid" >> "$T/.sims"
+read_256m() { awk '/^rchar:/ { exit !($2 > 268435456) }' "/proc/$zero_pid/io" 2>/dev/null; }
+wait_for "/dev/zero: 256 MiB read" 600 read_256m
+zero_rss=$(awk '/^VmRSS:/ { print $2 }' "/proc/$zero_pid/status" 2>/dev/null)
+check "/dev/zero: resident size under 16 MiB after 256 MiB (${zero_rss:-?} kB)" \
+	'[ -n "$zero_rss" ] && [ "$zero_rss" -lt 16384 ]'
+kill -TERM "$zero_pid" 2>/dev/null
+lib_reap "$zero_pid"
+
+# truncated captures on a pipe: what is there is decoded, a clear error, exit 2
+expect 2 "truncated capture on a pipe" -- sh -c "head -c 1000 \"$CAP\" | \"$MON\" --read -"
+check "pipe, cut in a record: names it" 'grep -q "^df1mon: -: record [0-9]* truncated ([0-9]* bytes, [0-9]* in the file)$" "$T/err"'
+check "pipe, cut in a record: frames before the cut" 'grep -q " FRAME  BCC ok " "$T/out"'
+hdr=$(rec_at "$CAP" 5000)
+expect 2 "capture cut in a record header" -- sh -c "head -c $((hdr + 7)) \"$CAP\" | \"$MON\" --read -"
+check "cut in a record header: its offset" 'grep -q "^df1mon: -: truncated record header at byte $hdr$" "$T/err"'
+# a record that claims 4 GiB: read to the end of the input, never allocated
+{ head -c 24 "$CAP"; printf '\001\000\000\000\000\000\000\000\377\377\377\377\377\377\377\377'
+  head -c 112 /dev/zero; } > "$T/huge.pcap"
+expect 2 "a record of 4 GiB" -- sh -c "cat \"$T/huge.pcap\" | \"$MON\" --read -"
+check "a record of 4 GiB: truncated" 'grep -q "^df1mon: -: record 1 truncated (4294967295 bytes, 112 in the file)$" "$T/err"'
+
 # ---- every vector, each with its own check and duplex ----
 grep -v '^#' "$VEC" | grep '|' > "$T/vectors"
 nvec=0
