@@ -105,6 +105,19 @@ fi
 same "live pipe: exit status" "$live_rc" 0
 check "live pipe: the output of the whole file" 'cmp -s "$T/live.out" "$T/cap.txt"'
 check "live pipe: the same summary" 'grep -q "^df1mon: frames 134 (good 134, bad 0), link symbols 402$" "$T/live.err"'
+# an ENQ that ends a record, the next record (a second later) starting with
+# DLE DLE: the ENQ has its own record's time (0), not the next one's (1 s)
+{ head -c 24 "$CAP"
+  printf '\001\000\000\000\000\000\000\000\016\000\000\000\016\000\000\000'
+  printf '\000\000\000\000\000\000\000\000\002\000\000\000\020\005'
+  printf '\002\000\000\000\000\000\000\000\035\000\000\000\035\000\000\000'
+  printf '\000\000\000\000\000\000\000\000\002\000\000\000\020\020'
+  hex2bin "10 02 00 01 4F 00 04 00 00 00 C0 3F 10 03 AD"; } > "$T/enq-split.pcap"
+expect 0 "ENQ at a record's end, DLE DLE after" -- "$MON" --read "$T/enq-split.pcap"
+check "ENQ: its record's time" '[ "$(sed -n 1p "$T/out")" = "    1     0.000000  ENQ" ]'
+check "the frame: the second record's time" 'sed -n 2p "$T/out" | grep -q "^ *2 *1\.000000  FRAME  BCC ok "'
+check "ENQ, DLE DLE, frame: 2 bytes of noise" 'grep -q "link symbols 1, 2 bytes of noise$" "$T/err"'
+
 # the same through a pipe from stdin
 expect 0 "capture through a pipe" -- sh -c "cat \"$CAP\" | \"$MON\" -q --read -"
 check "pipe: same output" 'cmp -s "$T/out" "$T/cap.txt"'

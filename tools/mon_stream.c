@@ -22,7 +22,7 @@ int stream_init(struct mon *m, struct stream *s, const char *dir)
 	if ((m->cli.given & CLI_ACCEPT(CLI_OPT_DUPLEX)) || m->mode == MODE_SNIFF)
 		df1_decoder_set_half_duplex(s->dec, m->cli.half_duplex);
 	else
-		df1_decoder_set_duplex_auto(s->dec, true);
+		s->duplex_auto = df1_decoder_set_duplex_auto(s->dec, true) == DF1_OK;
 	return CLI_CONTINUE;
 }
 
@@ -64,10 +64,40 @@ static void stream_time(const struct stream *s, unsigned long long at, int64_t *
 	*usec = s->ring[best].usec;
 }
 
+/* Keep the last 4 bytes consumed (n of them at p). */
+static void keep_tail(struct stream *s, const uint8_t *p, size_t n)
+{
+	if (n >= sizeof s->tail) {
+		memcpy(s->tail, p + n - sizeof s->tail, sizeof s->tail);
+	} else if (n > 0) {
+		memmove(s->tail, s->tail + n, sizeof s->tail - n);
+		memcpy(s->tail + sizeof s->tail - n, p, n);
+	}
+}
+
+/* An auto-duplex ENQ is reported once the bytes after it are known not to be a
+ * poll: the STN byte, a DLE, or DLE DLE were consumed after it (frame.h). Those
+ * of the input, to find where the ENQ ended (its time is its record's). */
+static unsigned long long enq_after(const struct stream *s)
+{
+	const uint8_t *t = s->tail;
+
+	if (t[0] == 0x10 && t[1] == 0x05 && t[2] == 0x10 && t[3] == 0x10)
+		return 2;   /* DLE ENQ, DLE DLE */
+	if (t[1] == 0x10 && t[2] == 0x05)
+		return 1;   /* DLE ENQ, one byte */
+	return 0;       /* DLE ENQ last (the end of the input decided) */
+}
+
 static void print_symbol(struct mon *m, struct stream *s, const struct timebase *tb,
                          const struct df1_symbol *sym, unsigned long long end)
 {
 	struct decode_where w;
+
+	if (s->duplex_auto && sym->kind == DF1_SYM_ENQ && !sym->embedded) {
+		unsigned long long after = enq_after(s);
+		end = end >= after ? end - after : 0;
+	}
 
 	memset(&w, 0, sizeof w);
 	w.index = ++m->index;
@@ -100,6 +130,7 @@ void stream_feed(struct mon *m, struct stream *s, const struct timebase *tb,
 	while (pos < n) {
 		struct df1_symbol sym;
 		size_t k = df1_decoder_feed(s->dec, p + pos, n - pos, &sym);
+		keep_tail(s, p + pos, k);
 		pos += k;
 		s->off += k;
 		if (sym.kind != DF1_SYM_NONE)
