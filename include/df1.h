@@ -573,8 +573,12 @@ DF1_API void df1_decoder_reset(struct df1_decoder *d);  /* back to idle, keeps s
 /* Half duplex: DLE ENQ is read as a poll (DLE ENQ STN BCC); off (full duplex,
  * DLE ENQ alone) by default. Returns 0 or DF1_E_INVAL. */
 DF1_API int  df1_decoder_set_half_duplex(struct df1_decoder *d, bool on);
+/* On: DLE ENQ + a poll's shape (STN, stuffed; its two's complement) is a poll, else
+ * the full-duplex ENQ. Replaces set_half_duplex's setting (and it this one). */
+DF1_API int  df1_decoder_set_duplex_auto(struct df1_decoder *d, bool on);
 /* Consume bytes until one symbol is complete; returns bytes consumed (sym->kind
- * NONE when all were consumed without completing one). */
+ * NONE when all were consumed without completing one; 0 with a symbol: a duplex
+ * auto ENQ that in[0] showed was no poll, in[0] to be fed again). */
 DF1_API size_t df1_decoder_feed(struct df1_decoder *d, const uint8_t *in, size_t n, struct df1_symbol *sym);
 
 /* An application-layer message, decoded for display. */

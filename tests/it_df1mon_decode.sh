@@ -72,6 +72,86 @@ printf '\012\015\015\012\000\000\000\000' > "$T/ng.pcapng"
 expect 2 "pcapng refused" -- "$MON" --read "$T/ng.pcapng"
 check "pcapng: says so" 'grep -q "pcapng" "$T/err"'
 
+# ---- --read decodes as it reads (bounded memory, a live pipe) ----
+# the offset of the first record header of a pcap at or after byte MIN
+# (records: a 16-byte header whose bytes 8-11 are the included length, LE)
+rec_at() {
+	od -An -v -tu1 "$1" | tr -s ' ' '\n' | grep . | awk -v min="$2" '
+		{ b[NR - 1] = $1 }
+		END { p = 24
+			while (p + 16 <= NR) {
+				if (p >= min) { print p; exit }
+				p += 16 + b[p + 8] + 256 * b[p + 9] + 65536 * b[p + 10] + 16777216 * b[p + 11]
+			} }'
+}
+# half the capture into a FIFO, cut inside a record header: the frames of that
+# half are on df1mon's stdout while the writer still holds the rest
+cut=$(( $(rec_at "$CAP" 11000) + 7 ))
+mkfifo "$T/live.fifo"
+"$MON" --read "$T/live.fifo" > "$T/live.out" 2> "$T/live.err" &
+live_pid=$!
+echo "$live_pid" >> "$T/.sims"
+exec 3> "$T/live.fifo"
+head -c "$cut" "$CAP" >&3
+wait_for "live pipe: frames shown before the end of the input" 100 grep -q " FRAME  BCC ok " "$T/live.out"
+check "live pipe: df1mon still reading" '! grep -q "^df1mon: frames" "$T/live.err"'
+tail -c +$((cut + 1)) "$CAP" >&3
+exec 3>&-
+if wait_for "live pipe: ends at EOF" 100 grep -q "^df1mon: frames" "$T/live.err"; then
+	wait "$live_pid"; live_rc=$?
+else
+	lib_reap "$live_pid"; live_rc=none
+fi
+same "live pipe: exit status" "$live_rc" 0
+check "live pipe: the output of the whole file" 'cmp -s "$T/live.out" "$T/cap.txt"'
+check "live pipe: the same summary" 'grep -q "^df1mon: frames 134 (good 134, bad 0), link symbols 402$" "$T/live.err"'
+# an ENQ that ends a record, the next record (a second later) starting with
+# DLE DLE: the ENQ has its own record's time (0), not the next one's (1 s)
+{ head -c 24 "$CAP"
+  printf '\001\000\000\000\000\000\000\000\016\000\000\000\016\000\000\000'
+  printf '\000\000\000\000\000\000\000\000\002\000\000\000\020\005'
+  printf '\002\000\000\000\000\000\000\000\035\000\000\000\035\000\000\000'
+  printf '\000\000\000\000\000\000\000\000\002\000\000\000\020\020'
+  hex2bin "10 02 00 01 4F 00 04 00 00 00 C0 3F 10 03 AD"; } > "$T/enq-split.pcap"
+expect 0 "ENQ at a record's end, DLE DLE after" -- "$MON" --read "$T/enq-split.pcap"
+check "ENQ: its record's time" '[ "$(sed -n 1p "$T/out")" = "    1     0.000000  ENQ" ]'
+check "the frame: the second record's time" 'sed -n 2p "$T/out" | grep -q "^ *2 *1\.000000  FRAME  BCC ok "'
+check "ENQ, DLE DLE, frame: 2 bytes of noise" 'grep -q "link symbols 1, 2 bytes of noise$" "$T/err"'
+
+# the same through a pipe from stdin
+expect 0 "capture through a pipe" -- sh -c "cat \"$CAP\" | \"$MON\" -q --read -"
+check "pipe: same output" 'cmp -s "$T/out" "$T/cap.txt"'
+
+# an endless input (a raw dump of zero bytes: all noise) in constant memory;
+# watched until 256 MiB are read or it holds 64 MiB (a regression is stopped
+# there, before it takes the machine's memory)
+"$MON" -q --read /dev/zero > /dev/null 2>&1 &
+zero_pid=$!
+echo "$zero_pid" >> "$T/.sims"
+zero_done() {
+	zero_rss=$(awk '/^VmRSS:/ { print $2 }' "/proc/$zero_pid/status" 2>/dev/null)
+	zero_read=$(awk '/^rchar:/ { print $2 }' "/proc/$zero_pid/io" 2>/dev/null)
+	[ -n "$zero_rss" ] && [ -n "$zero_read" ] && { [ "$zero_read" -gt 268435456 ] || [ "$zero_rss" -gt 65536 ]; }
+}
+wait_for "/dev/zero: 256 MiB read or 64 MiB held" 600 zero_done
+check "/dev/zero: resident size under 32 MiB after 256 MiB (${zero_rss:-?} kB, ${zero_read:-?} bytes read)" \
+	'[ "${zero_read:-0}" -gt 268435456 ] && [ "${zero_rss:-99999999}" -lt 32768 ]'
+kill -TERM "$zero_pid" 2>/dev/null
+lib_reap "$zero_pid"
+
+# truncated captures on a pipe: what is there is decoded, a clear error, exit 2
+expect 2 "truncated capture on a pipe" -- sh -c "head -c 1000 \"$CAP\" | \"$MON\" --read -"
+check "pipe, cut in a record: names it" 'grep -q "^df1mon: -: record [0-9]* truncated ([0-9]* bytes, [0-9]* in the file)$" "$T/err"'
+check "pipe, cut in a record: frames before the cut" 'grep -q " FRAME  BCC ok " "$T/out"'
+hdr=$(rec_at "$CAP" 5000)
+expect 2 "capture cut in a record header" -- sh -c "head -c $((hdr + 7)) \"$CAP\" | \"$MON\" --read -"
+check "cut in a record header: its offset" 'grep -q "^df1mon: -: truncated record header at byte $hdr$" "$T/err"'
+# a record that claims 4 GiB: read to the end of the input, never allocated
+{ head -c 24 "$CAP"; printf '\001\000\000\000\000\000\000\000\377\377\377\377\377\377\377\377'
+  head -c 112 /dev/zero; } > "$T/huge.pcap"
+expect 2 "a record of 4 GiB" -- sh -c "cat \"$T/huge.pcap\" | \"$MON\" --read -"
+check "a record of 4 GiB: truncated" 'grep -q "^df1mon: -: record 1 truncated (4294967295 bytes, 112 in the file)$" "$T/err"'
+
 # ---- every vector, each with its own check and duplex ----
 grep -v '^#' "$VEC" | grep '|' > "$T/vectors"
 nvec=0
@@ -102,9 +182,68 @@ while IFS='|' read -r name chk hex desc; do
 		# the same bytes as a raw dump
 		hex2bin "$hex" > "$T/raw.bin"
 		expect 0 "vector $name raw dump" -- "$MON" -q --check "$chk" --read "$T/raw.bin"
+	else
+		# without --duplex the shape tells a poll or a master message (spec 2)
+		expect 0 "vector $name (auto duplex)" -- "$MON" -q --check "$chk" --decode "$hex"
+		check "vector $name (auto duplex): one symbol" '[ "$(wc -l < "$T/out")" -eq 1 ]'
+		case $name in
+		*-hd-poll-*) check "vector $name (auto duplex): a poll" 'grep -q "^ *1  POLL   BCC ok  stn " "$T/out"' ;;
+		*-hd-master-*) check "vector $name (auto duplex): a master message" 'grep -q " FRAME .*(master message to stn [0-9]*)$" "$T/out"' ;;
+		esac
 	fi
 done < "$T/vectors"
 check "all vectors seen" '[ "$nvec" -ge 50 ]'
+
+# ---- the duplex reading without --duplex (auto): a poll or a master message by
+# its shape (spec 2.1: DLE ENQ STN BCC, BCC the two's complement of STN, the STN
+# stuffed; 2.2: DLE SOH STN DLE STX), else the full-duplex DLE ENQ (spec 1.3) ----
+expect 0 "auto: poll of station 16, STN stuffed" -- "$MON" --decode "10 05 10 10 F0"
+out_is "auto: poll of station 16" "    1  POLL   BCC ok  stn  16"
+check "auto: poll 16: no noise" 'grep -q "^df1mon: frames 0 (good 0, bad 0), link symbols 1$" "$T/err"'
+expect 0 "auto: poll of station 1" -- "$MON" --decode "10 05 01 FF"
+out_is "auto: poll of station 1" "    1  POLL   BCC ok  stn   1"
+check "auto: poll 1: no noise" 'grep -q "^df1mon: frames 0 (good 0, bad 0), link symbols 1$" "$T/err"'
+expect 0 "auto: poll of station 1, json" -- "$MON" -f json --decode "10 05 01 FF"
+out_is "auto: poll json" '{"n":1,"kind":"POLL","check":"BCC","check_ok":true,"station":1}'
+expect 0 "auto: two polls in one argument" -- "$MON" --decode "10 05 10 10 F0 10 05 02 FE"
+check "auto: two polls" '[ "$(grep -c " POLL   BCC ok " "$T/out")" -eq 2 ] && sed -n 2p "$T/out" | grep -q "stn   2$"'
+# forced readings
+expect 0 "--duplex full: 10 05 01 FF is ENQ and noise" -- "$MON" --duplex full --decode "10 05 01 FF"
+out_is "--duplex full: ENQ" "    1  ENQ"
+check "--duplex full: 2 bytes of noise" 'grep -q "link symbols 1, 2 bytes of noise$" "$T/err"'
+expect 1 "--duplex half: a poll with a bad BCC" -- "$MON" --duplex half --decode "10 05 01 FE"
+check "--duplex half: 2507" 'grep -q "ERROR .*\[2507\]" "$T/out"'
+# not a poll's shape: the full-duplex ENQ, then what follows read on its own
+expect 0 "auto: poll shape with a bad BCC is ENQ and noise" -- "$MON" --decode "10 05 01 FE"
+out_is "auto: bad BCC: ENQ" "    1  ENQ"
+check "auto: bad BCC: 2 bytes of noise" 'grep -q "link symbols 1, 2 bytes of noise$" "$T/err"'
+expect 0 "auto: ENQ alone" -- "$MON" --decode "10 05"
+out_is "auto: ENQ alone" "    1  ENQ"
+expect 0 "auto: ENQ then ACK" -- "$MON" --decode "10 05 10 06"
+check "auto: ENQ then ACK" '[ "$(sed -n 1p "$T/out")" = "    1  ENQ" ] && [ "$(sed -n 2p "$T/out")" = "    2  ACK" ] && [ "$(wc -l < "$T/out")" -eq 2 ]'
+expect 0 "auto: ENQ ENQ" -- "$MON" --decode "10 05 10 05"
+check "auto: two ENQ" '[ "$(grep -c "^ *[12]  ENQ$" "$T/out")" -eq 2 ]'
+reply="10 02 00 01 4F 00 04 00 00 00 C0 3F 10 03 AD"
+expect 0 "auto: ENQ then a frame" -- "$MON" --decode "10 05 $reply"
+check "auto: ENQ then a frame: ENQ" '[ "$(sed -n 1p "$T/out")" = "    1  ENQ" ]'
+check "auto: ENQ then a frame: the frame" 'sed -n 2p "$T/out" | grep -q "^ *2  FRAME  BCC ok  dst   0  src   1  tns 0004  4F "'
+check "auto: ENQ then a frame: no error, no noise" 'grep -q "^df1mon: frames 1 (good 1, bad 0), link symbols 1$" "$T/err"'
+expect 0 "auto: ENQ, noise, then a frame" -- "$MON" --decode "10 05 33 $reply"
+check "auto: ENQ noise frame" '[ "$(sed -n 1p "$T/out")" = "    1  ENQ" ] && sed -n 2p "$T/out" | grep -q " FRAME  BCC ok " && grep -q "link symbols 1, 1 bytes of noise$" "$T/err"'
+expect 0 "auto: ENQ, DLE DLE noise, then a frame" -- "$MON" --decode "10 05 10 10 $reply"
+check "auto: ENQ DLE DLE frame" '[ "$(sed -n 1p "$T/out")" = "    1  ENQ" ] && sed -n 2p "$T/out" | grep -q " FRAME  BCC ok " && grep -q "link symbols 1, 2 bytes of noise$" "$T/err"'
+# the same as a raw dump, and one byte per stdin line (the decoder fed in pieces)
+hex2bin "10 05 10 10 F0 10 05 $reply 10 05 01 FF" > "$T/mixed.bin"
+expect 0 "auto: raw dump of polls, ENQ and a frame" -- "$MON" --read "$T/mixed.bin"
+check "auto: raw dump symbols" '[ "$(grep -c " POLL " "$T/out")" -eq 2 ] && [ "$(grep -c " ENQ$" "$T/out")" -eq 1 ] && [ "$(grep -c " FRAME " "$T/out")" -eq 1 ] && [ "$(wc -l < "$T/out")" -eq 4 ]'
+# a half-duplex master message, and a slave's reply after a poll
+expect 0 "auto: master message" -- "$MON" --decode "10 01 01 10 02 01 00 0F 00 01 00 A2 14 07 89 00 00 10 03 A8"
+check "auto: master message to stn 1" 'grep -q "^ *1  FRAME  BCC ok  dst   1  src   0  tns 0001  0F/A2 .*(master message to stn 1)$" "$T/out"'
+expect 0 "auto: poll, then the slave's message" -- "$MON" --decode "10 05 01 FF $reply"
+check "auto: poll then message" 'sed -n 1p "$T/out" | grep -q " POLL   BCC ok  stn   1$" && sed -n 2p "$T/out" | grep -q " FRAME  BCC ok  dst   0  src   1 "'
+# the full-duplex capture reads the same whatever the duplex setting
+expect 0 "capture, --duplex full" -- "$MON" --duplex full --read "$CAP"
+check "capture: auto duplex same as full" 'cmp -s "$T/out" "$T/cap.txt"'
 
 # all full-duplex frame vectors on stdin, one per line, with comments and blank lines
 {

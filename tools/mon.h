@@ -110,6 +110,8 @@ struct stream {
 	} ring[RING];
 	unsigned nring, head;
 	bool timed;
+	bool duplex_auto;           /* the decoder reads DLE ENQ by its shape */
+	uint8_t tail[4];            /* the last bytes consumed, newest last */
 };
 
 /* Time base of a capture: the first record's time. */

@@ -17,7 +17,12 @@ int stream_init(struct mon *m, struct stream *s, const char *dir)
 		fprintf(stderr, "%s: decoder: %s\n", m->cli.name, df1_strerror(r));
 		return CLI_EXIT_FAIL;
 	}
-	df1_decoder_set_half_duplex(s->dec, m->cli.half_duplex);
+	/* --duplex forces a reading; without it the offline modes know a poll by its
+	 * shape. Not --sniff: the ENQ would wait for the line's next byte. */
+	if ((m->cli.given & CLI_ACCEPT(CLI_OPT_DUPLEX)) || m->mode == MODE_SNIFF)
+		df1_decoder_set_half_duplex(s->dec, m->cli.half_duplex);
+	else
+		s->duplex_auto = df1_decoder_set_duplex_auto(s->dec, true) == DF1_OK;
 	return CLI_CONTINUE;
 }
 
@@ -59,10 +64,40 @@ static void stream_time(const struct stream *s, unsigned long long at, int64_t *
 	*usec = s->ring[best].usec;
 }
 
+/* Keep the last 4 bytes consumed (n of them at p). */
+static void keep_tail(struct stream *s, const uint8_t *p, size_t n)
+{
+	if (n >= sizeof s->tail) {
+		memcpy(s->tail, p + n - sizeof s->tail, sizeof s->tail);
+	} else if (n > 0) {
+		memmove(s->tail, s->tail + n, sizeof s->tail - n);
+		memcpy(s->tail + sizeof s->tail - n, p, n);
+	}
+}
+
+/* An auto-duplex ENQ is reported once the bytes after it are known not to be a
+ * poll: the STN byte, a DLE, or DLE DLE were consumed after it (frame.h). Those
+ * of the input, to find where the ENQ ended (its time is its record's). */
+static unsigned long long enq_after(const struct stream *s)
+{
+	const uint8_t *t = s->tail;
+
+	if (t[0] == 0x10 && t[1] == 0x05 && t[2] == 0x10 && t[3] == 0x10)
+		return 2;   /* DLE ENQ, DLE DLE */
+	if (t[1] == 0x10 && t[2] == 0x05)
+		return 1;   /* DLE ENQ, one byte */
+	return 0;       /* DLE ENQ last (the end of the input decided) */
+}
+
 static void print_symbol(struct mon *m, struct stream *s, const struct timebase *tb,
                          const struct df1_symbol *sym, unsigned long long end)
 {
 	struct decode_where w;
+
+	if (s->duplex_auto && sym->kind == DF1_SYM_ENQ && !sym->embedded) {
+		unsigned long long after = enq_after(s);
+		end = end >= after ? end - after : 0;
+	}
 
 	memset(&w, 0, sizeof w);
 	w.index = ++m->index;
@@ -95,11 +130,14 @@ void stream_feed(struct mon *m, struct stream *s, const struct timebase *tb,
 	while (pos < n) {
 		struct df1_symbol sym;
 		size_t k = df1_decoder_feed(s->dec, p + pos, n - pos, &sym);
+		keep_tail(s, p + pos, k);
 		pos += k;
 		s->off += k;
 		if (sym.kind != DF1_SYM_NONE)
 			print_symbol(m, s, tb, &sym, s->off);
-		if (k == 0 || (m->frame_limit && m->dx.frames >= m->frame_limit))
+		/* 0 bytes with a symbol: an auto-duplex ENQ, the byte is fed again */
+		if ((k == 0 && sym.kind == DF1_SYM_NONE) ||
+		    (m->frame_limit && m->dx.frames >= m->frame_limit))
 			break;
 	}
 }
@@ -116,8 +154,12 @@ void stream_finish_cut(struct mon *m, struct stream *s, const struct timebase *t
 
 	for (size_t i = 0; i < sizeof probe; i++) {
 		struct df1_symbol sym;
-		size_t k = df1_decoder_feed(s->dec, probe + i, 1, &sym);
-		(void)k;
+		size_t k;
+
+		/* 0 bytes with a symbol: one of the input alone (an auto-duplex ENQ);
+		 * the same probe byte goes on */
+		while ((k = df1_decoder_feed(s->dec, probe + i, 1, &sym)) == 0 && sym.kind != DF1_SYM_NONE)
+			print_symbol(m, s, tb, &sym, s->off);
 		if (sym.kind == DF1_SYM_NONE)
 			continue;
 		if ((i == 0 && sym.kind == DF1_SYM_FRAME && m->cli.check == DF1_CHECK_AUTO &&

@@ -45,10 +45,19 @@ int df1_decoder_set_half_duplex(struct df1_decoder *d, bool on)
 {
 	if (!d)
 		return DF1_E_INVAL;
+	d->fd.opts &= ~(FRAME_OPT_HALF_DUPLEX | FRAME_OPT_DUPLEX_AUTO);
 	if (on)
 		d->fd.opts |= FRAME_OPT_HALF_DUPLEX;
-	else
-		d->fd.opts &= ~FRAME_OPT_HALF_DUPLEX;
+	return DF1_OK;
+}
+
+int df1_decoder_set_duplex_auto(struct df1_decoder *d, bool on)
+{
+	if (!d)
+		return DF1_E_INVAL;
+	d->fd.opts &= ~(FRAME_OPT_HALF_DUPLEX | FRAME_OPT_DUPLEX_AUTO);
+	if (on)
+		d->fd.opts |= FRAME_OPT_DUPLEX_AUTO;
 	return DF1_OK;
 }
 

@@ -191,6 +191,9 @@ enum {
 	ST_POLL_STN,     /* DLE ENQ (half duplex): STN next */
 	ST_POLL_STN_DLE, /* STN began with DLE: the second DLE next */
 	ST_POLL_BCC,
+	ST_APOLL_STN,    /* DLE ENQ (auto duplex): a poll if a poll's shape follows */
+	ST_APOLL_STN_DLE,
+	ST_APOLL_BCC,
 	ST_SOH_STN,      /* DLE SOH: STN next */
 	ST_SOH_STN_DLE,
 	ST_SOH_DLE,      /* DLE SOH STN: DLE next */
@@ -409,6 +412,10 @@ static bool after_dle(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b
 			d->state = ST_POLL_STN;
 			return false;
 		}
+		if (d->opts & FRAME_OPT_DUPLEX_AUTO) {
+			d->state = ST_APOLL_STN;
+			return false;
+		}
 		simple(d, sym, DF1_SYM_ENQ);
 		return true;
 	case DF1_EOT:
@@ -481,8 +488,44 @@ static bool poll_error(struct frame_decoder *d, struct df1_symbol *sym, uint8_t 
 	return true;
 }
 
-/* One byte; true when a symbol is complete. */
-static bool step(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b, bool *to_next)
+/* Auto duplex: the bytes after DLE ENQ are not a poll. The DLE ENQ was the
+ * full-duplex ENQ; the decoder goes on as if it had read the bytes since then
+ * on their own (noise: the STN byte, or the first DLE of DLE DLE; state: IDLE,
+ * or ST_DLE when a DLE may start the next symbol), and the byte that decided
+ * is left for the next call (*keep). */
+static bool auto_enq(struct frame_decoder *d, struct df1_symbol *sym, size_t noise, int state,
+                     bool *keep)
+{
+	sym->kind = DF1_SYM_ENQ;
+	sym->wire_len = 2;
+	d->noise += noise;
+	d->state = state;
+	d->wire = state == ST_DLE ? 1 : 0;
+	*keep = true;
+	return true;
+}
+
+/* The BCC byte of a poll: POLL, or (half duplex) ERROR 2507. */
+static bool poll_bcc(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b)
+{
+	sym->has_station = true;
+	sym->station = d->stn;
+	sym->check = DF1_CHECK_BCC;
+	sym->check_expected = (uint8_t)(0u - d->stn);
+	sym->check_actual = b;
+	sym->check_ok = sym->check_expected == b;
+	if (sym->check_ok) {
+		simple(d, sym, DF1_SYM_POLL);
+	} else {
+		simple(d, sym, DF1_SYM_ERROR);
+		sym->error = DF1_ID_ERR_BAD_BCC;
+	}
+	return true;
+}
+
+/* One byte; true when a symbol is complete (*keep: b is not consumed). */
+static bool step(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b, bool *to_next,
+                 bool *keep)
 {
 	if (d->state == ST_IDLE || d->state == ST_EOT_TRAILER) {
 		if (b == DF1_DLE) {
@@ -514,19 +557,26 @@ static bool step(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b, boo
 		d->state = ST_POLL_BCC;
 		return false;
 	case ST_POLL_BCC:
-		sym->has_station = true;
-		sym->station = d->stn;
-		sym->check = DF1_CHECK_BCC;
-		sym->check_expected = (uint8_t)(0u - d->stn);
-		sym->check_actual = b;
-		sym->check_ok = sym->check_expected == b;
-		if (sym->check_ok) {
-			simple(d, sym, DF1_SYM_POLL);
+		return poll_bcc(d, sym, b);
+	case ST_APOLL_STN:
+		if (b == DF1_DLE) {
+			d->state = ST_APOLL_STN_DLE;
 		} else {
-			simple(d, sym, DF1_SYM_ERROR);
-			sym->error = DF1_ID_ERR_BAD_BCC;
+			d->stn = b;
+			d->state = ST_APOLL_BCC;
 		}
-		return true;
+		return false;
+	case ST_APOLL_STN_DLE:
+		if (b != DF1_DLE)
+			return auto_enq(d, sym, 0, ST_DLE, keep); /* DLE b: a symbol of its own */
+		d->stn = DF1_DLE;
+		d->state = ST_APOLL_BCC;
+		return false;
+	case ST_APOLL_BCC:
+		if (b == (uint8_t)(0u - d->stn))
+			return poll_bcc(d, sym, b);
+		/* a stuffed STN was DLE DLE: noise, and its second DLE may start a symbol */
+		return auto_enq(d, sym, 1, d->stn == DF1_DLE ? ST_DLE : ST_IDLE, keep);
 	case ST_SOH_STN:
 		if (b == DF1_DLE)
 			d->state = ST_SOH_STN_DLE;
@@ -588,9 +638,11 @@ size_t frame_decoder_feed(struct frame_decoder *d, const uint8_t *in, size_t n, 
 	memset(sym, 0, sizeof *sym);
 	sym->kind = DF1_SYM_NONE;
 	for (size_t i = 0; i < n; i++) {
-		bool to_next = false;
+		bool to_next = false, keep = false;
 
-		if (step(d, sym, in[i], &to_next)) {
+		if (step(d, sym, in[i], &to_next, &keep)) {
+			if (keep)
+				return i;
 			if (to_next) {
 				d->state = ST_DLE;
 				d->wire = 1;

@@ -46,9 +46,19 @@ size_t frame_encode_symbol(uint8_t sym, uint8_t *out, size_t cap);
 #define FRAME_OPT_EOT_TRAILER     0x04u /* ignore one byte after DLE EOT */
 #define FRAME_OPT_NO_EMBEDDED     0x08u /* ACK/NAK inside a frame aborts it (2514) */
 #define FRAME_OPT_HALF_DUPLEX     0x10u /* DLE ENQ is a poll: DLE ENQ STN BCC */
+#define FRAME_OPT_DUPLEX_AUTO     0x20u /* DLE ENQ is a poll when a poll's shape follows */
 
 /*
  * Decoder rules (the ones the spec leaves open):
+ *  - FRAME_OPT_DUPLEX_AUTO (without FRAME_OPT_HALF_DUPLEX): DLE ENQ followed by
+ *    a poll's shape, STN (DLE DLE for 10h) and a BCC byte that is its two's
+ *    complement, is a POLL; followed by anything else it is the full-duplex
+ *    ENQ, reported (wire_len 2) when the first byte that breaks the shape
+ *    arrives. That byte is not consumed (feed may return 0 with the ENQ); the
+ *    bytes read after DLE ENQ are then taken as they would have been without
+ *    the option (a plain STN byte is noise; DLE DLE is noise and its second DLE
+ *    may start the next symbol; DLE x goes on as DLE x). A poll with a bad BCC
+ *    is thus an ENQ and noise, never ERROR 2507.
  *  - Outside a frame, bytes that start no symbol are noise: skipped, added to
  *    `noise`, never part of a symbol's wire_len. DLE DLE and DLE ETX outside a
  *    frame are noise too (the second DLE of DLE DLE may start the next symbol,
@@ -102,7 +112,9 @@ struct frame_decoder {
 void frame_decoder_init(struct frame_decoder *d, enum df1_check check, unsigned opts);
 void frame_decoder_reset(struct frame_decoder *d);   /* back to idle, keeps config */
 /* Feed bytes; stops as soon as one symbol is complete. Returns bytes consumed
- * (> 0 whenever n > 0); sym->kind is DF1_SYM_NONE if the input ran out first.
+ * (> 0 whenever n > 0, but for the ENQ of FRAME_OPT_DUPLEX_AUTO, which may come
+ * with 0: the byte that decided it is left for the next call); sym->kind is
+ * DF1_SYM_NONE if the input ran out first.
  * sym->data points into the decoder and stays valid until the next feed. */
 size_t frame_decoder_feed(struct frame_decoder *d, const uint8_t *in, size_t n, struct df1_symbol *sym);
 /* True while the decoder is inside a symbol (a deadline for its end applies). */
