@@ -94,6 +94,10 @@ esac
 kill -s USR1 "$pid"
 kill -s USR2 "$pid"
 if [ -x "$BIN/df1read" ]; then
+	# A read first, so that both signals are handled before the next USR1: a
+	# USR1 sent while the first is still pending would merge with it, and the
+	# pending USR2 would then be handled last.
+	"$BIN/df1read" -d "$line" N7:5 > /dev/null 2>&1
 	kill -s USR1 "$pid"
 	"$BIN/df1read" -d "$line" -o 200 --enq-retries 1 N7:5 > "$T/o" 2> "$T/e"
 	rc1=$?
