@@ -297,6 +297,22 @@ out_is "half CRC json" '[
 ]'
 sim_stop
 
+# ---- numbers are decimal: "-a 010" is station 10, never octal 8 ----
+# Only station 10 answers this half-duplex slave, so a station number read as
+# octal (010 = 8) is a read nobody answers, and "08" (no octal 8) is no longer
+# refused as a usage error.
+sim_start half10 --duplex half --station 10
+expect 0 "decimal: -a 010 is station 10" -- "$R" -d "$SIM_DEV" --duplex half -a 010 N7:4
+out_is "decimal: -a 010 value" "4"
+expect 0 "decimal: hex only with 0x (-a 0x0A)" -- "$R" -d "$SIM_DEV" --duplex half -a 0x0A N7:4
+expect 1 "decimal: -a 08 is station 8 (no answer)" -- "$R" -d "$SIM_DEV" --duplex half -a 08 \
+	-o 200 --enq-retries 1 N7:4
+expect 0 "decimal: df1write -a 010 writes station 10" -- "$BIN/df1write" -d "$SIM_DEV" --duplex half \
+	-a 010 N7:3=42
+expect 0 "decimal: the write reached station 10" -- "$R" -d "$SIM_DEV" --duplex half -a 10 N7:3
+out_is "decimal: station 10 holds it" "42"
+sim_stop
+
 # ---- SLC 5/02: 82-byte packets; MicroLogix ----
 sim_start slc502 --plc slc502
 expect 0 "slc502: N7:0,100" -- "$R" -d "$SIM_DEV" --plc slc502 -v N7:0,100

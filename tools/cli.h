@@ -164,6 +164,9 @@ int cli_usage_error(const struct cli *c, const char *fmt, ...) __attribute__((fo
 /* Release what cli_parse / cli_open allocated (not the handle). */
 void cli_cleanup(struct cli *c);
 
+/* Numbers as a person types them: decimal, leading zeros included ("010" is 10,
+ * never octal 8), or hex only with an explicit 0x; the strtol base for s. */
+int cli_number_base(const char *s);
 /* Numbers: decimal (or 0x hex) integer in [lo, hi]; on error prints
  * "NAME: --OPT: invalid value 'x' (expected LO-HI)" and returns CLI_EXIT_USAGE. */
 int cli_parse_int(const struct cli *c, const char *opt, const char *arg, long lo, long hi, int *out);

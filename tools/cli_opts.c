@@ -212,6 +212,13 @@ void cli_usage(const struct cli *c, FILE *f)
 		fprintf(f, "%s", t->help_tail);
 }
 
+int cli_number_base(const char *s)
+{
+	const char *p = s + (*s == '-' || *s == '+');
+
+	return p[0] == '0' && (p[1] == 'x' || p[1] == 'X') ? 16 : 10;
+}
+
 bool cli_long_in(const char *s, long lo, long hi, long *out)
 {
 	char *end;
@@ -220,7 +227,7 @@ bool cli_long_in(const char *s, long lo, long hi, long *out)
 	if (!s || !*s)
 		return false;
 	errno = 0;
-	v = strtol(s, &end, 0);
+	v = strtol(s, &end, cli_number_base(s));
 	if (*end || errno || v < lo || v > hi)
 		return false;
 	*out = v;

@@ -291,7 +291,7 @@ static int on_option(struct cli *c, int key, const char *arg, void *user)
 	case OPT_DATA: o->data = arg; break;
 	case OPT_SEED:
 		errno = 0;
-		u = strtoull(arg, &end, 0);
+		u = strtoull(arg, &end, cli_number_base(arg));
 		if (errno || !*arg || *end || arg[0] == '-')
 			return cli_bad_value(c, "--seed", arg, "an integer 0 or more");
 		o->seed = u;

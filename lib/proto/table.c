@@ -164,8 +164,9 @@ static bool table_find_processor(const char *name, bool plc5, struct table_proce
 			return true;
 		}
 	}
+	/* a type code: decimal, or hex with 0x ("0x5B"); a leading 0 is not octal */
 	errno = 0;
-	code = strtol(name, &end, 0);
+	code = strtol(name, &end, name[0] == '0' && (name[1] == 'x' || name[1] == 'X') ? 16 : 10);
 	if (!*name || *end || errno || code < 0 || code > 255)
 		return false;
 	out->key = "";
