@@ -125,6 +125,29 @@ tcp://127.0.0.1:[1-9]*) ok "listen: TCP:// in capitals, announces $line" ;;
 *) fail "listen: TCP://127.0.0.1:0 announced '$line' ($(cat "$T/err"))" ;;
 esac
 [ -n "$pid" ] && stop TERM
+# every interface only when asked by name: inet_aton's other spellings of
+# 0.0.0.0 are refused; 0.0.0.0 itself binds and says so on stderr
+for spec in 0:0 tcp://0:0 0.0:0 0x0:0; do
+	# refused at once; one that bound would serve until the timeout (124)
+	timeout 5 "$SIM" --listen "$spec" > "$T/o" 2> "$T/e"
+	r=$?
+	if [ "$r" -eq 2 ] && [ ! -s "$T/o" ] && grep -q "every interface" "$T/e" && grep -q "0.0.0.0" "$T/e"; then
+		ok "listen $spec: refused, names 0.0.0.0"
+	else
+		fail "listen $spec: exit $r, out '$(cat "$T/o")', err '$(cat "$T/e")'"
+	fi
+done
+start --listen 0.0.0.0:0
+case "$line" in
+tcp://0.0.0.0:[1-9]*)
+	if grep -q "every interface" "$T/err"; then ok "listen 0.0.0.0: binds all and says so"
+	else fail "listen 0.0.0.0: no notice on stderr ($(cat "$T/err"))"; fi ;;
+*) fail "listen 0.0.0.0:0 announced '$line' ($(cat "$T/err"))" ;;
+esac
+[ -n "$pid" ] && stop TERM
+start --listen 127.0.0.1:0
+if [ -n "$line" ] && [ ! -s "$T/err" ]; then ok "listen loopback: no notice"; else fail "listen loopback: '$(cat "$T/err")'"; fi
+[ -n "$pid" ] && stop TERM
 
 # 5. --data: initial values are accepted; errors name file and line, exit 2
 cat > "$T/good.txt" <<'EOF'

@@ -151,7 +151,22 @@ static bool parse_listen(const char *spec, char *host, size_t hcap, char *port, 
 	return true;
 }
 
-int sim_listen_open(const char *spec, char *shown, size_t cap, char *err, size_t ecap)
+static bool listen_is_wildcard(const struct sockaddr_storage *ss)
+{
+	if (ss->ss_family == AF_INET6)
+		return IN6_IS_ADDR_UNSPECIFIED(&((const struct sockaddr_in6 *)ss)->sin6_addr);
+	return ((const struct sockaddr_in *)ss)->sin_addr.s_addr == htonl(INADDR_ANY);
+}
+
+static bool listen_is_loopback(const struct sockaddr_storage *ss)
+{
+	if (ss->ss_family == AF_INET6)
+		return IN6_IS_ADDR_LOOPBACK(&((const struct sockaddr_in6 *)ss)->sin6_addr);
+	return (ntohl(((const struct sockaddr_in *)ss)->sin_addr.s_addr) >> 24) == 127;
+}
+
+int sim_listen_open(const char *spec, char *shown, size_t cap, enum sim_listen_scope *scope,
+                    char *err, size_t ecap)
 {
 	char host[256], port[16], hbuf[INET6_ADDRSTRLEN + 8], pbuf[16];
 	struct addrinfo hints, *res, *ai;
@@ -200,6 +215,16 @@ int sim_listen_open(const char *spec, char *shown, size_t cap, char *err, size_t
 		snprintf(shown, cap, "tcp://[%s]:%s", hbuf, pbuf);
 	else
 		snprintf(shown, cap, "tcp://%s:%s", hbuf, pbuf);
+	if (listen_is_wildcard(&ss) && strcmp(host, "0.0.0.0") != 0 && strcmp(host, "::") != 0) {
+		/* "0", "0.0", "0x0" are inet_aton's spellings of 0.0.0.0: every interface */
+		snprintf(err, ecap, "--listen %s: '%s' is the address of every interface: "
+		         "write 0.0.0.0 (or ::) to listen on all of them", spec, host);
+		close(fd);
+		return -CLI_EXIT_USAGE;
+	}
+	if (scope)
+		*scope = listen_is_wildcard(&ss) ? SIM_LISTEN_ALL
+		         : listen_is_loopback(&ss) ? SIM_LISTEN_LOOPBACK : SIM_LISTEN_OTHER;
 	return fd;
 }
 

@@ -36,10 +36,14 @@ int sim_pty_create(struct sim_pty *p, const char *path, char *err, size_t cap);
 void sim_pty_destroy(struct sim_pty *p);
 
 /* Listen on "tcp://HOST:PORT", "HOST:PORT", ":PORT", "PORT", "[::1]:PORT"
- * (loopback unless HOST is given; port 0 picks one). Returns the socket with the
- * address as bound in shown ("tcp://127.0.0.1:40001"), or -(exit status) with
- * the message in err. */
-int sim_listen_open(const char *spec, char *shown, size_t cap, char *err, size_t ecap);
+ * (loopback unless HOST is given; port 0 picks one). Every interface only when
+ * HOST is written 0.0.0.0 or ::, never for inet_aton's other spellings of it
+ * ("0", "0.0", "0x0": a usage error). Returns the socket with the address as
+ * bound in shown ("tcp://127.0.0.1:40001") and, if scope is not NULL, what it
+ * reaches in *scope; or -(exit status) with the message in err. */
+enum sim_listen_scope { SIM_LISTEN_LOOPBACK, SIM_LISTEN_OTHER, SIM_LISTEN_ALL };
+int sim_listen_open(const char *spec, char *shown, size_t cap, enum sim_listen_scope *scope,
+                    char *err, size_t ecap);
 
 /* The command log: one line per command answered,
  *   2026-12-01T21:02:28.123 station=1 cmd=0F/A2 addr=N7:0 count=10 tns=0001 name="..."

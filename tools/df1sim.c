@@ -602,12 +602,19 @@ int main(int argc, char **argv)
 		}
 		snprintf(shown, sizeof shown, "%s", o.device);
 	} else {
-		lfd = sim_listen_open(o.listen, shown, sizeof shown, err, sizeof err);
+		enum sim_listen_scope scope;
+
+		lfd = sim_listen_open(o.listen, shown, sizeof shown, &scope, err, sizeof err);
 		if (lfd < 0) {
 			msg("%s", err);
 			status = -lfd;
 			goto out;
 		}
+		/* a listener other hosts can reach is what the user asked for: say so */
+		if (scope == SIM_LISTEN_ALL)
+			msg("listening on %s: every interface, reachable from other hosts", shown);
+		else if (scope == SIM_LISTEN_OTHER)
+			msg("listening on %s: not loopback, reachable from other hosts", shown);
 	}
 	printf("%s\n", shown);
 	fflush(stdout);
