@@ -265,5 +265,33 @@ else
 	fail "--version: no library line: $(cat "$T/o")"
 fi
 
+# 8. output that cannot be written is an error, never a df1sim serving in silence
+timeout 10 "$SIM" --pty "$T/wfull" > /dev/full 2> "$T/e"
+r=$?
+if [ "$r" -eq 1 ] && grep -q "stdout" "$T/e"; then ok "stdout on /dev/full: exit 1, says so"
+else fail "stdout on /dev/full: exit $r, '$(cat "$T/e")'"; fi
+timeout 10 "$SIM" --pty "$T/wclosed" >&- 2> "$T/e"
+r=$?
+if [ "$r" -eq 1 ] && grep -q "stdout is closed" "$T/e" && [ ! -e "$T/wclosed" ]; then
+	ok "stdout closed: exit 1 before serving"
+else
+	fail "stdout closed: exit $r, '$(cat "$T/e")'"
+fi
+if [ -x "$BIN/df1read" ]; then
+	start --pty "$T/wlog" --log /dev/full
+	"$BIN/df1read" -d "$T/wlog" N7:0 > /dev/null 2>&1
+	( sleep 10; kill "$pid" 2>/dev/null ) &
+	dog=$!
+	wait "$pid"
+	r=$?
+	kill "$dog" 2>/dev/null
+	wait "$dog" 2>/dev/null
+	if [ "$r" -eq 1 ] && grep -q -- "--log /dev/full" "$T/err"; then
+		ok "--log /dev/full: stops after the first command, exit 1, names the log"
+	else
+		fail "--log /dev/full: exit $r, '$(cat "$T/err")'"
+	fi
+fi
+
 echo "$fails failed"
 [ "$fails" -eq 0 ]

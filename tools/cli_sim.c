@@ -247,6 +247,8 @@ static void cmdlog_command(struct sim_cmdlog *l, int station, const uint8_t *app
 	char when[40], addr[80], count[16], cmd[8];
 	int es;
 
+	if (l->error)
+		return;                 /* the log already failed: df1sim is stopping */
 	if (df1_msg_decode(app, n, &m) < 0)
 		return;
 	clock_gettime(CLOCK_REALTIME, &ts);
@@ -284,9 +286,11 @@ static void cmdlog_command(struct sim_cmdlog *l, int station, const uint8_t *app
 		snprintf(cmd, sizeof cmd, "%02X/%02X", m.cmd, m.fnc);
 	else
 		snprintf(cmd, sizeof cmd, "%02X", m.cmd);
-	fprintf(l->fp, "%s.%03ld station=%d cmd=%s addr=%s count=%s tns=%04X name=\"%s\"\n",
-	        when, ts.tv_nsec / 1000000L, station, cmd, addr, count, m.tns, m.name ? m.name : "");
-	fflush(l->fp);
+	errno = 0;
+	if (fprintf(l->fp, "%s.%03ld station=%d cmd=%s addr=%s count=%s tns=%04X name=\"%s\"\n",
+	            when, ts.tv_nsec / 1000000L, station, cmd, addr, count, m.tns,
+	            m.name ? m.name : "") < 0 || fflush(l->fp) != 0)
+		l->error = errno ? errno : EIO;         /* the tool stops and says so */
 }
 
 static void cmdlog_rx_frame(struct sim_cmdlog *l, const struct df1_symbol *sym)

@@ -54,6 +54,7 @@ int sim_listen_open(const char *spec, char *shown, size_t cap, enum sim_listen_s
  * DSTs (full duplex); they give the type of a PLC-5 binary address's file. */
 struct sim_cmdlog {
 	FILE *fp;
+	int error;                      /* errno of the first line not written, else 0 */
 	struct df1_decoder *dec[2];     /* by enum df1_dir */
 	bool half;
 	struct df1_table *const *tables;

@@ -14,6 +14,7 @@
  * 2 (usage or configuration error).
  */
 #include <errno.h>
+#include <fcntl.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <poll.h>
@@ -399,7 +400,7 @@ static int serve_open(df1_t *h, struct sim *s)
 {
 	int r;
 
-	while (!cli_stop) {
+	while (!cli_stop && !s->log.error) {
 		sim_wakeup(h, s);
 		r = df1_serve(h, &sim_ops, s, 1000);
 		if (r >= 0 || (r == DF1_E_INTR && !cli_stop))
@@ -417,7 +418,7 @@ static int serve_tcp(df1_t *h, struct sim *s, int lfd, const char *shown)
 		struct pollfd pfd[2] = { { lfd, POLLIN, 0 }, { cli_signal_fd(), POLLIN, 0 } };
 		int cfd, r, one = 1;
 
-		if (cli_stop)
+		if (cli_stop || s->log.error)
 			return 0;
 		r = poll(pfd, 2, -1);
 		if (r < 0) {
@@ -562,6 +563,12 @@ int main(int argc, char **argv)
 	status = parse_args(argc, argv, &o);
 	if (status != CLI_CONTINUE)
 		return status;
+	/* a closed stdout: the device line could not be printed, and the next file
+	 * opened (the pty, a data file) would become descriptor 1 */
+	if (fcntl(STDOUT_FILENO, F_GETFD) < 0) {
+		msg("stdout is closed: df1sim prints the device it serves there");
+		return CLI_EXIT_FAIL;
+	}
 	status = sim_build(&sim, &o);
 	if (status)
 		goto out;
@@ -616,8 +623,13 @@ int main(int argc, char **argv)
 		else if (scope == SIM_LISTEN_OTHER)
 			msg("listening on %s: not loopback, reachable from other hosts", shown);
 	}
-	printf("%s\n", shown);
-	fflush(stdout);
+	/* the ready line a script waits for: one that cannot be written is an error */
+	errno = 0;
+	if (printf("%s\n", shown) < 0 || fflush(stdout) != 0) {
+		msg("stdout: the device line could not be written: %s", strerror(errno ? errno : EIO));
+		status = CLI_EXIT_FAIL;
+		goto out;
+	}
 
 	if (lfd >= 0) {
 		status = serve_tcp(h, &sim, lfd, shown);
@@ -625,8 +637,12 @@ int main(int argc, char **argv)
 		r = serve_open(h, &sim);
 		status = r < 0 ? report(h, shown, r) : 0;
 	}
-	if (status == 0 && cli_stop && o.cli.verbose)
+	if (sim.log.error) {
+		msg("--log %s: a command could not be logged: %s", o.log, strerror(sim.log.error));
+		status = CLI_EXIT_FAIL;
+	} else if (status == 0 && cli_stop && o.cli.verbose) {
 		msg("stopped by signal");
+	}
 out:
 	if (h) {
 		df1_close(h);
