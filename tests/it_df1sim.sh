@@ -72,6 +72,18 @@ stop INT
 if [ "$rc" -eq 0 ] && [ ! -L "$T/plc" ]; then ok "pty: SIGINT exits 0 and cleans up"; else fail "pty: SIGINT rc=$rc"; fi
 if [ -f "$T/log" ]; then ok "log file created"; else fail "no log file"; fi
 
+# every other signal that would end it ends it the same way (link removed, 0);
+# SIGHUP is the dropped ssh session
+for sg in HUP ALRM QUIT; do
+	start --pty "$T/plc"
+	stop "$sg"
+	if [ "$rc" -eq 0 ] && [ ! -e "$T/plc" ] && [ ! -L "$T/plc" ]; then
+		ok "pty: SIG$sg exits 0 and cleans up"
+	else
+		fail "pty: SIG$sg rc=$rc, link $(ls -l "$T/plc" 2>&1)"
+	fi
+done
+
 # 3. a regular file at PATH is not ours to replace
 : > "$T/file"
 "$SIM" --pty "$T/file" > "$T/o" 2> "$T/e"

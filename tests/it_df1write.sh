@@ -217,6 +217,26 @@ check "SIGTERM: report" \
 if [ -n "$before_tty" ]; then
 	same "SIGTERM: port settings restored" "$(stty -g < "$SIM_DEV")" "$before_tty"
 fi
+# every other signal that would end it ends it the same way: report, port
+# restored, 128 + N (SIGQUIT exits 131 rather than dumping core)
+for sg in HUP:129 USR1:138 ALRM:142 QUIT:131; do
+	name=${sg%%:*}
+	want=${sg#*:}
+	: > "$T/int.err"
+	"$W" -d "$SIM_DEV" -v -o 10000 N7:0=1 N7:1=2 N7:2=3 > "$T/int.out" 2> "$T/int.err" &
+	wp=$!
+	wait_for "SIG$name: first operand written" 100 first_done
+	kill -s "$name" "$wp"
+	{ wait "$wp"; } 2>/dev/null
+	st=$?
+	same "SIG$name: ended with 128 + N" "$st" "$want"
+	check "SIG$name: message" "grep -q 'df1write: N7:1: interrupted by SIG$name' \"\$T/int.err\""
+	check "SIG$name: report" \
+		'grep -q "df1write: written: N7:0; unconfirmed: N7:1; not written: N7:2" "$T/int.err"'
+	if [ -n "$before_tty" ]; then
+		same "SIG$name: port settings restored" "$(stty -g < "$SIM_DEV")" "$before_tty"
+	fi
+done
 sim_stop
 
 finish

@@ -200,8 +200,11 @@ void cli_error_tag(int err, int catalog_id, char *buf, size_t cap);
 void cli_log(void *user, int catalog_id, enum df1_severity sev, const char *text);
 void cli_trace(void *user, enum df1_dir dir, const uint8_t *bytes, size_t n, uint64_t t_us);
 
-/* Signals: SIGINT/SIGTERM set cli_stop and write a byte to a self-pipe whose read end
- * is returned (and handed to df1_set_cancel_fd by cli_open), so waits end at once.
+/* Signals: every signal that would end the tool (SIGHUP SIGINT SIGQUIT SIGTERM
+ * SIGUSR1 SIGUSR2 SIGALRM SIGVTALRM SIGPROF SIGIO SIGPWR SIGXCPU SIGXFSZ) sets cli_stop
+ * and writes a byte to a self-pipe whose read end is returned (and handed to
+ * df1_set_cancel_fd by cli_open), so waits end at once and the tool ends as on
+ * SIGINT: port restored, lock released, its report printed; a second one kills.
  * SIGPIPE is ignored so a closed stdout shows as a write error. Returns the fd or -1. */
 extern volatile sig_atomic_t cli_stop;
 int cli_signals_install(void);
@@ -217,6 +220,8 @@ int cli_stop_signal(void);     /* the signal that stopped us, or 0 */
  * self-pipe; cli_stop_signal() then returns SIGALRM). Call after cli_signals_install.
  * Returns 0 or -1 (errno set). */
 int cli_stop_after_ms(long ms);
+/* The stop was that timer's SIGALRM (not a SIGALRM sent with kill). */
+bool cli_stopped_by_timer(void);
 
 /* Addresses of operands (df1read, df1write). */
 #define CLI_ADDR_TEXT_MAX 80                /* an address's text with its NUL */
@@ -233,11 +238,12 @@ bool cli_addr_step(const struct df1_addr *a, size_t i, struct df1_addr *out);
  * Returns CLI_EXIT_USAGE. */
 int cli_address_error(const struct cli *c, int item, const char *text, int err, size_t n);
 
-/* "SIGINT", "SIGTERM", else "a signal". */
+/* "SIGINT", "SIGHUP", ... for the signals above, else "a signal". */
 const char *cli_signal_name(int sig);
-/* When a signal stopped us (cli_stop), end as that signal would have (SA_RESETHAND
- * restored its default action), so that a calling shell script stops too. Returns
- * only when there was none, or its action does not end the process. */
+/* When a signal stopped us (cli_stop), end as that signal would have (its default
+ * action), so that a calling shell script stops too and sees 128 + N; SIGQUIT,
+ * SIGXCPU and SIGXFSZ, whose default dumps core, exit with 128 + N instead.
+ * Returns only when there was none, or it was --duration's timer. */
 void cli_raise_stop_signal(void);
 
 /* JSON, CSV and hex: cli_text.h (included above). */

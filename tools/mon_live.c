@@ -57,13 +57,13 @@ bool mon_sleep(long ms)
 
 const char *signal_name(int sig)
 {
-	return sig == SIGALRM ? "--duration" : cli_signal_name(sig);
+	return sig == SIGALRM && cli_stopped_by_timer() ? "--duration" : cli_signal_name(sig);
 }
 
 /* A stop by a signal (not by --duration's timer): reported as an interruption. */
 bool interrupted(void)
 {
-	return cli_stop && cli_stop_signal() != SIGALRM;
+	return cli_stop && !cli_stopped_by_timer();
 }
 
 long ms_of(double seconds)
