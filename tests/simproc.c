@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/inotify.h>
 #include <sys/prctl.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
@@ -304,4 +305,42 @@ int simproc_stop(struct simproc *sp, bool keep_dir)
 	if (!keep_dir)
 		simproc_cleanup(sp);
 	return status;
+}
+
+int simproc_log_count(const struct simproc *sp, const char *n1, const char *n2)
+{
+	char *text = simproc_slurp(sp->log, NULL), *line, *save = NULL;
+	int n = 0;
+
+	if (!text)
+		return -1;
+	for (line = strtok_r(text, "\n", &save); line; line = strtok_r(NULL, "\n", &save))
+		if ((!n1 || strstr(line, n1)) && (!n2 || strstr(line, n2)))
+			n++;
+	free(text);
+	return n;
+}
+
+int simproc_log_wait(const struct simproc *sp, const char *n1, const char *n2, int want,
+                     int timeout_ms)
+{
+	long long dl = simproc_now_ms() + timeout_ms;
+	int fd = inotify_init1(IN_CLOEXEC | IN_NONBLOCK), n;
+
+	if (fd >= 0 && inotify_add_watch(fd, sp->log, IN_MODIFY) < 0) {
+		close(fd);
+		fd = -1;
+	}
+	while ((n = simproc_log_count(sp, n1, n2)) < want && simproc_now_ms() < dl) {
+		struct pollfd p = { fd, POLLIN, 0 };
+		char buf[4096];
+
+		if (fd < 0 || poll(&p, 1, (int)(dl - simproc_now_ms())) <= 0)
+			break;
+		while (read(fd, buf, sizeof buf) > 0)
+			;
+	}
+	if (fd >= 0)
+		close(fd);
+	return n;
 }

@@ -43,6 +43,15 @@ int simproc_stop(struct simproc *sp, bool keep_dir);
 /* Remove the directory and its files (after simproc_stop(sp, true)). */
 void simproc_cleanup(struct simproc *sp);
 
+/* Lines of df1sim's --log (one per command answered) holding n1 and, if not NULL,
+ * n2 (n1 NULL: every line); -1 if the log cannot be read. */
+int simproc_log_count(const struct simproc *sp, const char *n1, const char *n2);
+/* df1sim logs a command after its reply went out, so a line may come a moment
+ * after the reply reached the test: wait (inotify on the log, until timeout_ms)
+ * for at least `want` such lines. Returns the count then. */
+int simproc_log_wait(const struct simproc *sp, const char *n1, const char *n2, int want,
+                     int timeout_ms);
+
 /* Read a whole file into a NUL-terminated malloc'd buffer; NULL on error. */
 char *simproc_slurp(const char *path, size_t *len);
 

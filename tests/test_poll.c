@@ -39,7 +39,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/inotify.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -609,42 +608,12 @@ static void sim_restart(struct fix *f, const char *const *args)
 /* Lines of df1sim's --log that hold every needle (NULL-terminated). */
 static int log_count(struct fix *f, const char *n1, const char *n2)
 {
-	char *text = simproc_slurp(f->sim.log, NULL), *line, *save = NULL;
-	int n = 0;
-
-	if (!text)
-		return -1;
-	for (line = strtok_r(text, "\n", &save); line; line = strtok_r(NULL, "\n", &save))
-		if (strstr(line, n1) && (!n2 || strstr(line, n2)))
-			n++;
-	free(text);
-	return n;
+	return simproc_log_count(&f->sim, n1, n2);
 }
 
-/* df1sim logs a command after its reply went out, so the line may come a moment
- * after the reply reached us: wait (inotify on the log, 5 s deadline) until at
- * least `want` lines. */
 static int log_wait(struct fix *f, const char *n1, const char *n2, int want)
 {
-	int64_t dl = now_ms() + 5000;
-	int fd = inotify_init1(IN_CLOEXEC | IN_NONBLOCK), n;
-
-	if (fd >= 0 && inotify_add_watch(fd, f->sim.log, IN_MODIFY) < 0) {
-		close(fd);
-		fd = -1;
-	}
-	while ((n = log_count(f, n1, n2)) < want && now_ms() < dl) {
-		struct pollfd p = { fd, POLLIN, 0 };
-		char buf[4096];
-
-		if (fd < 0 || poll(&p, 1, (int)(dl - now_ms())) <= 0)
-			break;
-		while (read(fd, buf, sizeof buf) > 0)
-			;
-	}
-	if (fd >= 0)
-		close(fd);
-	return n;
+	return simproc_log_wait(&f->sim, n1, n2, want, 5000);
 }
 
 static void poll_ok(struct fix *f, int timeout_ms)

@@ -14,11 +14,9 @@
 #include <stdint.h>
 #include <cmocka.h>
 
-#include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/inotify.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -26,14 +24,6 @@
 #include "plc_limits.h"
 #include "poll_plan.h"
 #include "simproc.h"
-
-static int64_t now_ms(void)
-{
-	struct timespec ts;
-
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
-}
 
 /* ------------------------------------------------------------------------
  * The planner's fewest-transactions rule (pure)
@@ -309,43 +299,16 @@ static void start(struct fix *f, const char *const *args, enum df1_plc plc)
 	start_as(f, args, plc, false);
 }
 
-/* Lines of df1sim's --log (one per command answered) holding needle (NULL: any). */
 static int log_count(struct fix *f, const char *needle)
 {
-	char *text = simproc_slurp(f->sim.log, NULL), *line, *save = NULL;
-	int n = 0;
+	int n = simproc_log_count(&f->sim, needle, NULL);
 
-	if (!text)
-		return 0;
-	for (line = strtok_r(text, "\n", &save); line; line = strtok_r(NULL, "\n", &save))
-		if (!needle || strstr(line, needle))
-			n++;
-	free(text);
-	return n;
+	return n < 0 ? 0 : n;
 }
 
-/* df1sim logs a command after its reply went out: wait (inotify, 5 s) for want lines. */
 static int log_wait(struct fix *f, int want)
 {
-	int64_t dl = now_ms() + 5000;
-	int fd = inotify_init1(IN_CLOEXEC | IN_NONBLOCK), n;
-
-	if (fd >= 0 && inotify_add_watch(fd, f->sim.log, IN_MODIFY) < 0) {
-		close(fd);
-		fd = -1;
-	}
-	while ((n = log_count(f, NULL)) < want && now_ms() < dl) {
-		struct pollfd p = { fd, POLLIN, 0 };
-		char buf[4096];
-
-		if (fd < 0 || poll(&p, 1, (int)(dl - now_ms())) <= 0)
-			break;
-		while (read(fd, buf, sizeof buf) > 0)
-			;
-	}
-	if (fd >= 0)
-		close(fd);
-	return n;
+	return simproc_log_wait(&f->sim, NULL, NULL, want, 5000);
 }
 
 #define NSCAT 30
