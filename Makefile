@@ -77,7 +77,7 @@ COMPILE = $(Q)mkdir -p $(dir $@); $(if $(Q),echo "  CC      $@";) \
 
 $(B)/lib/%.o: lib/%.c $(LIB_HDRS)
 	$(COMPILE) -c -o $@ $<
-$(B)/tools/%.o: tools/%.c include/df1.h $(wildcard tools/*.h)
+$(B)/tools/%.o: tools/%.c $(wildcard include/*.h) $(wildcard tools/*.h)
 	$(COMPILE) -c -o $@ $<
 $(B)/tests/%.o: tests/%.c $(LIB_HDRS) $(wildcard tests/*.h)
 	$(COMPILE) -c -o $@ $<
@@ -112,7 +112,7 @@ $(B)/tests/%: $(B)/tests/%.o $(TEST_HELPER_OBJS) $(STATIC)
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(CC) $(CFLAGS) $(EXTRA) -o $@ $< $(TEST_HELPER_OBJS) $(STATIC) $(CMOCKA_LIBS) $(LIBS) -lpthread
 
-$(B)/examples/%: examples/%.c include/df1.h $(STATIC)
+$(B)/examples/%: examples/%.c $(wildcard include/*.h) $(STATIC)
 	$(COMPILE) -o $@ $< $(STATIC) $(LIBS) -lpthread
 
 tests: all $(TEST_BINS) $(EXAMPLE_BINS)
@@ -139,7 +139,7 @@ lint-man:
 
 # The layers of DESIGN.md 2 kept: no two files or layers that call each other,
 # no bare catalog ID in code (DF1_ID_* names), no source file over 1000 lines.
-CODE_SRCS = include/df1.h $(wildcard lib/*.[ch] lib/*/*.[ch] tools/*.[ch])
+CODE_SRCS = $(wildcard include/*.h) $(wildcard lib/*.[ch] lib/*/*.[ch] tools/*.[ch])
 lint-code: all
 	@B=$(B) sh tests/lint-layers.sh
 	@python3 tests/lint-ids.py $(CODE_SRCS) && echo "catalog IDs: named in code"
@@ -163,7 +163,7 @@ install: all
 	install -m 755 $(SHARED) $(DESTDIR)$(LIBDIR)/
 	ln -sf $(SO_FILE) $(DESTDIR)$(LIBDIR)/libdf1.so.$(MAJOR)
 	ln -sf libdf1.so.$(MAJOR) $(DESTDIR)$(LIBDIR)/libdf1.so
-	install -m 644 include/df1.h $(DESTDIR)$(INCLUDEDIR)/
+	install -m 644 include/df1.h include/df1_catalog.h $(DESTDIR)$(INCLUDEDIR)/
 	# generated here, so that the PREFIX of this install is the one recorded
 	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
 	    -e 's|@INCLUDEDIR@|$(INCLUDEDIR)|' -e 's|@VERSION@|$(VERSION)|' libdf1.pc.in \
@@ -175,7 +175,7 @@ install: all
 uninstall:
 	rm -f $(TOOL_NAMES:%=$(DESTDIR)$(BINDIR)/%)
 	rm -f $(DESTDIR)$(LIBDIR)/libdf1.a $(DESTDIR)$(LIBDIR)/libdf1.so*
-	rm -f $(DESTDIR)$(INCLUDEDIR)/df1.h $(DESTDIR)$(PKGCONFIGDIR)/libdf1.pc
+	rm -f $(DESTDIR)$(INCLUDEDIR)/df1.h $(DESTDIR)$(INCLUDEDIR)/df1_catalog.h $(DESTDIR)$(PKGCONFIGDIR)/libdf1.pc
 	for f in man/man1/*.1; do rm -f $(DESTDIR)$(MANDIR)/man1/$$(basename $$f); done
 	for f in man/man3/*.3; do rm -f $(DESTDIR)$(MANDIR)/man3/$$(basename $$f); done
 	for f in man/man7/*.7; do rm -f $(DESTDIR)$(MANDIR)/man7/$$(basename $$f); done

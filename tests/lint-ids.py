@@ -8,7 +8,7 @@ usage: lint-ids.py [--fix] FILE...   (exit 1 when a bare ID is found)
 import re
 import sys
 
-HEADER = "include/df1.h"
+HEADER = "include/df1_catalog.h"
 
 
 def catalog(header):
