@@ -11,6 +11,10 @@ have_header stdarg.h && printf '#include <stdarg.h>\n#include <stddef.h>\n#inclu
 	| ${CC:-cc} -E -x c - >/dev/null 2>&1 || missing="$missing libcmocka-dev"
 command -v mandoc >/dev/null 2>&1 || missing="$missing mandoc"
 command -v python3 >/dev/null 2>&1 || missing="$missing python3"
+have_header mosquitto.h || missing="$missing libmosquitto-dev"
+# the broker and its clients, for the gateway's tests and make demo
+command -v mosquitto >/dev/null 2>&1 || [ -x /usr/sbin/mosquitto ] || missing="$missing mosquitto"
+command -v mosquitto_sub >/dev/null 2>&1 || missing="$missing mosquitto-clients"
 [ -z "$missing" ] && exit 0
 cmd="apt-get install -y$missing"
 as=
