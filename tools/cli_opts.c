@@ -115,17 +115,31 @@ static void plc_list(const struct cli *c, char *buf, size_t cap)
 	}
 }
 
+static const char *const format_names[] = { "plain", "csv", "json", "influx" };
+
+/* The formats this tool takes: "plain|csv|json" (sep "|") or "plain, csv or json". */
+static const char *format_list_sep(const struct cli *c, bool prose)
+{
+	static char buf[64];
+	size_t len = 0, n = 0, k = 0;
+
+	for (size_t f = 0; f < sizeof format_names / sizeof format_names[0]; f++)
+		n += format_ok(c, (enum cli_format)f);
+	buf[0] = '\0';
+	for (size_t f = 0; f < sizeof format_names / sizeof format_names[0]; f++) {
+		if (!format_ok(c, (enum cli_format)f))
+			continue;
+		k++;
+		len += (size_t)snprintf(buf + len, sizeof buf - len, "%s%s",
+		                        k == 1 ? "" : !prose ? "|" : k == n ? " or " : ", ",
+		                        format_names[f]);
+	}
+	return buf;
+}
+
 static const char *format_list(const struct cli *c)
 {
-	bool csv = format_ok(c, CLI_FMT_CSV), json = format_ok(c, CLI_FMT_JSON);
-
-	if (csv && json)
-		return "plain|csv|json";
-	if (json)
-		return "plain|json";
-	if (csv)
-		return "plain|csv";
-	return "plain";
+	return format_list_sep(c, false);
 }
 
 int cli_usage_error(const struct cli *c, const char *fmt, ...)
@@ -386,16 +400,12 @@ int cli_common_option(struct cli *c, enum cli_opt_id id, const char *arg)
 			v = CLI_FMT_CSV;
 		else if (strcasecmp(arg, "json") == 0)
 			v = CLI_FMT_JSON;
+		else if (strcasecmp(arg, "influx") == 0)
+			v = CLI_FMT_INFLUX;
 		else
 			v = -1;
-		if (v < 0 || !format_ok(c, (enum cli_format)v)) {
-			const char *list = format_list(c);
-			return cli_bad_value(c, "--format", arg,
-			                  strcmp(list, "plain|csv|json") == 0 ? "plain, csv or json"
-			                  : strcmp(list, "plain|json") == 0   ? "plain or json"
-			                  : strcmp(list, "plain|csv") == 0    ? "plain or csv"
-			                                                      : "plain");
-		}
+		if (v < 0 || !format_ok(c, (enum cli_format)v))
+			return cli_bad_value(c, "--format", arg, format_list_sep(c, true));
 		c->format = (enum cli_format)v;
 		return CLI_CONTINUE;
 	case CLI_OPT_VERBOSE:

@@ -11,7 +11,8 @@
 #include <stdint.h>
 #include <stdio.h>
 
-enum cli_format { CLI_FMT_PLAIN = 0, CLI_FMT_CSV = 1, CLI_FMT_JSON = 2 };
+/* INFLUX: InfluxDB line protocol (df1mon --map only). */
+enum cli_format { CLI_FMT_PLAIN = 0, CLI_FMT_CSV = 1, CLI_FMT_JSON = 2, CLI_FMT_INFLUX = 3 };
 
 /* JSON: print s as a JSON string (quotes included), escaping control characters,
  * quotes, backslashes and invalid UTF-8 bytes (as \u00XX). */

@@ -50,8 +50,10 @@
  * exit) when asked, so main does not print them again. */
 static int run_map(struct mon *m)
 {
-	int fmt = m->cli.format == CLI_FMT_CSV ? MON_MAP_CSV
-	        : m->cli.format == CLI_FMT_JSON ? MON_MAP_JSON : MON_MAP_PLAIN;
+	int fmt = m->cli.format == CLI_FMT_CSV      ? MON_MAP_CSV
+	        : m->cli.format == CLI_FMT_JSON   ? MON_MAP_JSON
+	        : m->cli.format == CLI_FMT_INFLUX ? MON_MAP_INFLUX
+	                                          : MON_MAP_PLAIN;
 	int interval_ms = (m->given & GIVEN_INTERVAL) ? (int)ms_of(m->interval_s) : 1000;
 
 	return mon_map_run(m->h, m->map_file, fmt, m->once, m->counters, interval_ms, &cli_stop);
@@ -569,6 +571,8 @@ static int check_combination(struct mon *m)
 		                       (m->given & GIVEN_WRITE) ? "-w/--write" : "--sniff-b");
 	if ((m->given & GIVEN_ONCE) && m->mode != MODE_MAP)
 		return cli_usage_error(&m->cli, "-1/--once needs --map");
+	if (m->cli.format == CLI_FMT_INFLUX && m->mode != MODE_MAP)
+		return cli_usage_error(&m->cli, "-f influx needs --map (tags as InfluxDB lines)");
 	if (m->cli.format == CLI_FMT_CSV && !(f & TAKES_CSV))
 		return cli_usage_error(&m->cli, "-f csv does not go with %s (plain or json)", d->option);
 	/* operands: hex for --decode, a station range for --who */
@@ -624,7 +628,8 @@ static const struct cli_tool mon_tool = {
 	.summary = "DF1 diagnostics: decode frames, captures or a tap; ping, find stations, "
 	           "poll tags, show counters.",
 	.accepts = CLI_ACCEPT_ALL,
-	.formats = CLI_FMT_BIT(CLI_FMT_PLAIN) | CLI_FMT_BIT(CLI_FMT_CSV) | CLI_FMT_BIT(CLI_FMT_JSON),
+	.formats = CLI_FMT_BIT(CLI_FMT_PLAIN) | CLI_FMT_BIT(CLI_FMT_CSV) | CLI_FMT_BIT(CLI_FMT_JSON) |
+	           CLI_FMT_BIT(CLI_FMT_INFLUX),
 	.check_auto = true,
 	.extra = mon_opts,
 	.on_extra = on_option,

@@ -14,6 +14,7 @@ void print_counters(struct mon *m, bool final)
 	if (!m->h)
 		return;
 	switch (m->cli.format) {
+	case CLI_FMT_INFLUX: /* refused without --map */
 	case CLI_FMT_PLAIN:
 		if (m->counter_prints)
 			fputc('\n', f);   /* blocks are separated by a blank line */
@@ -33,6 +34,7 @@ void print_counters(struct mon *m, bool final)
 		if (e->severity != DF1_SEV_COUNTER || df1_counter(m->h, id, &v) < 0)
 			continue;
 		switch (m->cli.format) {
+		case CLI_FMT_INFLUX: /* refused without --map */
 		case CLI_FMT_PLAIN:
 			fprintf(f, "%d %s %llu\n", id, e->mnemonic, (unsigned long long)v);
 			break;

@@ -127,12 +127,25 @@ static void mm_json_value(FILE *f, const struct df1_tag_state *st, const struct 
 
 /* ---- output ---- */
 
+/* CLOCK_REALTIME in ns: InfluxDB's default precision. */
+static int64_t mm_wall_ns(void)
+{
+	struct timespec ts;
+
+	clock_gettime(CLOCK_REALTIME, &ts);
+	return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
+}
+
 static void mm_counters(struct mm *m)
 {
 	FILE *f = stdout;
 	struct df1_poll_stats ps;
 	bool first = true;
 
+	if (m->format == MON_MAP_INFLUX) {
+		mon_influx_counters(f, m->h, mm_wall_ns());
+		return;
+	}
 	df1_poll_stats(m->h, &ps);
 	if (m->format == MON_MAP_JSON)
 		fprintf(f, "{\"t\":%.3f,\"scans\":%llu,\"scan_ms\":%lld,\"transactions_per_scan\":%u,"
@@ -220,6 +233,7 @@ static void mm_records(struct mm *m)
 {
 	FILE *f = stdout;
 	int n = df1_tag_count(m->h);
+	int64_t now_ns = mm_wall_ns();
 
 	for (int id = 0; id < n; id++) {
 		struct df1_tag_state st;
@@ -227,6 +241,10 @@ static void mm_records(struct mm *m)
 
 		if (df1_tag_get(m->h, id, &st) < 0)
 			continue;
+		if (m->format == MON_MAP_INFLUX) {
+			mon_influx_tag(f, &st, now_ns);
+			continue;
+		}
 		if (df1_addr_format(&st.config->addr, a, sizeof a) < 0)
 			snprintf(a, sizeof a, "?");
 		if (m->format == MON_MAP_CSV) {
@@ -313,7 +331,8 @@ int mon_map_run(df1_t *h, const char *csv_path, int format, bool once, bool coun
 	memset(&m, 0, sizeof m);
 	m.h = h;
 	m.path = csv_path;
-	m.format = format == MON_MAP_CSV || format == MON_MAP_JSON ? format : MON_MAP_PLAIN;
+	m.format = format == MON_MAP_CSV || format == MON_MAP_JSON || format == MON_MAP_INFLUX
+	           ? format : MON_MAP_PLAIN;
 	m.tty = m.format == MON_MAP_PLAIN && isatty(STDOUT_FILENO);
 	m.counters = counters;
 	m.t0 = mm_now_ms();

@@ -32,6 +32,7 @@ int parse_range(struct mon *m, const char *arg)
 static void who_line(const struct mon *m, int stn, const struct df1_diag_status *d, const char *err)
 {
 	switch (m->cli.format) {
+	case CLI_FMT_INFLUX: /* refused without --map */
 	case CLI_FMT_PLAIN:
 		if (err)
 			printf("station %d: answers; diagnostic status failed: %s\n", stn, err);
