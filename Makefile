@@ -9,6 +9,8 @@ LIBDIR ?= $(PREFIX)/lib
 INCLUDEDIR ?= $(PREFIX)/include
 MANDIR ?= $(PREFIX)/share/man
 PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
+# systemd looks in /usr/local/lib/systemd/system too; Debian's /usr is /lib/...
+SYSTEMDUNITDIR ?= $(PREFIX)/lib/systemd/system
 
 CC ?= cc
 CFLAGS ?= -O2 -g
@@ -171,6 +173,10 @@ install: all
 	for f in man/man1/*.1; do [ -f "$$f" ] && install -m 644 $$f $(DESTDIR)$(MANDIR)/man1/; done; true
 	for f in man/man3/*.3; do [ -f "$$f" ] && install -m 644 $$f $(DESTDIR)$(MANDIR)/man3/; done; true
 	for f in man/man7/*.7; do [ -f "$$f" ] && install -m 644 $$f $(DESTDIR)$(MANDIR)/man7/; done; true
+	install -d $(DESTDIR)$(SYSTEMDUNITDIR)
+	sed -e 's|@BINDIR@|$(BINDIR)|' contrib/systemd/df1gw@.service.in \
+	    > $(DESTDIR)$(SYSTEMDUNITDIR)/df1gw@.service
+	chmod 644 $(DESTDIR)$(SYSTEMDUNITDIR)/df1gw@.service
 
 uninstall:
 	rm -f $(TOOL_NAMES:%=$(DESTDIR)$(BINDIR)/%)
@@ -179,6 +185,7 @@ uninstall:
 	for f in man/man1/*.1; do rm -f $(DESTDIR)$(MANDIR)/man1/$$(basename $$f); done
 	for f in man/man3/*.3; do rm -f $(DESTDIR)$(MANDIR)/man3/$$(basename $$f); done
 	for f in man/man7/*.7; do rm -f $(DESTDIR)$(MANDIR)/man7/$$(basename $$f); done
+	rm -f $(DESTDIR)$(SYSTEMDUNITDIR)/df1gw@.service
 
 clean:
 	rm -rf build

@@ -41,6 +41,18 @@ check "tools are executable" '[ -x "$U/bin/df1read" ] && [ -x "$U/bin/df1write" 
 check "no DESTDIR in installed text files" \
 	'! grep -r -l -F "$STAGE" "$U/lib/pkgconfig" "$U/include" "$U/share" >/dev/null 2>&1'
 check ".pc prefix is /usr" 'grep -q "^prefix=/usr\$" "$U/lib/pkgconfig/libdf1.pc"'
+UNIT="$U/lib/systemd/system/df1gw@.service"
+check "the gateway's systemd unit, with the install's BINDIR" \
+	'[ -f "$UNIT" ] && grep -q "^ExecStart=/usr/bin/df1gw \$DF1GW_OPTS\$" "$UNIT" && ! grep -q "@BINDIR@" "$UNIT"'
+# systemd's own reading of the unit (unknown keys, bad values), against a copy
+# whose ExecStart exists on this machine
+if command -v systemd-analyze >/dev/null 2>&1; then
+	mkdir -p "$T/unit"
+	sed "s|^ExecStart=/usr/bin/df1gw|ExecStart=$(command -v true)|" "$UNIT" > "$T/unit/df1gw@.service"
+	(cd "$T/unit" && systemd-analyze verify --man=no ./df1gw@.service) > "$T/verify" 2>&1
+	check "systemd-analyze verify: the unit is clean" '[ ! -s "$T/verify" ]'
+	[ -s "$T/verify" ] && sed 's/^/  verify: /' "$T/verify" | head -5
+fi
 
 # ---- the installed tools ----
 expect 0 "installed df1read --version" -- "$U/bin/df1read" --version
