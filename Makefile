@@ -60,6 +60,20 @@ STATIC := $(B)/libdf1.a
 SO_FILE := libdf1.so.$(MAJOR).$(MINOR)
 SHARED := $(B)/$(SO_FILE)
 
+# The tools link libdf1 statically by default (they run from the build tree as
+# they are); TOOLS_LIB=shared links them against libdf1.so.MAJOR instead, as a
+# distribution package does (the tests then find it with LD_LIBRARY_PATH).
+TOOLS_LIB ?= static
+ifeq ($(TOOLS_LIB),shared)
+  TOOL_LIB_DEP = $(SHARED)
+  TOOL_LIB_LINK = -L$(B) -l:libdf1.so.$(MAJOR)
+  TEST_ENV = LD_LIBRARY_PATH=$(abspath $(B))$${LD_LIBRARY_PATH:+:$$LD_LIBRARY_PATH}
+else
+  TOOL_LIB_DEP = $(STATIC)
+  TOOL_LIB_LINK = $(STATIC)
+  TEST_ENV =
+endif
+
 # keep objects of chained rules (tools, tests) for quick rebuilds
 .SECONDARY:
 
@@ -75,7 +89,7 @@ endif
 
 LIB_HDRS := $(wildcard include/*.h lib/*.h lib/*/*.h)
 COMPILE = $(Q)mkdir -p $(dir $@); $(if $(Q),echo "  CC      $@";) \
-	$(CC) $(CFLAGS) $(EXTRA) $(DF1_CFLAGS)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(EXTRA) $(DF1_CFLAGS)
 
 $(B)/lib/%.o: lib/%.c $(LIB_HDRS)
 	$(COMPILE) -c -o $@ $<
@@ -94,16 +108,16 @@ $(STATIC): $(LIB_OBJS)
 
 $(SHARED): $(LIB_PIC_OBJS) lib/libdf1.map
 	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) $(CFLAGS) $(EXTRA) -shared -Wl,-soname,libdf1.so.$(MAJOR) \
+	$(Q)$(CC) $(CFLAGS) $(EXTRA) $(LDFLAGS) -shared -Wl,-soname,libdf1.so.$(MAJOR) \
 		-Wl,--version-script=lib/libdf1.map -o $@ $(LIB_PIC_OBJS) $(LIBS)
 	$(Q)ln -sf $(SO_FILE) $(B)/libdf1.so.$(MAJOR)
 	$(Q)ln -sf libdf1.so.$(MAJOR) $(B)/libdf1.so
 
 $(B)/bin/df1mon: $(TOOL_OWN_df1mon)
-$(B)/bin/%: $(B)/tools/%.o $(TOOL_COMMON_OBJS) $(STATIC)
+$(B)/bin/%: $(B)/tools/%.o $(TOOL_COMMON_OBJS) $(TOOL_LIB_DEP)
 	@mkdir -p $(dir $@)
 	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) $(CFLAGS) $(EXTRA) -o $@ $< $(TOOL_OWN_$*) $(TOOL_COMMON_OBJS) $(STATIC) $(LIBS) -lpthread
+	$(Q)$(CC) $(CFLAGS) $(EXTRA) $(LDFLAGS) -o $@ $< $(TOOL_OWN_$*) $(TOOL_COMMON_OBJS) $(TOOL_LIB_LINK) $(LIBS) -lpthread
 
 $(B)/libdf1.pc: libdf1.pc.in include/df1.h
 	$(Q)sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
@@ -112,16 +126,16 @@ $(B)/libdf1.pc: libdf1.pc.in include/df1.h
 $(B)/tests/%: $(B)/tests/%.o $(TEST_HELPER_OBJS) $(STATIC)
 	@mkdir -p $(dir $@)
 	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) $(CFLAGS) $(EXTRA) -o $@ $< $(TEST_HELPER_OBJS) $(STATIC) $(CMOCKA_LIBS) $(LIBS) -lpthread
+	$(Q)$(CC) $(CFLAGS) $(EXTRA) $(LDFLAGS) -o $@ $< $(TEST_HELPER_OBJS) $(STATIC) $(CMOCKA_LIBS) $(LIBS) -lpthread
 
 $(B)/examples/%: examples/%.c $(wildcard include/*.h) $(STATIC)
-	$(COMPILE) -o $@ $< $(STATIC) $(LIBS) -lpthread
+	$(COMPILE) $(LDFLAGS) -o $@ $< $(STATIC) $(LIBS) -lpthread
 
 tests: all $(TEST_BINS) $(EXAMPLE_BINS)
 
 # Run every test binary and shell test; the runner's last line is "N passed, N failed".
 test-run: tests
-	@B=$(B) sh tests/run-tests.sh
+	@B=$(B) $(TEST_ENV) sh tests/run-tests.sh
 
 deps:
 	@sh tools/deps.sh

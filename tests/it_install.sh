@@ -16,7 +16,7 @@ CC=${CC:-cc}
 
 [ -f Makefile ] && [ -f examples/read_n7.c ] || { echo "run from the repository root"; exit 1; }
 # a make of our own, not a part of the make that may be running this test
-unset MAKEFLAGS MFLAGS MAKELEVEL MAKEOVERRIDES SAN EXTRA
+unset MAKEFLAGS MFLAGS MAKELEVEL MAKEOVERRIDES SAN EXTRA TOOLS_LIB
 # (variables given on the outer make command line, like SAN=1 for the
 # sanitizer pass, reach us through the environment: the installed tree is
 # what a user builds, without sanitizers)
