@@ -127,6 +127,10 @@ if sim_start fsw --plc plc5 --plc5-float swapped --data "$T/data"; then
 	expect 0 "swapped write" -- "$W" -d "$SIM_DEV" --plc plc5 --plc5-float swapped F8:4=1.5
 	expect 0 "swapped read back" -- "$R" -d "$SIM_DEV" --plc plc5 --plc5-float swapped F8:4
 	out_is "swapped read back: 1.5" "1.5"
+	# written with the wrong setting, 1.5 is stored as a denormal
+	expect 0 "plain write to a swapped PLC" -- "$W" -d "$SIM_DEV" --plc plc5 F8:5=1.5
+	expect 0 "plain write: what is stored" -- "$R" -d "$SIM_DEV" --plc plc5 --plc5-float swapped F8:5
+	out_is "plain write: 1.5 stored as 2.2869e-41" "2.2869e-41"
 	sim_stop
 fi
 # the old spelling of df1sim's option is the same
@@ -159,6 +163,11 @@ for unit in bytes words; do
 		# a reader sending bytes: N7:5 goes as address 10, which is word 10
 		expect 0 "bytes against words" -- "$R" -d "$D" --plc plc2 N7:5
 		out_is "bytes against words: N7:10's value" "1010"
+		# and a write of N7:5 lands on N7:10
+		expect 0 "bytes against words: write" -- "$W" -d "$D" --plc plc2 N7:5=4321
+		expect 0 "bytes against words: what was written" -- "$R" -d "$D" --plc micrologix N7:5 N7:10
+		out_is "bytes against words: N7:10 written, N7:5 not" "555
+4321"
 		# 05's blocks address bytes: refused before anything is sent
 		expect 1 "words: no bit writes" -- "$W" -d "$D" --plc plc2 --plc2-addr words N7:5/1=1
 		err_has "words: no bit writes, why" "PLC-2 bit writes (05) address bytes"
