@@ -262,6 +262,17 @@ enum df1_option {
 	 * read only (O_RDONLY) and a TCP connection shut for sending (SHUT_WR); nothing is
 	 * ever transmitted (every send is DF1_E_NOTSUP). Set it before df1_open(). @since 0.2 */
 	DF1_OPT_LISTEN_ONLY,
+	/* 3 or 5, default 3: the words of a PLC-5 timer in typed reads (0F/68; KF2 p.130 and
+	 * VME p.81 give 5, the data table holds 3; spec 4.3, 8 item 8). A responder serving a
+	 * PLC-5 sends its timers so (5: type/data 59 0A, words 3-4 zero). A client decodes
+	 * T/C/R replies of 3 and of 5 words whatever this says, by their type/data
+	 * descriptor; with 5 it asks for no more timers in a packet than 5-word ones fit.
+	 * @since 0.3 */
+	DF1_OPT_PLC5_TIMER_WORDS,
+	/* bool, default 0: PLC-2 commands (01, 08, 05) carry the word offset (the element)
+	 * instead of the byte address 2 * element: the common interface file of an SLC or
+	 * MicroLogix with S:2/8 = 0 (spec 4.7). Client and responder. @since 0.3 */
+	DF1_OPT_PLC2_WORD_ADDR,
 };
 
 DF1_API int  df1_new(df1_t **out);      /* defaults: 19200 8N1, full duplex, CRC, station 0 */
@@ -464,6 +475,11 @@ DF1_API int  df1_decoder_set_duplex_auto(struct df1_decoder *d, bool on);
 /* Consume bytes until one symbol is complete; returns bytes consumed (sym->kind
  * NONE when all were consumed without completing one; 0 with a symbol: a duplex
  * auto ENQ that in[0] showed was no poll, in[0] to be fed again). */
+/* The link options that change how bytes decode: DF1_OPT_HD_BCC_INCLUDES_STX (default 0),
+ * DF1_OPT_ACCEPT_NAK_0F (1), DF1_OPT_EMBEDDED_RESPONSES (1), DF1_OPT_EOT_WITH_BCC (0);
+ * value 0 or 1. So a decoder reads a line as a handle with those options does. Returns 0,
+ * or DF1_E_INVAL (another option, another value). @since 0.3 */
+DF1_API int  df1_decoder_set_option(struct df1_decoder *d, enum df1_option opt, int value);
 DF1_API size_t df1_decoder_feed(struct df1_decoder *d, const uint8_t *in, size_t n, struct df1_symbol *sym);
 
 /* An application-layer message, decoded for display. */

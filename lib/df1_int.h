@@ -34,6 +34,8 @@ struct df1_config {
 	bool plc5_float_swapped;     /* PLC-5 typed 0F/68 67 floats word-swapped (spec 5) */
 	bool slc_io_82;              /* SLC O/I file type codes 82/83, not 8B/8C (spec 4.11) */
 	int max_packet;              /* 0 = per PLC type */
+	int plc5_timer_words;        /* 3 or 5: PLC-5 typed-read timers (DF1_OPT_PLC5_TIMER_WORDS) */
+	bool plc2_word_addr;         /* PLC-2 commands address words, not bytes (spec 4.7) */
 	bool listen_only;            /* DF1_OPT_LISTEN_ONLY: open read only, never transmit */
 	int line_baud;               /* pace transmitted bytes (simulator); 0 = off */
 };

@@ -203,6 +203,8 @@ int df1_new(df1_t **out)
 	h->cfg.plc5_float_swapped = false;
 	h->cfg.slc_io_82 = false;
 	h->cfg.max_packet = 0;
+	h->cfg.plc5_timer_words = 3;
+	h->cfg.plc2_word_addr = false;
 	h->cfg.line_baud = 0;
 
 	h->port = NULL;
@@ -439,6 +441,8 @@ static const char *handle_option_name(enum df1_option opt)
 	case DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED: return "PLC5_TYPED_FLOAT_SWAPPED";
 	case DF1_OPT_SLC_IO_CODES_82: return "SLC_IO_CODES_82";
 	case DF1_OPT_LISTEN_ONLY: return "LISTEN_ONLY";
+	case DF1_OPT_PLC5_TIMER_WORDS: return "PLC5_TIMER_WORDS";
+	case DF1_OPT_PLC2_WORD_ADDR: return "PLC2_WORD_ADDR";
 	}
 	return NULL;
 }
@@ -458,7 +462,8 @@ static bool *handle_option_flag(struct df1_config *c, enum df1_option opt)
 	case DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED: return &c->plc5_float_swapped;
 	case DF1_OPT_SLC_IO_CODES_82: return &c->slc_io_82;
 	case DF1_OPT_LISTEN_ONLY: return &c->listen_only;
-	case DF1_OPT_MAX_PACKET: return NULL;
+	case DF1_OPT_PLC2_WORD_ADDR: return &c->plc2_word_addr;
+	case DF1_OPT_MAX_PACKET: case DF1_OPT_PLC5_TIMER_WORDS: return NULL;
 	}
 	return NULL;
 }
@@ -483,6 +488,13 @@ int df1_set_option(df1_t *h, enum df1_option opt, int value)
 		h->cfg.max_packet = value;
 		return 0;
 	}
+	if (opt == DF1_OPT_PLC5_TIMER_WORDS) {
+		if (value != 3 && value != 5)
+			return df1_fail(h, DF1_E_CONFIG, -1,
+			                "invalid value %d for option PLC5_TIMER_WORDS: must be 3 or 5", value);
+		h->cfg.plc5_timer_words = value;
+		return 0;
+	}
 	if (value != 0 && value != 1)
 		return df1_fail(h, DF1_E_CONFIG, -1, "invalid value %d for option %s: must be 0 or 1",
 		                value, name);
@@ -505,6 +517,8 @@ int df1_get_option(const df1_t *h, enum df1_option opt)
 		return DF1_E_INVAL;
 	if (opt == DF1_OPT_MAX_PACKET)
 		return h->cfg.max_packet;
+	if (opt == DF1_OPT_PLC5_TIMER_WORDS)
+		return h->cfg.plc5_timer_words;
 	c = h->cfg;
 	flag = handle_option_flag(&c, opt);
 	return flag && *flag ? 1 : 0;

@@ -18,7 +18,12 @@
  *    DF1_OPT_SLC_IO_CODES_82 says (spec 4.11);
  *  - PLC-5 typed read/write floats: plain LE, or word-swapped [2,3,0,1] when the
  *    handle serves a PLC-5 with DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED (spec 5); word
- *    range 0F/00/01 always word-swaps them.
+ *    range 0F/00/01 always word-swaps them;
+ *  - PLC-5 typed-read timers: 3 words, or 5 (59 0A, words 3-4 zero) with
+ *    DF1_OPT_PLC5_TIMER_WORDS 5 (KF2 p.130, spec 8 item 8); typed writes take
+ *    3- and 5-word T/C/R elements either way (words 3-4 ignored);
+ *  - PLC-2 addresses: bytes, or words with DF1_OPT_PLC2_WORD_ADDR (spec 4.7;
+ *    05/02 bit writes then STS 10: their blocks address bytes).
  */
 #include "server.h"
 
@@ -298,11 +303,21 @@ static void swap_float_words(uint8_t *p, size_t n)
  * PLC-5 commands (spec 4.2-4.4)
  * ------------------------------------------------------------------------ */
 
+/* Bytes of an element on the wire in a typed reply: a timer of a PLC-5 served with
+ * DF1_OPT_PLC5_TIMER_WORDS 5 goes as 5 words (59 0A, KF2 p.130), else as stored. */
+static size_t typed_wire_size(const struct srv *s, unsigned td, size_t es)
+{
+	if (td == PCCC_TD_TIMER && es == PCCC_TCR_BYTES && s->h && s->h->cfg.plc == DF1_PLC_PLC5 &&
+	    s->h->cfg.plc5_timer_words == 5)
+		return PCCC_TCR5_BYTES;
+	return es;
+}
+
 static int srv_typed_read(struct srv *s)
 {
 	struct pccc_plc5_req r;
 	unsigned td;
-	size_t es, base, count, off;
+	size_t es, wes, base, count, off;
 	int rc, hl;
 
 	rc = pccc_dec_plc5_req(PCCC_FNC_TYPED_READ, s->m->data, s->m->len, &r);
@@ -337,10 +352,11 @@ static int srv_typed_read(struct srv *s)
 	/* as many whole elements as one reply holds: the command's address + the
 	 * reply's type/data + data <= 240 (spec 6, plc_limits.h); the address is
 	 * what the command holds between TOTAL_TRANS and SIZE */
-	count = plc5_typed_per_packet(s->m->len - 6, td, es);
+	wes = typed_wire_size(s, td, es);
+	count = plc5_typed_per_packet(s->m->len - 6, td, wes);
 	if ((size_t)r.size < count)
 		count = (size_t)r.size;
-	hl = pccc_enc_typed_array(s->data, sizeof s->data, td, (uint32_t)es, count);
+	hl = pccc_enc_typed_array(s->data, sizeof s->data, td, (uint32_t)wes, count);
 	if (hl < 0)
 		return srv_fail_sts(s, 0x10);
 	off = base + (size_t)r.pkt_offset * es;
@@ -349,7 +365,15 @@ static int srv_typed_read(struct srv *s)
 		return srv_fail_rc(s, rc);
 	if (typed_float_swapped(s, td))
 		swap_float_words(s->data + hl, count * es);
-	s->len = (size_t)hl + count * es;
+	if (wes != es) {
+		/* 5-word timers: the 3 data-table words, then two zero words; from the
+		 * last element back, so that nothing is overwritten before it moves */
+		for (size_t i = count; i-- > 0;) {
+			memmove(s->data + hl + i * wes, s->data + hl + i * es, es);
+			memset(s->data + hl + i * wes + es, 0, wes - es);
+		}
+	}
+	s->len = (size_t)hl + count * wes;
 	return 0;
 }
 
@@ -357,6 +381,9 @@ static bool typed_matches(unsigned want, size_t es, const struct pccc_typed *t)
 {
 	if (want == PCCC_TD_STRING)
 		return t->type_id == PCCC_TD_STRING && !t->is_array && t->elem_size <= DF1_STRING_MAX;
+	if (t->type_id == want && es == PCCC_TCR_BYTES && t->elem_size == PCCC_TCR5_BYTES &&
+	    (want == PCCC_TD_TIMER || want == PCCC_TD_COUNTER || want == PCCC_TD_CONTROL))
+		return true;    /* the 5-word form: words 0-2 are kept, the rest ignored */
 	if (t->elem_size != es)
 		return false;
 	if (t->type_id == want)
@@ -402,6 +429,16 @@ static int srv_typed_write(struct srv *s)
 			return srv_fail_sts(s, 0x10);
 		memcpy(buf, t.data, t.count * es);
 		swap_float_words(buf, t.count * es);
+		rc = srv_tbl_write(s, r.addr.type, r.addr.file, base + (size_t)r.pkt_offset * es, buf, NULL,
+		               t.count * es);
+	} else if (t.elem_size != es) {
+		uint8_t buf[FRAME_MAX_DATA];
+
+		/* 5-word T/C/R elements: their first 3 words */
+		if (t.count * es > sizeof buf)
+			return srv_fail_sts(s, 0x10);
+		for (size_t i = 0; i < t.count; i++)
+			memcpy(buf + i * es, t.data + i * t.elem_size, es);
 		rc = srv_tbl_write(s, r.addr.type, r.addr.file, base + (size_t)r.pkt_offset * es, buf, NULL,
 		               t.count * es);
 	} else {
@@ -569,19 +606,23 @@ static int srv_plc2(struct srv *s)
 	const uint8_t *d = s->m->data;
 	size_t n = s->m->len;
 	int file = plc2_file(s), rc;
-	uint16_t addr;
+	/* DF1_OPT_PLC2_WORD_ADDR: the address is a word offset (an SLC common
+	 * interface file with S:2/8 = 0, spec 4.7); else a byte address, even */
+	bool words = s->h && s->h->cfg.plc2_word_addr;
+	unsigned odd = words ? 0u : 1u;
+	size_t addr;
 
 	switch (s->m->cmd) {
 	case PCCC_CMD_UNPROT_READ:
-		if (n != 3 || (d[0] & 1) || d[2] == 0 || (d[2] & 1) || d[2] > PLC_PLC2_MAX)
+		if (n != 3 || (d[0] & odd) || d[2] == 0 || (d[2] & 1) || d[2] > PLC_PLC2_MAX)
 			return srv_fail_sts(s, 0x10);
 		break;
 	case PCCC_CMD_UNPROT_WRITE: case PCCC_CMD_PROT_WRITE:
-		if (n < 3 || (d[0] & 1) || n - 2 > PLC_PLC2_MAX)
+		if (n < 3 || (d[0] & odd) || n - 2 > PLC_PLC2_MAX)
 			return srv_fail_sts(s, 0x10);
 		break;
-	default:        /* 05, 02: blocks of ADDR(2) SET(1) RESET(1), up to 60 */
-		if (n == 0 || n % 4 || n / 4 > 60)
+	default:        /* 05, 02: blocks of ADDR(2) SET(1) RESET(1), up to 60; bytes only */
+		if (words || n == 0 || n % 4 || n / 4 > 60)
 			return srv_fail_sts(s, 0x10);
 		break;
 	}
@@ -589,14 +630,15 @@ static int srv_plc2(struct srv *s)
 		return srv_fail_sts(s, 0x80);      /* compatibility mode file missing */
 	switch (s->m->cmd) {
 	case PCCC_CMD_UNPROT_READ:
-		addr = le16(d);
+		addr = (size_t)le16(d) * (words ? 2u : 1u);
 		rc = srv_tbl_read(s, DF1_FT_N, file, addr, s->data, d[2]);
 		if (rc)
 			return srv_fail_plc2(s, rc);
 		s->len = d[2];
 		return 0;
 	case PCCC_CMD_UNPROT_WRITE: case PCCC_CMD_PROT_WRITE:
-		rc = srv_tbl_write(s, DF1_FT_N, file, le16(d), d + 2, NULL, n - 2);
+		addr = (size_t)le16(d) * (words ? 2u : 1u);
+		rc = srv_tbl_write(s, DF1_FT_N, file, addr, d + 2, NULL, n - 2);
 		return rc ? srv_fail_plc2(s, rc) : 0;
 	default:
 		for (size_t i = 0; i < n; i += 4) {
@@ -604,10 +646,10 @@ static int srv_plc2(struct srv *s)
 			unsigned idx;
 
 			addr = le16(d + i);
-			idx = addr & 1u;
+			idx = (unsigned)(addr & 1u);
 			mb[idx] = (uint8_t)(d[i + 2] | d[i + 3]);
 			b[idx] = (uint8_t)(d[i + 2] & ~d[i + 3]);
-			rc = srv_tbl_write(s, DF1_FT_N, file, addr & ~1u, b, mb, 2);
+			rc = srv_tbl_write(s, DF1_FT_N, file, addr & ~(size_t)1, b, mb, 2);
 			if (rc)
 				return srv_fail_plc2(s, rc);
 		}

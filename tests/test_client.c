@@ -1040,6 +1040,157 @@ static void test_client_plc5_rmw_bits_vector(void **state)
 	assert_cmd(3, "01 00 0F 00 00 00 26 0E 04 01 00 FF FF 00 20");
 }
 
+/* PLC-5 typed-read T/C/R elements of 5 words (KF2 p.130, VME p.81; spec 4.3).
+ * The type/data flag byte (spec 4.3): bits 7-4 the type ID, bits 3-0 the size;
+ * size field 1001b = one size byte follows. So a 10-byte timer (ID 5) is
+ * 0101 1001 = 59, then 0A; a counter (ID 6) 69 0A, a control (ID 7) 79 0A.
+ * An array of n of them: 99 09 LL 59 0A with LL = 2 + 10n (the descriptor's
+ * two bytes and the data). Words 0-2 are CTL, PRE/LEN, ACC/POS; words 3-4 are
+ * set to 1234h 5678h here to show they are ignored. Commands: T4:1 = logical
+ * binary 06 04 01 (spec 4.1), PKT_OFFSET TOTAL_TRANS SIZE LE; the wire frames'
+ * BCC and CRC worked out with spec 7.5's rules. */
+static void test_client_plc5_tcr_5_words_vector(void **state)
+{
+	df1_t *h = *state;
+	struct df1_tcr t[2];
+	struct df1_value v;
+	int16_t w[2];
+	bool b;
+
+	set_plc(h, DF1_PLC_PLC5);
+	/* T4:1, one element, the reply a single 5-word timer (no array) */
+	h->next_tns = 0x31;
+	script_raw_hex("00 01 4F 00 31 00 59 0A 00 E0 64 00 2A 00 34 12 78 56");
+	assert_int_equal(df1_read_tcr(h, 1, "T4:1", t, 1), 1);
+	assert_wire(0, DF1_CHECK_BCC, "10 02 01 00 0F 00 31 00 68 00 00 01 00 06 04 01 01 00 10 03 4A");
+	assert_wire(0, DF1_CHECK_CRC, "10 02 01 00 0F 00 31 00 68 00 00 01 00 06 04 01 01 00 10 03 A9 D3");
+	assert_int_equal(t[0].ctl, 0xE000);
+	assert_int_equal(t[0].pre, 100);
+	assert_int_equal(t[0].acc, 42);
+	/* T4:0 x 2 as an array: 99 09 16 59 0A (LL = 2 + 20 = 22) */
+	h->next_tns = 0x32;
+	script_raw_hex("00 01 4F 00 32 00 99 09 16 59 0A "
+	               "00 20 0A 00 05 00 34 12 78 56 "         /* T4:0: DN, PRE 10, ACC 5 */
+	               "00 80 F4 01 FF FF 34 12 78 56");        /* T4:1: EN, PRE 500, ACC -1 */
+	assert_int_equal(df1_read_tcr(h, 1, "T4:0", t, 2), 2);
+	assert_wire(1, DF1_CHECK_BCC, "10 02 01 00 0F 00 32 00 68 00 00 02 00 06 04 00 02 00 10 03 48");
+	assert_wire(1, DF1_CHECK_CRC, "10 02 01 00 0F 00 32 00 68 00 00 02 00 06 04 00 02 00 10 03 1D F9");
+	assert_int_equal(t[0].ctl, 0x2000);
+	assert_int_equal(t[0].pre, 10);
+	assert_int_equal(t[0].acc, 5);
+	assert_int_equal(t[1].ctl, 0x8000);
+	assert_int_equal(t[1].pre, 500);
+	assert_int_equal(t[1].acc, -1);
+	/* a whole element as a value: members and named bits */
+	script_raw_hex("00 01 4F 00 00 00 59 0A 00 60 64 00 2A 00 34 12 78 56");
+	assert_int_equal(df1_read(h, 1, "T4:1", &v, 1), 1);
+	assert_int_equal(v.kind, DF1_VAL_TCR);
+	assert_int_equal(v.v.tcr.ctl, 0x6000);      /* TT DN, not EN */
+	assert_int_equal(v.v.tcr.pre, 100);
+	assert_int_equal(v.v.tcr.acc, 42);
+	/* .ACC of two timers: whole elements read, word 2 of each kept */
+	script_raw_hex("00 01 4F 00 00 00 99 09 16 59 0A "
+	               "00 20 0A 00 05 00 34 12 78 56 00 80 F4 01 FF FF 34 12 78 56");
+	assert_int_equal(df1_read_int16(h, 1, "T4:0.ACC", w, 2), 2);
+	assert_cmd(3, "01 00 0F 00 00 00 68 00 00 02 00 06 04 00 02 00");
+	assert_int_equal(w[0], 5);
+	assert_int_equal(w[1], -1);
+	script_raw_hex("00 01 4F 00 00 00 99 09 16 59 0A "
+	               "00 20 0A 00 05 00 34 12 78 56 00 80 F4 01 FF FF 34 12 78 56");
+	assert_int_equal(df1_read_int16(h, 1, "T4:0.PRE", w, 2), 2);
+	assert_int_equal(w[0], 10);
+	assert_int_equal(w[1], 500);
+	/* counter C5:0 (69 0A): CU OV, PRE 7, ACC -3; control R6:2 (79 0A): DN, LEN 9, POS 4 */
+	script_raw_hex("00 01 4F 00 00 00 69 0A 00 90 07 00 FD FF 34 12 78 56");
+	assert_int_equal(df1_read_tcr(h, 1, "C5:0", t, 1), 1);
+	assert_cmd(5, "01 00 0F 00 00 00 68 00 00 01 00 06 05 00 01 00");
+	assert_int_equal(t[0].ctl, 0x9000);
+	assert_int_equal(t[0].pre, 7);
+	assert_int_equal(t[0].acc, -3);
+	script_raw_hex("00 01 4F 00 00 00 79 0A 00 20 09 00 04 00 34 12 78 56");
+	assert_int_equal(df1_read(h, 1, "R6:2", &v, 1), 1);
+	assert_int_equal(v.v.tcr.ctl, 0x2000);
+	assert_int_equal(v.v.tcr.pre, 9);
+	assert_int_equal(v.v.tcr.acc, 4);
+	/* C5:0/OV of a 5-word counter: the whole element is not needed, the bit
+	 * read asks for the control word (level 4 = 0) and gets an integer */
+	script_raw_hex("00 01 4F 00 00 00 42 00 90");
+	assert_int_equal(df1_read_bit(h, 1, "C5:0/OV", &b), 0);
+	assert_cmd(7, "01 00 0F 00 00 00 68 00 00 01 00 0E 05 00 00 01 00");
+	assert_true(b);
+	/* 4 words (59 08) is neither form */
+	script_raw_hex("00 01 4F 00 00 00 59 08 00 E0 64 00 2A 00 00 00");
+	assert_int_equal(df1_read_tcr(h, 1, "T4:1", t, 1), DF1_E_BAD_REPLY);
+	assert_non_null(strstr(df1_last_error(h)->message, "8 bytes, expected 6 or 10"));
+}
+
+/* A PLC-5 cuts a typed-read reply to 240 bytes (spec 6): 38 timers asked after
+ * T4:0's 3-byte address, 23 five-word timers come (3 + 5 + 230 = 238; 24: 248):
+ * the client takes them and asks for the other 15 at PKT_OFFSET 23 (17h),
+ * TOTAL_TRANS 38 (26h). A reply of fewer that is not full is refused. */
+static void test_client_plc5_timer_5_words_full_reply(void **state)
+{
+	df1_t *h = *state;
+	static struct df1_tcr t[38];
+	struct script *sc;
+
+	set_plc(h, DF1_PLC_PLC5);
+	h->next_tns = 0x35;
+	for (int part = 0; part < 2; part++) {
+		size_t n = part ? 15 : 23, k = 0;
+
+		sc = script_add(SC_RAW);
+		sc->b[k++] = 0x00; sc->b[k++] = 0x01; sc->b[k++] = 0x4F; sc->b[k++] = 0x00;
+		sc->b[k++] = (uint8_t)(0x35 + part); sc->b[k++] = 0x00;
+		sc->b[k++] = 0x99; sc->b[k++] = 0x09; sc->b[k++] = (uint8_t)(2 + 10 * n);
+		sc->b[k++] = 0x59; sc->b[k++] = 0x0A;
+		for (size_t i = 0; i < n; i++) {
+			size_t e = (part ? 23 : 0) + i;
+
+			put_le16(sc->b + k, 0x2000);            /* DN */
+			put_le16(sc->b + k + 2, (uint16_t)(1000 + e));
+			put_le16(sc->b + k + 4, (uint16_t)e);
+			put_le16(sc->b + k + 6, 0x1234);
+			put_le16(sc->b + k + 8, 0x5678);
+			k += 10;
+		}
+		sc->n = k;
+	}
+	assert_int_equal(df1_read_tcr(h, 1, "T4:0", t, 38), 38);
+	assert_int_equal(ncmds, 2);
+	assert_wire(0, DF1_CHECK_BCC, "10 02 01 00 0F 00 35 00 68 00 00 26 00 06 04 00 26 00 10 03 FD");
+	assert_wire(0, DF1_CHECK_CRC, "10 02 01 00 0F 00 35 00 68 00 00 26 00 06 04 00 26 00 10 03 55 5E");
+	assert_wire(1, DF1_CHECK_BCC, "10 02 01 00 0F 00 36 00 68 17 00 26 00 06 04 00 0F 00 10 03 FC");
+	assert_wire(1, DF1_CHECK_CRC, "10 02 01 00 0F 00 36 00 68 17 00 26 00 06 04 00 0F 00 10 03 31 1A");
+	for (int e = 0; e < 38; e++) {
+		assert_int_equal(t[e].ctl, 0x2000);
+		assert_int_equal(t[e].pre, 1000 + e);
+		assert_int_equal(t[e].acc, e);
+	}
+	/* 10 five-word timers for 38 asked: not a full reply */
+	mock_reset();
+	script_raw_hex("00 01 4F 00 00 00 99 09 66 59 0A "
+	               "00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 "
+	               "00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 "
+	               "00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 "
+	               "00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 "
+	               "00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00");
+	assert_int_equal(df1_read_tcr(h, 1, "T4:0", t, 38), DF1_E_BAD_REPLY);
+	assert_non_null(strstr(df1_last_error(h)->message, "reply has 10 elements, asked 38"));
+	/* told the PLC sends 5 words (DF1_OPT_PLC5_TIMER_WORDS), it asks for 23 at once */
+	mock_reset();
+	assert_int_equal(df1_set_option(h, DF1_OPT_PLC5_TIMER_WORDS, 5), 0);
+	plc5_ftype[4] = 'T';
+	assert_int_equal(df1_read_tcr(h, 1, "T4:0", t, 38), 38);
+	assert_int_equal(ncmds, 2);
+	assert_cmd(0, "01 00 0F 00 00 00 68 00 00 26 00 06 04 00 17 00");
+	assert_cmd(1, "01 00 0F 00 00 00 68 17 00 26 00 06 04 00 0F 00");
+	/* counters and controls stay planned at 3 words: 38 in one */
+	plc5_ftype[5] = 'C';
+	assert_int_equal(df1_read_tcr(h, 1, "C5:0", t, 38), 38);
+	assert_cmd(2, "01 00 0F 00 00 00 68 00 00 26 00 06 05 00 26 00");
+}
+
 /* ------------------------------------------------------------------------
  * Packet boundaries (spec 6): for every PLC type and file type, the largest
  * count goes in one packet and one more in two. The counts are worked out
@@ -1338,6 +1489,48 @@ static void test_client_plc2_ke_vectors(void **state)
 	}
 }
 
+/* DF1_OPT_PLC2_WORD_ADDR (spec 4.7: the common interface file of an SLC or a
+ * MicroLogix with S:2/8 = 0 takes the word offset): the KE vectors with word
+ * 20 = 0014h where the byte address was 0028h (frames' BCC/CRC per spec 7.5);
+ * SIZE stays in bytes; N7:5 is address 0005h, not 000Ah; the 05 bit write,
+ * whose blocks address bytes, is refused before anything is sent. */
+static void test_client_plc2_word_addresses(void **state)
+{
+	df1_t *h = *state;
+	int16_t w[4] = { 0x1122, 0x3344, 0x5566, 0x7788 }, r[4];
+
+	set_plc(h, DF1_PLC_PLC2);
+	assert_int_equal(df1_set_station(h, 0x20), 0);
+	assert_int_equal(df1_set_option(h, DF1_OPT_PLC2_WORD_ADDR, 1), 0);
+	h->next_tns = 0x0144;
+	assert_int_equal(df1_write_int16(h, 0x29, "N7:20", w, 4), 4);
+	assert_wire(0, DF1_CHECK_BCC,
+	            "10 02 29 20 08 00 44 01 14 00 22 11 44 33 66 55 88 77 10 03 F2");
+	assert_wire(0, DF1_CHECK_CRC,
+	            "10 02 29 20 08 00 44 01 14 00 22 11 44 33 66 55 88 77 10 03 2D 88");
+	h->next_tns = 0x0145;
+	script_raw_hex("20 29 41 00 45 01 22 11 44 33 66 55 88 77");
+	assert_int_equal(df1_read_int16(h, 0x29, "N7:20", r, 4), 4);
+	assert_wire(1, DF1_CHECK_BCC, "10 02 29 20 01 00 45 01 14 00 08 10 03 54");
+	assert_wire(1, DF1_CHECK_CRC, "10 02 29 20 01 00 45 01 14 00 08 10 03 F8 2C");
+	assert_memory_equal(r, w, sizeof w);
+	script_raw_hex("20 29 41 00 00 00 2B 02");
+	assert_int_equal(df1_read_int16(h, 0x29, "N7:5", r, 1), 1);
+	assert_cmd(2, "29 20 01 00 00 00 05 00 02");
+	assert_int_equal(r[0], 555);
+	assert_int_equal(df1_write_bit(h, 0x29, "N7:20/9", true), DF1_E_NOTSUP);
+	assert_int_equal(ncmds, 3);
+	/* word offsets reach 65535; bytes stop at word 32767 */
+	script_raw_hex("20 29 41 00 00 00 01 00");
+	assert_int_equal(df1_read_int16(h, 0x29, "N7:999", r, 1), 1);
+	assert_cmd(3, "29 20 01 00 00 00 E7 03 02");
+	/* and bytes again (the default): N7:5 = 000Ah */
+	assert_int_equal(df1_set_option(h, DF1_OPT_PLC2_WORD_ADDR, 0), 0);
+	script_raw_hex("20 29 41 00 00 00 2B 02");
+	assert_int_equal(df1_read_int16(h, 0x29, "N7:5", r, 1), 1);
+	assert_cmd(4, "29 20 01 00 00 00 0A 00 02");
+}
+
 /* ------------------------------------------------------------------------
  * Diagnostics and generic commands
  * ------------------------------------------------------------------------ */
@@ -1425,12 +1618,15 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_client_plc5_typed_read_ascii_vector, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_typed_write_vector, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_rmw_bits_vector, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_client_plc5_tcr_5_words_vector, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_client_plc5_timer_5_words_full_reply, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_split_300, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_packet_boundaries, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_float_and_timer, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_typed_float_swapped_option, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_strings_one_per_packet, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc2_ke_vectors, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_client_plc2_word_addresses, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_diag_echo_mode, setup, teardown),
 	};
 

@@ -1166,6 +1166,75 @@ static void test_frame_public_decoder(void **state)
 	df1_decoder_free(d);
 }
 
+/* df1_decoder_set_option: the master message of spec 7.3 to station 1 ends in
+ * A8 (BCC over STN + data, derived-hd-master-A2-stn1) and would end in A6 with
+ * STX summed too (spec 2.2, [UNCERTAIN]); each reading takes its own and
+ * reports the other as a bad BCC. DLE 0F, embedded responses, the EOT trailer
+ * follow their options; others are refused. */
+static void test_frame_public_decoder_options(void **state)
+{
+	const struct vec *v = vec_named("derived-hd-master-A2-stn1/bcc");
+	uint8_t stx[64];
+	struct df1_decoder *d = NULL;
+	struct df1_symbol s;
+	static const uint8_t nak0f[] = { 0x10, 0x0F }, eot_bcc[] = { 0x10, 0x04, 0xFC, 0x10, 0x06 };
+
+	(void)state;
+	assert_non_null(v);
+	assert_int_equal(v->wire[v->n - 1], 0xA8);
+	memcpy(stx, v->wire, v->n);
+	stx[v->n - 1] = 0xA6;
+	assert_int_equal(df1_decoder_new(&d, DF1_CHECK_BCC), DF1_OK);
+	/* default: STN + data */
+	assert_int_equal(df1_decoder_feed(d, v->wire, v->n, &s), v->n);
+	assert_true(s.kind == DF1_SYM_FRAME && s.master_msg && s.check_ok);
+	assert_int_equal(df1_decoder_feed(d, stx, v->n, &s), v->n);
+	assert_true(s.kind == DF1_SYM_FRAME && !s.check_ok);
+	assert_int_equal(s.check_expected, 0xA8);
+	assert_int_equal(s.check_actual, 0xA6);
+	/* STX summed too */
+	assert_int_equal(df1_decoder_set_option(d, DF1_OPT_HD_BCC_INCLUDES_STX, 1), DF1_OK);
+	assert_int_equal(df1_decoder_feed(d, stx, v->n, &s), v->n);
+	assert_true(s.kind == DF1_SYM_FRAME && s.master_msg && s.check_ok);
+	assert_memory_equal(s.data, v->app, v->app_len);
+	assert_int_equal(df1_decoder_feed(d, v->wire, v->n, &s), v->n);
+	assert_true(s.kind == DF1_SYM_FRAME && !s.check_ok);
+	assert_int_equal(s.check_expected, 0xA6);
+	assert_int_equal(df1_decoder_set_option(d, DF1_OPT_HD_BCC_INCLUDES_STX, 0), DF1_OK);
+	assert_int_equal(df1_decoder_feed(d, v->wire, v->n, &s), v->n);
+	assert_true(s.check_ok);
+	/* DLE 0F: NAK by default, an invalid DLE sequence without the option */
+	assert_int_equal(df1_decoder_set_option(d, DF1_OPT_ACCEPT_NAK_0F, 0), DF1_OK);
+	df1_decoder_feed(d, nak0f, 2, &s);
+	assert_int_equal(s.kind, DF1_SYM_ERROR);
+	assert_int_equal(df1_decoder_set_option(d, DF1_OPT_ACCEPT_NAK_0F, 1), DF1_OK);
+	df1_decoder_feed(d, nak0f, 2, &s);
+	assert_int_equal(s.kind, DF1_SYM_NAK);
+	/* a byte after DLE EOT skipped with DF1_OPT_EOT_WITH_BCC */
+	assert_int_equal(df1_decoder_set_option(d, DF1_OPT_EOT_WITH_BCC, 1), DF1_OK);
+	{
+		size_t pos = 0, k;
+		enum df1_sym got[4];
+		int ng = 0;
+
+		while (pos < sizeof eot_bcc && ng < 4) {
+			k = df1_decoder_feed(d, eot_bcc + pos, sizeof eot_bcc - pos, &s);
+			pos += k;
+			if (s.kind != DF1_SYM_NONE)
+				got[ng++] = s.kind;
+		}
+		assert_int_equal(ng, 2);
+		assert_int_equal(got[0], DF1_SYM_EOT);
+		assert_int_equal(got[1], DF1_SYM_ACK);
+	}
+	/* not decoding options, not a value */
+	assert_int_equal(df1_decoder_set_option(d, DF1_OPT_RS485, 1), DF1_E_INVAL);
+	assert_int_equal(df1_decoder_set_option(d, DF1_OPT_HD_BCC_INCLUDES_STX, 2), DF1_E_INVAL);
+	assert_int_equal(df1_decoder_set_option(NULL, DF1_OPT_HD_BCC_INCLUDES_STX, 1), DF1_E_INVAL);
+	assert_int_equal(df1_decoder_set_option(d, DF1_OPT_EMBEDDED_RESPONSES, 0), DF1_OK);
+	df1_decoder_free(d);
+}
+
 /* Auto duplex (spec 2.1 poll DLE ENQ STN BCC, BCC = two's complement of STN,
  * STN 10h stuffed; spec 1.3 full-duplex DLE ENQ): the same symbols whatever the
  * pieces the bytes come in. */
@@ -1287,6 +1356,7 @@ int main(int argc, char **argv)
 	const char *env = getenv("DF1_VECTORS");
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_frame_crc16_check_value_bb3d),
+		cmocka_unit_test(test_frame_public_decoder_options),
 		cmocka_unit_test(test_frame_bcc_manual_examples),
 		cmocka_unit_test(test_frame_vectors_decode_one_good_symbol),
 		cmocka_unit_test(test_frame_vectors_reencode_byte_for_byte),

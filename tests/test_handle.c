@@ -368,7 +368,7 @@ static void test_handle_options(void **state)
 		DF1_OPT_DUPLICATE_DETECT, DF1_OPT_EMBEDDED_RESPONSES, DF1_OPT_HD_BCC_INCLUDES_STX,
 		DF1_OPT_ACCEPT_NAK_0F, DF1_OPT_RS485, DF1_OPT_ECHO_DISCARD, DF1_OPT_EOT_WITH_BCC,
 		DF1_OPT_LOCAL_TCP, DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED, DF1_OPT_SLC_IO_CODES_82,
-		DF1_OPT_LISTEN_ONLY,
+		DF1_OPT_LISTEN_ONLY, DF1_OPT_PLC2_WORD_ADDR,
 	};
 	df1_t *h = *state;
 	size_t i;
@@ -390,6 +390,15 @@ static void test_handle_options(void **state)
 	expect_config_range(h, df1_set_option(h, DF1_OPT_MAX_PACKET, -1), "MAX_PACKET", "1..250");
 	expect_config_range(h, df1_set_option(h, DF1_OPT_MAX_PACKET, 251), "MAX_PACKET", "1..250");
 	assert_int_equal(df1_get_option(h, DF1_OPT_MAX_PACKET), 82);
+	/* PLC-5 typed-read timers: 3 words (the data table's) by default, or 5 */
+	assert_int_equal(df1_get_option(h, DF1_OPT_PLC5_TIMER_WORDS), 3);
+	assert_int_equal(df1_set_option(h, DF1_OPT_PLC5_TIMER_WORDS, 5), 0);
+	assert_int_equal(df1_get_option(h, DF1_OPT_PLC5_TIMER_WORDS), 5);
+	expect_config_range(h, df1_set_option(h, DF1_OPT_PLC5_TIMER_WORDS, 4), "PLC5_TIMER_WORDS", "3 or 5");
+	expect_config_range(h, df1_set_option(h, DF1_OPT_PLC5_TIMER_WORDS, 1), "PLC5_TIMER_WORDS", "3 or 5");
+	assert_int_equal(df1_get_option(h, DF1_OPT_PLC5_TIMER_WORDS), 5);
+	assert_int_equal(df1_set_option(h, DF1_OPT_PLC5_TIMER_WORDS, 3), 0);
+	assert_int_equal(df1_get_option(h, DF1_OPT_PLC2_WORD_ADDR), 0);  /* bytes by default */
 	assert_int_equal(df1_set_option(h, (enum df1_option)0, 1), DF1_E_INVAL);
 	assert_int_equal(df1_set_option(h, (enum df1_option)99, 1), DF1_E_INVAL);
 	/* the enum only grows at its end: existing values keep their numbers */
@@ -397,9 +406,11 @@ static void test_handle_options(void **state)
 	assert_int_equal(DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED, 10);
 	assert_int_equal(DF1_OPT_SLC_IO_CODES_82, 11);
 	assert_int_equal(DF1_OPT_LISTEN_ONLY, 12);
+	assert_int_equal(DF1_OPT_PLC5_TIMER_WORDS, 13);
+	assert_int_equal(DF1_OPT_PLC2_WORD_ADDR, 14);
 	/* the first value past the end is not an option */
-	assert_int_equal(df1_set_option(h, (enum df1_option)13, 1), DF1_E_INVAL);
-	assert_int_equal(df1_get_option(h, (enum df1_option)13), DF1_E_INVAL);
+	assert_int_equal(df1_set_option(h, (enum df1_option)15, 1), DF1_E_INVAL);
+	assert_int_equal(df1_get_option(h, (enum df1_option)15), DF1_E_INVAL);
 	assert_int_equal(df1_get_option(h, (enum df1_option)99), DF1_E_INVAL);
 }
 

@@ -792,6 +792,42 @@ static void test_pccc_typedata_encodes_shortest(void **state)
 	assert_bytes(out, pccc_enc_typed_array(out, sizeof out, PCCC_TD_FLOAT, 4, 2), "99 09 0A 94 08");
 	assert_bytes(out, pccc_enc_typed_array(out, sizeof out, PCCC_TD_INTEGER, 2, 200),
 	             "9A 09 91 01 42");
+	/* 5-word timers (KF2 p.130): type 5, size 10 in one extra byte: 59 0A; 23 of
+	 * them make an array of 2 + 230 = E8h bytes */
+	assert_bytes(out, pccc_enc_typedata(out, sizeof out, PCCC_TD_TIMER, 10), "59 0A");
+	assert_bytes(out, pccc_enc_typed_array(out, sizeof out, PCCC_TD_TIMER, 10, 23), "99 09 E8 59 0A");
+	assert_bytes(out, pccc_enc_typed_array(out, sizeof out, PCCC_TD_TIMER, 6, 38), "99 09 E5 56");
+}
+
+/* T/C/R elements of 5 words as a typed reply brings them: one element, or an
+ * array whose descriptor is 59 0A / 69 0A / 79 0A (spec 4.3 flag byte rules). */
+static void test_pccc_typed_tcr_5_words(void **state)
+{
+	uint8_t b[64];
+	size_t n;
+	struct pccc_typed t;
+	(void)state;
+
+	n = hex("59 0A 00 E0 64 00 2A 00 34 12 78 56", b, sizeof b);
+	assert_int_equal(pccc_dec_typed(b, n, &t), 0);
+	assert_int_equal(t.type_id, PCCC_TD_TIMER);
+	assert_int_equal(t.elem_size, 10);
+	assert_false(t.is_array);
+	assert_int_equal(t.count, 1);
+	assert_int_equal(t.consumed, n);
+	assert_ptr_equal(t.data, b + 2);
+	n = hex("99 09 16 69 0A 00 90 07 00 FD FF 00 00 00 00 00 10 09 00 03 00 00 00 00 00", b, sizeof b);
+	assert_int_equal(pccc_dec_typed(b, n, &t), 0);
+	assert_int_equal(t.type_id, PCCC_TD_COUNTER);
+	assert_int_equal(t.elem_size, 10);
+	assert_true(t.is_array);
+	assert_int_equal(t.count, 2);
+	assert_ptr_equal(t.data, b + 5);
+	n = hex("99 09 0C 79 0A 00 20 09 00 04 00 00 00 00 00", b, sizeof b);
+	assert_int_equal(pccc_dec_typed(b, n, &t), 0);
+	assert_int_equal(t.type_id, PCCC_TD_CONTROL);
+	assert_int_equal(t.elem_size, 10);
+	assert_int_equal(t.count, 1);
 }
 
 static void test_pccc_typed_arrays_from_manual_and_vector(void **state)
@@ -1369,6 +1405,7 @@ int main(void)
 		cmocka_unit_test(test_pccc_encode_reply_swaps_and_echoes_tns),
 		cmocka_unit_test(test_pccc_typedata_decodes_all_forms),
 		cmocka_unit_test(test_pccc_typedata_encodes_shortest),
+		cmocka_unit_test(test_pccc_typed_tcr_5_words),
 		cmocka_unit_test(test_pccc_typed_arrays_from_manual_and_vector),
 		cmocka_unit_test(test_pccc_diag_status_slc_form),
 		cmocka_unit_test(test_pccc_diag_status_plc5_interface_and_other),

@@ -750,7 +750,9 @@ static void test_coalesce_slc502_limit(void **state)
 static void test_coalesce_plc5_station_order(void **state)
 {
 	struct fix *f = *state;
-	static const char *const args[] = { "--plc", "plc5", "--station", "1-3", NULL };
+	/* timers in the data-table form (3 words): 38 a packet */
+	static const char *const args[] = { "--plc", "plc5", "--plc5-timer-words", "3", "--station", "1-3",
+		                            NULL };
 	static const char *const want[] = {
 		"station=1 cmd=0F/68 addr=F8:0 count=58", "station=1 cmd=0F/68 addr=F8:58 count=12",
 		"station=2 cmd=0F/68 addr=T4:0 count=30",

@@ -475,9 +475,56 @@ static void test_slc502_limit(void **state)
  * 99 09 LL + descriptor 42 / 44 / 56 / 66 / 76 (1 byte) or 94 08 (float)):
  * the largest count goes in one 0F/68 or 0F/67, one more in two, counted
  * in df1sim's frame log; the values read are df1sim's initial ones. */
-static void test_plc5_packet_boundaries(void **state)
+/* PLC-5 timers in the 5-word form of KF2 p.130 (df1sim's default for --plc plc5:
+ * type/data 99 09 LL 59 0A, spec 4.3): 3 + 5 + 10 * 23 = 238 <= 240, 24: 248.
+ * A client told so (DF1_OPT_PLC5_TIMER_WORDS 5) asks for 23 and 24 goes in two; one
+ * that plans 3-word timers asks for 38, takes the full reply of 23 and asks for the
+ * other 15; either way every member is df1sim's, counted in its frame log. */
+static void test_plc5_timer_words_5_packets(void **state)
 {
 	static const char *const args[] = { "--plc", "plc5", NULL };
+	struct fix *f = *state;
+	static struct df1_tcr t[40];
+	int seen = 0;
+
+	start_data(f, "T4:22=PRE=122 ACC=22 DN=1\nT4:23=PRE=123 ACC=23 EN=1\nT4:37=PRE=137 ACC=37 TT=1\n",
+	           args, DF1_PLC_PLC5, false);
+	assert_int_equal(df1_set_option(f->h, DF1_OPT_PLC5_TIMER_WORDS, 5), 0);
+	assert_int_equal(df1_read_tcr(f->h, 1, "T4:0", t, 23), 23);
+	seen++;
+	assert_int_equal(log_wait(f, seen), seen);
+	assert_int_equal(log_count(f, "addr=T4:0 count=23 "), 1);
+	assert_int_equal(t[22].pre, 122);
+	assert_int_equal(t[22].acc, 22);
+	assert_int_equal(t[22].ctl, 0x2000);
+	assert_int_equal(df1_read_tcr(f->h, 1, "T4:0", t, 24), 24);
+	seen += 2;
+	assert_int_equal(log_wait(f, seen), seen);
+	/* the log names each packet by the start address and its own count */
+	assert_int_equal(log_count(f, "addr=T4:0 count=23 "), 2);
+	assert_int_equal(log_count(f, "addr=T4:0 count=1 "), 1);
+	assert_int_equal(t[23].pre, 123);
+	assert_int_equal(t[23].ctl, 0x8000);
+	/* planned as 3-word timers: 38 asked, 23 come, the next packet asks for 15 */
+	assert_int_equal(df1_set_option(f->h, DF1_OPT_PLC5_TIMER_WORDS, 3), 0);
+	memset(t, 0, sizeof t);
+	assert_int_equal(df1_read_tcr(f->h, 1, "T4:0", t, 38), 38);
+	seen += 2;
+	assert_int_equal(log_wait(f, seen), seen);
+	assert_int_equal(log_count(f, "addr=T4:0 count=38 "), 1);
+	assert_int_equal(log_count(f, "addr=T4:0 count=15 "), 1);
+	assert_int_equal(log_count(f, NULL), seen);
+	assert_int_equal(t[22].acc, 22);
+	assert_int_equal(t[23].acc, 23);
+	assert_int_equal(t[37].pre, 137);
+	assert_int_equal(t[37].ctl, 0x4000);
+	assert_int_equal(t[36].pre, 100);   /* df1sim's initial timers: PRE 100 */
+}
+
+static void test_plc5_packet_boundaries(void **state)
+{
+	/* the data-table form of T/C/R (3 words); the 5-word timers: below */
+	static const char *const args[] = { "--plc", "plc5", "--plc5-timer-words", "3", NULL };
 	static const struct { const char *addr; int max; } c[] = {
 		{ "N7:0", 116 },        /* 3 + 4 + 2 * 116 = 239 */
 		{ "N7:130", 116 },
@@ -588,6 +635,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_bad_address_keeps_others, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_slc502_limit, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_plc5_packet_boundaries, fix_setup, fix_teardown),
+		cmocka_unit_test_setup_teardown(test_plc5_timer_words_5_packets, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_no_answer_ends_call, fix_setup, fix_teardown),
 	};
 

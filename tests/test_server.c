@@ -528,6 +528,74 @@ static void test_server_plc5_typed_float_swapped(void **state)
 	             "00 01 4F 00 09 00 99 09 06 94 08 00 00 C0 3F");
 }
 
+/* A handle serving a PLC-5 with DF1_OPT_PLC5_TIMER_WORDS 5: typed-read timers go
+ * as the 5 words of KF2 p.130 (spec 4.3): type/data 99 09 LL 59 0A, LL = 2 + 10n
+ * (flag 59: type 5, one size byte 0A follows), words 0-2 from the data table,
+ * words 3-4 zero; sub-elements stay integers, counters stay 3 words; the reply
+ * limit counts 10 bytes a timer; writes take 3- and 5-word elements either way. */
+static void test_server_plc5_timer_words_5(void **state)
+{
+	uint8_t r[300];
+	int n;
+
+	(void)state;
+	handle.cfg.plc = DF1_PLC_PLC5;
+	handle.cfg.plc5_timer_words = 5;
+	/* T4:1 = CTL 0, PRE 100, ACC 11 */
+	expect_reply("01 00 0F 00 02 00 68 00 00 01 00 06 04 01 01 00",
+	             "00 01 4F 00 02 00 99 09 0C 59 0A 00 00 64 00 0B 00 00 00 00 00");
+	/* T4:0 x 2: LL = 2 + 20 = 16h */
+	expect_reply("01 00 0F 00 03 00 68 00 00 02 00 06 04 00 02 00",
+	             "00 01 4F 00 03 00 99 09 16 59 0A 00 00 64 00 0A 00 00 00 00 00 "
+	             "00 00 64 00 0B 00 00 00 00 00");
+	/* T4:1.ACC: an integer word, as before */
+	expect_reply("01 00 0F 00 04 00 68 00 00 01 00 0E 04 01 02 01 00",
+	             "00 01 4F 00 04 00 99 09 03 42 0B 00");
+	/* 39 timers asked (T14): 3 + 5 (99 09 E8 59 0A) + 10 * 23 = 238; 24 would be 248 */
+	tfile_init(14, DF1_FT_T, 300);
+	n = run("01 00 0F 00 05 00 68 00 00 27 00 06 0E 00 27 00", r, sizeof r);
+	assert_memory_equal(r + 6, "\x99\x09\xE8\x59\x0A", 5);
+	assert_int_equal(n - 6 - 5, 230);
+	/* a 5-byte address (T14:255): 5 + 5 + 230 = 240 */
+	n = run("01 00 0F 00 06 00 68 00 00 27 00 06 0E FF FF 00 27 00", r, sizeof r);
+	assert_memory_equal(r + 6, "\x99\x09\xE8\x59\x0A", 5);
+	assert_int_equal(n - 6 - 5, 230);
+	/* counters keep their 3 words (KF2: "counter elements return three words") */
+	tfile_init(5, DF1_FT_C, 4);
+	put_le16(elem_ptr(5, 0) + 2, 7);
+	expect_reply("01 00 0F 00 07 00 68 00 00 01 00 06 05 00 01 00",
+	             "00 01 4F 00 07 00 99 09 07 66 00 00 07 00 00 00");
+	/* a 5-word timer written: words 0-2 kept, 3-4 ignored */
+	expect_reply("01 00 0F 00 08 00 67 00 00 01 00 06 04 02 59 0A 00 80 F4 01 05 00 AA AA BB BB",
+	             "00 01 4F 00 08 00");
+	assert_int_equal(word(4, 2), 0x8000);
+	assert_int_equal(le16(elem_ptr(4, 2) + 2), 500);
+	assert_int_equal(le16(elem_ptr(4, 2) + 4), 5);
+	assert_int_equal(word(4, 3), 0);    /* T4:3 untouched */
+	assert_int_equal(le16(elem_ptr(4, 3) + 2), 100);
+	/* ... and the 3-word form still */
+	expect_reply("01 00 0F 00 09 00 67 00 00 01 00 06 04 03 99 09 07 56 00 20 0A 00 01 00",
+	             "00 01 4F 00 09 00");
+	assert_int_equal(word(4, 3), 0x2000);
+	assert_int_equal(le16(elem_ptr(4, 3) + 4), 1);
+	/* a 5-word counter too, in an array: 99 09 0C 69 0A */
+	expect_reply("01 00 0F 00 0A 00 67 00 00 01 00 06 05 01 99 09 0C 69 0A 00 10 09 00 03 00 00 00 00 00",
+	             "00 01 4F 00 0A 00");
+	assert_int_equal(word(5, 1), 0x1000);
+	assert_int_equal(le16(elem_ptr(5, 1) + 2), 9);
+	/* 4 words is neither form */
+	expect_status("01 00 0F 00 0B 00 67 00 00 01 00 06 04 01 59 08 00 80 F4 01 05 00 AA AA", 0xF0, 0x11);
+	/* the default, 3 words */
+	handle.cfg.plc5_timer_words = 3;
+	expect_reply("01 00 0F 00 0C 00 68 00 00 01 00 06 04 01 01 00",
+	             "00 01 4F 00 0C 00 99 09 07 56 00 00 64 00 0B 00");
+	/* a handle that does not serve a PLC-5 sends 3 words with the option set */
+	handle.cfg.plc5_timer_words = 5;
+	handle.cfg.plc = DF1_PLC_SLC;
+	expect_reply("01 00 0F 00 0D 00 68 00 00 01 00 06 04 01 01 00",
+	             "00 01 4F 00 0D 00 99 09 07 56 00 00 64 00 0B 00");
+}
+
 static void test_server_plc5_word_range(void **state)
 {
 	(void)state;
@@ -602,6 +670,31 @@ static void test_server_plc2_ke_vectors(void **state)
 	handle.cfg.plc = DF1_PLC_PLC5;
 	tbl.files[9] = NULL;
 	expect_status("29 20 01 00 49 01 00 00 02", 0x80, -1);
+}
+
+/* DF1_OPT_PLC2_WORD_ADDR (spec 4.7: an SLC or MicroLogix common interface file
+ * with S:2/8 = 0): the address is the word offset, SIZE still bytes. The KE
+ * vectors' byte address 28h is word 14h here; odd word offsets are fine; 05's
+ * byte blocks have no meaning with word addresses: STS 10. */
+static void test_server_plc2_word_addresses(void **state)
+{
+	(void)state;
+	handle.cfg.plc2_word_addr = true;
+	expect_reply("29 20 08 00 44 01 14 00 22 11 44 33 66 55 88 77", "20 29 48 00 44 01");
+	assert_int_equal(word(9, 20), 0x1122);
+	assert_int_equal(word(9, 23), 0x7788);
+	expect_reply("29 20 01 00 45 01 14 00 08", "20 29 41 00 45 01 22 11 44 33 66 55 88 77");
+	expect_reply("29 20 01 00 46 01 15 00 02", "20 29 41 00 46 01 44 33");        /* word 21 */
+	expect_status("29 20 05 00 47 01 29 00 80 01", 0x10, -1);
+	assert_int_equal(word(9, 20), 0x1122);
+	expect_status("29 20 01 00 48 01 20 00 02", 0x50, -1);      /* word 32: past N9 */
+	expect_status("29 20 01 00 48 01 10 00 03", 0x10, -1);      /* odd size */
+	/* MicroLogix: N7, word 6 = 6 */
+	handle.cfg.plc = DF1_PLC_MICROLOGIX;
+	expect_reply("29 20 01 00 49 01 06 00 02", "20 29 41 00 49 01 06 00");
+	/* bytes again: 06 is N7:3 */
+	handle.cfg.plc2_word_addr = false;
+	expect_reply("29 20 01 00 4A 01 06 00 02", "20 29 41 00 4A 01 03 00");
 }
 
 /* ------------------------------------------------------------------------
@@ -732,6 +825,8 @@ int main(void)
 		cmocka_unit_test_setup(test_server_plc5_word_range, setup),
 		cmocka_unit_test_setup(test_server_plc5_rmw_and_bit_write, setup),
 		cmocka_unit_test_setup(test_server_plc2_ke_vectors, setup),
+		cmocka_unit_test_setup(test_server_plc2_word_addresses, setup),
+		cmocka_unit_test_setup(test_server_plc5_timer_words_5, setup),
 		cmocka_unit_test_setup(test_server_diag_status_default_is_slc504, setup),
 		cmocka_unit_test_setup(test_server_diag_status_callback, setup),
 		cmocka_unit_test_setup(test_server_echo_mode_and_unknown, setup),

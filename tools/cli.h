@@ -54,6 +54,18 @@ enum cli_opt_id {
 	CLI_OPT_FORMAT,      /* -f/--format plain|csv|json */
 	CLI_OPT_VERBOSE,     /* -v (repeatable) */
 	CLI_OPT_QUIET,       /* -q */
+	/* the link and PLC options of df1_set_option(3) (cli_opts.c's table maps them) */
+	CLI_OPT_HD_BCC,           /* --hd-bcc stn|stx            DF1_OPT_HD_BCC_INCLUDES_STX */
+	CLI_OPT_PLC5_FLOAT,       /* --plc5-float plain|swapped  DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED */
+	CLI_OPT_PLC5_TIMER_WORDS, /* --plc5-timer-words 3|5      DF1_OPT_PLC5_TIMER_WORDS */
+	CLI_OPT_PLC2_ADDR,        /* --plc2-addr bytes|words     DF1_OPT_PLC2_WORD_ADDR */
+	CLI_OPT_SLC_IO_CODES,     /* --slc-io-codes 8b|82        DF1_OPT_SLC_IO_CODES_82 */
+	CLI_OPT_MAX_PACKET,       /* --max-packet BYTES          DF1_OPT_MAX_PACKET */
+	CLI_OPT_DUP_DETECT,       /* --duplicate-detect yes|no   DF1_OPT_DUPLICATE_DETECT */
+	CLI_OPT_EMBEDDED,         /* --embedded-responses yes|no DF1_OPT_EMBEDDED_RESPONSES */
+	CLI_OPT_NAK_0F,           /* --nak-0f yes|no             DF1_OPT_ACCEPT_NAK_0F */
+	CLI_OPT_EOT_BCC,          /* --eot-bcc yes|no            DF1_OPT_EOT_WITH_BCC */
+	CLI_OPT_ECHO_DISCARD,     /* --echo-discard              DF1_OPT_ECHO_DISCARD */
 	CLI_OPT_COUNT_
 };
 
@@ -66,7 +78,15 @@ enum cli_opt_id {
 	 CLI_ACCEPT(CLI_OPT_HANDSHAKE) | CLI_ACCEPT(CLI_OPT_DUPLEX) | CLI_ACCEPT(CLI_OPT_CHECK) | \
 	 CLI_ACCEPT(CLI_OPT_PLC) | CLI_ACCEPT(CLI_OPT_TIMEOUT) | CLI_ACCEPT(CLI_OPT_CMD_TIMEOUT) | \
 	 CLI_ACCEPT(CLI_OPT_NAK_RETRIES) | CLI_ACCEPT(CLI_OPT_ENQ_RETRIES) |                   \
-	 CLI_ACCEPT(CLI_OPT_TX_DELAY) | CLI_ACCEPT(CLI_OPT_RS485))
+	 CLI_ACCEPT(CLI_OPT_TX_DELAY) | CLI_ACCEPT(CLI_OPT_RS485) | CLI_ACCEPT_LIBOPTS)
+/* The options of df1_set_option(3): part of CLI_ACCEPT_LINK; a responder takes
+ * those that mean something to it one by one. */
+#define CLI_ACCEPT_LIBOPTS                                                                 \
+	(CLI_ACCEPT(CLI_OPT_HD_BCC) | CLI_ACCEPT(CLI_OPT_PLC5_FLOAT) |                            \
+	 CLI_ACCEPT(CLI_OPT_PLC5_TIMER_WORDS) | CLI_ACCEPT(CLI_OPT_PLC2_ADDR) |                   \
+	 CLI_ACCEPT(CLI_OPT_SLC_IO_CODES) | CLI_ACCEPT(CLI_OPT_MAX_PACKET) |                      \
+	 CLI_ACCEPT(CLI_OPT_DUP_DETECT) | CLI_ACCEPT(CLI_OPT_EMBEDDED) | CLI_ACCEPT(CLI_OPT_NAK_0F) | \
+	 CLI_ACCEPT(CLI_OPT_EOT_BCC) | CLI_ACCEPT(CLI_OPT_ECHO_DISCARD))
 #define CLI_ACCEPT_OUTPUT \
 	(CLI_ACCEPT(CLI_OPT_FORMAT) | CLI_ACCEPT(CLI_OPT_VERBOSE) | CLI_ACCEPT(CLI_OPT_QUIET))
 #define CLI_ACCEPT_ALL (CLI_ACCEPT_LINK | CLI_ACCEPT_OUTPUT)
@@ -129,6 +149,10 @@ struct cli {
 	int nak_retries, enq_retries;
 	int tx_delay_ms;
 	bool rs485;
+	/* df1_set_option values of the link and PLC options, by enum cli_opt_id; only
+	 * those given (c->given) or set by the tool (c->lib_set) are applied */
+	int lib_value[CLI_OPT_COUNT_];
+	unsigned long lib_set;             /* CLI_ACCEPT(id): a tool's own default in lib_value */
 
 	/* output */
 	enum cli_format format;
@@ -175,6 +199,17 @@ bool cli_long_in(const char *s, long lo, long hi, long *out);
 /* A bad option value: prints "NAME: --OPT: invalid value 'x' (expected WHAT)" and
  * returns CLI_EXIT_USAGE. */
 int cli_bad_value(const struct cli *c, const char *opt, const char *arg, const char *expected);
+
+/* The link and PLC options (--hd-bcc ... --echo-discard) given or set by the tool:
+ * df1_set_option() on h (each failure printed as "NAME: --OPT: ..." and returned as
+ * CLI_EXIT_USAGE, else 0). cli_open calls it; a responder calls it on its handle. */
+int cli_apply_lib_options(const struct cli *c, df1_t *h);
+/* Those that change how bytes decode (--hd-bcc, --nak-0f, --embedded-responses,
+ * --eot-bcc) on a decoder, so that a trace, a log or a decode reads the line as the
+ * handle does. */
+void cli_decoder_options(const struct cli *c, struct df1_decoder *d);
+/* Is this option's value set (given, or a tool default)? */
+bool cli_lib_option_set(const struct cli *c, enum cli_opt_id id);
 
 /* Build the handle from the options (df1_new, setters or the network file, logging
  * and tracing by -v), then df1_open the device. On error prints

@@ -84,7 +84,10 @@ int cli_parse(struct cli *c, int argc, char **argv, void *user)
 		}
 		for (size_t i = 0; i < cli_n_common && !done; i++) {
 			if (cli_common_opts[i].key == key && cli_accepts(c, cli_common_opts[i].id)) {
-				r = cli_common_option(c, cli_common_opts[i].id, optarg);
+				enum cli_opt_id id = cli_common_opts[i].id;
+
+				r = cli_is_lib_option(id) ? cli_lib_option(c, id, optarg)
+				                          : cli_common_option(c, id, optarg);
 				done = true;
 			}
 		}

@@ -60,6 +60,7 @@ void cli_trace(void *user, enum df1_dir dir, const uint8_t *bytes, size_t n, uin
 		if (df1_decoder_new(&d, c->check) < 0)
 			return;
 		df1_decoder_set_half_duplex(d, c->half_duplex);
+		cli_decoder_options(c, d);
 		c->trace_dec[dir == DF1_DIR_TX] = d;
 	}
 	memset(&w, 0, sizeof w);
@@ -136,6 +137,10 @@ int cli_open(struct cli *c, df1_t **out)
 	if (c->rs485)
 		SET("--rs485", df1_set_option(h, DF1_OPT_RS485, 1));
 #undef SET
+	if (cli_apply_lib_options(c, h) != 0) {
+		df1_free(h);
+		return CLI_EXIT_USAGE;
+	}
 	if (!c->quiet && c->verbose >= 1)
 		df1_set_log(h, cli_log, c);
 	if (!c->quiet && c->verbose >= 2)

@@ -3,6 +3,8 @@
  * of common options, and helpers one cli file defines for another.
  *
  *   cli_opts.c     the common options: table, defaults, --help, each option
+ *   cli_libopts.c  the common options that set df1_set_option()'s link and PLC
+ *                  options: their values, applied to a handle and to decoders
  *   cli_net.c      -N FILE, the network configuration CSV
  *   cli_argv.c     cli_parse: argv, --help, --version
  *   cli_errors.c   exit status, error reports in the catalog format
@@ -36,6 +38,10 @@ extern const size_t cli_n_common;
 bool cli_accepts(const struct cli *c, enum cli_opt_id id);
 /* One common option given on the command line: CLI_CONTINUE or an exit status. */
 int cli_common_option(struct cli *c, enum cli_opt_id id, const char *arg);
+
+/* cli_libopts.c: is id one of df1_set_option()'s; parse its value */
+bool cli_is_lib_option(enum cli_opt_id id);
+int cli_lib_option(struct cli *c, enum cli_opt_id id, const char *arg);
 
 /* cli_net.c: load -N FILE and take its values for every option not given. */
 int cli_load_net(struct cli *c);

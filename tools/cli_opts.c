@@ -50,6 +50,28 @@ const struct cli_common_opt cli_common_opts[] = {
 	{ CLI_OPT_VERBOSE, "verbose", no_argument, 'v', NULL,
 	  "link events on stderr; -vv also every frame" },
 	{ CLI_OPT_QUIET, "quiet", no_argument, 'q', NULL, "no messages on stderr but errors" },
+	{ CLI_OPT_HD_BCC, "hd-bcc", required_argument, LONG_ONLY(CLI_OPT_HD_BCC), "stn|stx",
+	  "half-duplex master BCC: STN+data or +STX (default stn)" },
+	{ CLI_OPT_PLC5_FLOAT, "plc5-float", required_argument, LONG_ONLY(CLI_OPT_PLC5_FLOAT),
+	  "plain|swapped", "PLC-5 typed read/write floats (default plain)" },
+	{ CLI_OPT_PLC5_TIMER_WORDS, "plc5-timer-words", required_argument,
+	  LONG_ONLY(CLI_OPT_PLC5_TIMER_WORDS), "3|5", "words of a PLC-5 typed-read timer (default 3)" },
+	{ CLI_OPT_PLC2_ADDR, "plc2-addr", required_argument, LONG_ONLY(CLI_OPT_PLC2_ADDR), "bytes|words",
+	  "--plc plc2 address unit (default bytes)" },
+	{ CLI_OPT_SLC_IO_CODES, "slc-io-codes", required_argument, LONG_ONLY(CLI_OPT_SLC_IO_CODES), "8b|82",
+	  "SLC codes of O and I: 8B 8C or 82 83 (default 8b)" },
+	{ CLI_OPT_MAX_PACKET, "max-packet", required_argument, LONG_ONLY(CLI_OPT_MAX_PACKET), "BYTES",
+	  "data bytes per packet, 0 = per PLC (default 0)" },
+	{ CLI_OPT_DUP_DETECT, "duplicate-detect", required_argument, LONG_ONLY(CLI_OPT_DUP_DETECT),
+	  "yes|no", "drop duplicate messages (default yes)" },
+	{ CLI_OPT_EMBEDDED, "embedded-responses", required_argument, LONG_ONLY(CLI_OPT_EMBEDDED), "yes|no",
+	  "accept DLE ACK/NAK inside a frame (default yes)" },
+	{ CLI_OPT_NAK_0F, "nak-0f", required_argument, LONG_ONLY(CLI_OPT_NAK_0F), "yes|no",
+	  "take DLE 0F as NAK too (default yes)" },
+	{ CLI_OPT_EOT_BCC, "eot-bcc", required_argument, LONG_ONLY(CLI_OPT_EOT_BCC), "yes|no",
+	  "ignore one byte after DLE EOT (default no)" },
+	{ CLI_OPT_ECHO_DISCARD, "echo-discard", no_argument, LONG_ONLY(CLI_OPT_ECHO_DISCARD), NULL,
+	  "2-wire line: drop the echo of our own bytes" },
 };
 
 const size_t cli_n_common = sizeof cli_common_opts / sizeof cli_common_opts[0];
@@ -415,6 +437,8 @@ int cli_common_option(struct cli *c, enum cli_opt_id id, const char *arg)
 		c->quiet = true;
 		return CLI_CONTINUE;
 	case CLI_OPT_COUNT_:
+		break;
+	default:        /* df1_set_option()'s: cli_libopts.c */
 		break;
 	}
 	return CLI_EXIT_USAGE;

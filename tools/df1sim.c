@@ -156,7 +156,6 @@ struct opts {
 	struct fault_opt faults[8];     /* by enum df1_fault */
 	uint64_t seed;
 	int line_baud;
-	bool plc5_float_swapped;
 	const char *log;
 	int baud, data_bits;            /* -d only; the library checks them when it opens DEV */
 };
@@ -182,7 +181,7 @@ static const struct cli_extra_opt sim_opts[] = {
 	{ "processor", required_argument, OPT_PROCESSOR, "NAME",
 	  "the processor of the diagnostic status (default per --plc)" },
 	{ "plc5-float-swapped", no_argument, OPT_PLC5_FLOAT_SWAPPED, NULL,
-	  "--plc plc5: typed read/write floats word-swapped" },
+	  "the same as --plc5-float swapped" },
 	{ "data", required_argument, OPT_DATA, "FILE", "initial values: ADDRESS=VALUE[,VALUE...] per line" },
 	{ "drop-ack", required_argument, OPT_DROP_ACK, "P", "fault: do not ACK a received command" },
 	{ "corrupt", required_argument, OPT_CORRUPT, "P", "fault: send a reply with a wrong BCC/CRC" },
@@ -288,7 +287,10 @@ static int on_option(struct cli *c, int key, const char *arg, void *user)
 	case OPT_DATA_BITS: return cli_parse_int(c, "--data-bits", arg, 5, 8, &o->data_bits);
 	case OPT_LINE_BAUD: return cli_parse_int(c, "--line-baud", arg, 0, 4000000, &o->line_baud);
 	case OPT_PROCESSOR: o->processor = arg; break;
-	case OPT_PLC5_FLOAT_SWAPPED: o->plc5_float_swapped = true; break;
+	case OPT_PLC5_FLOAT_SWAPPED:
+		c->lib_value[CLI_OPT_PLC5_FLOAT] = 1;
+		c->lib_set |= CLI_ACCEPT(CLI_OPT_PLC5_FLOAT);
+		break;
 	case OPT_DATA: o->data = arg; break;
 	case OPT_SEED:
 		errno = 0;
@@ -312,7 +314,12 @@ static const struct cli_tool sim_tool = {
 	.summary = "A simulated PLC (DF1 half-duplex slave or full-duplex peer) with a data table\n"
 	           "and fault injection. Prints the device it serves on stdout once ready.",
 	.accepts = CLI_ACCEPT(CLI_OPT_PARITY) | CLI_ACCEPT(CLI_OPT_STOP_BITS) | CLI_ACCEPT(CLI_OPT_DUPLEX) |
-	           CLI_ACCEPT(CLI_OPT_CHECK) | CLI_ACCEPT(CLI_OPT_PLC) | CLI_ACCEPT(CLI_OPT_VERBOSE),
+	           CLI_ACCEPT(CLI_OPT_CHECK) | CLI_ACCEPT(CLI_OPT_PLC) | CLI_ACCEPT(CLI_OPT_VERBOSE) |
+	           /* the link and PLC options a responder has a use for */
+	           CLI_ACCEPT(CLI_OPT_HD_BCC) | CLI_ACCEPT(CLI_OPT_PLC5_FLOAT) |
+	           CLI_ACCEPT(CLI_OPT_PLC5_TIMER_WORDS) | CLI_ACCEPT(CLI_OPT_PLC2_ADDR) |
+	           CLI_ACCEPT(CLI_OPT_DUP_DETECT) | CLI_ACCEPT(CLI_OPT_EMBEDDED) | CLI_ACCEPT(CLI_OPT_NAK_0F) |
+	           CLI_ACCEPT(CLI_OPT_ECHO_DISCARD),
 	.plcs = CLI_PLC_BIT(DF1_PLC_SLC) | CLI_PLC_BIT(DF1_PLC_MICROLOGIX) | CLI_PLC_BIT(DF1_PLC_SLC502) |
 	        CLI_PLC_BIT(DF1_PLC_PLC5),
 	.common_help = {
@@ -320,6 +327,10 @@ static const struct cli_tool sim_tool = {
 		[CLI_OPT_STOP_BITS] = "-d only: stop bits (default 1)",
 		[CLI_OPT_DUPLEX] = "full-duplex peer or half-duplex slave (default full)",
 		[CLI_OPT_VERBOSE] = "link events on stderr; -vv also every byte",
+		[CLI_OPT_HD_BCC] = "master message BCC: STN+data or +STX (default stn)",
+		[CLI_OPT_PLC5_TIMER_WORDS] = "plc5: typed-read timers of 3 or 5 words (default 5)",
+		[CLI_OPT_PLC2_ADDR] = "PLC-2 command addresses (default bytes)",
+		[CLI_OPT_DUP_DETECT] = "ACK and drop a repeated command (default yes)",
 	},
 	.extra = sim_opts,
 	.on_extra = on_option,
@@ -351,8 +362,17 @@ static int parse_args(int argc, char **argv, struct opts *o)
 	if (o->where != 1)
 		return cli_usage_error(&o->cli, o->where ? "give only one of --pty, -d and --listen"
 		                                         : "one of --pty PATH, -d DEV or --listen ADDR is required");
-	if (o->plc5_float_swapped && o->cli.plc != DF1_PLC_PLC5)
-		return cli_usage_error(&o->cli, "--plc5-float-swapped goes with --plc plc5 only");
+	if (cli_lib_option_set(&o->cli, CLI_OPT_PLC5_FLOAT) && o->cli.lib_value[CLI_OPT_PLC5_FLOAT] &&
+	    o->cli.plc != DF1_PLC_PLC5)
+		return cli_usage_error(&o->cli, "--plc5-float swapped goes with --plc plc5 only");
+	if ((o->cli.given & CLI_ACCEPT(CLI_OPT_PLC5_TIMER_WORDS)) && o->cli.plc != DF1_PLC_PLC5)
+		return cli_usage_error(&o->cli, "--plc5-timer-words goes with --plc plc5 only");
+	/* a PLC-5 answers typed reads of timers with 5 words, as KF2 p.130 and VME
+	 * p.81 describe it (spec 4.3); --plc5-timer-words 3 for the data-table form */
+	if (o->cli.plc == DF1_PLC_PLC5 && !(o->cli.given & CLI_ACCEPT(CLI_OPT_PLC5_TIMER_WORDS))) {
+		o->cli.lib_value[CLI_OPT_PLC5_TIMER_WORDS] = 5;
+		o->cli.lib_set |= CLI_ACCEPT(CLI_OPT_PLC5_TIMER_WORDS);
+	}
 	return CLI_CONTINUE;
 }
 
@@ -469,7 +489,6 @@ static int setup_handle(df1_t *h, const struct opts *o, struct sim *s)
 	r = r < 0 ? r : df1_set_duplex(h, o->cli.half_duplex ? DF1_HALF_DUPLEX_SLAVE : DF1_FULL_DUPLEX);
 	r = r < 0 ? r : df1_set_check(h, o->cli.check);
 	r = r < 0 ? r : df1_set_plc(h, o->cli.plc);
-	r = r < 0 ? r : df1_set_option(h, DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED, o->plc5_float_swapped);
 	r = r < 0 ? r : df1_set_station(h, o->stations[0]);
 	for (int i = 0; r >= 0 && i < o->nstations; i++)
 		r = df1_server_add_station(h, o->stations[i]);
@@ -486,6 +505,8 @@ static int setup_handle(df1_t *h, const struct opts *o, struct sim *s)
 		msg("invalid setting: %s", d && d->message[0] ? d->message : df1_strerror(r));
 		return CLI_EXIT_USAGE;
 	}
+	if (cli_apply_lib_options(&o->cli, h) != 0)
+		return CLI_EXIT_USAGE;
 	df1_server_set_seed(h, o->seed);
 	if (o->cli.verbose)
 		df1_set_log(h, on_log, s);
@@ -547,6 +568,9 @@ static int sim_build(struct sim *s, const struct opts *o)
 			msg("out of memory");
 			return CLI_EXIT_FAIL;
 		}
+		/* the log reads the frames as the responder does (--hd-bcc stx ...) */
+		cli_decoder_options(&o->cli, s->log.dec[0]);
+		cli_decoder_options(&o->cli, s->log.dec[1]);
 	}
 	return 0;
 }

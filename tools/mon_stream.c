@@ -23,6 +23,7 @@ int stream_init(struct mon *m, struct stream *s, const char *dir)
 		df1_decoder_set_half_duplex(s->dec, m->cli.half_duplex);
 	else
 		s->duplex_auto = df1_decoder_set_duplex_auto(s->dec, true) == DF1_OK;
+	cli_decoder_options(&m->cli, s->dec);   /* --hd-bcc stx, --nak-0f no ... */
 	return CLI_CONTINUE;
 }
 

@@ -30,21 +30,30 @@
  *     array (99 09 LL desc data, as RTA and the spec 7.3 vectors); a reply may
  *     be an array or a single element. Strings (ST) go one per packet as a
  *     string parameter and the characters in text order (39 LEN chars, RTA).
- *     T/C/R elements are taken as their 3 data-table words; a PLC that answers
- *     with another element size (KF2: "timer elements return five words") is
- *     refused with DF1_E_BAD_REPLY rather than guessed at [UNCERTAIN, spec 8.8].
+ *     T/C/R replies are decoded by their type/data descriptor: 3 words (the data
+ *     table's, 56 66 76) or 5 (KF2 p.130 "timer elements return five words", VME
+ *     p.81: 59 0A), words 0-2 CTL, PRE/LEN, ACC/POS, the rest ignored
+ *     [UNCERTAIN, spec 8 item 8]; any other size is DF1_E_BAD_REPLY. A reply of
+ *     5-word elements that holds fewer than asked is taken when it is full (the
+ *     PLC cut it to 240 bytes), and the next packets ask for that many;
+ *     DF1_OPT_PLC5_TIMER_WORDS 5 plans timer reads at 5 words from the start.
+ *     Writes send the 3-word form.
  *     Floats go plain little-endian in typed reads and writes, the spec 5
  *     recommendation (RTA); DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED word-swaps them
  *     ([2,3,0,1], as word range 0F/00/01 always has them; the client does not
  *     use word range). [UNCERTAIN, spec 8 item 7] Raw reads and writes pass
  *     the wire bytes either way.
  *   PLC-2 (01 unprotected read, 08 unprotected write, 05 unprotected bit write):
- *     PLC-2 commands carry a 16-bit byte address and no file. The address's
- *     element is taken as the WORD offset into the target's PLC-2 area (a PLC-2's
- *     data table; the PLC-2 compatibility file of a PLC-5; the Common Interface
- *     File N9 of an SLC; N7 of a MicroLogix 1000), byte address = 2 * element;
- *     the file number is ignored. "N7:8" = PLC-2 word 010 (octal). Only 16-bit
- *     word files (N B S I O A) and their bits; no sub-elements.
+ *     PLC-2 commands carry a 16-bit address and no file. The address's element
+ *     is taken as the WORD offset into the target's PLC-2 area (a PLC-2's data
+ *     table; the PLC-2 compatibility file of a PLC-5; the Common Interface File
+ *     N9 of an SLC; N7 of a MicroLogix 1000); the file number is ignored. "N7:8"
+ *     = PLC-2 word 010 (octal). The command carries byte address 2 * element
+ *     (spec 4.7: a PLC-2, a PLC-5's compatibility file, an SLC with S:2/8 = 1),
+ *     or with DF1_OPT_PLC2_WORD_ADDR the element itself (an SLC or MicroLogix
+ *     common interface file, S:2/8 = 0); 05's blocks address bytes, so bit
+ *     writes are refused in word mode. Only 16-bit word files (N B S I O A) and
+ *     their bits; no sub-elements.
  *
  * Splitting (spec 6). Requests larger than one packet are split on element
  * boundaries. Data bytes per packet:

@@ -135,6 +135,9 @@ static int plc2_bit_write(struct df1 *h, int station, const char *what, const st
 	if (!client_is_word_type(w->type) || w->sub != DF1_ADDR_NONE)
 		return client_fail(h, DF1_E_NOTSUP, station, what,
 		                "PLC-2 commands reach 16-bit words only (N B S I O A)");
+	if (h->cfg.plc2_word_addr)
+		return client_fail(h, DF1_E_NOTSUP, station, what,
+		                "PLC-2 bit writes (05) address bytes, not words (word addresses are set)");
 	if (w->element > 0x7FFF)
 		return client_fail(h, DF1_E_ADDR_RANGE, station, what, "beyond the PLC-2 byte address range");
 	memset(cmd, 0, PCCC_HDR_LEN);

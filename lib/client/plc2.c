@@ -1,15 +1,22 @@
 /*
- * plc2.c - PLC-2: unprotected reads and writes (01, 08), byte address = 2 * element.
+ * plc2.c - PLC-2: unprotected reads and writes (01, 08), byte address = 2 * element,
+ * or the element itself with DF1_OPT_PLC2_WORD_ADDR (spec 4.7).
  */
 #include "client_int.h"
+
+/* The command's address of word `element` of the PLC-2 area. */
+static uint16_t plc2_address(const struct df1 *h, size_t element)
+{
+	return (uint16_t)(h->cfg.plc2_word_addr ? element : element * 2);
+}
 
 static int plc2_check(struct df1 *h, int station, const char *what, const struct span *s)
 {
 	if (!client_is_word_type(s->a.type) || s->esize != 2 || s->by_sub)
 		return client_fail(h, DF1_E_NOTSUP, station, what,
 		                "PLC-2 commands reach 16-bit words only (N B S I O A, no sub-element)");
-	if (((size_t)s->a.element + s->count) * 2 > 0x10000)
-		return client_fail(h, DF1_E_ADDR_RANGE, station, what, "beyond the PLC-2 byte address range");
+	if (((size_t)s->a.element + s->count) * (h->cfg.plc2_word_addr ? 1 : 2) > 0x10000)
+		return client_fail(h, DF1_E_ADDR_RANGE, station, what, "beyond the PLC-2 address range");
 	return 0;
 }
 
@@ -27,7 +34,7 @@ int plc2_read(struct df1 *h, int station, const char *what, const struct span *s
 		const uint8_t *d;
 		int n;
 
-		n = pccc_enc_plc2_read(cmd, sizeof cmd, &hd, (uint16_t)((s->a.element + done) * 2),
+		n = pccc_enc_plc2_read(cmd, sizeof cmd, &hd, plc2_address(h, (size_t)s->a.element + done),
 		                       (uint8_t)(k * 2));
 		if (n < 0)
 			return client_fail(h, n, station, what, "cannot encode the read (%s)", df1_strerror(n));
@@ -63,7 +70,7 @@ int plc2_write(struct df1 *h, int station, const char *what, const struct span *
 		rc = io_gather(h, station, what, io, done, k, data, 2);
 		if (rc < 0)
 			return rc;
-		n = pccc_enc_plc2_write(cmd, sizeof cmd, &hd, (uint16_t)((s->a.element + done) * 2),
+		n = pccc_enc_plc2_write(cmd, sizeof cmd, &hd, plc2_address(h, (size_t)s->a.element + done),
 		                        data, k * 2);
 		if (n < 0)
 			return client_fail(h, n, station, what, "cannot encode the write (%s)", df1_strerror(n));

@@ -31,18 +31,36 @@ int plc5_addr(struct df1 *h, int station, const char *what, const struct df1_add
 	return n;
 }
 
+/* Whole T/C/R elements: a reply's element holds the 3 data-table words or the 5
+ * of KF2 p.130 / VME p.81 (timer 59 0A); words 0-2 are CTL, PRE/LEN, ACC/POS either
+ * way and the rest is ignored (spec 4.3, 5). */
+static bool plc5_whole_tcr(const struct span *s)
+{
+	return client_is_tcr(s->a.type) && s->esize == PCCC_TCR_BYTES;
+}
+
+/* Elements of the size a reply's descriptor gives that fill one reply: a PLC
+ * that cuts its reply to 240 bytes sends that many when asked for more. */
+static size_t plc5_reply_full(size_t alen, const struct pccc_typed *td)
+{
+	return plc5_typed_per_packet(alen, td->type_id, td->elem_size);
+}
+
 int plc5_read(struct df1 *h, int station, const char *what, const struct span *s, struct io *io)
 {
 	uint8_t cmd[FRAME_MAX_DATA], reply[FRAME_MAX_DATA], addr[DF1_ADDR_ASCII_MAX + 8];
 	struct pccc_hdr hd = { (uint8_t)station, (uint8_t)h->cfg.station, 0 };
-	size_t per, done = 0;
+	size_t per, done = 0, plan = s->esize;
 	int alen = plc5_addr(h, station, what, &s->a, addr, sizeof addr);
 
 	if (alen < 0)
 		return alen;
 	/* the reply: address + type/data + data <= 240 (plc_limits.h); strings
-	 * one per packet: the reply is 3x LEN characters (RTA) */
-	per = plc_per_packet(DF1_PLC_PLC5, false, s->a.type, s->esize, (size_t)alen, h->cfg.max_packet);
+	 * one per packet: the reply is 3x LEN characters (RTA); timers of a PLC-5
+	 * said to send 5 words are planned at that size */
+	if (s->a.type == DF1_FT_T && plc5_whole_tcr(s) && h->cfg.plc5_timer_words == 5)
+		plan = PCCC_TCR5_BYTES;
+	per = plc_per_packet(DF1_PLC_PLC5, false, s->a.type, plan, (size_t)alen, h->cfg.max_packet);
 	if (per == 0)
 		return client_fail(h, DF1_E_NOTSUP, station, what, "a %zu-byte element exceeds the packet size", s->esize);
 	while (done < s->count) {
@@ -80,14 +98,28 @@ int plc5_read(struct df1 *h, int station, const char *what, const struct span *s
 			done += k;
 			continue;
 		}
-		if (td.elem_size != s->esize)
+		if (td.elem_size != s->esize && !(plc5_whole_tcr(s) && td.elem_size == PCCC_TCR5_BYTES))
 			return client_bad_reply(h, station, what,
-			                "reply elements have %u bytes, expected %zu",
-			                (unsigned)td.elem_size, s->esize);
-		if (td.count != k)
-			return client_bad_reply(h, station, what, "reply has %zu elements, asked %zu", td.count, k);
+			                plc5_whole_tcr(s) ? "reply elements have %u bytes, expected %zu or %d"
+			                                  : "reply elements have %u bytes, expected %zu",
+			                (unsigned)td.elem_size, s->esize, PCCC_TCR5_BYTES);
+		if (td.count != k) {
+			size_t full = plc5_reply_full((size_t)alen, &td);
+
+			/* fewer than asked only as a full reply of larger elements */
+			if (td.count == 0 || td.count > k || td.elem_size == s->esize || td.count != full)
+				return client_bad_reply(h, station, what, "reply has %zu elements, asked %zu",
+				                        td.count, k);
+			k = td.count;
+		}
+		if (td.elem_size != s->esize) {
+			size_t full = plc5_reply_full((size_t)alen, &td);
+
+			if (full > 0 && full < per)
+				per = full;     /* the next packets ask for what such a reply holds */
+		}
 		for (size_t i = 0; i < k; i++) {
-			rc = io_put(h, station, what, io, done + i, td.data + i * s->esize, s->esize);
+			rc = io_put(h, station, what, io, done + i, td.data + i * td.elem_size, s->esize);
 			if (rc < 0)
 				return rc;
 		}

@@ -61,6 +61,27 @@ int df1_decoder_set_duplex_auto(struct df1_decoder *d, bool on)
 	return DF1_OK;
 }
 
+int df1_decoder_set_option(struct df1_decoder *d, enum df1_option opt, int value)
+{
+	unsigned bit;
+	bool set;
+
+	if (!d || (value != 0 && value != 1))
+		return DF1_E_INVAL;
+	switch (opt) {
+	case DF1_OPT_HD_BCC_INCLUDES_STX: bit = FRAME_OPT_HD_BCC_STX; set = value; break;
+	case DF1_OPT_ACCEPT_NAK_0F: bit = FRAME_OPT_ACCEPT_NAK_0F; set = value; break;
+	case DF1_OPT_EOT_WITH_BCC: bit = FRAME_OPT_EOT_TRAILER; set = value; break;
+	case DF1_OPT_EMBEDDED_RESPONSES: bit = FRAME_OPT_NO_EMBEDDED; set = !value; break;
+	default: return DF1_E_INVAL;
+	}
+	if (set)
+		d->fd.opts |= bit;
+	else
+		d->fd.opts &= ~bit;
+	return DF1_OK;
+}
+
 size_t df1_decoder_feed(struct df1_decoder *d, const uint8_t *in, size_t n, struct df1_symbol *sym)
 {
 	if (!d || !sym || (!in && n)) {

@@ -56,6 +56,12 @@
 #define PCCC_TD_ADDRESS  15
 #define PCCC_TD_BCD      16
 
+/* Bytes of a whole T/C/R element in a PLC-5 typed reply: the 3 data-table words
+ * (type/data 56 66 76), or 5 (timer 59 0A: KF2 p.130, VME p.81), of which words
+ * 0-2 are CTL, PRE/LEN, ACC/POS and the rest is ignored (spec 4.3, 5, 8 item 8). */
+#define PCCC_TCR_BYTES 6
+#define PCCC_TCR5_BYTES 10
+
 struct pccc_hdr {
 	uint8_t dst, src;
 	uint16_t tns;

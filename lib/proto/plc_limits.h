@@ -24,9 +24,10 @@
  *     Strings go one per packet (39 LEN chars, RTA).
  *   PLC-5 0F/01 word range read: SIZE <= 244 bytes, even; 0F/00 word range
  *     write: address + data <= 239 (KF2 p.136).
- * T/C/R elements count as their 3 data-table words, the size the client and
- * the responder take; a PLC that answers 5-word timers (KF2 p.130
- * [UNCERTAIN, spec 8 item 8]) is refused by the client whatever the count.
+ * T/C/R elements count as their 3 data-table words; a PLC-5 that answers
+ * 5-word timers (KF2 p.130 [UNCERTAIN, spec 8 item 8], DF1_OPT_PLC5_TIMER_WORDS)
+ * fits fewer: the client and the responder call plc5_typed_per_packet() with
+ * 10-byte elements for them (23 after a 3-byte address: 3 + 5 + 230 = 238).
  *
  * DF1_OPT_MAX_PACKET (max_packet > 0) replaces the table with that many bytes
  * of element data per packet (at most PLC_PACKET_HARD_MAX), for every type.
