@@ -18,9 +18,9 @@
 #include <time.h>
 
 #define DF1_VERSION_MAJOR 0
-#define DF1_VERSION_MINOR 2
+#define DF1_VERSION_MINOR 3
 #define DF1_VERSION_MICRO 0
-#define DF1_VERSION_STRING "0.2.0"
+#define DF1_VERSION_STRING "0.3.0"
 
 /* The version of the library a program runs with (as libusb_get_version()).
  * The macros above are the header a program was compiled against; with the

@@ -69,7 +69,9 @@ enum cli_opt_id {
 	CLI_OPT_COUNT_
 };
 
-#define CLI_ACCEPT(id) (1ul << (id))
+/* 64 bits, whatever long is: there are more than 32 common options */
+#define CLI_ACCEPT(id) (UINT64_C(1) << (id))
+_Static_assert(CLI_OPT_COUNT_ <= 64, "CLI_ACCEPT bits are a uint64_t");
 /* Everything that configures a line, for tools that open a device. */
 #define CLI_ACCEPT_LINK                                                              \
 	(CLI_ACCEPT(CLI_OPT_DEVICE) | CLI_ACCEPT(CLI_OPT_NET) | CLI_ACCEPT(CLI_OPT_STATION) |  \
@@ -115,7 +117,7 @@ struct cli_tool {
 	const char *name;                  /* "df1mon": the prefix of every message */
 	const char *synopsis;              /* after "Usage: NAME ", may hold '\n' */
 	const char *summary;               /* one line for --help */
-	unsigned long accepts;             /* CLI_ACCEPT(...) bits */
+	uint64_t accepts;                  /* CLI_ACCEPT(...) bits */
 	unsigned formats;                  /* CLI_FMT_BIT(...); plain is always accepted */
 	bool check_auto;                   /* --check auto is allowed (decoders) */
 	unsigned plcs;                     /* CLI_PLC_BIT(...) --plc accepts; 0: every one */
@@ -152,14 +154,14 @@ struct cli {
 	/* df1_set_option values of the link and PLC options, by enum cli_opt_id; only
 	 * those given (c->given) or set by the tool (c->lib_set) are applied */
 	int lib_value[CLI_OPT_COUNT_];
-	unsigned long lib_set;             /* CLI_ACCEPT(id): a tool's own default in lib_value */
+	uint64_t lib_set;                  /* CLI_ACCEPT(id): a tool's own default in lib_value */
 
 	/* output */
 	enum cli_format format;
 	int verbose;                       /* -v count */
 	bool quiet;
 
-	unsigned long given;               /* CLI_ACCEPT(id) bits of options given on the command line */
+	uint64_t given;                    /* CLI_ACCEPT(id) bits of options given on the command line */
 
 	/* operands left after the options */
 	int argc;
