@@ -222,8 +222,10 @@ class Plc:
             a = _addr(addr)
             vals = ffi.new("struct df1_value[]", count)
             keep.append(vals)
-            reqs[i].text = ffi.NULL
-            ffi.memmove(ffi.addressof(reqs[i], "addr"), a.c, ffi.sizeof("struct df1_addr"))
+            # by text, so that the library's error detail names the address as written
+            t = ffi.new("char[]", addr.encode())
+            keep.append(t)
+            reqs[i].text = t
             reqs[i].count = count
             reqs[i].values = vals
             plan.append((item, addr, a, many, vals))
@@ -232,6 +234,8 @@ class Plc:
         with self._lock:
             rc = lib.df1_read_multi(self.handle, st, reqs, n, 0, reads)
             first = from_handle(self._h, rc, station=st) if rc < 0 else None
+            detail = lib.df1_last_error(self._h)
+            detail_addr = text(detail.address) if rc < 0 else None
         self.last_reads = reads[0]
         out: Dict[AddressItem, Any] = {}
         failed: Dict[AddressItem, Df1Error] = {}
@@ -240,6 +244,8 @@ class Plc:
             if r > 0:
                 got = [to_python(vals[j], a.type) for j in range(r)]
                 out[item] = got if many else got[0]
+            elif r < 0 and first is not None and first.code == r and detail_addr == addr:
+                failed[item] = first        # the one failure the handle describes in full
             else:
                 failed[item] = make_error(r if r < 0 else lib.DF1_E_INTR,
                                           None if r < 0 else "not read: the call ended first",
