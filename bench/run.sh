@@ -38,7 +38,7 @@ if [ "$line" != "$T/plc" ]; then
 	cat "$T/err" >&2
 	exit 1
 fi
-"$B/bench/bench_poll" "$T/plc" "${BENCH_SCANS:-10}"
+"$B/bench/bench_poll" "$T/plc" "${BENCH_SCANS:-10}" || exit 1
 if python3 -c 'import cffi' >/dev/null 2>&1; then
 	LIBDF1_PATH="$B" DF1_BIN="$B/bin" python3 python/bench.py || exit 1
 else
