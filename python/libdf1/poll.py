@@ -29,6 +29,11 @@ class Quality(str, Enum):
     UNCERTAIN = "UNCERTAIN"
     GOOD = "GOOD"
 
+    def __str__(self) -> str:
+        return self.value
+
+    __format__ = str.__format__
+
 
 class Reason(str, Enum):
     """Why a tag is not GOOD (df1_reason_name(3)); "none" when it is."""
@@ -38,6 +43,11 @@ class Reason(str, Enum):
     STATION_OFFLINE = "station_offline"
     PLC_ERROR = "plc_error"
     CONFIG = "config"
+
+    def __str__(self) -> str:
+        return self.value
+
+    __format__ = str.__format__
 
 
 _ACCESS = {"read": lib.DF1_ACCESS_READ, "write": lib.DF1_ACCESS_WRITE, "readwrite": lib.DF1_ACCESS_READWRITE}
