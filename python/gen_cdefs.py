@@ -62,9 +62,43 @@ def library_lines(text, incdir):
     return out
 
 
+def declarations_only(text):
+    """Drop what cffi's cdef cannot take: function bodies (static inline helpers)
+    and _Static_assert declarations."""
+    out, depth, start, i = [], 0, 0, 0
+    while i < len(text):
+        ch = text[i]
+        if ch == "{":
+            if depth == 0 and text[start:i].rstrip().endswith(")"):
+                # a function definition: skip its body and its head
+                level, j = 0, i
+                while j < len(text):
+                    if text[j] == "{":
+                        level += 1
+                    elif text[j] == "}":
+                        level -= 1
+                        if level == 0:
+                            break
+                    j += 1
+                i = j + 1
+                start = i
+                continue
+            depth += 1
+        elif ch == "}":
+            depth -= 1
+        elif ch == ";" and depth == 0:
+            decl = text[start:i + 1]
+            if not re.match(r"\s*_Static_assert\b", decl):
+                out.append(decl)
+            start = i + 1
+        i += 1
+    return " ".join(out)
+
+
 def layout(decls):
     """One declaration (or member, or enumerator) a line, indented by braces."""
-    text = re.sub(r"\s+", " ", " ".join(decls)).strip()
+    text = declarations_only(re.sub(r"\s+", " ", " ".join(decls)).strip())
+    text = re.sub(r"\s+", " ", text).strip()
     out, depth, kinds, line = [], 0, [], ""
     last_stop = 0
 

@@ -81,3 +81,32 @@ def test_every_function_of_the_cdefs_is_in_the_library():
         names = re.findall(r"\b(df1_[a-z0-9_]+)\s*\(", f.read())
     missing = [n for n in sorted(set(names)) if not hasattr(lib, n)]
     assert not missing, "declared in the cdefs, absent from the library: %s" % missing
+
+
+@needs_tree
+def test_generator_takes_what_a_header_may_grow(tmp_path):
+    # inline helpers, static assertions, system headers and new X-macro rows
+    inc = tmp_path / "include"
+    inc.mkdir()
+    for name in os.listdir(os.path.dirname(HEADER)):
+        shutil.copy(os.path.join(os.path.dirname(HEADER), name), str(inc))
+    text = (inc / "df1.h").read_text()
+    extra = ('#include <stdio.h>\n'
+             'static inline int df1_twice(int x) { if (x) { return 2 * x; } return 0; }\n'
+             '_Static_assert(sizeof(int) >= 4, "int");\n'
+             'DF1_API int df1_dump(df1_t *h, FILE *f);\n'
+             '#define DF1_NEW_LIMIT (DF1_STRING_MAX * 2 + 1)\n')
+    text = text.replace("#ifdef __cplusplus\n}\n#endif", extra + "#ifdef __cplusplus\n}\n#endif")
+    text = text.replace('"permission denied")', '"permission denied")                      \\\n'
+                        '\tX(DF1_E_NEW_ONE,     -32, 0,                             "a new error")')
+    assert "df1_dump" in text and "DF1_E_NEW_ONE" in text
+    (inc / "df1.h").write_text(text)
+    out = tmp_path / "cdefs.h"
+    subprocess.check_call([sys.executable, GEN, "--header", str(inc / "df1.h"), "--out", str(out)])
+    cdefs = out.read_text()
+    assert "df1_twice" not in cdefs and "_Static_assert" not in cdefs
+    assert "#define DF1_NEW_LIMIT 165" in cdefs and "DF1_E_NEW_ONE = -32," in cdefs
+    import cffi
+    f = cffi.FFI()
+    f.cdef(cdefs)
+    assert f.typeof("enum df1_error").relements["DF1_E_NEW_ONE"] == -32
