@@ -120,7 +120,13 @@ class Df1ValueError(Df1Error, ValueError):
 
 
 class PortError(Df1Error, OSError):
-    """The port: busy, no such device, permission denied, a system call failed, not open."""
+    """The port: busy, no such device, permission denied, a system call failed, not open.
+    .errno is the system's errno behind it (as .sys_errno), or None."""
+
+    def __init__(self, *a, **kw):
+        super().__init__(*a, **kw)
+        self.errno = self.sys_errno or None
+        self.strerror = self.message
 
 
 class ConfigIssue:

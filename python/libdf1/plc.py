@@ -219,6 +219,8 @@ class Plc:
         plan = []
         for i, item in enumerate(items):
             addr, count, many = _split_item(item)
+            if isinstance(item, list):
+                item = tuple(item)          # a dict key
             a = _addr(addr)
             vals = ffi.new("struct df1_value[]", count)
             keep.append(vals)
@@ -410,7 +412,7 @@ class Plc:
 
 
 def _split_item(item: AddressItem) -> Tuple[str, int, bool]:
-    if isinstance(item, tuple):
+    if isinstance(item, (tuple, list)):
         addr, count = item
         return addr, int(count), True
     if isinstance(item, str) and "," in item:
