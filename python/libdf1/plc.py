@@ -108,7 +108,12 @@ class Plc:
         self.station = 1
         self.plc_type = lib.DF1_PLC_SLC
         self.target: Optional[str] = None
+        self.last_reads = 0             # read calls of the last read_many()
         self._poller = None
+
+    def __repr__(self) -> str:
+        state = "open" if self._h is not None and lib.df1_is_open(self._h) else "closed"
+        return "<libdf1.Plc %s %s station %d>" % (self.target, state, self.station)
 
     # ---- lifecycle ----
     def _check(self, rc: int, address: str = "", station: Optional[int] = None) -> int:

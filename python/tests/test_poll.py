@@ -41,8 +41,11 @@ def test_first_scan_reports_every_tag(sim):
         assert poller.stats()["blocks"] == 4
 
 
-def test_silenced_station_goes_uncertain_then_bad_and_comes_back(sim):
-    with libdf1.open(sim.target, timeout_ms=100, enq_retries=1) as plc:
+@pytest.mark.parametrize("duplex,check", [("full", "crc"), ("half", "bcc")])
+def test_silenced_station_goes_uncertain_then_bad_and_comes_back(sim_factory, duplex, check):
+    sim = sim_factory("--duplex", duplex, "--check", check)
+    with libdf1.open(sim.target, duplex=duplex, check=check, timeout_ms=100, enq_retries=1,
+                     nak_retries=1) as plc:
         poller = plc.poller(tags=[libdf1.Tag("N7:1", scan_ms=0)], watchdog_ms=1000, absolute_retries=5)
         _until(poller, lambda c: c.quality == "GOOD" and c.value == 1)
         sim.silence()
