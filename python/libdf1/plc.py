@@ -4,9 +4,8 @@ Thread rule (libdf1(7)): a handle is used by one thread at a time. A Plc keeps
 that rule for you: every call on its handle holds the Plc's lock, so calls
 from several threads take turns instead of overlapping. The poll engine's
 Poller.write() is the one call that does not wait for the lock (df1_tag_write
-is safe from any thread). The lock is released while C waits on the line only
-for other handles: two Plc objects on two lines work in parallel (cffi
-releases the GIL in every call).
+is safe from any thread). Each Plc has its own lock, and cffi releases the GIL
+in every call: two Plc objects on two lines, one thread each, work in parallel.
 """
 import functools
 import threading
@@ -450,7 +449,8 @@ def open(target: Optional[str] = None, *, net: Optional[str] = None, station: in
          log: Optional[Callable[[int, int, str], None]] = None,
          trace: Optional[Callable[[str, bytes, int], None]] = None,
          cancel_fd: Optional[int] = None, options: Optional[Dict[str, int]] = None, **opts: Any) -> Plc:
-    """Open a DF1 line: a serial device ("/dev/ttyUSB0") or "tcp://host:port".
+    """Open a DF1 line: a serial device ("/dev/ttyUSB0") or "tcp://host:port" (any
+    target df1_open(3) takes, so eip:// too once the library has it).
 
     Defaults are the library's (df1_new(3)): 19200 8N1, full duplex, CRC,
     SLC, own station 0. net="network.csv" takes the settings (and, without a

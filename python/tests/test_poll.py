@@ -130,3 +130,31 @@ def test_map_file(tmp_path, sim):
         with pytest.raises(libdf1.ConfigError) as ei:
             plc.poller(map=str(m), strict=True)
         assert ei.value.catalog_id == 2503
+
+
+def test_poll_in_a_thread_write_and_read_from_another(sim):
+    # the usual shape: a thread runs the engine; the main thread writes through the
+    # queue (waiting on the Future) and reads directly, taking turns on the handle
+    with libdf1.open(sim.target) as plc:
+        poller = plc.poller(tags=[libdf1.Tag("N7:9", access="readwrite", scan_ms=0)])
+        stop = threading.Event()
+        seen = []
+
+        def run():
+            while not stop.is_set():
+                for ch in poller.changes(timeout=0.2):
+                    seen.append(ch)
+
+        t = threading.Thread(target=run)
+        t.start()
+        try:
+            assert poller.write("N7:9", 99).result(timeout=20) is None
+            assert plc.read("N7:9") == 99
+            assert poller.write("N7:9", [-9]).result(timeout=20) is None
+            assert plc.read("N7:9") == -9
+        finally:
+            stop.set()
+            t.join(30)
+        assert not t.is_alive()
+    assert len(sim.wait_log(2, "addr=N7:9", "cmd=0F/AA")) == 2
+    assert any(ch.value == 99 for ch in seen) or any(ch.value == -9 for ch in seen)
