@@ -5,7 +5,7 @@ signed 32-bit ints, F files floats (the float32 the PLC holds), bits bools, ST
 strings str (Latin-1, up to 82 characters), a whole T, C or R element a Timer,
 Counter or Control whose named bits are the library's (df1_tcr_bit(3)).
 """
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Any, Dict, Tuple
 
 from ._ffi import ffi, lib
@@ -231,6 +231,3 @@ def from_python(a: Addr, value: Any, v) -> None:
     else:
         raise _type_error(a, value, "a value of a known kind")
 
-
-def element_fields(cls) -> Tuple[str, ...]:
-    return tuple(f.name for f in fields(cls))

@@ -4,7 +4,7 @@ import pytest
 
 import libdf1
 from libdf1 import ffi, lib
-from libdf1.errors import error_class, make_error
+from libdf1.errors import make_error
 
 CODES = ffi.typeof("enum df1_error").relements
 

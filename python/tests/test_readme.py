@@ -5,7 +5,6 @@ import io
 import os
 import re
 
-import pytest
 
 README = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "README.md")
 
