@@ -4,6 +4,8 @@
 # line (df1sim --line-baud 19200, both ends paced): measured scan time against
 # the wire-time bound, transactions per scan against a one-tag-per-read poller.
 # bench_load: df1_tag_load_map of 40 000 tags, df1_map_load of a 10 MB field.
+# python/bench.py (when python3 has cffi): single-word reads per second from
+# Python next to the C figure, against one df1sim on a pty.
 set -u
 B=${1:-build}
 CC=${CC:-cc}
@@ -36,4 +38,9 @@ if [ "$line" != "$T/plc" ]; then
 	cat "$T/err" >&2
 	exit 1
 fi
-"$B/bench/bench_poll" "$T/plc" "${BENCH_SCANS:-10}"
+"$B/bench/bench_poll" "$T/plc" "${BENCH_SCANS:-10}" || exit 1
+if python3 -c 'import cffi' >/dev/null 2>&1; then
+	LIBDF1_PATH="$B" DF1_BIN="$B/bin" python3 python/bench.py || exit 1
+else
+	echo "python bench: skipped (python3 has no cffi: apt-get install python3-cffi)"
+fi
