@@ -13,7 +13,7 @@
 #define DF1_TABLE_FILES_MAX 1000
 #define DF1_VERSION_MAJOR 0
 #define DF1_VERSION_MICRO 0
-#define DF1_VERSION_MINOR 2
+#define DF1_VERSION_MINOR 3
 
 struct df1_version {
 	int major;
@@ -232,6 +232,8 @@ enum df1_option {
 	DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED,
 	DF1_OPT_SLC_IO_CODES_82,
 	DF1_OPT_LISTEN_ONLY,
+	DF1_OPT_PLC5_TIMER_WORDS,
+	DF1_OPT_PLC2_WORD_ADDR,
 };
 int df1_new(df1_t **out);
 void df1_free(df1_t *h);
@@ -353,6 +355,7 @@ void df1_decoder_free(struct df1_decoder *d);
 void df1_decoder_reset(struct df1_decoder *d);
 int df1_decoder_set_half_duplex(struct df1_decoder *d, _Bool on);
 int df1_decoder_set_duplex_auto(struct df1_decoder *d, _Bool on);
+int df1_decoder_set_option(struct df1_decoder *d, enum df1_option opt, int value);
 size_t df1_decoder_feed(struct df1_decoder *d, const uint8_t *in, size_t n, struct df1_symbol *sym);
 struct df1_msg {
 	uint8_t dst, src, cmd, sts, fnc;

@@ -128,3 +128,15 @@ def test_bad_address_is_2503_before_anything_is_sent():
 def test_library_version():
     v = lib.df1_version()
     assert libdf1.library_version() == "%d.%d.%d" % (v.major, v.minor, v.micro)
+
+
+def test_package_version_is_the_headers():
+    """The binding is released with the library: its version is df1.h's."""
+    import pathlib
+    import re
+    root = pathlib.Path(__file__).resolve().parents[2]
+    header = (root / "include" / "df1.h").read_text()
+    want = re.search(r'#define DF1_VERSION_STRING "([^"]+)"', header).group(1)
+    pyproject = (root / "python" / "pyproject.toml").read_text()
+    assert libdf1.__version__ == want
+    assert re.search(r'^version = "([^"]+)"', pyproject, re.M).group(1) == want
