@@ -182,3 +182,5 @@ uninstall:
 
 clean:
 	rm -rf build
+
+include tests/soak/soak.mk
