@@ -528,7 +528,8 @@ int lane_finish(struct lane *ln)
 	/* queued writes end at df1_free; the shadow needs them no more */
 	df1_free(ln->h);
 	ln->h = NULL;
-	ledger_free(&ln->led);
+	if (ln->led.recs)       /* else never set up: nothing to free */
+		ledger_free(&ln->led);
 	free(ln->st);
 	ln->st = NULL;
 	return r;
