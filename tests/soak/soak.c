@@ -10,8 +10,8 @@
  *
  * Prints the figures; exits 1 if any value read was wrong, any write ran
  * twice or was reported written without running, or any call hung (took more
- * than its Cmd_Timeout and link retries allow, plus a margin); 2 if it could
- * not run.
+ * than its Cmd_Timeout and link retries allow, plus a margin), or if df1sim
+ * logged a command it never sent; 2 if it could not run.
  */
 #include "soak.h"
 
