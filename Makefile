@@ -203,3 +203,5 @@ uninstall:
 
 clean:
 	rm -rf build
+
+include tests/soak/soak.mk

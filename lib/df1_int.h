@@ -45,6 +45,8 @@ struct station_state {
 	bool active;                 /* active station list (seeds/004); all start active */
 	bool have_last;
 	uint8_t last_hdr[6];         /* DST SRC CMD STS TNS TNS of the last accepted message */
+	size_t last_len;             /* its length and a hash of all of it: a duplicate that */
+	uint32_t last_hash;          /* differs is a new command, not a retransmission */
 };
 
 struct server_state;             /* lib/server.c */

@@ -154,12 +154,27 @@ static uint16_t handle_random16(unsigned int n)
  * the last one did. A random start makes the chance that a run's first command
  * repeats the previous run's last TNS 1 in 65536. Two handles made one after
  * the other in a process never start on the same value. Tests that need a
- * known TNS set h->next_tns. */
+ * known TNS set h->next_tns, or DF1_TEST_FIRST_TNS for a whole process
+ * (df1_new(3): tests only). */
 static uint16_t handle_tns_seed(void)
 {
 	static atomic_uint made, last;
 	unsigned int n = atomic_fetch_add(&made, 1u);
-	uint16_t v = handle_random16(n);
+	const char *force = getenv("DF1_TEST_FIRST_TNS");
+	uint16_t v;
+
+	if (force && *force) {
+		/* for tests only (df1_new(3)): a run started on the previous
+		 * run's last TNS */
+		char *end;
+		unsigned long t;
+
+		errno = 0;
+		t = strtoul(force, &end, force[0] == '0' && (force[1] | 0x20) == 'x' ? 16 : 10);
+		if (!errno && !*end && t <= 0xFFFF && force[0] != '-' && force[0] != '+')
+			return (uint16_t)t;
+	}
+	v = handle_random16(n);
 
 	if (n > 0 && v == (uint16_t)atomic_load(&last))
 		v = (uint16_t)(v + 40503u);

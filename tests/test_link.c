@@ -1507,6 +1507,30 @@ static void test_slave_duplicate_executed_once(void **state)
 	assert_int_equal(logged(2524), 1);
 }
 
+/* Half duplex: a different command under the accepted one's header is ACKed
+ * and discarded, and the reply queued for the accepted one is dropped, so the
+ * next poll gets DLE EOT, not a reply that is not its own. */
+static void test_slave_duplicate_other_command_no_reply(void **state)
+{
+	struct df1 *h = *state;
+	uint8_t app[32], wire[FRAME_MAX_WIRE];
+	size_t an = hex(A2_CMD, app), wn;
+
+	app[4] = 7;
+	app[10] = 5;                            /* N7:5 instead of N7:0 */
+	wn = frame_encode_master(DF1_CHECK_CRC, 1, false, app, an, wire, sizeof wire);
+	feed_master_msg(1, 7);
+	mock_port_feed(wire, wn);
+	feed_poll(1);
+	assert_int_equal(serve_script(h), 1);
+	assert_int_equal(handler_calls, 1);
+	assert_int_equal(mock_port_writes(), 3);
+	assert_write_bytes(0, ACK, 2);
+	assert_write_bytes(1, ACK, 2);
+	assert_write_bytes(2, EOT, 2);
+	assert_int_equal(cnt(h, 2549), 1);
+}
+
 static void test_slave_reply_resent_until_acked(void **state)
 {
 	struct df1 *h = *state;
@@ -1742,6 +1766,29 @@ static void test_peer_duplicate_command_not_run(void **state)
 	assert_int_equal(mock_port_writes(), 3);
 	assert_write_bytes(2, ACK, 2);
 	assert_int_equal(cnt(h, 2549), 1);
+}
+
+/* A different command under the header of the one accepted (a master that
+ * started again on its last TNS): ACKed and discarded like any duplicate, and
+ * the reply still in flight is dropped, not sent to it (the NAK that would
+ * have made it go again finds no frame waiting). */
+static void test_peer_duplicate_other_command_no_reply(void **state)
+{
+	struct df1 *h = *state;
+	uint8_t app[32], wire[FRAME_MAX_WIRE];
+	size_t an = hex("01 00 0F 00 01 00 A2 14 07 89 05 00", app); /* N7:5, TNS 1 */
+	size_t wn = frame_encode_full(DF1_CHECK_CRC, app, an, wire, sizeof wire);
+
+	mock_port_feed_hex(A2_FD_CRC);          /* N7:0, TNS 1: ACK and its reply */
+	mock_port_feed(wire, wn);               /* before the reply's ACK */
+	mock_port_feed(NAK, 2);
+	assert_int_equal(serve_script(h), 1);
+	assert_int_equal(handler_calls, 1);
+	assert_int_equal(mock_port_writes(), 3);
+	assert_write_bytes(2, ACK, 2);
+	assert_int_equal(cnt(h, 2549), 1);
+	assert_int_equal(cnt(h, 2541), 0);      /* the reply was not sent again */
+	assert_false(server_responder(h)->replies[0].used);
 }
 
 static void test_peer_enq_gets_last_response(void **state)
@@ -2440,6 +2487,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_hd_echo_discarded, setup_hd, teardown),
 		cmocka_unit_test_setup_teardown(test_slave_full_exchange, setup_slave, teardown),
 		cmocka_unit_test_setup_teardown(test_slave_duplicate_executed_once, setup_slave, teardown),
+		cmocka_unit_test_setup_teardown(test_slave_duplicate_other_command_no_reply, setup_slave, teardown),
 		cmocka_unit_test_setup_teardown(test_slave_reply_resent_until_acked, setup_slave, teardown),
 		cmocka_unit_test_setup_teardown(test_slave_gives_up_after_nak_retries, setup_slave, teardown),
 		cmocka_unit_test_setup_teardown(test_slave_ignores_other_station, setup_slave, teardown),
@@ -2453,6 +2501,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_peer_reply_ack_timeout_enq, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_peer_reply_enq_limit_drops, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_peer_duplicate_command_not_run, setup_peer, teardown),
+		cmocka_unit_test_setup_teardown(test_peer_duplicate_other_command_no_reply, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_peer_enq_gets_last_response, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_peer_nak_with_nothing_in_flight_2511, setup_peer, teardown),
 		cmocka_unit_test_setup_teardown(test_peer_error_reply_counted_2539, setup_peer, teardown),

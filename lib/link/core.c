@@ -34,7 +34,11 @@
  *  - Duplicate detection keeps the first 6 bytes of the last message accepted
  *    per station (h->stations[]): in full duplex and on the half-duplex master
  *    keyed by the SRC / the polled station, on the half-duplex slave by the
- *    addressed STN. A duplicate is ACKed and dropped (2549, 2524).
+ *    addressed STN. A duplicate is ACKed and dropped (2549, 2524), not
+ *    answered: the reply of the message it repeats has its own retries. One
+ *    whose bytes differ (a length and a hash are kept too) is a master that
+ *    started again on its last TNS: the responder drops the reply it still
+ *    holds under that header, which is not the answer to it.
  *  - A command frame received by a full-duplex master while it waits for its
  *    reply is ACKed (it did arrive intact) and dropped, counted as received
  *    (2528) and invalid (2550, 2510): link_transact is not a responder.
@@ -396,6 +400,16 @@ bool link_is_dup(const struct df1 *h, uint8_t key, const uint8_t *app, size_t n)
 	       st->last_hdr[4] == app[4] && st->last_hdr[5] == app[5];
 }
 
+/* FNV-1a: tells a retransmission (the same bytes) from another message. */
+static uint32_t link_hash(const uint8_t *app, size_t n)
+{
+	uint32_t x = 2166136261u;
+
+	for (size_t i = 0; i < n; i++)
+		x = (x ^ app[i]) * 16777619u;
+	return x;
+}
+
 void link_remember(struct df1 *h, uint8_t key, const uint8_t *app, size_t n)
 {
 	struct station_state *st = &h->stations[key];
@@ -403,7 +417,37 @@ void link_remember(struct df1 *h, uint8_t key, const uint8_t *app, size_t n)
 	if (n < 6)
 		return;
 	memcpy(st->last_hdr, app, 6);
+	st->last_len = n;
+	st->last_hash = link_hash(app, n);
 	st->have_last = true;
+}
+
+/* A duplicate that is not the message accepted under its header: a master
+ * that started again on the TNS it last used (a new run of a tool), not one
+ * that sends the same frame again. */
+static bool link_dup_differs(const struct df1 *h, uint8_t key, const uint8_t *app, size_t n)
+{
+	const struct station_state *st = &h->stations[key];
+
+	return st->last_len != n || st->last_hash != link_hash(app, n);
+}
+
+/* Drop the reply held for the accepted message whose header d repeats (full
+ * duplex: in flight; half duplex: queued for station key). */
+static void link_slots_drop_reply_to(struct df1 *h, uint8_t key, const uint8_t *d)
+{
+	for (int i = 0; i < LINK_REPLY_SLOTS; i++) {
+		struct link_reply *r = &h->resp->replies[i];
+
+		if (!r->used || r->stn != key || r->len < 6 || r->app[2] != (uint8_t)(d[2] | 0x40) ||
+		    r->app[4] != d[4] || r->app[5] != d[5])
+			continue;
+		r->used = false;
+		if (h->resp->awaiting == i + 1) {
+			h->resp->awaiting = 0;
+			h->resp->awaiting_stale = false;
+		}
+	}
 }
 
 /* A duplicate: ACKed again and dropped (2526, 2549, 2524), counted even when
@@ -425,6 +469,13 @@ int link_serve_screen(struct df1 *h, uint8_t key, const struct df1_symbol *s)
 
 	if (link_is_dup(h, key, d, s->len)) {
 		r = link_ack_dup(h, s);
+		/* Not run again (spec 1.7). Its reply is not sent for it either: a
+		 * retransmitted command's reply has its own retries (ENQ and NAK, or
+		 * the next poll), and a different command under the same header is
+		 * a master that started again on its last TNS; the reply still held
+		 * is not its own, and would report its write done. */
+		if (link_dup_differs(h, key, d, s->len))
+			link_slots_drop_reply_to(h, key, d);
 		return r < 0 ? r : 0;
 	}
 	if (d[2] & 0x40) {

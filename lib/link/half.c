@@ -34,8 +34,9 @@
  *  - Stations answered: h->resp->serve_station[] (df1_server_add_station), or our own
  *    cfg.station when none was added.
  *  - A master message with a good check is ACKed and run; a bad one gets no
- *    answer at all (spec 2.3). A duplicate is ACKed and not run again: its reply
- *    is still queued and goes out on the next poll. With no reply slot free the
+ *    answer at all (spec 2.3). A duplicate is ACKed and not run again: the
+ *    reply of the message it repeats is still queued and goes out on the next
+ *    poll (a duplicate with other bytes drops that reply: core.c). With no reply slot free the
  *    message is not ACKed (sink full): the master retries.
  *  - A poll gets the oldest queued reply of that station, or DLE EOT. A reply
  *    stays queued until the master's ACK, which must come before the master's
@@ -416,7 +417,8 @@ static int hd_slave_msg(struct df1 *h, const struct df1_symbol *s, link_handler_
 		link_bad_check(h, s); /* no answer: the master times out and retries */
 		return 0;
 	}
-	/* a duplicate is not run again: its reply is still queued */
+	/* a duplicate is not run again (and one with other bytes drops the reply
+	 * queued under its header: core.c) */
 	r = link_serve_screen(h, stn, s);
 	if (r <= 0)
 		return r;
