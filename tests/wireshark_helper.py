@@ -1,0 +1,270 @@
+#!/usr/bin/env python3
+"""Helpers of tests/it_wireshark.sh (the DF1 dissector, contrib/wireshark/df1.lua).
+
+  wireshark_helper.py fields
+        the tshark -e fields `compare` reads, one per line
+  wireshark_helper.py compare DF1MON.json TSHARK.tsv
+        df1mon -f json --read FILE against tshark -T fields -e (the fields
+        above, -E aggregator=US) on the same FILE: the same symbols in the same
+        order per direction, and for each the same kind, check verdict, stations,
+        command, function, TNS, STS, EXT STS, address, size and values. Prints
+        each difference and "N symbols compared"; exit 1 on any difference.
+  wireshark_helper.py pcap OUT RECORD...
+        write a pcap of link type 250 (RTAC serial): one record per argument
+        (or per stdin line with "-"), "[rx:|tx:]HEX BYTES", each after a
+        12-byte RTAC header (time, event type: tx 03, rx 04).
+  wireshark_helper.py tap LINK SIM TAP_TX TAP_RX
+        a serial tap between two tools: a pty whose slave is linked at LINK
+        (df1read opens it) relayed both ways to the pty SIM (df1sim --pty),
+        each direction also copied into a FIFO (TAP_TX: LINK->SIM, TAP_RX:
+        SIM->LINK) for `df1mon --sniff -d TAP_TX --sniff-b TAP_RX`. Prints
+        "ready" once the taps are open; ends on SIGTERM, closing the FIFOs.
+"""
+import json
+import os
+import select
+import signal
+import struct
+import sys
+import termios
+import tty
+
+US = "\x1f"
+FIELDS = ["frame.number", "df1.dir", "df1.symbol", "df1.check_ok", "df1.stn", "df1.master",
+          "df1.dst", "df1.src", "df1.cmd", "df1.fnc", "df1.tns", "df1.sts", "df1.ext_sts",
+          "df1.addr", "df1.size", "df1.value", "df1.tcr.ctl", "df1.tcr.pre", "df1.tcr.acc",
+          "df1.error_id", "df1.embedded"]
+
+
+def num(text):
+    """A tshark number: decimal, 0x hex, or a boolean."""
+    t = text.strip()
+    if t in ("True", "true"):
+        return 1
+    if t in ("False", "false"):
+        return 0
+    return int(t, 0)
+
+
+def f32(x):
+    return struct.unpack("<f", struct.pack("<f", x))[0]
+
+
+class Lists:
+    """Each field's occurrences of one direction, in record order, consumed in turn."""
+
+    def __init__(self):
+        self.v = {k: [] for k in FIELDS}
+        self.at = {k: 0 for k in FIELDS}
+
+    def take(self, field, where, errors):
+        i = self.at[field]
+        if i >= len(self.v[field]):
+            errors.append("%s: tshark has no more %s" % (where, field))
+            return None
+        self.at[field] = i + 1
+        return self.v[field][i]
+
+    def left(self):
+        return {k: len(v) - self.at[k] for k, v in self.v.items() if len(v) > self.at[k]}
+
+
+def read_tshark(path):
+    dirs = {}
+    for line in open(path, encoding="utf-8", errors="replace"):
+        cols = line.rstrip("\n").split("\t")
+        cols += [""] * (len(FIELDS) - len(cols))
+        row = dict(zip(FIELDS, cols))
+        if not row["df1.symbol"]:
+            continue
+        d = row["df1.dir"].split(US)
+        if len(set(d)) != 1:
+            raise SystemExit("record %s: symbols of two directions" % row["frame.number"])
+        lists = dirs.setdefault(d[0], Lists())
+        for k in FIELDS:
+            if row[k] != "" and k != "frame.number":
+                lists.v[k].extend(row[k].split(US))
+    return dirs
+
+
+def same_value(want, got, tcr, where, errors):
+    if isinstance(want, dict):
+        for key, field in (("ctl", "df1.tcr.ctl"), ("pre", "df1.tcr.pre"), ("acc", "df1.tcr.acc")):
+            g = tcr.take(field, where, errors)
+            if g is not None and num(g) != want[key]:
+                errors.append("%s: %s %s, df1mon %s" % (where, field, g, want[key]))
+        return
+    if want is None:
+        ok = got in ("inf", "-inf", "nan")
+    elif isinstance(want, bool) or isinstance(want, int):
+        ok = got == str(int(want))
+    elif isinstance(want, float):
+        try:
+            ok = f32(float(got)) == f32(want)
+        except ValueError:
+            ok = False
+    else:
+        ok = got == want
+    if not ok:
+        errors.append("%s: value %r, df1mon %r" % (where, got, want))
+
+
+def compare(mon_path, ts_path):
+    dirs = read_tshark(ts_path)
+    mon = {}
+    for line in open(mon_path, encoding="utf-8"):
+        line = line.strip()
+        if line:
+            s = json.loads(line)
+            mon.setdefault(s.get("dir"), []).append(s)
+    errors = []
+    if None in mon and len(dirs) > 1:
+        errors.append("df1mon saw one direction, tshark %d" % len(dirs))
+    count = 0
+    for mdir, syms in mon.items():
+        tdir = mdir if mdir else (next(iter(dirs)) if dirs else None)
+        ts = dirs.get(tdir)
+        if ts is None:
+            errors.append("direction %s: no DF1 symbol in tshark's output" % mdir)
+            continue
+        for s in syms:
+            count += 1
+            where = "symbol %d (%s %s)" % (s["n"], tdir, s["kind"])
+
+            def eq(field, want, conv=num):
+                got = ts.take(field, where, errors)
+                if got is not None and want is not None and conv(got) != want:
+                    errors.append("%s: %s %s, df1mon %s" % (where, field, got, want))
+
+            eq("df1.symbol", s["kind"], str)
+            eq("df1.dir", tdir, str)
+            if s["kind"] in ("FRAME", "POLL") or "check_ok" in s:
+                eq("df1.check_ok", 1 if s.get("check_ok") else 0)
+            if s["kind"] == "POLL":
+                eq("df1.stn", s["station"])
+            elif s["kind"] == "ERROR":
+                if "station" in s:
+                    eq("df1.stn", s["station"])
+                eq("df1.error_id", s["error_id"])
+            elif s["kind"] in ("ACK", "NAK") and s.get("embedded"):
+                eq("df1.embedded", 1)
+            if s["kind"] != "FRAME":
+                continue
+            if s.get("master"):
+                eq("df1.master", 1)
+                eq("df1.stn", s["station"])
+            if "dst" not in s:
+                continue
+            eq("df1.dst", s["dst"])
+            eq("df1.src", s["src"])
+            eq("df1.cmd", int(s["cmd"], 16))
+            eq("df1.sts", int(s.get("sts", "00"), 16))
+            eq("df1.tns", int(s["tns"], 16))
+            if "fnc" in s:
+                eq("df1.fnc", int(s["fnc"], 16))
+            if "ext_sts" in s:
+                eq("df1.ext_sts", int(s["ext_sts"], 16))
+            if "address" in s:
+                eq("df1.addr", s["address"], str)
+            if "size" in s:
+                eq("df1.size", s["size"])
+            for want in s.get("values", []):
+                got = ts.take("df1.value", where, errors)
+                if got is not None:
+                    same_value(want, got, ts, where, errors)
+        left = ts.left()
+        if left:
+            errors.append("direction %s: tshark has more than df1mon: %s" % (tdir, left))
+    for d in dirs:
+        if d not in mon and not (None in mon and len(dirs) == 1):
+            errors.append("direction %s: only tshark has it" % d)
+    for e in errors[:40]:
+        print("DIFF " + e)
+    print("%d symbols compared, %d differences" % (count, len(errors)))
+    return 1 if errors or count == 0 else 0
+
+
+def pcap(out, records):
+    if records == ["-"]:
+        records = [l.strip() for l in sys.stdin if l.strip() and not l.startswith("#")]
+    with open(out, "wb") as f:
+        f.write(struct.pack("<IHHiIII", 0xA1B2C3D4, 2, 4, 0, 0, 65535, 250))
+        t = 1700000000
+        for i, r in enumerate(records):
+            event = 0x04
+            if r.startswith("tx:"):
+                event, r = 0x03, r[3:]
+            elif r.startswith("rx:"):
+                r = r[3:]
+            data = bytes.fromhex(r)
+            sec, usec = t + i, 1000 * i
+            hdr = struct.pack(">II", sec, usec) + bytes([event, 0]) + b"\0\0"
+            f.write(struct.pack("<IIII", sec, usec, len(hdr) + len(data), len(hdr) + len(data)))
+            f.write(hdr + data)
+    return 0
+
+
+def raw(fd):
+    attrs = termios.tcgetattr(fd)
+    tty.setraw(fd)
+    attrs = termios.tcgetattr(fd)
+    attrs[3] &= ~termios.ECHO
+    termios.tcsetattr(fd, termios.TCSANOW, attrs)
+
+
+def tap(link, sim, tap_tx, tap_rx):
+    stop = []
+    signal.signal(signal.SIGTERM, lambda *a: stop.append(1))
+    master, slave = os.openpty()
+    raw(slave)
+    # the slave stays open here too, so the master sees no hangup between tools
+    if os.path.lexists(link):
+        os.unlink(link)
+    os.symlink(os.ttyname(slave), link)
+    s = os.open(sim, os.O_RDWR | os.O_NOCTTY)
+    raw(s)
+    tx = os.open(tap_tx, os.O_WRONLY)
+    rx = os.open(tap_rx, os.O_WRONLY)
+    print("ready", flush=True)
+    try:
+        while not stop:
+            try:
+                r, _, _ = select.select([master, s], [], [], 0.5)
+            except InterruptedError:
+                continue
+            for fd in r:
+                try:
+                    b = os.read(fd, 4096)
+                except OSError:
+                    b = b""
+                if not b:
+                    continue
+                if fd == master:
+                    os.write(s, b)
+                    os.write(tx, b)
+                else:
+                    os.write(master, b)
+                    os.write(rx, b)
+    finally:
+        os.close(tx)
+        os.close(rx)
+        os.unlink(link)
+    return 0
+
+
+def main(argv):
+    if len(argv) >= 2 and argv[1] == "fields":
+        print("\n".join(FIELDS))
+        return 0
+    if len(argv) == 4 and argv[1] == "compare":
+        return compare(argv[2], argv[3])
+    if len(argv) >= 3 and argv[1] == "pcap":
+        return pcap(argv[2], argv[3:])
+    if len(argv) == 6 and argv[1] == "tap":
+        return tap(*argv[2:])
+    sys.stderr.write(__doc__)
+    return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
