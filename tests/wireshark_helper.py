@@ -11,8 +11,13 @@
         each difference and "N symbols compared"; exit 1 on any difference.
   wireshark_helper.py pcap OUT RECORD...
         write a pcap of link type 250 (RTAC serial): one record per argument
-        (or per stdin line with "-"), "[rx:|tx:]HEX BYTES", each after a
-        12-byte RTAC header (time, event type: tx 03, rx 04).
+        (or per stdin line with "-"), "[rx:|tx:]HEX BYTES" (or crc:HEX,
+        bcc:HEX: a frame with those app bytes, stuffed, with its check), each
+        after a 12-byte RTAC header (time, event type: tx 03, rx 04).
+  wireshark_helper.py tcp OUT RECORD...
+        the same as a TCP conversation (Ethernet, IPv4, handshake first) from
+        127.0.0.1:40000 to 127.0.0.2:2101: "c:" records from the client, "s:"
+        from the server; HEX, or crc:HEX / bcc:HEX for a frame around app bytes.
   wireshark_helper.py tap LINK SIM TAP_TX TAP_RX
         a serial tap between two tools: a pty whose slave is linked at LINK
         (df1read opens it) relayed both ways to the pty SIM (df1sim --pty),
@@ -184,9 +189,41 @@ def compare(mon_path, ts_path):
     return 1 if errors or count == 0 else 0
 
 
-def pcap(out, records):
+def crc16(data):
+    """CRC-16/ARC (spec/protocol.md 1.5), computed bit by bit."""
+    crc = 0
+    for b in data:
+        crc ^= b
+        for _ in range(8):
+            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
+    return crc
+
+
+def frame(check, app):
+    """DLE STX, app bytes with 10h doubled, DLE ETX, BCC or CRC (low byte first)."""
+    body = app.replace(b"\x10", b"\x10\x10")
+    if check == "bcc":
+        return b"\x10\x02" + body + b"\x10\x03" + bytes([(-sum(app)) & 0xFF])
+    c = crc16(app + b"\x03")
+    return b"\x10\x02" + body + b"\x10\x03" + bytes([c & 0xFF, c >> 8])
+
+
+def record_bytes(r):
+    """HEX, or crc:HEX / bcc:HEX: a frame around those app bytes."""
+    for check in ("crc", "bcc"):
+        if r.startswith(check + ":"):
+            return frame(check, bytes.fromhex(r[4:]))
+    return bytes.fromhex(r)
+
+
+def lines_or(records):
     if records == ["-"]:
-        records = [l.strip() for l in sys.stdin if l.strip() and not l.startswith("#")]
+        return [l.strip() for l in sys.stdin if l.strip() and not l.startswith("#")]
+    return records
+
+
+def pcap(out, records):
+    records = lines_or(records)
     with open(out, "wb") as f:
         f.write(struct.pack("<IHHiIII", 0xA1B2C3D4, 2, 4, 0, 0, 65535, 250))
         t = 1700000000
@@ -196,11 +233,36 @@ def pcap(out, records):
                 event, r = 0x03, r[3:]
             elif r.startswith("rx:"):
                 r = r[3:]
-            data = bytes.fromhex(r)
+            data = record_bytes(r)
             sec, usec = t + i, 1000 * i
             hdr = struct.pack(">II", sec, usec) + bytes([event, 0]) + b"\0\0"
             f.write(struct.pack("<IIII", sec, usec, len(hdr) + len(data), len(hdr) + len(data)))
             f.write(hdr + data)
+    return 0
+
+
+def tcp_pcap(out, records):
+    """Ethernet / IPv4 / TCP between 127.0.0.1:40000 (c:) and 127.0.0.2:2101 (s:)."""
+    records = lines_or(records)
+    ends = {"c": [b"\x7f\x00\x00\x01", 40000, 1000], "s": [b"\x7f\x00\x00\x02", 2101, 5000]}
+
+    def seg(f, i, who, flags, data):
+        a, b = ends[who], ends["s" if who == "c" else "c"]
+        tcp = struct.pack(">HHIIBBHHH", a[1], b[1], a[2], b[2], 0x50, flags, 65535, 0, 0) + data
+        ip = struct.pack(">BBHHHBBH4s4s", 0x45, 0, 20 + len(tcp), i, 0, 64, 6, 0, a[0], b[0])
+        eth = b"\x02\x00\x00\x00\x00\x02\x02\x00\x00\x00\x00\x01\x08\x00"
+        pkt = eth + ip + tcp
+        f.write(struct.pack("<IIII", 1700000000 + i, 0, len(pkt), len(pkt)) + pkt)
+        a[2] += len(data) + (1 if flags & 0x03 else 0)
+
+    with open(out, "wb") as f:
+        f.write(struct.pack("<IHHiIII", 0xA1B2C3D4, 2, 4, 0, 0, 65535, 1))
+        seg(f, 0, "c", 0x02, b"")            # SYN
+        seg(f, 1, "s", 0x12, b"")            # SYN ACK
+        seg(f, 2, "c", 0x10, b"")            # ACK
+        for i, r in enumerate(records):
+            who, r = r.split(":", 1)
+            seg(f, 3 + i, who, 0x18, record_bytes(r))
     return 0
 
 
@@ -260,6 +322,8 @@ def main(argv):
         return compare(argv[2], argv[3])
     if len(argv) >= 3 and argv[1] == "pcap":
         return pcap(argv[2], argv[3:])
+    if len(argv) >= 3 and argv[1] == "tcp":
+        return tcp_pcap(argv[2], argv[3:])
     if len(argv) == 6 and argv[1] == "tap":
         return tap(*argv[2:])
     sys.stderr.write(__doc__)

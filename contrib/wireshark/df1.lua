@@ -1566,9 +1566,10 @@ function df1.dissector(tvb, pinfo, tree)
 		conv = "tcp" .. tostring(tcp.value)
 		dir = pinfo.src_port == pinfo.match_uint and "rx" or "tx"
 	else
-		local ev = f_rtac_event()
-		if ev then
-			dir = rtac_dir(ev.value)          -- Decode As: the payload alone
+		if tvb:offset() > 0 then
+			-- Decode As on RTAC serial's payload: the header is its dissector's
+			local ev = f_rtac_event()
+			dir = ev and rtac_dir(ev.value) or "rx"
 		else
 			-- the link type's own dissector: the RTAC header first, by Wireshark's dissector
 			if tvb:len() < RTAC_HDR then return 0 end
@@ -1579,22 +1580,22 @@ function df1.dissector(tvb, pinfo, tree)
 	end
 	pinfo.cols.protocol = "DF1"
 	local n = pinfo.number
-	if not pinfo.visited then
-		local rec = get_rec(n)
-		if not rec.fed then
-			rec.fed = true
-			local st = get_stream(conv .. "/" .. dir, conv, dir)
-			G.now = pinfo.abs_ts
-			for i = base, tvb:len() - 1 do feed(st, tvb(i, 1):uint(), n, i) end
-			rec.pending = st.dec:busy()
-			st.last_rec = n
-		end
-	elseif not G.finished then
+	local rec = get_rec(n)
+	if not rec.fed then
+		-- first sight of the record. Normally the first pass; a record first seen
+		-- later (a caller that skips the first pass, as RTAC serial's Decode As does
+		-- in tshark -2) is fed then, in order, and the capture's end is not judged.
+		if pinfo.visited then G.late = true end
+		rec.fed = true
+		local st = get_stream(conv .. "/" .. dir, conv, dir)
+		G.now = pinfo.abs_ts
+		for i = base, tvb:len() - 1 do feed(st, tvb(i, 1):uint(), n, i) end
+		rec.pending = st.dec:busy()
+	elseif pinfo.visited and not G.finished and not G.late then
 		G.finished = true
 		for _, st in ipairs(G.streams) do finish(st) end
 	end
 
-	local rec = G.recs[n] or { syms = {}, parts = {} }
 	local info = {}
 	table.sort(rec.syms, function(a, b) return a.id < b.id end)
 	for _, sym in ipairs(rec.syms) do
@@ -1607,7 +1608,7 @@ function df1.dissector(tvb, pinfo, tree)
 		t:add(f.reassembled_in, p.sym.frame):set_generated()
 		info[#info + 1] = string.format("[part of a %s completed in frame %d]", p.sym.kind, p.sym.frame)
 	end
-	if not pinfo.visited and rec.pending then
+	if rec.pending and not G.finished and #rec.parts == 0 then
 		tree:add(df1, tvb(base, tvb:len() - base), "DF1 [a symbol continues in a later record]")
 		info[#info + 1] = "[continues in a later record]"
 	end
