@@ -1352,8 +1352,8 @@ local function summary(sym)
 end
 
 local function ns_time(secs)
-	local s = math.floor(secs)
-	return NSTime.new(s, math.floor((secs - s) * 1e9 + 0.5))
+	local ns = math.floor(secs * 1e9 + 0.5)
+	return NSTime.new(math.floor(ns / 1e9), ns % 1e9)
 end
 
 -- The frame's fields, on `at` (the app bytes: the record itself, or a new data
@@ -1588,7 +1588,7 @@ function df1.dissector(tvb, pinfo, tree)
 		if pinfo.visited then G.late = true end
 		rec.fed = true
 		local st = get_stream(conv .. "/" .. dir, conv, dir)
-		G.now = pinfo.abs_ts
+		G.now = pinfo.rel_ts     -- small numbers: differences exact to the nanosecond
 		for i = base, tvb:len() - 1 do feed(st, tvb(i, 1):uint(), n, i) end
 		rec.pending = st.dec:busy()
 	elseif pinfo.visited and not G.finished and not G.late then
