@@ -218,6 +218,9 @@ sniff fd -- "\$BIN/df1read $L N7:0,12 F8:0,3 T4:0 C5:0 R6:0 ST9:0 L10:0,2 B3:0/5
 same_as_df1mon "df1sim full duplex CRC" "$T/fd.pcap"
 fields "$T/fd.pcap" df1.value -- -Y 'df1.addr == "ST9:1"' > "$T/st"
 check "a string written, as written" 'grep -q "^hello\$" "$T/st"'
+# df1sim's default processor, as df1mon --who prints it (it_df1mon_live)
+fields "$T/fd.pcap" df1.processor -- -Y df1.processor > "$T/proc"
+same "diagnostic status: the processor" "$(cat "$T/proc")" "SLC 5/04 series C rev 5 (type 0x5B) mode run"
 sniff hd --duplex half --check bcc --station 1,2 -- \
 	"\$BIN/df1read $L --duplex half --check bcc N7:0,3 F8:0" \
 	"\$BIN/df1read $L --duplex half --check bcc -a 2 N7:1" \

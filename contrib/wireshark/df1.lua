@@ -704,6 +704,58 @@ local function view_command_data(v, m, s)
 	v.raw_off, v.raw_len = d, n
 end
 
+-- The diagnostic status (06/03) reply: processor type, series, revision, mode
+-- (spec 4.9; lib/proto/pccc_diag.c), or nil.
+local PROCESSORS = {
+	[0x13] = "PLC-5/12", [0x14] = "PLC-5/25", [0x15] = "PLC-5/40", [0x18] = "SLC 5/01",
+	[0x1A] = "SLC 500 (fixed)", [0x21] = "PLC-5/60", [0x22] = "PLC-5/10", [0x23] = "PLC-5/60",
+	[0x25] = "SLC 5/02", [0x28] = "PLC-5/40L", [0x29] = "PLC-5/60L", [0x31] = "PLC-5/11",
+	[0x32] = "PLC-5/20", [0x33] = "PLC-5/30", [0x49] = "SLC 5/03", [0x4A] = "PLC-5/20E",
+	[0x4B] = "PLC-5/40E", [0x55] = "PLC-5/80E", [0x58] = "MicroLogix 1000", [0x59] = "PLC-5/80E",
+	[0x5B] = "SLC 5/04", [0x6F] = "SLC 5/04 (L541)", [0x78] = "SLC 5/05", [0x83] = "PLC-5/30E",
+	[0x86] = "PLC-5/80E", [0x88] = "MicroLogix 1200", [0x89] = "MicroLogix 1500 LSP",
+	[0x8C] = "MicroLogix 1500 LRP", [0x95] = "CompactLogix L35E", [0x9C] = "MicroLogix 1100",
+	[0x9F] = "MicroLogix 1400",
+}
+local INTERFACES = { [0x2C] = "1770-KF3", [0x5F] = "1747-KFC15" }
+local SLC_MODES = { [0] = "download", [1] = "program", [3] = "idle", [6] = "run",
+	[7] = "test continuous", [8] = "test single scan" }
+local PLC5_MODES = { [0] = "program load", [2] = "run", [4] = "remote program", [5] = "remote test",
+	[6] = "remote run" }
+
+local function diag_status(s, i, n)
+	if n < 2 then return nil end
+	local kind = u8(s, i + 1)
+	local t = kind == 0xEE and 3 or ((kind == 0xEB or kind == 0xFE) and 2 or 7)
+	if n <= t then return nil end
+	local code = u8(s, i + t)
+	local d = { code = code }
+	local function series(b)
+		d.series = string.char(65 + band(rshift(b, 5), 7))
+		d.rev = band(b, 0x1F) + 1
+	end
+	if kind == 0xEE then
+		if n > 4 then series(u8(s, i + 4)) end
+		if n > 18 then d.mode = SLC_MODES[band(u8(s, i + 18), 0x1F)] or "unknown" end
+		d.name = PROCESSORS[code]
+	elseif kind == 0xEB then
+		d.mode = PLC5_MODES[band(u8(s, i), 7)] or "unknown"
+		if n > 7 then series(u8(s, i + 7)) end
+		d.name = PROCESSORS[code]
+	elseif kind == 0xFE then
+		d.name = INTERFACES[code]
+	else
+		d.name = PROCESSORS[code]
+	end
+	d.name = d.name or string.format("unknown (0x%02X)", code)
+	local text = d.name
+	if d.series then text = text .. string.format(" series %s rev %d", d.series, d.rev) end
+	text = text .. string.format(" (type 0x%02X)", code)
+	if d.mode then text = text .. " mode " .. d.mode end
+	d.text = text
+	return d
+end
+
 local function view_reply_data(v, m, s)
 	local c = v.orig
 	local d, n = m.data_off, m.data_len
@@ -717,6 +769,8 @@ local function view_reply_data(v, m, s)
 		end
 	elseif c and c.cmd == 0x01 then
 		return view_values(v, "N", s, d, n)
+	elseif c and c.cmd == 0x06 and c.fnc == 0x03 then
+		v.diag = diag_status(s, d, n)
 	end
 	v.raw_off, v.raw_len = d, n
 end
@@ -1092,6 +1146,8 @@ f.mask = ProtoField.bytes("df1.mask", "Mask")
 f.mask_data = ProtoField.bytes("df1.mask_data", "Mask data")
 f.mode = ProtoField.uint8("df1.mode", "Mode", base.HEX)
 f.data = ProtoField.bytes("df1.data", "Data")
+f.processor = ProtoField.string("df1.processor", "Processor")
+f.processor_type = ProtoField.uint8("df1.processor_type", "Processor type", base.HEX)
 f.check = ProtoField.string("df1.check", "Error check")
 f.check_ok = ProtoField.bool("df1.check_ok", "Check good")
 f.bcc = ProtoField.uint8("df1.bcc", "BCC", base.HEX)
@@ -1185,7 +1241,9 @@ end
 local function analyse(st, sym)
 	sym.time = G.now
 	if sym.kind == "FRAME" then
-		local v = build_view(st.ctx, sym, sym.check_ok)
+		-- a decoding bug must not lose the symbol: it is shown with the error
+		local okv, v = pcall(build_view, st.ctx, sym, sym.check_ok)
+		if not okv then v = { size = -1, error = "dissector error: " .. tostring(v), m = {} } end
 		sym.view = v
 		st.enq = 0
 		st.last_frame = sym
@@ -1346,6 +1404,7 @@ local function summary(sym)
 	if v.m.ext_sts then t[#t + 1] = string.format("EXT STS 0x%02X", v.m.ext_sts) end
 	local vt = values_text(v)
 	if vt then t[#t + 1] = "= " .. vt end
+	if v.diag then t[#t + 1] = v.diag.text end
 	t[#t + 1] = string.format("tns 0x%04X", v.m.tns)
 	if sym.master and sym.has_station then t[#t + 1] = "(stn " .. sym.station .. ")" end
 	return table.concat(t, " ")
@@ -1438,7 +1497,13 @@ local function add_frame_fields(t, sym, at, base)
 			t:add(f.mask_data, r(v.masks_off + 2, 2)):append_text(" (" .. names[2] .. ")")
 		end
 	end
-	if v.raw_off then t:add(f.data, r(v.raw_off, v.raw_len)) end
+	if v.raw_off then
+		local di = t:add(f.data, r(v.raw_off, v.raw_len))
+		if v.diag then
+			di:add(f.processor, r(v.raw_off, v.raw_len), v.diag.text):set_generated()
+			di:add(f.processor_type, r(v.raw_off, v.raw_len), v.diag.code):set_generated()
+		end
+	end
 	if v.error then
 		t:add(f.error, r(0, #s), v.error)
 		t:add_proto_expert_info(ex.malformed, v.error)
@@ -1591,6 +1656,8 @@ function df1.dissector(tvb, pinfo, tree)
 		G.now = pinfo.rel_ts     -- small numbers: differences exact to the nanosecond
 		for i = base, tvb:len() - 1 do feed(st, tvb(i, 1):uint(), n, i) end
 		rec.pending = st.dec:busy()
+		local ds = st.dec.state
+		rec.pending_enq = ds == ST.APOLL_STN or ds == ST.APOLL_STN_DLE or ds == ST.APOLL_BCC
 	elseif pinfo.visited and not G.finished and not G.late then
 		G.finished = true
 		for _, st in ipairs(G.streams) do finish(st) end
@@ -1609,8 +1676,11 @@ function df1.dissector(tvb, pinfo, tree)
 		info[#info + 1] = string.format("[part of a %s completed in frame %d]", p.sym.kind, p.sym.frame)
 	end
 	if rec.pending and not G.finished and #rec.parts == 0 then
-		tree:add(df1, tvb(base, tvb:len() - base), "DF1 [a symbol continues in a later record]")
-		info[#info + 1] = "[continues in a later record]"
+		-- tshark without -2: what the following records will decide
+		local what = rec.pending_enq and "DLE ENQ: an ENQ, or a poll if STN and its BCC follow"
+			or "a symbol continues in a later record"
+		tree:add(df1, tvb(base, tvb:len() - base), "DF1 [" .. what .. "]")
+		info[#info + 1] = "[" .. what .. "]"
 	end
 	if #info == 0 then
 		if tvb:len() > base then
