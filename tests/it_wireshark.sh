@@ -10,6 +10,7 @@
 #   - a built capture: a frame split over three records (inside its DLE
 #     stuffing), a corrupted CRC, a NAK, ENQ retries, a duplicate command, a
 #     stale reply, an element above 254, T4:0.ACC, a PLC error reply;
+#   - random frames of every command libdf1 knows, split at random (seeded);
 #   - captures written by `df1mon --sniff -w` of df1read/df1write against
 #     df1sim, through a tap (full duplex CRC, half duplex BCC, PLC-5, faults);
 #   - raw DF1 over TCP (the port preference; off by default);
@@ -181,6 +182,14 @@ same "T4:0.ACC and its word" "$(cat "$T/acc")" "$(printf 'T4:0.ACC\t\nT4:0.ACC\t
 fields "$T/built.pcap" df1.sts df1.sts_text -- -Y 'df1.sts == 0x10' > "$T/sts"
 same "STS 10 with its text" "$(cat "$T/sts")" "$(printf '0x10\tillegal command or format')"
 check "a PLC error status is an expert warning" '[ "$(tsh -r "$T/built.pcap" -Y df1.expert.plc_error | wc -l)" -eq 1 ]'
+
+# random frames of every CMD/FNC, split at random, some corrupted (seeded)
+for seed in 1 2; do
+	for c in crc bcc; do
+		python3 $H random $seed 150 $c | python3 $H pcap "$T/rnd.pcap" -
+		same_as_df1mon "random frames, seed $seed, $c" "$T/rnd.pcap"
+	done
+done
 
 # ---------------------------------------------------------------- df1sim through a tap
 # sniff NAME [DF1SIM OPTIONS] -- TOOL COMMANDS (";" separated; LINE is the tap's

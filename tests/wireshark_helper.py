@@ -14,6 +14,9 @@
         (or per stdin line with "-"), "[rx:|tx:]HEX BYTES" (or crc:HEX,
         bcc:HEX: a frame with those app bytes, stuffed, with its check), each
         after a 12-byte RTAC header (time, event type: tx 03, rx 04).
+  wireshark_helper.py random SEED COUNT crc|bcc
+        records (for `pcap OUT -`) of COUNT random PCCC frames, some corrupted,
+        split at random over records of both directions.
   wireshark_helper.py tcp OUT RECORD...
         the same as a TCP conversation (Ethernet, IPv4, handshake first) from
         127.0.0.1:40000 to 127.0.0.2:2101: "c:" records from the client, "s:"
@@ -26,6 +29,7 @@
         "ready" once the taps are open; ends on SIGTERM, closing the FIFOs.
 """
 import json
+import random
 import os
 import select
 import signal
@@ -150,6 +154,8 @@ def compare(mon_path, ts_path):
             elif s["kind"] == "ERROR":
                 if "station" in s:
                     eq("df1.stn", s["station"])
+                    if s["error_id"] != 2507:   # not a poll's: a master message's
+                        eq("df1.master", 1)
                 eq("df1.error_id", s["error_id"])
             elif s["kind"] in ("ACK", "NAK") and s.get("embedded"):
                 eq("df1.embedded", 1)
@@ -241,6 +247,41 @@ def pcap(out, records):
     return 0
 
 
+def random_records(seed, count, check):
+    """Frames of random PCCC commands and replies (every CMD/FNC libdf1 knows,
+    random fields and data), some with a flipped check byte, split at random
+    points over records of both directions, with ACK/NAK/ENQ between: the
+    dissector and df1mon must still agree on every symbol."""
+    r = random.Random(seed)
+    heads = [(0x0F, f) for f in (0x00, 0x01, 0x02, 0x26, 0x3A, 0x67, 0x68, 0x80, 0xA1, 0xA2,
+                                 0xA9, 0xAA, 0xAB, 0x55)]
+    heads += [(0x06, f) for f in range(8)] + [(c, None) for c in (0, 1, 2, 5, 8, 0x0B)]
+    for _ in range(count):
+        d = r.choice(["rx", "tx"])
+        c, f = r.choice(heads)
+        reply = r.random() < 0.4
+        app = bytes([r.randint(0, 3), r.randint(0, 3), c | (0x40 if reply else 0),
+                     r.choice([0, 0, 0, 0x10, 0xF0]) if reply else 0, r.randint(0, 5), 0])
+        if f is not None and not reply:
+            app += bytes([f])
+        if f in (0xA1, 0xA2, 0xA9, 0xAA, 0xAB) and not reply:
+            app += bytes([r.choice([2, 4, 6, 84, 8]), r.choice([3, 7, 8, 9, 0xFF]),
+                          r.choice([0x85, 0x86, 0x87, 0x88, 0x89, 0x8A, 0x8D, 0x91, 0x84, 0x8B, 0x80])])
+            if app[-2] == 0xFF:
+                app += bytes([r.randint(0, 255), r.randint(0, 3)])
+        app += bytes(r.randint(0, 255) for _ in range(r.randint(0, 30)))
+        w = frame(check, app)
+        if r.random() < 0.1:
+            w = w[:-1] + bytes([w[-1] ^ 1])
+        while w:
+            k = r.randint(1, len(w))
+            print(d + ":" + w[:k].hex())
+            w = w[k:]
+        if r.random() < 0.3:
+            print(("tx:" if d == "rx" else "rx:") + r.choice(["1006", "1015", "1005"]))
+    return 0
+
+
 def tcp_pcap(out, records):
     """Ethernet / IPv4 / TCP between 127.0.0.1:40000 (c:) and 127.0.0.2:2101 (s:)."""
     records = lines_or(records)
@@ -322,6 +363,8 @@ def main(argv):
         return compare(argv[2], argv[3])
     if len(argv) >= 3 and argv[1] == "pcap":
         return pcap(argv[2], argv[3:])
+    if len(argv) == 5 and argv[1] == "random":
+        return random_records(int(argv[2]), int(argv[3]), argv[4])
     if len(argv) >= 3 and argv[1] == "tcp":
         return tcp_pcap(argv[2], argv[3:])
     if len(argv) == 6 and argv[1] == "tap":

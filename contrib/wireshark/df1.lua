@@ -1587,9 +1587,9 @@ local function add_symbol(tree, tvb, sym)
 			t:add_proto_expert_info(ex.bad_check, check_text(sym))
 		end
 	end
-	if sym.master then
+	if sym.master and sym.has_station then
 		t:add(f.master, wire, true):set_generated()
-		if sym.has_station then t:add(f.stn, wt(woff + 2, 1), sym.station) end
+		t:add(f.stn, wt(woff + 2, 1), sym.station)
 	end
 	if k == "FRAME" or (k == "ERROR" and sym.data and #sym.data > 0) then
 		local hdr = 2
