@@ -20,7 +20,8 @@
   wireshark_helper.py tcp OUT RECORD...
         the same as a TCP conversation (Ethernet, IPv4, handshake first) from
         127.0.0.1:40000 to 127.0.0.2:2101: "c:" records from the client, "s:"
-        from the server; HEX, or crc:HEX / bcc:HEX for a frame around app bytes.
+        from the server ("cr:", "sr:" the same side's last segment again, a
+        retransmission); HEX, or crc:HEX / bcc:HEX for a frame around app bytes.
   wireshark_helper.py tap LINK SIM TAP_TX TAP_RX
         a serial tap between two tools: a pty whose slave is linked at LINK
         (df1read opens it) relayed both ways to the pty SIM (df1sim --pty),
@@ -303,6 +304,9 @@ def tcp_pcap(out, records):
         seg(f, 2, "c", 0x10, b"")            # ACK
         for i, r in enumerate(records):
             who, r = r.split(":", 1)
+            if who.endswith("r"):         # a retransmission of that side's last segment
+                who = who[0]
+                ends[who][2] -= len(record_bytes(r))
             seg(f, 3 + i, who, 0x18, record_bytes(r))
     return 0
 

@@ -1430,7 +1430,9 @@ local function add_frame_fields(t, sym, at, base)
 	end
 	t:add(f.dst, r(0, 1), m.dst)
 	t:add(f.src, r(1, 1), m.src)
-	t:add(f.cmd, r(2, 1), m.cmd):append_text(" (" .. (m.is_reply and "reply" or m.name) .. ")")
+	local cmd_label = m.is_reply and "reply" or
+		(m.cmd == 0x0F and "command, FNC follows" or (m.cmd == 0x06 and "diagnostic, FNC follows" or m.name))
+	t:add(f.cmd, r(2, 1), m.cmd):append_text(" (" .. cmd_label .. ")")
 	t:add(f.reply, r(2, 1), m.is_reply):set_generated()
 	t:add(f.sts, r(3, 1), m.sts):append_text(" (" .. sts_text(m.sts) .. ")")
 	if m.is_reply then t:add(f.sts_text, r(3, 1), sts_text(m.sts)):set_generated() end
@@ -1615,6 +1617,7 @@ end
 
 local f_rtac_event = Field.new("rtacser.eventtype")
 local f_tcp_stream = Field.new("tcp.stream")
+local f_tcp_retrans = Field.new("tcp.analysis.retransmission")
 local rtacser = Dissector.get("rtacser")
 
 -- RTAC serial event types: 01/03 transmit start/end, 02/04 receive (tools/mon_read.c).
@@ -1630,6 +1633,13 @@ function df1.dissector(tvb, pinfo, tree)
 	if tcp then
 		conv = "tcp" .. tostring(tcp.value)
 		dir = pinfo.src_port == pinfo.match_uint and "rx" or "tx"
+		if f_tcp_retrans() then
+			-- the bytes were fed with the first copy of the segment
+			pinfo.cols.protocol = "DF1"
+			tree:add(df1, tvb(), "DF1 [TCP retransmission: bytes already seen]")
+			pinfo.cols.info = "[TCP retransmission]"
+			return tvb:len()
+		end
 	else
 		if tvb:offset() > 0 then
 			-- Decode As on RTAC serial's payload: the header is its dissector's
