@@ -11,6 +11,10 @@ MANDIR ?= $(PREFIX)/share/man
 PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
 # systemd looks in /usr/local/lib/systemd/system too; Debian's /usr is /lib/...
 SYSTEMDUNITDIR ?= $(PREFIX)/lib/systemd/system
+# Lua plugins folder of Debian's wireshark (dpkg -L libwireshark16:
+# /usr/lib/x86_64-linux-gnu/wireshark/plugins), so PREFIX=/usr is found at once
+MULTIARCH ?= $(shell $(CC) -print-multiarch 2>/dev/null)
+WIRESHARK_PLUGINDIR ?= $(PREFIX)/lib/$(if $(MULTIARCH),$(MULTIARCH)/)wireshark/plugins
 
 CC ?= cc
 CFLAGS ?= -O2 -g
@@ -77,7 +81,7 @@ endif
 # keep objects of chained rules (tools, tests) for quick rebuilds
 .SECONDARY:
 
-.PHONY: all check test-run tests install uninstall clean demo bench lint-man lint-code check-exports deps
+.PHONY: all check test-run tests install uninstall install-wireshark uninstall-wireshark clean demo bench lint-man lint-code check-exports deps
 all: $(STATIC) $(SHARED) $(TOOLS) $(B)/libdf1.pc
 
 # V=1 shows the full commands
@@ -171,7 +175,7 @@ bench: deps
 	$(MAKE) all
 	@sh bench/run.sh $(B)
 
-install: all
+install: all install-wireshark
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(INCLUDEDIR) \
 		$(DESTDIR)$(PKGCONFIGDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(MANDIR)/man3 $(DESTDIR)$(MANDIR)/man7
 	install -m 755 $(TOOLS) $(DESTDIR)$(BINDIR)/
@@ -192,7 +196,14 @@ install: all
 	    > $(DESTDIR)$(SYSTEMDUNITDIR)/df1gw@.service
 	chmod 644 $(DESTDIR)$(SYSTEMDUNITDIR)/df1gw@.service
 
-uninstall:
+install-wireshark:
+	install -d $(DESTDIR)$(WIRESHARK_PLUGINDIR)
+	install -m 644 contrib/wireshark/df1.lua $(DESTDIR)$(WIRESHARK_PLUGINDIR)/
+
+uninstall-wireshark:
+	rm -f $(DESTDIR)$(WIRESHARK_PLUGINDIR)/df1.lua
+
+uninstall: uninstall-wireshark
 	rm -f $(TOOL_NAMES:%=$(DESTDIR)$(BINDIR)/%)
 	rm -f $(DESTDIR)$(LIBDIR)/libdf1.a $(DESTDIR)$(LIBDIR)/libdf1.so*
 	rm -f $(DESTDIR)$(INCLUDEDIR)/df1.h $(DESTDIR)$(INCLUDEDIR)/df1_catalog.h $(DESTDIR)$(PKGCONFIGDIR)/libdf1.pc
