@@ -63,7 +63,7 @@ static void tag_publish(struct gw *g, int id, bool force, int64_t now)
 	struct gw_pub *e;
 	char error[256], topic[GW_TOPIC_MAX];
 
-	if (id < 0 || id >= g->ntags || df1_tag_get(g->h, id, &st) < 0)
+	if (id < 0 || id >= g->ntags || !gw_mqtt_up(&g->mq) || df1_tag_get(g->h, id, &st) < 0)
 		return;
 	e = &g->pubs.v[g->pub_of[id]];
 	if (!(st.config->access & DF1_ACCESS_READ)) {
@@ -91,13 +91,25 @@ static void tag_publish(struct gw *g, int id, bool force, int64_t now)
 	publish(g, topic, g->buf.p, g->buf.len, true);
 }
 
+static void station_publish(struct gw *g, int stn, bool force, int64_t now);
+
+/* Published at once, from inside df1_poll(): a scan with retries can take
+ * seconds, and libmosquitto writes a publication out as it is made. */
 void gw_on_tag(void *user, int id, const struct df1_tag_state *st)
 {
 	struct gw *g = user;
+	int64_t now = gw_now_ms();
 
-	(void)st;
-	if (id >= 0 && id < g->ntags)
+	if (id < 0 || id >= g->ntags)
+		return;
+	if (!gw_mqtt_up(&g->mq)) {
 		g->dirty[id] = 1;
+		return;
+	}
+	g->dirty[id] = 0;
+	tag_publish(g, id, false, now);
+	if (st && st->config && st->config->station >= 0 && st->config->station < 255)
+		station_publish(g, st->config->station, false, now);
 }
 
 /* ---- stations ---- */
@@ -112,7 +124,7 @@ static void station_publish(struct gw *g, int stn, bool force, int64_t now)
 
 	snprintf(name, sizeof name, "station/%d", stn);
 	e = gw_pubs_get(&g->pubs, name, true);
-	if (!e || df1_station_health(g->h, stn, &sh) < 0)
+	if (!e || !gw_mqtt_up(&g->mq) || df1_station_health(g->h, stn, &sh) < 0)
 		return;
 	state = g->line_up ? df1_station_state_name(sh.state) : "offline";
 	have_err = !g->line_up ? g->line_error[0] != '\0' : sh.last_error != 0 && sh.state != DF1_STATION_OK;
