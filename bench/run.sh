@@ -37,3 +37,6 @@ if [ "$line" != "$T/plc" ]; then
 	exit 1
 fi
 "$B/bench/bench_poll" "$T/plc" "${BENCH_SCANS:-10}"
+
+# bench_gw: df1gw end to end (mosquitto, df1sim, df1gw): latency and CPU
+sh bench/bench_gw.sh "$B"

@@ -288,6 +288,7 @@ static int line_open(struct gw *g)
 		fprintf(stderr, "%s: %s: open again\n", GW_PROG, g->cli.device);
 	g->line_up = true;
 	g->line_ever_up = true;
+	g->line_opened_ms = gw_now_ms();
 	g->line_error[0] = '\0';
 	g->line_backoff_ms = LINE_BACKOFF_MIN;
 	g->republish = true;
@@ -313,9 +314,10 @@ static int line_gone(const struct gw *g)
 	for (int stn = 0; stn < 255; stn++) {
 		struct df1_station_health sh;
 
+		/* only attempts on this opening: an offline station keeps the old error */
 		if (g->stations[stn] && df1_station_health(g->h, stn, &sh) == 0 &&
 		    (sh.last_error == DF1_E_CLOSED || sh.last_error == DF1_E_NODEV) &&
-		    sh.state != DF1_STATION_OK)
+		    sh.state != DF1_STATION_OK && sh.last_attempt_ms >= g->line_opened_ms)
 			return sh.last_error;
 	}
 	return 0;

@@ -45,6 +45,7 @@ struct gw {
 	char line_error[640];
 	int line_backoff_ms;
 	int64_t line_next_try_ms;
+	int64_t line_opened_ms;      /* monotonic ms of the last df1_open */
 	bool stations[255];          /* stations that have tags */
 	unsigned char *dirty;        /* per tag id: changed since published */
 	int ntags;

@@ -126,6 +126,8 @@ static void station_publish(struct gw *g, int stn, bool force, int64_t now)
 	e = gw_pubs_get(&g->pubs, name, true);
 	if (!e || !gw_mqtt_up(&g->mq) || df1_station_health(g->h, stn, &sh) < 0)
 		return;
+	if (g->line_up && sh.state == DF1_STATION_UNKNOWN && !force)
+		return;         /* not polled yet (a reload, a reopened line): nothing new */
 	state = g->line_up ? df1_station_state_name(sh.state) : "offline";
 	have_err = !g->line_up ? g->line_error[0] != '\0' : sh.last_error != 0 && sh.state != DF1_STATION_OK;
 	if (!g->line_up)
