@@ -7,7 +7,10 @@
  * the wait for the next scan, the read, JSON, the broker) and set -> result
  * (a write's round trip). A benchmark reports numbers; it asserts nothing.
  *
- * usage: bench_gw PORT PREFIX COUNT
+ * Each write starts at a random point of the scan period (SCAN_MS), so the
+ * wait for the next scan is spread as it is for a change the PLC makes.
+ *
+ * usage: bench_gw PORT PREFIX COUNT SCAN_MS
  */
 #include <poll.h>
 #include <stdio.h>
@@ -89,20 +92,23 @@ static int pump(struct mosquitto *m, struct run *r, int (*cond)(const struct run
 }
 
 static int is_subscribed(const struct run *r) { return r->subscribed >= 2; }
+static int never(const struct run *r) { (void)r; return 0; }
 static int has_mirror(const struct run *r) { return r->t_mirror > 0; }
 
 int main(int argc, char **argv)
 {
 	struct run r;
 	struct mosquitto *m;
-	int port, count, done = 0;
+	int port, count, done = 0, scan_ms;
 	double *change, *write;
 	char topic[300], payload[64];
 
-	if (argc != 4) {
-		fprintf(stderr, "usage: bench_gw PORT PREFIX COUNT\n");
+	if (argc != 5) {
+		fprintf(stderr, "usage: bench_gw PORT PREFIX COUNT SCAN_MS\n");
 		return 2;
 	}
+	scan_ms = atoi(argv[4]);
+	srand((unsigned)time(NULL));
 	port = atoi(argv[1]);
 	count = atoi(argv[3]);
 	memset(&r, 0, sizeof r);
@@ -113,6 +119,7 @@ int main(int argc, char **argv)
 	m = mosquitto_new(NULL, true, &r);
 	if (!m || !change || !write)
 		return 1;
+	mosquitto_int_option(m, MOSQ_OPT_TCP_NODELAY, 1);
 	mosquitto_message_callback_set(m, on_message);
 	mosquitto_subscribe_callback_set(m, on_subscribe);
 	if (mosquitto_connect(m, "127.0.0.1", port, 30) != MOSQ_ERR_SUCCESS) {
@@ -126,6 +133,8 @@ int main(int argc, char **argv)
 	if (pump(m, &r, is_subscribed, now_ms() + 5000) < 0)
 		return 1;
 	for (int i = 0; i < count; i++) {
+		if (scan_ms > 0)
+			pump(m, &r, never, now_ms() + rand() % scan_ms);
 		r.want = 1000 + i;
 		r.t_result = r.t_mirror = 0;
 		snprintf(topic, sizeof topic, "%s/tag/Speed/set", r.prefix);

@@ -2,7 +2,9 @@
 # bench/bench_gw.sh BUILDDIR - df1gw against mosquitto and df1sim on a pty
 # (run by bench/run.sh, `make bench`; never by make check):
 #  - latency: a change in df1sim (a write through .../set) to the MQTT message
-#    of a tag that reads it (bench_gw.c), Scan_Ms 100;
+#    of another tag that reads the same word in a block of its own (PLC_Type
+#    MicroLogix: the engine reads a written block back at once, not this one),
+#    Scan_Ms 100 (BENCH_GW_SCAN_MS); bench_gw.c;
 #  - CPU: df1gw's user + system time per scan of 1000 tags (N10:0..999, one
 #    Read tag each, Scan_Ms 0), from /proc/PID/stat, scans counted in df1sim's
 #    --log; then the same with --refresh 1 (1000 publications a second).
@@ -26,6 +28,7 @@ cleanup() {
 }
 trap cleanup EXIT INT TERM
 
+mkdir -p "$B/bench"
 $CC -O2 -g -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra -o "$B/bench/bench_gw" bench/bench_gw.c \
 	$(pkg-config --libs libmosquitto 2>/dev/null || echo -lmosquitto) || exit 1
 
@@ -41,7 +44,9 @@ wait_until() {
 	return 1
 }
 port=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
-printf 'listener %s 127.0.0.1\npersistence false\nallow_anonymous true\nuser %s\n' "$port" "$(id -un)" > "$T/mq.conf"
+# set_tcp_nodelay: else the broker's Nagle and the clients' delayed ACKs add ~40 ms to a reply
+printf 'listener %s 127.0.0.1\npersistence false\nallow_anonymous true\nuser %s\nset_tcp_nodelay true\n' \
+	"$port" "$(id -un)" > "$T/mq.conf"
 "$MOSQ" -c "$T/mq.conf" > "$T/mq.log" 2>&1 &
 pids="$pids $!"
 wait_until 100 python3 -c "import socket; socket.create_connection(('127.0.0.1', $port), 1).close()" 2>/dev/null || exit 1
@@ -52,13 +57,15 @@ wait_until 100 test -s "$T/sim.out" || exit 1
 online() { mosquitto_sub -p "$port" -t "$1/status" -C 1 -W 2 2>/dev/null | grep -q online; }
 
 # ---- latency ----
-printf 'Tag,Command,Type,Station,PLC_Type,Address,Count,Scan_Ms\nSpeed,ReadWrite,INT,1,SLC,N7:0,1,100\nMirror,Read,INT,1,SLC,N7:0,1,100\n' > "$T/lat.csv"
+SCAN=${BENCH_GW_SCAN_MS:-100}
+printf 'Tag,Command,Type,Station,PLC_Type,Address,Count,Scan_Ms\nSpeed,ReadWrite,INT,1,SLC,N7:0,1,%s\nMirror,Read,INT,1,MicroLogix,N7:0,1,%s\n' \
+	"$SCAN" "$SCAN" > "$T/lat.csv"
 "$B/bin/df1gw" -d "$T/plc" --map "$T/lat.csv" --mqtt "mqtt://127.0.0.1:$port" --prefix bench/lat -q &
 gw=$!
 pids="$pids $gw"
 wait_until 100 online bench/lat || exit 1
-echo "bench_gw: latency, 2 tags at Scan_Ms 100 on a pty (no line pacing), QoS 1, $WRITES writes:"
-"$B/bench/bench_gw" "$port" bench/lat "$WRITES"
+echo "bench_gw: latency, 2 tags at Scan_Ms $SCAN on a pty (no line pacing), QoS 1, $WRITES writes:"
+"$B/bench/bench_gw" "$port" bench/lat "$WRITES" "$SCAN"
 kill "$gw"; wait "$gw" 2>/dev/null
 
 # ---- CPU per 1000 tags per scan ----

@@ -107,6 +107,8 @@ int gw_mqtt_init(struct gw_mqtt *q, const struct gw_mqtt_config *c, const struct
 		snprintf(err, errcap, "cannot create the MQTT client: %s", strerror(errno));
 		return -1;
 	}
+	/* a result or a change goes out at once, not after the broker's delayed ACK */
+	mosquitto_int_option(q->m, MOSQ_OPT_TCP_NODELAY, 1);
 	mosquitto_connect_callback_set(q->m, on_connect);
 	mosquitto_disconnect_callback_set(q->m, on_disconnect);
 	mosquitto_publish_callback_set(q->m, on_publish);
