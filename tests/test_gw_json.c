@@ -146,6 +146,14 @@ static void test_json_writers_escape(void **state)
 	gw_buf_free(&b);
 }
 
+static void test_utf8_valid(void **state)
+{
+	(void)state;
+	assert_true(gw_utf8_valid("Pump 1 caf\xc3\xa9", 13));
+	assert_false(gw_utf8_valid("caf\xe9", 4));         /* ISO 8859-1, no UTF-8 */
+	assert_false(gw_utf8_valid("\xc3", 1));             /* cut short */
+}
+
 static void test_rfc3339(void **state)
 {
 	char ts[40];
@@ -198,6 +206,7 @@ int main(void)
 		cmocka_unit_test(test_json_error_says_where),
 		cmocka_unit_test(test_json_latin1),
 		cmocka_unit_test(test_json_writers_escape),
+		cmocka_unit_test(test_utf8_valid),
 		cmocka_unit_test(test_rfc3339),
 		cmocka_unit_test(test_url),
 	};

@@ -112,10 +112,10 @@ static const struct cli_tool gw_tool = {
 
 /* ---- configuration ---- */
 
-/* A tag name is one topic level: no '/', '+' or '#'. */
+/* A tag name is one topic level: UTF-8 without '/', '+' or '#'. */
 static bool topic_level_ok(const char *s)
 {
-	return *s && !strpbrk(s, "/+#");
+	return *s && !strpbrk(s, "/+#") && gw_utf8_valid(s, strlen(s));
 }
 
 struct map_check {
@@ -177,8 +177,8 @@ static int line_build(struct gw *g, df1_t **out)
 		struct df1_tag_state st;
 
 		if (df1_tag_get(h, id, &st) == 0 && !topic_level_ok(st.config->name)) {
-			fprintf(stderr, "%s: %s: tag \"%s\": a name cannot hold '/', '+' or '#' (it is one "
-			        "level of the topic PREFIX/tag/NAME)\n", GW_PROG, g->map_path, st.config->name);
+			fprintf(stderr, "%s: %s: tag \"%s\": a name cannot hold '/', '+' or '#' and must be "
+			        "UTF-8 (it is one level of the topic PREFIX/tag/NAME)\n", GW_PROG, g->map_path, st.config->name);
 			df1_free(h);
 			return CLI_EXIT_USAGE;
 		}
@@ -274,10 +274,14 @@ static int line_open(struct gw *g)
 	int r = df1_open(g->h, g->cli.device);
 
 	if (r < 0) {
-		bool first = !g->line_error[0] || g->line_ever_up;
+		char before[sizeof g->line_error];
+		bool news;
 
+		/* said once per new reason, not at every try */
+		memcpy(before, g->line_error, sizeof before);
 		line_error_set(g, r);
-		if (first && !g->cli.quiet)
+		news = strcmp(before, g->line_error) != 0;
+		if (news && !g->cli.quiet)
 			fprintf(stderr, "%s: %s; trying again\n", GW_PROG, g->line_error);
 		g->line_next_try_ms = gw_now_ms() + g->line_backoff_ms;
 		g->line_backoff_ms = g->line_backoff_ms * 2 > LINE_BACKOFF_MAX ? LINE_BACKOFF_MAX

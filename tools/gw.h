@@ -33,8 +33,8 @@ struct gw {
 	int watchdog_ms;
 	bool once;
 
-	char client_id[256];
-	char prefix[320];
+	char client_id[320];
+	char prefix[400];
 	char *password;
 
 	/* the line: h is configured (cli_configure) with the tags loaded; open

@@ -186,6 +186,22 @@ void gw_json_bytes(struct gw_buf *b, const uint8_t *s, size_t n)
 	gw_buf_add(b, "\"", 1);
 }
 
+bool gw_utf8_valid(const char *s, size_t n)
+{
+	const unsigned char *p = (const unsigned char *)s;
+	size_t i = 0;
+
+	while (i < n) {
+		uint32_t cp;
+		size_t k = utf8_seq(p + i, n - i, &cp);
+
+		if (!k)
+			return false;
+		i += k;
+	}
+	return true;
+}
+
 void gw_rfc3339(int64_t wall_ms, char *out, size_t cap)
 {
 	time_t t = (time_t)(wall_ms / 1000);

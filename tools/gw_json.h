@@ -32,6 +32,8 @@ void gw_json_text(struct gw_buf *b, const char *s, size_t n);
  * 0x80-0xFF and control characters as \u00XX, so gw_json's parser and
  * gw_jv_latin1() give the same bytes back. */
 void gw_json_bytes(struct gw_buf *b, const uint8_t *s, size_t n);
+/* s[0..n) is valid UTF-8 (as MQTT topics must be). */
+bool gw_utf8_valid(const char *s, size_t n);
 /* "2026-12-01T23:15:00.123Z" for ms since the epoch (UTC). cap >= 25. */
 void gw_rfc3339(int64_t wall_ms, char *out, size_t cap);
 
