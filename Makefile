@@ -45,11 +45,16 @@ CMOCKA_LIBS = $(shell pkg-config --libs cmocka 2>/dev/null || echo -lcmocka)
 LIB_SRCS := $(sort $(wildcard lib/*.c lib/*/*.c))
 LIB_OBJS := $(LIB_SRCS:%.c=$(B)/%.o)
 LIB_PIC_OBJS := $(LIB_SRCS:%.c=$(B)/pic/%.o)
-TOOL_NAMES := df1read df1write df1mon df1sim
-# tools/mon_*.c belong to df1mon alone; every other tools/*.c that is not a
-# tool's main (cli_*, decode*) is linked into every tool.
+TOOL_NAMES := df1read df1write df1mon df1sim df1gw
+# tools/mon_*.c belong to df1mon alone, tools/gw_*.c to df1gw (which links
+# libmosquitto); every other tools/*.c that is not a tool's main (cli_*,
+# decode*) is linked into every tool.
 TOOL_OWN_df1mon := $(patsubst %.c,$(B)/%.o,$(wildcard tools/mon_*.c))
-TOOL_COMMON := $(filter-out $(TOOL_NAMES:%=tools/%.c) $(wildcard tools/mon_*.c),$(wildcard tools/*.c))
+TOOL_OWN_df1gw := $(patsubst %.c,$(B)/%.o,$(wildcard tools/gw_*.c))
+TOOL_LIBS_df1gw := $(shell pkg-config --libs libmosquitto 2>/dev/null || echo -lmosquitto)
+# df1gw's pure modules (no libmosquitto), linked into its unit tests tests/test_gw_*.c
+GW_PURE_OBJS := $(patsubst %.c,$(B)/%.o,$(filter-out tools/gw_mqtt.c tools/gw_pub.c,$(wildcard tools/gw_*.c)))
+TOOL_COMMON := $(filter-out $(TOOL_NAMES:%=tools/%.c) $(wildcard tools/mon_*.c tools/gw_*.c),$(wildcard tools/*.c))
 TOOL_COMMON_OBJS := $(TOOL_COMMON:%.c=$(B)/%.o)
 TOOLS := $(foreach t,$(TOOL_NAMES),$(if $(wildcard tools/$(t).c),$(B)/bin/$(t)))
 TEST_SRCS := $(sort $(wildcard tests/test_*.c))
@@ -118,19 +123,23 @@ $(SHARED): $(LIB_PIC_OBJS) lib/libdf1.map
 	$(Q)ln -sf libdf1.so.$(MAJOR) $(B)/libdf1.so
 
 $(B)/bin/df1mon: $(TOOL_OWN_df1mon)
+$(B)/bin/df1gw: $(TOOL_OWN_df1gw)
 $(B)/bin/%: $(B)/tools/%.o $(TOOL_COMMON_OBJS) $(TOOL_LIB_DEP)
 	@mkdir -p $(dir $@)
 	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) $(CFLAGS) $(EXTRA) $(LDFLAGS) -o $@ $< $(TOOL_OWN_$*) $(TOOL_COMMON_OBJS) $(TOOL_LIB_LINK) $(LIBS) -lpthread
+	$(Q)$(CC) $(CFLAGS) $(EXTRA) $(LDFLAGS) -o $@ $< $(TOOL_OWN_$*) $(TOOL_COMMON_OBJS) $(TOOL_LIB_LINK) $(LIBS) \
+		$(TOOL_LIBS_$*) -lpthread
 
 $(B)/libdf1.pc: libdf1.pc.in include/df1.h
 	$(Q)sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
 	    -e 's|@INCLUDEDIR@|$(INCLUDEDIR)|' -e 's|@VERSION@|$(VERSION)|' $< > $@
 
+$(B)/tests/test_gw_%: $(GW_PURE_OBJS)
 $(B)/tests/%: $(B)/tests/%.o $(TEST_HELPER_OBJS) $(STATIC)
 	@mkdir -p $(dir $@)
 	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) $(CFLAGS) $(EXTRA) $(LDFLAGS) -o $@ $< $(TEST_HELPER_OBJS) $(STATIC) $(CMOCKA_LIBS) $(LIBS) -lpthread
+	$(Q)$(CC) $(CFLAGS) $(EXTRA) $(LDFLAGS) -o $@ $< $(if $(filter test_gw_%,$*),$(GW_PURE_OBJS)) \
+		$(TEST_HELPER_OBJS) $(STATIC) $(CMOCKA_LIBS) $(LIBS) -lpthread
 
 $(B)/examples/%: examples/%.c $(wildcard include/*.h) $(STATIC)
 	$(COMPILE) $(LDFLAGS) -o $@ $< $(STATIC) $(LIBS) -lpthread

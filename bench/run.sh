@@ -44,3 +44,6 @@ if python3 -c 'import cffi' >/dev/null 2>&1; then
 else
 	echo "python bench: skipped (python3 has no cffi: apt-get install python3-cffi)"
 fi
+
+# bench_gw: df1gw end to end (mosquitto, df1sim, df1gw): latency and CPU
+sh bench/bench_gw.sh "$B"

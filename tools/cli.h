@@ -218,6 +218,9 @@ bool cli_lib_option_set(const struct cli *c, enum cli_opt_id id);
  * "NAME: DEVICE: [ID] MNEMONIC: text" and returns 1 (open failed) or 2 (configuration);
  * else 0 with *out set. */
 int cli_open(struct cli *c, df1_t **out);
+/* cli_open without the df1_open: the handle configured (a daemon opens it, and
+ * opens it again after the line is lost). The same messages and statuses. */
+int cli_configure(struct cli *c, df1_t **out);
 /* df1_close + df1_free + cli_cleanup; NULL handle is fine. */
 void cli_close(struct cli *c, df1_t *h);
 

@@ -93,7 +93,7 @@ static int set_failed(const struct cli *c, df1_t *h, const char *what, int r)
 	return CLI_EXIT_USAGE;
 }
 
-int cli_open(struct cli *c, df1_t **out)
+int cli_configure(struct cli *c, df1_t **out)
 {
 	df1_t *h = NULL;
 	int r, fd;
@@ -148,6 +148,19 @@ int cli_open(struct cli *c, df1_t **out)
 	fd = cli_signal_fd();
 	if (fd >= 0)
 		df1_set_cancel_fd(h, fd);
+	*out = h;
+	return CLI_EXIT_OK;
+}
+
+int cli_open(struct cli *c, df1_t **out)
+{
+	df1_t *h;
+	int r = cli_configure(c, out);
+
+	if (r != CLI_EXIT_OK)
+		return r;
+	h = *out;
+	*out = NULL;
 	r = df1_open(h, c->device);
 	if (r < 0) {
 		char tag[96], text[256];

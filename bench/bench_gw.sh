@@ -1,0 +1,98 @@
+#!/bin/sh
+# bench/bench_gw.sh BUILDDIR - df1gw against mosquitto and df1sim on a pty
+# (run by bench/run.sh, `make bench`; never by make check):
+#  - latency: a change in df1sim (a write through .../set) to the MQTT message
+#    of another tag that reads the same word in a block of its own (PLC_Type
+#    MicroLogix: the engine reads a written block back at once, not this one),
+#    Scan_Ms 100 (BENCH_GW_SCAN_MS); bench_gw.c;
+#  - CPU: df1gw's user + system time per scan of 1000 tags (N10:0..999, one
+#    Read tag each, Scan_Ms 0), from /proc/PID/stat, scans counted in df1sim's
+#    --log; then the same with --refresh 1 (1000 publications a second).
+# BENCH_GW_WRITES (default 50) and BENCH_GW_SECONDS (default 10) set the size.
+set -u
+B=${1:-build}
+CC=${CC:-cc}
+MOSQ=${MOSQUITTO:-/usr/sbin/mosquitto}
+WRITES=${BENCH_GW_WRITES:-50}
+SECS=${BENCH_GW_SECONDS:-10}
+if [ ! -x "$MOSQ" ]; then
+	echo "bench_gw: no $MOSQ (apt-get install mosquitto mosquitto-clients): skipped"
+	exit 0
+fi
+T=$(mktemp -d "${TMPDIR:-/tmp}/df1bgw.XXXXXX") || exit 1
+pids=
+cleanup() {
+	for p in $pids; do kill "$p" 2>/dev/null; done
+	for p in $pids; do wait "$p" 2>/dev/null; done
+	rm -rf "$T"
+}
+trap cleanup EXIT INT TERM
+
+mkdir -p "$B/bench"
+$CC -O2 -g -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra -o "$B/bench/bench_gw" bench/bench_gw.c \
+	$(pkg-config --libs libmosquitto 2>/dev/null || echo -lmosquitto) || exit 1
+
+# wait_until TRIES CMD...: run CMD every 0.1 s until it succeeds
+wait_until() {
+	n=$1; shift
+	while [ "$n" -gt 0 ]; do
+		"$@" && return 0
+		n=$((n - 1))
+		sleep 0.1
+	done
+	echo "bench_gw: gave up waiting for: $*" >&2
+	return 1
+}
+port=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+# set_tcp_nodelay: else the broker's Nagle and the clients' delayed ACKs add ~40 ms to a reply
+printf 'listener %s 127.0.0.1\npersistence false\nallow_anonymous true\nuser %s\nset_tcp_nodelay true\n' \
+	"$port" "$(id -un)" > "$T/mq.conf"
+"$MOSQ" -c "$T/mq.conf" > "$T/mq.log" 2>&1 &
+pids="$pids $!"
+wait_until 100 python3 -c "import socket; socket.create_connection(('127.0.0.1', $port), 1).close()" 2>/dev/null || exit 1
+echo "N10:999=0" > "$T/plc.txt"
+"$B/bin/df1sim" --pty "$T/plc" --data "$T/plc.txt" --log "$T/sim.log" > "$T/sim.out" 2> "$T/sim.err" &
+pids="$pids $!"
+wait_until 100 test -s "$T/sim.out" || exit 1
+online() { mosquitto_sub -p "$port" -t "$1/status" -C 1 -W 2 2>/dev/null | grep -q online; }
+
+# ---- latency ----
+SCAN=${BENCH_GW_SCAN_MS:-100}
+printf 'Tag,Command,Type,Station,PLC_Type,Address,Count,Scan_Ms\nSpeed,ReadWrite,INT,1,SLC,N7:0,1,%s\nMirror,Read,INT,1,MicroLogix,N7:0,1,%s\n' \
+	"$SCAN" "$SCAN" > "$T/lat.csv"
+"$B/bin/df1gw" -d "$T/plc" --map "$T/lat.csv" --mqtt "mqtt://127.0.0.1:$port" --prefix bench/lat -q &
+gw=$!
+pids="$pids $gw"
+wait_until 100 online bench/lat || exit 1
+echo "bench_gw: latency, 2 tags at Scan_Ms $SCAN on a pty (no line pacing), QoS 1, $WRITES writes:"
+"$B/bench/bench_gw" "$port" bench/lat "$WRITES" "$SCAN"
+kill "$gw"; wait "$gw" 2>/dev/null
+
+# ---- CPU per 1000 tags per scan ----
+{
+	echo "Tag,Command,Type,Station,PLC_Type,Address,Count,Scan_Ms"
+	i=0
+	while [ $i -lt 1000 ]; do echo "T$i,Read,INT,1,SLC,N10:$i,1,0"; i=$((i + 1)); done
+} > "$T/cpu.csv"
+tck=$(getconf CLK_TCK)
+cpu_of() { awk '{ print $14 + $15 }' "/proc/$1/stat"; }
+scans() { grep -c "addr=N10:0 " "$T/sim.log"; }
+measure() {
+	label=$1; shift
+	"$B/bin/df1gw" -d "$T/plc" --map "$T/cpu.csv" --mqtt "mqtt://127.0.0.1:$port" --prefix "bench/$label" -q "$@" &
+	gw=$!
+	pids="$pids $gw"
+	wait_until 100 online "bench/$label" || return 1
+	wait_until 100 sh -c "mosquitto_sub -p $port -t 'bench/$label/tag/T999' -C 1 -W 2 | grep -q GOOD" || return 1
+	c0=$(cpu_of "$gw"); s0=$(scans); t0=$(date +%s.%N)
+	sleep "$SECS"
+	c1=$(cpu_of "$gw"); s1=$(scans); t1=$(date +%s.%N)
+	kill "$gw"; wait "$gw" 2>/dev/null
+	awk -v c="$((c1 - c0))" -v s="$((s1 - s0))" -v tck="$tck" -v t0="$t0" -v t1="$t1" -v l="$label" 'BEGIN {
+		ms = c * 1000 / tck; el = t1 - t0
+		printf "bench_gw: %-8s %d scans of 1000 tags in %.1f s (%.1f ms a scan): df1gw CPU %.0f ms, %.2f ms per 1000 tags per scan (%.0f%% of a core)\n",
+		       l, s, el, s ? el * 1000 / s : 0, ms, s ? ms / s : 0, 100 * ms / (el * 1000) }'
+}
+echo "bench_gw: CPU, 1000 tags (N10:0..999, 9 block reads a scan), Scan_Ms 0, $SECS s each:"
+measure steady
+measure refresh --refresh 1

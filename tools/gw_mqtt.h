@@ -1,0 +1,77 @@
+/*
+ * gw_mqtt - df1gw's broker side on libmosquitto, driven by the daemon's own
+ * poll() loop (no libmosquitto thread): the socket and the events it waits
+ * for, loop_read / loop_write / loop_misc when poll() says so, connecting
+ * without blocking the loop, reconnecting with an exponential backoff
+ * (0.5 s doubling to 30 s), the last will on <prefix>/status.
+ */
+#ifndef DF1_TOOLS_GW_MQTT_H
+#define DF1_TOOLS_GW_MQTT_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+struct mosquitto;
+
+struct gw_mqtt_config {
+	const char *prog;          /* message prefix: "df1gw" */
+	const char *url;           /* as given, for messages */
+	const char *host;
+	int port;
+	bool tls;
+	const char *cafile, *cert, *key;
+	const char *client_id;
+	const char *username, *password;   /* NULL: none */
+	int keepalive;             /* seconds */
+	int qos;                   /* 0 or 1 */
+	const char *will_topic;    /* retained "offline" as the last will, NULL: none */
+	int verbose;
+	bool quiet;
+};
+
+struct gw_mqtt_events {
+	void *user;
+	void (*connected)(void *user);          /* the broker accepted us (again) */
+	void (*message)(void *user, const char *topic, const void *payload, int len, bool retain);
+};
+
+enum gw_mqtt_state { GW_MQTT_DOWN, GW_MQTT_CONNECTING, GW_MQTT_UP };
+
+struct gw_mqtt {
+	struct mosquitto *m;
+	struct gw_mqtt_config cfg;
+	struct gw_mqtt_events ev;
+	enum gw_mqtt_state state;
+	bool started;              /* the first connect was tried */
+	bool ever_up;
+	int refused;               /* the CONNACK code of a refusal, 0 = none */
+	char refused_text[160];    /* the broker's reason */
+	int backoff_ms;
+	int64_t next_try_ms;       /* DOWN: when to try again */
+	unsigned inflight;         /* QoS 1 publications not acknowledged yet */
+};
+
+/* libmosquitto set up from c (copied; its strings must outlive q): TLS files,
+ * credentials, the will. Returns 0, or -1 with err (a configuration error). */
+int gw_mqtt_init(struct gw_mqtt *q, const struct gw_mqtt_config *c, const struct gw_mqtt_events *ev,
+                 char *err, size_t errcap);
+/* Disconnect (no will: a clean end) and free. */
+void gw_mqtt_close(struct gw_mqtt *q);
+
+/* The socket to poll (-1: none) and the events to wait for. */
+int gw_mqtt_fd(const struct gw_mqtt *q);
+short gw_mqtt_poll_events(const struct gw_mqtt *q);
+/* Milliseconds until gw_mqtt_service() has work without an event. */
+int gw_mqtt_wait_ms(const struct gw_mqtt *q, int64_t now);
+/* After poll(): read, write, keepalive, (re)connect when due. */
+void gw_mqtt_service(struct gw_mqtt *q, short revents, int64_t now);
+
+/* Publish (queued by libmosquitto until written). 0, or -1 when not up. */
+int gw_mqtt_publish(struct gw_mqtt *q, const char *topic, const void *payload, size_t len, bool retain);
+int gw_mqtt_subscribe(struct gw_mqtt *q, const char *pattern);
+bool gw_mqtt_up(const struct gw_mqtt *q);
+/* Nothing waits to be written or acknowledged. */
+bool gw_mqtt_idle(const struct gw_mqtt *q);
+
+#endif

@@ -1,0 +1,42 @@
+/*
+ * gw_state - what df1gw last published on each retained topic (a tag's or a
+ * station's), kept by name across reopened lines and reloaded mapping files,
+ * so that a topic is published again only when its content changes (the
+ * payload without its time: the change key), when --refresh is due, or when
+ * everything is republished after a reconnect. Pure.
+ */
+#ifndef DF1_TOOLS_GW_STATE_H
+#define DF1_TOOLS_GW_STATE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+struct gw_pub {
+	char *name;          /* the topic after the prefix: "tag/Pump1", "station/1" */
+	char *key;           /* the payload last published, without its time; NULL = none */
+	int64_t last_ms;     /* monotonic ms of that publication */
+	bool live;           /* in the current configuration */
+	int tag_id;          /* the tag's id in the current handle, or -1 */
+	char *config;        /* the tag's configuration as text: a reload compares it */
+};
+
+struct gw_pubs {
+	struct gw_pub *v;
+	size_t n, cap;
+};
+
+void gw_pubs_init(struct gw_pubs *p);
+void gw_pubs_free(struct gw_pubs *p);
+/* The entry for name, made (live, no key) when create and missing; NULL if not
+ * there or no memory. Pointers stay valid until the next gw_pubs_get(create)
+ * or gw_pubs_remove(). */
+struct gw_pub *gw_pubs_get(struct gw_pubs *p, const char *name, bool create);
+void gw_pubs_remove(struct gw_pubs *p, struct gw_pub *e);
+/* Take key as published at now if it differs from the last one (or force);
+ * returns whether to publish. On no memory it says publish and keeps no key. */
+bool gw_pub_update(struct gw_pub *e, const char *key, int64_t now, bool force);
+/* Set a text field (key, config) to a copy of s (NULL clears). 0 or -1. */
+int gw_pub_set(char **field, const char *s);
+
+#endif
