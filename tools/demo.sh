@@ -159,6 +159,36 @@ else
 	echo "# (df1mon --who is not in this build: skipped)"
 fi
 
+# The gateway: a mosquitto broker of the demo's own on a free loopback port,
+# one scan of df1gw into it, and what a subscriber then finds there (retained).
+MOSQUITTO=$(command -v mosquitto || { [ -x /usr/sbin/mosquitto ] && echo /usr/sbin/mosquitto; })
+if [ -x "$BIN/df1gw" ] && [ -n "$MOSQUITTO" ] && command -v mosquitto_sub >/dev/null 2>&1 &&
+	command -v python3 >/dev/null 2>&1; then
+	MQ_PORT=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+	printf 'listener %s 127.0.0.1\nallow_anonymous true\npersistence false\n' "$MQ_PORT" > "$T/mosquitto.conf"
+	echo
+	printf '$ mosquitto -c mosquitto.conf &      # a broker on 127.0.0.1:%s (the demo'"'"'s own)\n' "$MQ_PORT"
+	"$MOSQUITTO" -c "$T/mosquitto.conf" > "$T/mosquitto.log" 2>&1 &
+	SIM_PIDS="$SIM_PIDS $!"
+	i=0
+	until python3 -c "import socket; socket.create_connection(('127.0.0.1', $MQ_PORT), 1).close()" 2>/dev/null; do
+		i=$((i + 1))
+		[ "$i" -le 100 ] || fail "mosquitto did not listen within 10 s"
+		sleep 0.1 2>/dev/null || sleep 1
+	done
+	printf 'Tag,Command,Type,Station,PLC_Type,Address,Count\nSpeed,ReadWrite,INT,1,SLC,N7:0,1\nLevels,Read,FLOAT,1,SLC,F8:0,2\nRun,Read,BOOL,1,SLC,B3:0/5,1\n' > "$T/tags.csv"
+	echo
+	echo "\$ cat tags.csv      # the tags the gateway keeps in the broker"
+	cat "$T/tags.csv"
+	step "one scan of the line into the broker (a daemon without --once)" \
+		df1gw --once --map "$T/tags.csv" --mqtt "mqtt://127.0.0.1:$MQ_PORT" --prefix demo
+	step "what any MQTT client finds there: a retained JSON message per tag" \
+		mosquitto_sub -p "$MQ_PORT" -t 'demo/tag/#' -v -W 3 -C 3
+else
+	echo
+	echo "# (df1gw or the mosquitto broker and clients are missing: the gateway step is skipped)"
+fi
+
 step "decode a frame given as hex (no device needed)" \
 	df1mon --decode '10 02 01 00 0F 00 01 00 A2 14 07 89 00 00 10 03 60 46'
 
@@ -169,7 +199,7 @@ for p in $SIM_PIDS; do
 	jobs_text="$jobs_text %$n"
 done
 echo
-echo "\$ kill$jobs_text      # stop the simulators"
+echo "\$ kill$jobs_text      # stop the simulators (and the broker)"
 stop_sims || fail "a simulator did not stop cleanly"
 
 cat <<'EOF'
@@ -177,6 +207,6 @@ cat <<'EOF'
 Done. Next: `make check` builds and runs every test (unit tests, then the
 tools and the library against df1sim over pseudo-terminals and TCP). The
 manual pages are in man/: man -l man/man1/df1read.1 (also df1write.1,
-df1mon.1, df1sim.1) and man -l man/man7/libdf1.7 for the library.
+df1mon.1, df1sim.1, df1gw.1) and man -l man/man7/libdf1.7 for the library.
 README has the build, the API and examples.
 EOF
