@@ -61,7 +61,8 @@ SHARED := $(B)/$(SO_FILE)
 # keep objects of chained rules (tools, tests) for quick rebuilds
 .SECONDARY:
 
-.PHONY: all check test-run tests install uninstall clean demo bench lint-man lint-code check-exports deps
+.PHONY: all check test-run tests install uninstall clean demo bench lint-man lint-code check-exports deps \
+	fuzz fuzz-build
 all: $(STATIC) $(SHARED) $(TOOLS) $(B)/libdf1.pc
 
 # V=1 shows the full commands
@@ -182,3 +183,5 @@ uninstall:
 
 clean:
 	rm -rf build
+
+include tests/fuzz/fuzz.mk
