@@ -10,11 +10,15 @@
  * station and more options; then the responder's chunks.
  * Properties: a call returns what it was asked for or a DF1_E_* code with a
  * name, never more values than asked, strings within their bounds, and the
- * handle's last error is a terminated text.
+ * handle's last error is a terminated text. An SLC read of N7:0 that succeeds
+ * returns, for every element, the word that a reply to the command asking for
+ * it carried (matching station and TNS, good check): no wrong value as success.
  */
 #include "fuzz_peer.h"
 
 #include <string.h>
+
+#include "pccc.h"
 
 #define OPS 20
 
@@ -28,6 +32,42 @@ static void check_values(const struct df1_value *v, size_t n)
 			FUZZ_CHECK(v[i].v.str.len <= DF1_STRING_MAX &&
 			           memchr(v[i].v.str.text, '\0', sizeof v[i].v.str.text) != NULL,
 			           "value %zu: string of %u characters", i, (unsigned)v[i].v.str.len);
+}
+
+/* Each of the n values of N7:0 read from station st came from a reply. */
+static void check_slc_words(int st, size_t n)
+{
+	const struct fuzz_peer_frame *cmds, *reps;
+	size_t ncmds = fuzz_peer_commands(&cmds), nreps = fuzz_peer_replies(&reps);
+
+	for (size_t i = 0; i < n; i++) {
+		bool asked = false, found = false;
+
+		FUZZ_CHECK(vals[i].kind == DF1_VAL_INT16, "N7:%zu: value kind %d", i, vals[i].kind);
+		for (size_t c = 0; c < ncmds && !found; c++) {
+			const uint8_t *q = cmds[c].app;
+			uint8_t nbytes, code;
+			unsigned file, elem, sub;
+
+			if (cmds[c].len < 8 || q[0] != st || q[2] != 0x0F || q[6] != 0xA2 ||
+			    pccc_dec_slc_fields(q + 7, cmds[c].len - 7, true, &nbytes, &file, &code, &elem,
+			                        &sub) < 0 ||
+			    file != 7 || sub != 0 || i < elem || i >= elem + nbytes / 2u)
+				continue;
+			asked = true;
+			for (size_t k = 0; k < nreps && !found; k++) {
+				const uint8_t *p = reps[k].app;
+				size_t off = 6 + 2 * (i - elem);
+				if (reps[k].len == 6u + nbytes && p[0] == q[1] && p[1] == q[0] && p[2] == 0x4F &&
+				    p[3] == 0 && p[4] == q[4] && p[5] == q[5] &&
+				    (int16_t)(p[off] | p[off + 1] << 8) == vals[i].v.i16)
+					found = true;
+			}
+		}
+		FUZZ_CHECK(asked, "N7:%zu returned, but no command asked for it", i);
+		FUZZ_CHECK(found, "N7:%zu = %d returned as success, but no reply carried it", i,
+		           vals[i].v.i16);
+	}
 }
 
 static int run_op(df1_t *h, int op, size_t count, int st, struct fuzz_in *in)
@@ -139,6 +179,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		FUZZ_CHECK((size_t)r <= count, "%d values for %zu asked", r, count);
 		check_values(vals, (size_t)r);
 	}
+	if (r > 0 && op % OPS == 0 && h->cfg.plc != DF1_PLC_PLC5 && h->cfg.plc != DF1_PLC_PLC2)
+		check_slc_words(stations[opt & 3], (size_t)r);
 	fuzz_peer_stop();
 	df1_free(h);
 	return 0;

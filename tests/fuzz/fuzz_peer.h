@@ -28,4 +28,15 @@ void fuzz_peer_start(struct df1 *h, struct fuzz_in *in);
 /* Forget the port's queue and hooks. */
 void fuzz_peer_stop(void);
 
+/* What went over the line in this run, as app bytes of frames with a good
+ * check: the master's commands, and every reply the responder sent (decoded
+ * both as the continuing stream and chunk by chunk, since the master may have
+ * flushed a chunk's start), whatever chunk kind produced it. */
+struct fuzz_peer_frame {
+	size_t len;
+	uint8_t app[FRAME_MAX_DATA];
+};
+size_t fuzz_peer_commands(const struct fuzz_peer_frame **out);
+size_t fuzz_peer_replies(const struct fuzz_peer_frame **out);
+
 #endif
