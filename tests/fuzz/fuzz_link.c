@@ -176,7 +176,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	FUZZ_CHECK(memchr(df1_last_error(h)->message, '\0', sizeof df1_last_error(h)->message) != NULL,
 	           "last error message not terminated");
 	if (r > 0 && op % OPS <= 5) {
-		FUZZ_CHECK((size_t)r <= count, "%d values for %zu asked", r, count);
+		size_t asked = op % OPS == 2 ? count % 50 + 1 : op % OPS == 3 ? count % 4 + 1 : count;
+		FUZZ_CHECK((size_t)r <= asked, "%d values for %zu asked", r, asked);
 		check_values(vals, (size_t)r);
 	}
 	if (r > 0 && op % OPS == 0 && h->cfg.plc != DF1_PLC_PLC5 && h->cfg.plc != DF1_PLC_PLC2)
