@@ -86,7 +86,8 @@ endif
 # keep objects of chained rules (tools, tests) for quick rebuilds
 .SECONDARY:
 
-.PHONY: all check test-run tests install uninstall install-wireshark uninstall-wireshark clean demo bench lint-man lint-code check-exports deps
+.PHONY: all check test-run tests install uninstall install-wireshark uninstall-wireshark clean demo bench \
+	lint-man lint-code check-exports deps fuzz fuzz-build
 all: $(STATIC) $(SHARED) $(TOOLS) $(B)/libdf1.pc
 
 # V=1 shows the full commands
@@ -225,3 +226,4 @@ clean:
 	rm -rf build
 
 include tests/soak/soak.mk
+include tests/fuzz/fuzz.mk

@@ -122,6 +122,13 @@ check "ENQ, DLE DLE, frame: 2 bytes of noise" 'grep -q "link symbols 1, 2 bytes 
 expect 0 "capture through a pipe" -- sh -c "cat \"$CAP\" | \"$MON\" -q --read -"
 check "pipe: same output" 'cmp -s "$T/out" "$T/cap.txt"'
 
+# a noise byte, then a CRC frame cut after DLE ETX (its check missing): the
+# end of the input reports the frame; the noise byte is still counted as noise
+hex2bin "02 10 02 00 02 00 49 34 10 03" > "$T/cut-check.raw"
+expect 1 "frame cut before its CRC" -- "$MON" --check crc --read "$T/cut-check.raw"
+check "cut before its CRC: reported" 'grep -q "ERROR .*\[2518\].*input ended inside a symbol" "$T/out"'
+check "cut before its CRC: 1 byte of noise" 'grep -q "errors 1, 1 bytes of noise$" "$T/err"'
+
 # an endless input (a raw dump of zero bytes: all noise) in constant memory;
 # watched until 256 MiB are read or it holds 64 MiB (a regression is stopped
 # there, before it takes the machine's memory)

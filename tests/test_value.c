@@ -232,6 +232,41 @@ static void test_value_format_every_named_bit(void **state)
 	}
 }
 
+/* Status bits without a name (a timer's bits 0-12 hold the PLC's own state)
+ * are kept: the text of a read, written back, restores the whole word. */
+static void test_value_format_tcr_unnamed_bits_round_trip(void **state)
+{
+	static const struct { enum df1_file_type t; int file; uint16_t ctl; } cases[] = {
+		{ DF1_FT_T, 4, 0xA009 }, { DF1_FT_C, 5, 0x0008 }, { DF1_FT_R, 6, 0x0009 },
+		{ DF1_FT_T, 4, 0x1FFF }, { DF1_FT_C, 5, 0x8001 }, { DF1_FT_R, 6, 0xFFFF },
+	};
+	struct df1_value v, back;
+	char buf[160];
+	(void)state;
+
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		struct df1_addr a = mk(cases[i].t, cases[i].file, 0, NONE, NONE);
+		memset(&v, 0, sizeof v);
+		v.kind = DF1_VAL_TCR;
+		v.v.tcr.ctl = cases[i].ctl;
+		v.v.tcr.pre = 7;
+		v.v.tcr.acc = -2;
+		assert_true(df1_value_format(&v, cases[i].t, buf, sizeof buf) > 0);
+		assert_int_equal(df1_value_parse(&a, buf, &back), 0);
+		assert_int_equal(back.v.tcr.ctl, cases[i].ctl);
+		assert_int_equal(back.v.tcr.pre, 7);
+		assert_int_equal(back.v.tcr.acc, -2);
+	}
+	/* the whole word follows the names when a bit has none */
+	memset(&v, 0, sizeof v);
+	v.kind = DF1_VAL_TCR;
+	v.v.tcr.ctl = 0xA009;
+	v.v.tcr.pre = 100;
+	v.v.tcr.acc = 42;
+	df1_value_format(&v, DF1_FT_T, buf, sizeof buf);
+	assert_string_equal(buf, "EN=1 TT=0 DN=1 PRE=100 ACC=42 CTL=0xA009");
+}
+
 static void test_value_format_tcr_text(void **state)
 {
 	struct df1_value v;
@@ -699,6 +734,7 @@ int main(void)
 		cmocka_unit_test(test_value_tcr_bit_names),
 		cmocka_unit_test(test_value_format_every_named_bit),
 		cmocka_unit_test(test_value_format_tcr_text),
+		cmocka_unit_test(test_value_format_tcr_unnamed_bits_round_trip),
 		cmocka_unit_test(test_value_format_integers_and_bits),
 		cmocka_unit_test(test_value_format_float_shortest),
 		cmocka_unit_test(test_value_format_float_round_trip_random),

@@ -171,8 +171,12 @@ void stream_finish_cut(struct mon *m, struct stream *s, const struct timebase *t
 				print_symbol(m, s, tb, &sym, s->off);
 		} else if (!cut) {
 			struct decode_where w;
-			/* the bytes of the symbol that were real input, not the probe */
-			bool probe_kept = sym.kind == DF1_SYM_ERROR && i == 1;
+			/* the bytes of the symbol that were real input, not the probe: an
+			 * error the probe's DLE STX began anew leaves it out of wire_len; a
+			 * message too short or too long ends at the check, probe bytes and all */
+			bool probe_kept = sym.kind == DF1_SYM_ERROR && i == 1 &&
+			                  sym.error != DF1_ID_NTC_RCVD_MSG_TOO_SHORT &&
+			                  sym.error != DF1_ID_NTC_RCVD_MSG_TOO_LONG;
 			m->used += probe_kept ? sym.wire_len
 			                      : (sym.wire_len > i + 1 ? sym.wire_len - (i + 1) : 0);
 			memset(&w, 0, sizeof w);

@@ -17,6 +17,7 @@
  *                   T  "EN=1 TT=0 DN=1 PRE=100 ACC=42"
  *                   C  "CU=1 CD=0 DN=0 OV=0 UN=0 UA=0 PRE=10 ACC=3"
  *                   R  "EN=0 EU=0 DN=0 EM=0 ER=0 UL=0 IN=0 FD=0 LEN=8 POS=2"
+ *                 and " CTL=0xWORD" after them when a bit without a name is set;
  *                 other file types: "CTL=0x8000 PRE=1 ACC=2". Parse takes the
  *                 same NAME=VALUE items in any order, separated by spaces or
  *                 commas, plus CTL=word; names not given are 0.
@@ -183,20 +184,26 @@ static int valuefmt_format_tcr(const struct df1_tcr *x, enum df1_file_type t, ch
 {
 	const struct bit_name *b = valuefmt_tcr_bits(t);
 	const char *w1, *w2;
+	unsigned named = 0;
 	int len = 0;
 
 	if (!b)
 		return snprintf(out, cap, "CTL=0x%04X PRE=%d ACC=%d", (unsigned)x->ctl, x->pre, x->acc);
-	for (; b->name; b++)
+	for (; b->name; b++) {
 		len += snprintf(out + len, cap - (size_t)len, "%s=%d ", b->name, (x->ctl >> b->bit) & 1);
+		named |= 1u << b->bit;
+	}
 	valuefmt_tcr_word_names(t, &w1, &w2);
 	len += snprintf(out + len, cap - (size_t)len, "%s=%d %s=%d", w1, x->pre, w2, x->acc);
+	/* bits without a name would be lost when the text is parsed back */
+	if (x->ctl & ~named)
+		len += snprintf(out + len, cap - (size_t)len, " CTL=0x%04X", (unsigned)x->ctl);
 	return len;
 }
 
 int df1_value_format(const struct df1_value *v, enum df1_file_type t, char *buf, size_t cap)
 {
-	char tmp[160];  /* longest: R's 8 bits + LEN + POS, about 70 */
+	char tmp[160];  /* longest: R's 8 bits + LEN + POS + CTL, about 80 */
 	int len;
 
 	if (!v || !buf)

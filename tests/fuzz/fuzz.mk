@@ -1,0 +1,100 @@
+# tests/fuzz/fuzz.mk - libFuzzer targets (make fuzz; tests/fuzz/README).
+# Built with clang into build/fuzz from their own objects of lib/ (and of the
+# tools/ and tests/ files a target needs), so the normal build is untouched.
+# `make fuzz FUZZ_SECONDS=N` runs every target N seconds and fails on any
+# finding: a crash, a sanitizer report, a leak, a violated property (abort),
+# a timeout or running out of memory. make check does not depend on it.
+
+FUZZ_CC ?= clang
+FUZZ_SECONDS ?= 60
+# seconds one input may take before it counts as a hang
+FUZZ_TIMEOUT ?= 10
+# the longest input tried (bytes; the seeds longer than this are cut)
+FUZZ_MAX_LEN ?= 4096
+# extra libFuzzer flags for every run, e.g. FUZZ_FLAGS=-jobs=2
+FUZZ_FLAGS ?=
+FUZZ_B := build/fuzz
+FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
+FUZZ_CFLAGS = -O1 -g $(FUZZ_SAN) -fsanitize=fuzzer-no-link $(DF1_CFLAGS) -Itests/fuzz -Itests -Itools
+
+FUZZ_TARGETS := frame pccc_reply pccc_command addr value net_csv map_csv table_file mon_read link poll
+FUZZ_BINS := $(FUZZ_TARGETS:%=$(FUZZ_B)/bin/fuzz_%)
+FUZZ_LIB_OBJS := $(LIB_SRCS:%.c=$(FUZZ_B)/%.o)
+FUZZ_COMMON_OBJS := $(FUZZ_B)/tests/fuzz/fuzz_file.o
+# df1mon's --read: the pcap/raw reader, its stream and the decoded lines
+FUZZ_MON_OBJS := $(patsubst %.c,$(FUZZ_B)/%.o,tools/mon_read.c tools/mon_stream.c \
+	$(wildcard tools/decode*.c) tools/cli_text.c)
+FUZZ_EXTRA_mon_read := $(FUZZ_MON_OBJS)
+# the link and the poll engine run against the scripted port of the unit tests
+FUZZ_EXTRA_link := $(FUZZ_B)/tests/mock_port.o $(FUZZ_B)/tests/fuzz/fuzz_peer.o
+FUZZ_EXTRA_poll := $(FUZZ_B)/tests/mock_port.o $(FUZZ_B)/tests/fuzz/fuzz_peer.o
+FUZZ_LIBS_link := $(CMOCKA_LIBS)
+FUZZ_LIBS_poll := $(CMOCKA_LIBS)
+# the dictionary of each target (tests/fuzz/*.dict, concatenated)
+FUZZ_DICT_frame := df1
+FUZZ_DICT_pccc_reply := df1 pccc
+FUZZ_DICT_pccc_command := df1 pccc
+FUZZ_DICT_addr := addr
+FUZZ_DICT_value := addr value
+FUZZ_DICT_net_csv := csv
+FUZZ_DICT_map_csv := csv addr
+FUZZ_DICT_table_file := csv addr value
+FUZZ_DICT_mon_read := df1 pcap
+FUZZ_DICT_link := df1 pccc
+FUZZ_DICT_poll := df1 pccc
+
+FUZZ_COMPILE = $(Q)mkdir -p $(dir $@); $(if $(Q),echo "  FUZZCC  $@";) $(FUZZ_CC) $(FUZZ_CFLAGS)
+
+$(FUZZ_B)/lib/%.o: lib/%.c $(LIB_HDRS)
+	$(FUZZ_COMPILE) -c -o $@ $<
+$(FUZZ_B)/tools/%.o: tools/%.c $(wildcard include/*.h) $(wildcard tools/*.h)
+	$(FUZZ_COMPILE) -c -o $@ $<
+$(FUZZ_B)/tests/%.o: tests/%.c $(LIB_HDRS) $(wildcard tests/*.h) $(wildcard tests/fuzz/*.h)
+	$(FUZZ_COMPILE) -c -o $@ $<
+
+$(FUZZ_B)/libdf1.a: $(FUZZ_LIB_OBJS)
+	@rm -f $@
+	$(Q)ar rcs $@ $^
+
+.SECONDEXPANSION:
+$(FUZZ_B)/bin/fuzz_%: $(FUZZ_B)/tests/fuzz/fuzz_%.o $(FUZZ_COMMON_OBJS) $$(FUZZ_EXTRA_$$*) $(FUZZ_B)/libdf1.a
+	@mkdir -p $(dir $@)
+	@$(if $(Q),echo "  FUZZLD  $@")
+	$(Q)$(FUZZ_CC) -g $(FUZZ_SAN) -fsanitize=fuzzer -o $@ $< $(FUZZ_COMMON_OBJS) \
+		$(FUZZ_EXTRA_$*) $(FUZZ_B)/libdf1.a $(FUZZ_LIBS_$*) $(LIBS) -lpthread
+
+$(FUZZ_B)/dict/%.dict: $$(foreach d,$$(FUZZ_DICT_$$*),tests/fuzz/$$(d).dict)
+	@mkdir -p $(dir $@)
+	$(Q)cat $^ > $@
+
+# The seed corpora, generated from the spec vectors, the captures and tests/data.
+$(FUZZ_B)/seeds/.stamp: tests/fuzz/seeds.py tests/data/vectors.txt $(wildcard tests/data/*)
+	$(Q)python3 tests/fuzz/seeds.py $(FUZZ_B)/seeds
+	@touch $@
+
+fuzz-build: $(FUZZ_BINS) $(FUZZ_TARGETS:%=$(FUZZ_B)/dict/%.dict) $(FUZZ_B)/seeds/.stamp
+
+# Each target: its working corpus (kept between runs) and its seeds; what it
+# finds goes to build/fuzz/findings/TARGET-*, its output to build/fuzz/logs.
+fuzz:
+	@command -v $(FUZZ_CC) >/dev/null 2>&1 || { \
+		echo "make fuzz: $(FUZZ_CC) not found; install clang (apt-get install -y clang) or set FUZZ_CC"; \
+		exit 1; }
+	$(MAKE) fuzz-build
+	@mkdir -p $(FUZZ_B)/findings $(FUZZ_B)/logs; failed=""; \
+	for t in $(FUZZ_TARGETS); do \
+		mkdir -p $(FUZZ_B)/corpus/$$t; \
+		log=$(FUZZ_B)/logs/$$t.log; \
+		if $(FUZZ_B)/bin/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -timeout=$(FUZZ_TIMEOUT) \
+			-max_len=$(FUZZ_MAX_LEN) -dict=$(FUZZ_B)/dict/$$t.dict -artifact_prefix=$(FUZZ_B)/findings/$$t- \
+			-print_final_stats=1 $(FUZZ_FLAGS) $(FUZZ_B)/corpus/$$t $(FUZZ_B)/seeds/$$t \
+			>$$log 2>&1; then \
+			echo "fuzz $$t: ok, $$(sed -n 's/^stat::number_of_executed_units: *//p' $$log) runs in $(FUZZ_SECONDS) s, $$(ls $(FUZZ_B)/corpus/$$t | wc -l) inputs in its corpus"; \
+		else \
+			echo "fuzz $$t: FINDING (see $$log):"; \
+			grep -E '^(==[0-9]+==ERROR|fuzz: |SUMMARY|.*runtime error|artifact_prefix|Test unit written)' $$log | head -8 | sed 's/^/    /'; \
+			failed="$$failed $$t"; \
+		fi; \
+	done; \
+	if [ -n "$$failed" ]; then echo "make fuzz: findings in:$$failed"; exit 1; fi; \
+	echo "make fuzz: $(words $(FUZZ_TARGETS)) targets, $(FUZZ_SECONDS) s each, no finding"
