@@ -22,8 +22,9 @@ FUZZ_BINS := $(FUZZ_TARGETS:%=$(FUZZ_B)/bin/fuzz_%)
 FUZZ_LIB_OBJS := $(LIB_SRCS:%.c=$(FUZZ_B)/%.o)
 FUZZ_COMMON_OBJS := $(FUZZ_B)/tests/fuzz/fuzz_file.o
 # df1mon's --read: the pcap/raw reader, its stream and the decoded lines
+# (and the tools' shared cli code: the decoder takes the link options from it)
 FUZZ_MON_OBJS := $(patsubst %.c,$(FUZZ_B)/%.o,tools/mon_read.c tools/mon_stream.c \
-	$(wildcard tools/decode*.c) tools/cli_text.c)
+	$(wildcard tools/decode*.c tools/cli_*.c))
 FUZZ_EXTRA_mon_read := $(FUZZ_MON_OBJS)
 # the link and the poll engine run against the scripted port of the unit tests
 FUZZ_EXTRA_link := $(FUZZ_B)/tests/mock_port.o $(FUZZ_B)/tests/fuzz/fuzz_peer.o
