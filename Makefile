@@ -135,11 +135,11 @@ $(B)/libdf1.pc: libdf1.pc.in include/df1.h
 	$(Q)sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
 	    -e 's|@INCLUDEDIR@|$(INCLUDEDIR)|' -e 's|@VERSION@|$(VERSION)|' $< > $@
 
-$(B)/tests/test_gw_%: $(GW_PURE_OBJS)
+$(B)/tests/test_gw_%: $(GW_PURE_OBJS) $(B)/tools/cli_text.o
 $(B)/tests/%: $(B)/tests/%.o $(TEST_HELPER_OBJS) $(STATIC)
 	@mkdir -p $(dir $@)
 	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) $(CFLAGS) $(EXTRA) $(LDFLAGS) -o $@ $< $(if $(filter test_gw_%,$*),$(GW_PURE_OBJS)) \
+	$(Q)$(CC) $(CFLAGS) $(EXTRA) $(LDFLAGS) -o $@ $< $(if $(filter test_gw_%,$*),$(GW_PURE_OBJS) $(B)/tools/cli_text.o) \
 		$(TEST_HELPER_OBJS) $(STATIC) $(CMOCKA_LIBS) $(LIBS) -lpthread
 
 $(B)/examples/%: examples/%.c $(wildcard include/*.h) $(STATIC)

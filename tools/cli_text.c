@@ -7,13 +7,18 @@
 #include <string.h>
 
 /* Length of a valid UTF-8 sequence at s (at most n bytes), or 0. */
-static size_t utf8_len(const unsigned char *s, size_t n)
+size_t cli_utf8_seq(const unsigned char *s, size_t n, uint32_t *cp_out)
 {
 	size_t len;
 	uint32_t cp;
 
-	if (s[0] < 0x80)
+	if (n == 0)
+		return 0;
+	if (s[0] < 0x80) {
+		if (cp_out)
+			*cp_out = s[0];
 		return 1;
+	}
 	if (s[0] >= 0xC2 && s[0] <= 0xDF) {
 		len = 2;
 		cp = s[0] & 0x1F;
@@ -33,9 +38,12 @@ static size_t utf8_len(const unsigned char *s, size_t n)
 			return 0;
 		cp = (cp << 6) | (s[i] & 0x3F);
 	}
+	/* overlong forms, surrogates and code points past U+10FFFF are not UTF-8 */
 	if ((len == 3 && (cp < 0x800 || (cp >= 0xD800 && cp <= 0xDFFF))) ||
 	    (len == 4 && (cp < 0x10000 || cp > 0x10FFFF)))
 		return 0;
+	if (cp_out)
+		*cp_out = cp;
 	return len;
 }
 
@@ -62,7 +70,7 @@ void cli_json_string_n(FILE *f, const char *s, size_t n)
 			i++;
 			continue;
 		}
-		k = utf8_len(p + i, n - i);
+		k = cli_utf8_seq(p + i, n - i, NULL);
 		if (k == 0) {
 			/* not UTF-8: take the byte as Latin-1 */
 			fprintf(f, "\\u%04x", ch);

@@ -14,6 +14,10 @@
 /* INFLUX: InfluxDB line protocol (df1mon --map only). */
 enum cli_format { CLI_FMT_PLAIN = 0, CLI_FMT_CSV = 1, CLI_FMT_JSON = 2, CLI_FMT_INFLUX = 3 };
 
+/* The length of the valid UTF-8 sequence at s (at most n bytes), its code
+ * point in *cp_out (may be NULL); 0 if there is none (overlong, surrogate,
+ * past U+10FFFF, truncated). */
+size_t cli_utf8_seq(const unsigned char *s, size_t n, uint32_t *cp_out);
 /* JSON: print s as a JSON string (quotes included), escaping control characters,
  * quotes, backslashes and invalid UTF-8 bytes (as \u00XX). */
 void cli_json_string(FILE *f, const char *s);

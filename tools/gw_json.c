@@ -2,6 +2,7 @@
  * gw_json - JSON text out and a strict parser in, for df1gw (see gw_json.h).
  */
 #include "gw_json.h"
+#include "cli_text.h"   /* cli_utf8_seq */
 
 #include <stdarg.h>
 #include <stdio.h>
@@ -83,42 +84,6 @@ void gw_buf_printf(struct gw_buf *b, const char *fmt, ...)
 
 /* ---- writing ---- */
 
-/* Length of a valid UTF-8 sequence at s (at most n bytes), and its code point; 0 if none. */
-static size_t utf8_seq(const unsigned char *s, size_t n, uint32_t *cp_out)
-{
-	size_t len;
-	uint32_t cp;
-
-	if (s[0] < 0x80) {
-		*cp_out = s[0];
-		return 1;
-	}
-	if (s[0] >= 0xC2 && s[0] <= 0xDF) {
-		len = 2;
-		cp = s[0] & 0x1F;
-	} else if (s[0] >= 0xE0 && s[0] <= 0xEF) {
-		len = 3;
-		cp = s[0] & 0x0F;
-	} else if (s[0] >= 0xF0 && s[0] <= 0xF4) {
-		len = 4;
-		cp = s[0] & 0x07;
-	} else {
-		return 0;
-	}
-	if (len > n)
-		return 0;
-	for (size_t i = 1; i < len; i++) {
-		if ((s[i] & 0xC0) != 0x80)
-			return 0;
-		cp = (cp << 6) | (s[i] & 0x3F);
-	}
-	if ((len == 3 && (cp < 0x800 || (cp >= 0xD800 && cp <= 0xDFFF))) ||
-	    (len == 4 && (cp < 0x10000 || cp > 0x10FFFF)))
-		return 0;
-	*cp_out = cp;
-	return len;
-}
-
 /* One ASCII character, escaped as JSON needs; false if it is not plain ASCII. */
 static bool json_ascii(struct gw_buf *b, unsigned char ch)
 {
@@ -159,7 +124,7 @@ void gw_json_text(struct gw_buf *b, const char *s, size_t n)
 			i++;
 			continue;
 		}
-		k = utf8_seq(p + i, n - i, &cp);
+		k = cli_utf8_seq(p + i, n - i, &cp);
 		if (k) {
 			gw_buf_add(b, s + i, k);
 			i += k;
@@ -193,7 +158,7 @@ bool gw_utf8_valid(const char *s, size_t n)
 
 	while (i < n) {
 		uint32_t cp;
-		size_t k = utf8_seq(p + i, n - i, &cp);
+		size_t k = cli_utf8_seq(p + i, n - i, &cp);
 
 		if (!k)
 			return false;
@@ -355,7 +320,7 @@ static bool jp_string(struct jp *p, struct gw_buf *b)
 			return false;
 		}
 		if (c != '\\') {
-			k = utf8_seq((const unsigned char *)p->s + p->i, p->n - p->i, &cp);
+			k = cli_utf8_seq((const unsigned char *)p->s + p->i, p->n - p->i, &cp);
 			if (!k) {
 				jp_fail(p, "invalid UTF-8");
 				return false;
@@ -672,7 +637,7 @@ bool gw_jv_latin1(const struct gw_jv *s, uint8_t *out, size_t cap, size_t *len)
 		return false;
 	while (i < s->len) {
 		uint32_t cp;
-		size_t l = utf8_seq(p + i, s->len - i, &cp);
+		size_t l = cli_utf8_seq(p + i, s->len - i, &cp);
 
 		if (!l || cp > 0xFF || k >= cap)
 			return false;
