@@ -481,6 +481,10 @@ DF1_API int  df1_decoder_set_duplex_auto(struct df1_decoder *d, bool on);
  * or DF1_E_INVAL (another option, another value). @since 0.3 */
 DF1_API int  df1_decoder_set_option(struct df1_decoder *d, enum df1_option opt, int value);
 DF1_API size_t df1_decoder_feed(struct df1_decoder *d, const uint8_t *in, size_t n, struct df1_symbol *sym);
+/* True when the last byte fed was a DLE still waiting for its second byte (outside a
+ * frame, in a frame's data, in a stuffed STN): at the end of an input, a reader that
+ * ends the symbol under way with DLE STX feeds only the STX then. NULL: false. @since 0.4 */
+DF1_API bool df1_decoder_dle_pending(const struct df1_decoder *d);
 
 /* An application-layer message, decoded for display. */
 struct df1_msg {

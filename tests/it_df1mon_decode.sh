@@ -309,6 +309,17 @@ check "missing EXT STS named" 'grep -q "error: STS F0: .*; DF1_E_BAD_REPLY: inva
 # malformed input: exit 1 with an ERROR line
 expect 1 "incomplete frame" -- "$MON" --decode "10 02 01 00 0F 00"
 check "incomplete: 2518" 'grep -q "ERROR .*\[2518\] NTC_NO_ETX_RCVD" "$T/out"'
+# the input ends on the DLE of a DLE ETX that never came: still the frame's 2518,
+# its data as far as it went, and the DLE no noise (it belonged to the frame)
+expect 1 "incomplete frame ending on a DLE" -- "$MON" --decode "10 02 01 00 0F 00 01 00 10"
+check "ending on a DLE: 2518 with the data" 'grep -q "ERROR .*\[2518\] NTC_NO_ETX_RCVD: .*bytes 01 00 0F 00 01 00$" "$T/out"'
+check "ending on a DLE: no noise" 'grep -q "errors 1$" "$T/err"'
+# a DLE DLE (a data byte 10) last is no pending DLE: the 10 is in the frame's data
+expect 1 "incomplete frame ending on DLE DLE" -- "$MON" --decode "10 02 01 00 10 10"
+check "ending on DLE DLE: data 10" 'grep -q "ERROR .*\[2518\] .*bytes 01 00 10$" "$T/out"'
+# a lone DLE outside any frame stays noise
+expect 0 "a lone DLE" -- "$MON" --decode "10"
+check "lone DLE: noise" 'grep -q "1 bytes of noise$" "$T/err"'
 expect 1 "invalid symbol" -- "$MON" -f json --decode "10 02 01 00 0F 00 01 00 10 07 10 03 00"
 check "invalid symbol: 2514" 'grep -q "\"kind\":\"ERROR\".*\"error_id\":2514" "$T/out" && json_ok "$T/out"'
 

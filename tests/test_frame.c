@@ -1351,12 +1351,45 @@ static void test_frame_auto_duplex_poll_or_enq(void **state)
 	df1_decoder_free(pd);
 }
 
+/* df1_decoder_dle_pending: a DLE still waiting for its second byte, in a frame
+ * or outside; DLE DLE (a data 10) is none. */
+static void test_frame_public_decoder_dle_pending(void **state)
+{
+	static const uint8_t open_dle[] = { 0x10, 0x02, 0x01, 0x00, 0x10 };
+	static const uint8_t data_10[] = { 0x10, 0x02, 0x01, 0x00, 0x10, 0x10 };
+	static const uint8_t lone[] = { 0x10 };
+	static const uint8_t stx[] = { 0x02 };
+	struct df1_decoder *d = NULL;
+	struct df1_symbol s;
+
+	(void)state;
+	assert_false(df1_decoder_dle_pending(NULL));
+	assert_int_equal(df1_decoder_new(&d, DF1_CHECK_BCC), DF1_OK);
+	assert_false(df1_decoder_dle_pending(d));
+	assert_int_equal(df1_decoder_feed(d, open_dle, sizeof open_dle, &s), sizeof open_dle);
+	assert_int_equal(s.kind, DF1_SYM_NONE);
+	assert_true(df1_decoder_dle_pending(d));
+	/* the STX alone ends the frame as no ETX (2518), its data as far as it went */
+	df1_decoder_feed(d, stx, 1, &s);
+	assert_int_equal(s.kind, DF1_SYM_ERROR);
+	assert_int_equal(s.error, DF1_ID_NTC_NO_ETX_RCVD);
+	assert_int_equal(s.len, 2);
+	df1_decoder_reset(d);
+	assert_int_equal(df1_decoder_feed(d, data_10, sizeof data_10, &s), sizeof data_10);
+	assert_false(df1_decoder_dle_pending(d));
+	df1_decoder_reset(d);
+	df1_decoder_feed(d, lone, 1, &s);
+	assert_true(df1_decoder_dle_pending(d));
+	df1_decoder_free(d);
+}
+
 int main(int argc, char **argv)
 {
 	const char *env = getenv("DF1_VECTORS");
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_frame_crc16_check_value_bb3d),
 		cmocka_unit_test(test_frame_public_decoder_options),
+		cmocka_unit_test(test_frame_public_decoder_dle_pending),
 		cmocka_unit_test(test_frame_bcc_manual_examples),
 		cmocka_unit_test(test_frame_vectors_decode_one_good_symbol),
 		cmocka_unit_test(test_frame_vectors_reencode_byte_for_byte),

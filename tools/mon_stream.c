@@ -152,8 +152,11 @@ void stream_feed(struct mon *m, struct stream *s, const struct timebase *tb,
 void stream_finish_cut(struct mon *m, struct stream *s, const struct timebase *tb, bool cut)
 {
 	static const uint8_t probe[2] = { 0x10, 0x02 };
+	/* a DLE the input ended on is the probe's DLE already: DLE DLE would be a
+	 * data byte and leave the frame open */
+	bool dle_last = df1_decoder_dle_pending(s->dec);
 
-	for (size_t i = 0; i < sizeof probe; i++) {
+	for (size_t i = dle_last ? 1 : 0; i < sizeof probe; i++) {
 		struct df1_symbol sym;
 		size_t k;
 
@@ -166,9 +169,12 @@ void stream_finish_cut(struct mon *m, struct stream *s, const struct timebase *t
 		if ((i == 0 && sym.kind == DF1_SYM_FRAME && m->cli.check == DF1_CHECK_AUTO &&
 		     sym.check == DF1_CHECK_BCC && !sym.check_ok) ||
 		    (i == 1 && sym.kind == DF1_SYM_ERROR && sym.error == DF1_ID_NTC_NO_ETX_RCVD)) {
-			/* a true verdict on the bytes that were there */
-			if (!cut || i == 0)
+			/* a true verdict on the bytes that were there (the DLE the
+			 * input ended on among them, though the error leaves it out) */
+			if (!cut || i == 0) {
 				print_symbol(m, s, tb, &sym, s->off);
+				m->used += dle_last;
+			}
 		} else if (!cut) {
 			struct decode_where w;
 			/* the bytes of the symbol that were real input, not the probe: an

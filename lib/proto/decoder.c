@@ -82,6 +82,11 @@ int df1_decoder_set_option(struct df1_decoder *d, enum df1_option opt, int value
 	return DF1_OK;
 }
 
+bool df1_decoder_dle_pending(const struct df1_decoder *d)
+{
+	return d && frame_decoder_dle_pending(&d->fd);
+}
+
 size_t df1_decoder_feed(struct df1_decoder *d, const uint8_t *in, size_t n, struct df1_symbol *sym)
 {
 	if (!d || !sym || (!in && n)) {

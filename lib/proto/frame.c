@@ -233,6 +233,20 @@ bool frame_decoder_busy(const struct frame_decoder *d)
 	return d->state != ST_IDLE && d->state != ST_EOT_TRAILER;
 }
 
+bool frame_decoder_dle_pending(const struct frame_decoder *d)
+{
+	switch (d->state) {
+	case ST_DLE:
+	case ST_DATA_DLE:
+	case ST_POLL_STN_DLE:
+	case ST_APOLL_STN_DLE:
+	case ST_SOH_STN_DLE:
+		return true;
+	default:
+		return false;
+	}
+}
+
 static bool is_nak(const struct frame_decoder *d, uint8_t b)
 {
 	return b == DF1_NAK || (b == DF1_NAK_OLD && (d->opts & FRAME_OPT_ACCEPT_NAK_0F));

@@ -119,5 +119,8 @@ void frame_decoder_reset(struct frame_decoder *d);   /* back to idle, keeps conf
 size_t frame_decoder_feed(struct frame_decoder *d, const uint8_t *in, size_t n, struct df1_symbol *sym);
 /* True while the decoder is inside a symbol (a deadline for its end applies). */
 bool frame_decoder_busy(const struct frame_decoder *d);
+/* True when the last byte fed was a DLE whose second byte has not come (outside a
+ * frame, inside its data, or inside a stuffed STN). */
+bool frame_decoder_dle_pending(const struct frame_decoder *d);
 
 #endif

@@ -357,6 +357,7 @@ int df1_decoder_set_half_duplex(struct df1_decoder *d, _Bool on);
 int df1_decoder_set_duplex_auto(struct df1_decoder *d, _Bool on);
 int df1_decoder_set_option(struct df1_decoder *d, enum df1_option opt, int value);
 size_t df1_decoder_feed(struct df1_decoder *d, const uint8_t *in, size_t n, struct df1_symbol *sym);
+_Bool df1_decoder_dle_pending(const struct df1_decoder *d);
 struct df1_msg {
 	uint8_t dst, src, cmd, sts, fnc;
 	uint16_t tns;
