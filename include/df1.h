@@ -103,6 +103,17 @@ DF1_API const char *df1_strerror(int err);
 DF1_API const char *df1_errname(int err);
 /* Catalog ID (2501-2561) that reports this error, or 0. */
 DF1_API int df1_error_catalog_id(int err);
+/* True when one command that failed with err surely did not execute at the PLC:
+ * refused before it was sent (argument, address, value, port errors), a NAK
+ * received (DF1_E_NAK), a station that did not answer its poll (DF1_E_INACTIVE),
+ * or answered with an error status (DF1_E_REMOTE). False for success and for
+ * every failure after which it may have executed (DF1_E_TIMEOUT, DF1_E_ENQ_LIMIT,
+ * a lost or corrupt reply, a connection lost; and DF1_E_NAK_LIMIT, which in half
+ * duplex also ends tries that got no ACK at all, one of which the slave may have
+ * taken): such a write must be reported as unconfirmed, never sent again. For a
+ * request the library splits over several commands this holds for the failed one
+ * only. @since 0.4 */
+DF1_API bool df1_error_unexecuted(int err);
 
 /* STS (M p.8-2/8-3) and EXT STS for CMD 0F (M p.8-4) / DH-485 (M p.8-5). */
 DF1_API const char *df1_sts_text(uint8_t sts);

@@ -200,6 +200,16 @@ rb "half CRC" "EN=1 TT=0 DN=0 PRE=3 ACC=1
 5" -d "$SIM_DEV" --duplex half -a 4 T4:2 L10:0
 sim_stop
 
+# ---- every try NAKed in full duplex: the station never took it, but the
+# library cannot tell that from a half-duplex try without an ACK (taken, the
+# ACK lost), so it stays unconfirmed (df1_error_unexecuted(3)); nothing served ----
+sim_start naks --nak 100 --log "$T/naks.log"
+expect 1 "NAK on every try" -- "$W" -d "$SIM_DEV" --nak-retries 2 N7:0=1 N7:1=2
+err_has "NAK: named" "NAK"
+err_has "NAK: report" "df1write: written: none; unconfirmed: N7:0; not written: N7:1"
+check "NAK: nothing served" '[ ! -s "$T/naks.log" ]'
+sim_stop
+
 # ---- SIGTERM part-way: the item under way is unconfirmed, the rest not written ----
 sim_start slow --delay 3000
 before_tty=$(stty -g < "$SIM_DEV" 2>/dev/null)

@@ -54,6 +54,25 @@ static void test_errors_every_code_has_name_text_and_catalog(void **state)
 	assert_int_equal(df1_error_catalog_id(DF1_E_BCC), 2507);
 }
 
+/* Which failures leave a command surely unexecuted (DF1 manual: a NAK means the
+ * receiver did not take the frame; an error reply means it was judged and
+ * refused; no ACK or no reply means it may have been carried out). */
+static void test_errors_unexecuted_follows_the_link_rules(void **state)
+{
+	static const int never[] = { DF1_E_REMOTE, DF1_E_NAK, DF1_E_INACTIVE, DF1_E_NOT_OPEN,
+	                             DF1_E_INVAL, DF1_E_TYPE, DF1_E_RANGE, DF1_E_ADDR_SYNTAX,
+	                             DF1_E_ADDR_RANGE, DF1_E_NOTSUP, DF1_E_NOMEM };
+	static const int maybe[] = { DF1_OK, DF1_E_TIMEOUT, DF1_E_ENQ_LIMIT, DF1_E_NAK_LIMIT,
+	                             DF1_E_BCC, DF1_E_CRC, DF1_E_CLOSED, DF1_E_INTR, DF1_E_SYS,
+	                             DF1_E_WRONG_MSG, DF1_E_BAD_REPLY, DF1_E_NO_ETX, 42 };
+
+	(void)state;
+	for (size_t i = 0; i < sizeof never / sizeof never[0]; i++)
+		assert_true(df1_error_unexecuted(never[i]));
+	for (size_t i = 0; i < sizeof maybe / sizeof maybe[0]; i++)
+		assert_false(df1_error_unexecuted(maybe[i]));
+}
+
 static void test_errors_unknown_code_gives_static_text(void **state)
 {
 	static const int bad[] = { 1, 42, DF1_E_LAST_, -1000, 2508 };
@@ -454,6 +473,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_errors_every_code_has_name_text_and_catalog),
 		cmocka_unit_test(test_errors_unknown_code_gives_static_text),
+		cmocka_unit_test(test_errors_unexecuted_follows_the_link_rules),
 		cmocka_unit_test(test_errors_catalog_has_every_seed_id),
 		cmocka_unit_test(test_errors_catalog_by_mnemonic_any_case),
 		cmocka_unit_test(test_errors_catalog_iterates_in_id_order),

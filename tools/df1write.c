@@ -207,19 +207,12 @@ static bool surely_unwritten(const struct witem *it, int err)
 {
 	switch (err) {
 	case DF1_E_REMOTE:
+	case DF1_E_NAK:
+		/* the failed command was not executed, but those before it in the
+		 * same operand were */
 		return one_packet(it);
-	case DF1_E_INVAL:
-	case DF1_E_TYPE:
-	case DF1_E_RANGE:
-	case DF1_E_ADDR_SYNTAX:
-	case DF1_E_ADDR_RANGE:
-	case DF1_E_NOTSUP:
-	case DF1_E_INACTIVE:        /* the station did not answer the poll: nothing sent */
-	case DF1_E_NOT_OPEN:
-	case DF1_E_NOMEM:
-		return true;
 	default:
-		return false;
+		return df1_error_unexecuted(err);
 	}
 }
 

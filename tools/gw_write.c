@@ -113,27 +113,6 @@ void gw_result_json(struct gw_buf *b, const char *id, bool ok, const char *error
 
 bool gw_write_unconfirmed(int err)
 {
-	switch (err) {
-	case DF1_OK:
-	case DF1_E_REMOTE:       /* the PLC answered: it refused */
-	case DF1_E_NAK:
-	case DF1_E_NAK_LIMIT:    /* every try was NAKed: not taken */
-	case DF1_E_INACTIVE:     /* not sent: the station is inactive */
-	case DF1_E_NOT_OPEN:
-	case DF1_E_INVAL:
-	case DF1_E_TYPE:
-	case DF1_E_RANGE:
-	case DF1_E_ADDR_SYNTAX:
-	case DF1_E_ADDR_RANGE:
-	case DF1_E_NOTSUP:
-	case DF1_E_NOMEM:
-	case DF1_E_BUSY:
-	case DF1_E_CONFIG:
-	case DF1_E_NOSPACE:
-	case DF1_E_NODEV:
-	case DF1_E_PERM:
-		return false;
-	default:
-		return true;
-	}
+	/* a tag write is one command (one tag's elements in one packet) */
+	return err != DF1_OK && !df1_error_unexecuted(err);
 }

@@ -54,6 +54,31 @@ int df1_error_catalog_id(int err)
 	return r ? r->catalog_id : 0;
 }
 
+bool df1_error_unexecuted(int err)
+{
+	switch (err) {
+	case DF1_E_REMOTE:       /* the PLC answered: it refused */
+	case DF1_E_NAK:          /* the receiver did not take the frame */
+	case DF1_E_INACTIVE:     /* the station did not answer its poll: nothing sent */
+	case DF1_E_NOT_OPEN:
+	case DF1_E_INVAL:
+	case DF1_E_TYPE:
+	case DF1_E_RANGE:
+	case DF1_E_ADDR_SYNTAX:
+	case DF1_E_ADDR_RANGE:
+	case DF1_E_NOTSUP:
+	case DF1_E_NOMEM:
+	case DF1_E_BUSY:
+	case DF1_E_CONFIG:
+	case DF1_E_NOSPACE:
+	case DF1_E_NODEV:
+	case DF1_E_PERM:
+		return true;
+	default:
+		return false;
+	}
+}
+
 /* ------------------------------------------------------------------------
  * Message catalog (seeds/004): the rows of DF1_CATALOG_TABLE (df1.h). Every
  * ID 2501-2561 is defined by the seed; the format is the seed's message text

@@ -59,6 +59,7 @@ enum df1_error {
 const char *df1_strerror(int err);
 const char *df1_errname(int err);
 int df1_error_catalog_id(int err);
+_Bool df1_error_unexecuted(int err);
 const char *df1_sts_text(uint8_t sts);
 const char *df1_ext_sts_text(uint8_t ext);
 const char *df1_ext_sts_text_dh485(uint8_t ext);
