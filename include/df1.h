@@ -284,6 +284,12 @@ enum df1_option {
 	 * instead of the byte address 2 * element: the common interface file of an SLC or
 	 * MicroLogix with S:2/8 = 0 (spec 4.7). Client and responder. @since 0.3 */
 	DF1_OPT_PLC2_WORD_ADDR,
+	/* 1..16, default 1: full duplex, the commands that may be outstanding on the line (sent
+	 * and ACKed, their reply not yet in; spec 1.6 rule 6). 1 waits for each reply before
+	 * the next command, as before 0.4; more lets the poll engine send a scan's block reads
+	 * back to back and match the replies by SRC and TNS as they come (df1_poll(3),
+	 * libdf1(7)). Half duplex ignores it (one message per poll). @since 0.4 */
+	DF1_OPT_MAX_OUTSTANDING,
 };
 
 DF1_API int  df1_new(df1_t **out);      /* defaults: 19200 8N1, full duplex, CRC, station 0 */
@@ -560,6 +566,11 @@ enum df1_fault {
 #define DF1_SILENT_ALL 256
 DF1_API int df1_server_set_fault(df1_t *h, enum df1_fault f, int per_mille, int value);
 DF1_API void df1_server_set_seed(df1_t *h, uint64_t seed);
+/* Full duplex: the commands the responder accepts and has not answered yet (reply
+ * queued or waiting for its ACK), answered in order; a new one beyond that is NAKed,
+ * as a controller with full buffers does (spec 1.7). 0 (the default): one reply in
+ * flight, a new command supersedes it. 0..8. @since 0.4 */
+DF1_API int df1_server_set_max_queue(df1_t *h, int max_queue);
 /* Pace transmitted bytes as a line at this baud rate (0 = off). */
 DF1_API int df1_set_line_baud(df1_t *h, int baud);
 

@@ -38,6 +38,35 @@ struct df1_config {
 	bool plc2_word_addr;         /* PLC-2 commands address words, not bytes (spec 4.7) */
 	bool listen_only;            /* DF1_OPT_LISTEN_ONLY: open read only, never transmit */
 	int line_baud;               /* pace transmitted bytes (simulator); 0 = off */
+	int max_outstanding;         /* DF1_OPT_MAX_OUTSTANDING: full-duplex commands in flight */
+};
+
+/* The full-duplex master's pipeline (lib/link/pipe.c): commands submitted and
+ * not yet taken back, each matched to its reply by SRC and TNS. One spare slot
+ * beyond the option's maximum: a synchronous transaction while a scan's reads
+ * are all in flight. */
+#define LINK_PIPE_MAX 17
+struct link_pipe_slot {
+	uint8_t state;               /* PIPE_FREE .. PIPE_DONE (pipe.c) */
+	bool abandoned;              /* nobody takes the result: freed when it ends */
+	uint32_t seq;                /* submission order */
+	int naks, enqs;
+	int64_t deadline_ms;         /* ACK timer (sent), reply timer (ACKed) */
+	int rc;                      /* DONE: reply length or DF1_E_* */
+	struct df1_error_detail err; /* DONE with an error: its detail */
+	size_t cmd_len, reply_len;
+	uint8_t cmd[FRAME_MAX_DATA];
+	uint8_t reply[FRAME_MAX_DATA];
+};
+struct link_pipe {
+	struct link_pipe_slot slot[LINK_PIPE_MAX];
+	uint32_t seq;
+	int tx;                      /* slot + 1 whose frame waits for its ACK, 0: none */
+	int used;                    /* slots not FREE */
+	int replay;                  /* slot + 1 the next link_transact takes, 0: none */
+	bool capture;                /* link_transact only copies the command (to cap) */
+	size_t cap_len;
+	uint8_t cap[FRAME_MAX_DATA];
 };
 
 /* Last message accepted from a station: duplicate and stale detection. */
@@ -76,6 +105,7 @@ struct df1 {
 	uint8_t echo_buf[FRAME_MAX_WIRE]; /* own transmission to discard on 2-wire lines */
 	size_t echo_len, echo_pos;
 	int64_t rx_last_ms;          /* time of the last byte read (lib/link/core.c) */
+	struct link_pipe pipe;       /* full-duplex commands in flight (lib/link/pipe.c) */
 
 	uint64_t counters[CNT_COUNT];
 

@@ -219,6 +219,7 @@ int df1_new(df1_t **out)
 	h->cfg.slc_io_82 = false;
 	h->cfg.max_packet = 0;
 	h->cfg.plc5_timer_words = 3;
+	h->cfg.max_outstanding = 1;
 	h->cfg.plc2_word_addr = false;
 	h->cfg.line_baud = 0;
 
@@ -458,6 +459,7 @@ static const char *handle_option_name(enum df1_option opt)
 	case DF1_OPT_LISTEN_ONLY: return "LISTEN_ONLY";
 	case DF1_OPT_PLC5_TIMER_WORDS: return "PLC5_TIMER_WORDS";
 	case DF1_OPT_PLC2_WORD_ADDR: return "PLC2_WORD_ADDR";
+	case DF1_OPT_MAX_OUTSTANDING: return "MAX_OUTSTANDING";
 	}
 	return NULL;
 }
@@ -478,7 +480,8 @@ static bool *handle_option_flag(struct df1_config *c, enum df1_option opt)
 	case DF1_OPT_SLC_IO_CODES_82: return &c->slc_io_82;
 	case DF1_OPT_LISTEN_ONLY: return &c->listen_only;
 	case DF1_OPT_PLC2_WORD_ADDR: return &c->plc2_word_addr;
-	case DF1_OPT_MAX_PACKET: case DF1_OPT_PLC5_TIMER_WORDS: return NULL;
+	case DF1_OPT_MAX_PACKET: case DF1_OPT_PLC5_TIMER_WORDS: case DF1_OPT_MAX_OUTSTANDING:
+		return NULL;
 	}
 	return NULL;
 }
@@ -510,6 +513,14 @@ int df1_set_option(df1_t *h, enum df1_option opt, int value)
 		h->cfg.plc5_timer_words = value;
 		return 0;
 	}
+	if (opt == DF1_OPT_MAX_OUTSTANDING) {
+		if (value < 1 || value > LINK_PIPE_MAX - 1)
+			return df1_fail(h, DF1_E_CONFIG, -1,
+			                "invalid value %d for option MAX_OUTSTANDING: must be 1..%d", value,
+			                LINK_PIPE_MAX - 1);
+		h->cfg.max_outstanding = value;
+		return 0;
+	}
 	if (value != 0 && value != 1)
 		return df1_fail(h, DF1_E_CONFIG, -1, "invalid value %d for option %s: must be 0 or 1",
 		                value, name);
@@ -534,6 +545,8 @@ int df1_get_option(const df1_t *h, enum df1_option opt)
 		return h->cfg.max_packet;
 	if (opt == DF1_OPT_PLC5_TIMER_WORDS)
 		return h->cfg.plc5_timer_words;
+	if (opt == DF1_OPT_MAX_OUTSTANDING)
+		return h->cfg.max_outstanding;
 	c = h->cfg;
 	flag = handle_option_flag(&c, opt);
 	return flag && *flag ? 1 : 0;

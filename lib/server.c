@@ -905,6 +905,22 @@ DF1_API int df1_server_set_fault(df1_t *h, enum df1_fault f, int per_mille, int 
 	return 0;
 }
 
+DF1_API int df1_server_set_max_queue(df1_t *h, int max_queue)
+{
+	struct link_responder *r;
+
+	if (!h)
+		return DF1_E_INVAL;
+	if (max_queue < 0 || max_queue > LINK_REPLY_SLOTS)
+		return df1_fail(h, DF1_E_INVAL, -1, "queue of %d commands: must be 0..%d", max_queue,
+		                LINK_REPLY_SLOTS);
+	r = server_responder(h);
+	if (!r)
+		return df1_fail(h, DF1_E_NOMEM, -1, "responder: out of memory");
+	r->max_queue = max_queue;
+	return 0;
+}
+
 DF1_API void df1_server_set_seed(df1_t *h, uint64_t seed)
 {
 	struct link_responder *r = h ? server_responder(h) : NULL;

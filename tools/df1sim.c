@@ -156,6 +156,7 @@ struct opts {
 	struct fault_opt faults[8];     /* by enum df1_fault */
 	uint64_t seed;
 	int line_baud;
+	int max_queue;                  /* full duplex: commands held before NAK */
 	const char *log;
 	int baud, data_bits;            /* -d only; the library checks them when it opens DEV */
 };
@@ -163,7 +164,7 @@ struct opts {
 enum {
 	OPT_PTY = CLI_KEY_EXTRA, OPT_LISTEN, OPT_STATION, OPT_DATA_BITS, OPT_LINE_BAUD, OPT_PROCESSOR,
 	OPT_PLC5_FLOAT_SWAPPED, OPT_DATA, OPT_DROP_ACK, OPT_CORRUPT, OPT_NAK, OPT_DELAY, OPT_SILENT,
-	OPT_STALE, OPT_NOISE, OPT_SEED, OPT_LOG,
+	OPT_STALE, OPT_NOISE, OPT_SEED, OPT_LOG, OPT_MAX_QUEUE,
 };
 
 /* -d, --station and -b are df1sim's own: -d is the device served (never
@@ -191,6 +192,8 @@ static const struct cli_extra_opt sim_opts[] = {
 	{ "stale", required_argument, OPT_STALE, "P", "fault: send a reply with an old TNS first" },
 	{ "noise", required_argument, OPT_NOISE, "P", "fault: send garbage bytes between frames" },
 	{ "seed", required_argument, OPT_SEED, "N", "random seed of the faults (default 1)" },
+	{ "max-queue", required_argument, OPT_MAX_QUEUE, "N",
+	  "full duplex: commands held unanswered before NAK 0-8 (default 8; 0: one)" },
 	{ "log", required_argument, OPT_LOG, "FILE", "one line per command answered" },
 	{ NULL, 0, 0, NULL, NULL },
 };
@@ -300,6 +303,7 @@ static int on_option(struct cli *c, int key, const char *arg, void *user)
 		o->seed = u;
 		break;
 	case OPT_LOG: o->log = arg; break;
+	case OPT_MAX_QUEUE: return cli_parse_int(c, "--max-queue", arg, 0, 8, &o->max_queue);
 	default:
 		if (key >= OPT_DROP_ACK && key <= OPT_NOISE)
 			return set_fault(o, key - OPT_DROP_ACK, arg);
@@ -352,6 +356,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 	o->stations[0] = 1;
 	o->nstations = 1;
 	o->seed = 1;
+	o->max_queue = 8;
 	o->baud = 19200;
 	o->data_bits = 8;
 	r = cli_parse(&o->cli, argc, argv, o);
@@ -499,6 +504,8 @@ static int setup_handle(df1_t *h, const struct opts *o, struct sim *s)
 			r = df1_server_set_fault(h, o->faults[k].kind, o->faults[k].per_mille, o->faults[k].value);
 	if (r >= 0 && o->line_baud)
 		r = df1_set_line_baud(h, o->line_baud);
+	if (r >= 0)
+		r = df1_server_set_max_queue(h, o->max_queue);
 	if (r < 0) {
 		const struct df1_error_detail *d = df1_last_error(h);
 

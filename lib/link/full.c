@@ -293,6 +293,20 @@ static int full_tx_timeout(struct df1 *h, struct link_reply *t)
 	return 0;
 }
 
+/* A controller with full buffers NAKs a new command (spec 1.7: "message source
+ * full"): the commands accepted whose reply is not through (queued, or sent
+ * and not ACKed) fill max_queue. */
+static bool full_queue_full(struct df1 *h)
+{
+	int n = 0;
+
+	if (h->resp->max_queue == 0)
+		return false;
+	for (int i = 0; i < LINK_REPLY_SLOTS; i++)
+		n += h->resp->replies[i].used;
+	return n >= h->resp->max_queue;
+}
+
 /* A frame for the responder. Returns 1 when the handler ran, 0, or DF1_E_*. */
 static int full_serve_frame(struct df1 *h, const struct df1_symbol *s, link_handler_fn fn, void *ctx)
 {
@@ -315,7 +329,7 @@ static int full_serve_frame(struct df1 *h, const struct df1_symbol *s, link_hand
 	r = link_serve_screen(h, d[1], s);
 	if (r <= 0)
 		return r;
-	if (link_fault(h->resp, DF1_FAULT_NAK_COMMAND)) {
+	if (link_fault(h->resp, DF1_FAULT_NAK_COMMAND) || full_queue_full(h)) {
 		r = link_send_sym(h, DF1_NAK);
 		return r < 0 ? r : 0;
 	}
@@ -330,8 +344,10 @@ static int full_serve_frame(struct df1 *h, const struct df1_symbol *s, link_hand
 	link_remember(h, d[1], d, s->len);
 	df1_count(h, DF1_ID_CNT_MSG_PACKETS_RCVD);
 	df1_count(h, DF1_ID_CNT_CMD_MSGS_RCVD);
-	/* a new command: the master no longer waits for an older reply */
-	link_slots_clear(h);
+	/* without a queue, a new command means the master no longer waits for an
+	 * older reply; with one, the replies go out in order */
+	if (h->resp->max_queue == 0)
+		link_slots_clear(h);
 	rlen = fn(h, ctx, d, s->len, out, sizeof out);
 	if (rlen > 0 && (size_t)rlen <= sizeof out && link_slot_new(h, d[1], out, (size_t)rlen) == NULL)
 		return df1_fail(h, DF1_E_NOSPACE, d[1], "no reply slot free");

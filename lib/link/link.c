@@ -6,7 +6,18 @@
  */
 #include "link.h"
 
+#include <string.h>
+
 #include "link_int.h"
+
+/* Our SRC and the next TNS in a command (bytes 1, 4-5). */
+static void link_stamp(struct df1 *h, uint8_t *cmd)
+{
+	cmd[1] = (uint8_t)h->cfg.station;
+	cmd[4] = (uint8_t)(h->next_tns & 0xFF);
+	cmd[5] = (uint8_t)(h->next_tns >> 8);
+	h->next_tns++;
+}
 
 /* ------------------------------------------------------------------------
  * Entry points
@@ -24,13 +35,57 @@ int link_transact(struct df1 *h, uint8_t *cmd, size_t cmd_len, uint8_t *reply, s
 		return r;
 	if (h->cfg.duplex == DF1_HALF_DUPLEX_SLAVE)
 		return df1_fail(h, DF1_E_NOTSUP, cmd[0], "a half-duplex slave does not send commands");
-	cmd[1] = (uint8_t)h->cfg.station;
-	cmd[4] = (uint8_t)(h->next_tns & 0xFF);
-	cmd[5] = (uint8_t)(h->next_tns >> 8);
-	h->next_tns++;
+	if (h->pipe.capture) {
+		/* link_capture_begin: the command is kept to be submitted, not sent */
+		if (h->pipe.cap_len == 0) { /* the first: a call's later commands are its own */
+			memcpy(h->pipe.cap, cmd, cmd_len);
+			h->pipe.cap_len = cmd_len;
+		}
+		return df1_fail(h, DF1_E_NOTSUP, cmd[0], "command captured");
+	}
+	if (h->pipe.replay) {
+		int slot = h->pipe.replay - 1;
+
+		h->pipe.replay = 0;
+		if (link_pipe_is(h, slot, cmd, cmd_len))
+			return link_pipe_wait(h, slot, reply, reply_cap);
+		link_pipe_abandon(h, slot); /* another command after all: that one is not wanted */
+	}
+	link_stamp(h, cmd);
 	if (h->cfg.duplex == DF1_HALF_DUPLEX_MASTER)
 		return half_transact(h, cmd, cmd_len, reply, reply_cap);
+	if (h->pipe.used > 0)
+		return pipe_transact(h, cmd, cmd_len, reply, reply_cap);
 	return full_transact(h, cmd, cmd_len, reply, reply_cap);
+}
+
+/* ------------------------------------------------------------------------
+ * Pipelining (full duplex): see pipe.c
+ * ------------------------------------------------------------------------ */
+
+void link_capture_begin(struct df1 *h)
+{
+	h->pipe.capture = true;
+	h->pipe.cap_len = 0;
+}
+
+int link_capture_submit(struct df1 *h)
+{
+	int r;
+
+	h->pipe.capture = false;
+	if (h->pipe.cap_len == 0)
+		return -1;
+	r = link_setup(h);
+	if (r < 0)
+		return r;
+	link_stamp(h, h->pipe.cap);
+	return link_pipe_submit(h, h->pipe.cap, h->pipe.cap_len);
+}
+
+void link_replay(struct df1 *h, int slot)
+{
+	h->pipe.replay = slot >= 0 && slot < LINK_PIPE_MAX ? slot + 1 : 0;
 }
 
 int link_test(struct df1 *h, int station)

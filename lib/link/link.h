@@ -44,6 +44,7 @@ struct link_responder {
 	int awaiting;                /* half-duplex slave: slot + 1 sent on the last poll, 0 none */
 	bool awaiting_stale;         /* ... and it was the stale copy */
 	bool silenced;               /* full duplex: last frame ignored (SILENT_STATION) */
+	int max_queue;               /* full duplex: commands not yet answered before NAK, 0: one */
 	bool serve_station[256];     /* stations we answer as (half-duplex slave) */
 	struct link_faults faults;
 };
@@ -53,6 +54,26 @@ struct link_responder {
  * and returns the matching reply's app bytes (length) in reply, or DF1_E_*.
  * Replies are matched on source and full TNS; stale/duplicate ones are dropped. */
 int link_transact(struct df1 *h, uint8_t *cmd, size_t cmd_len, uint8_t *reply, size_t reply_cap);
+
+/* Pipelining (full duplex, DF1_OPT_MAX_OUTSTANDING; lib/link/pipe.c). A caller
+ * that knows its next commands (the poll engine's scan) captures each one: between
+ * link_capture_begin and link_capture_submit the next link_transact only keeps its
+ * command (and fails); link_capture_submit gives it a TNS and a slot (>= 0; -1:
+ * nothing was captured) and the link sends it when the line allows. link_replay
+ * names the slot the next link_transact takes instead of sending its command: the
+ * caller's own code then checks the reply as it would any other. Other
+ * link_transact calls go through the pipeline while slots are in use. */
+int link_pipe_depth(const struct df1 *h);      /* commands outstanding: 1 unless full duplex */
+int link_pipe_pending(const struct df1 *h);    /* slots queued or on the line */
+int link_pipe_used(const struct df1 *h);       /* slots in use (results not taken included) */
+void link_capture_begin(struct df1 *h);
+int link_capture_submit(struct df1 *h);
+void link_replay(struct df1 *h, int slot);
+/* The result of slot is not wanted: dropped when it is in. */
+void link_pipe_abandon(struct df1 *h, int slot);
+/* Every slot abandoned, and their outcomes waited for. */
+int link_pipe_flush(struct df1 *h);
+void link_pipe_reset(struct df1 *h);
 
 /* Link test: full duplex DLE ENQ -> any response symbol; half duplex poll -> EOT or frame. */
 int link_test(struct df1 *h, int station);

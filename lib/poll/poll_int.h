@@ -73,6 +73,18 @@
  * one per probe scan in turn, so discovery costs a known station's scan at
  * most one timeout per second.
  *
+ * Pipelining (full duplex, DF1_OPT_MAX_OUTSTANDING N > 1): before a block's
+ * transaction the scan submits it and the due blocks after it (in scan order,
+ * across stations) until N are on the link's pipeline; each command is built
+ * by the client exactly as for the read itself (the link captures it), so the
+ * read that follows takes its slot's reply and checks it as any other
+ * (link_replay). Only whole-element block reads of stations that are not
+ * FAILING or OFFLINE go ahead; reads alone, retries, writes and probes are
+ * ordinary transactions, queued behind what is already submitted. A station
+ * that fails still has its other blocks skipped: what was sent ahead for them
+ * is abandoned, and the scan waits for it at its end (link_pipe_flush). The
+ * results are those of N = 1; only the order on the line differs.
+ *
  * Writes: df1_tag_write() (any thread) checks the values, appends a node to a
  * mutex-protected FIFO and signals an eventfd; df1_poll() waits on that fd and
  * runs the queue between transactions. Each write is one df1_write_addr() (the
@@ -98,6 +110,7 @@
 #include <unistd.h>
 
 #include "client.h"
+#include "link.h"
 #include "plc_limits.h"
 #include "poll_plan.h"
 #include "value.h"
@@ -159,6 +172,8 @@ struct pblock {
 	size_t m0, nm;          /* members: e->members[m0 .. m0 + nm) (tag indexes) */
 	int64_t due_ms;
 	uint64_t scan_read;     /* scan number of its last read attempt */
+	uint64_t pipe_scan;     /* scan number in which its read was submitted ahead */
+	int pipe_slot;          /* ... into this link pipeline slot, -1: taken or none */
 };
 
 struct pstation {

@@ -26,6 +26,82 @@ static int poll_block_io(struct df1 *h, struct poll_engine *e, const struct pblo
 	return client_read_raw_at(h, b->station, b->plc, &a, e->raw, (size_t)b->count * b->esize);
 }
 
+/* ------------------------------------------------------------------------
+ * Pipelining: block reads submitted ahead (poll_int.h)
+ * ------------------------------------------------------------------------ */
+
+static bool poll_pipe_candidate(const struct poll_engine *e, const struct pblock *b, int64_t start)
+{
+	const struct pstation *s = &e->st[b->station];
+
+	if (b->alone || b->pipe_scan == e->scan_no || s->state == DF1_STATION_FAILING ||
+	    s->state == DF1_STATION_OFFLINE)
+		return false;
+	return b->scan_read != e->scan_no && b->due_ms <= start;
+}
+
+/* The client builds the block's command; the link keeps it and submits it. */
+static void poll_pipe_put(struct df1 *h, struct poll_engine *e, struct pblock *b)
+{
+	struct df1_error_detail saved = h->err;
+
+	link_capture_begin(h);
+	(void)poll_block_io(h, e, b);
+	b->pipe_slot = link_capture_submit(h);
+	if (b->pipe_slot < 0)
+		b->pipe_slot = -1;
+	b->pipe_scan = e->scan_no;
+	h->err = saved;
+}
+
+/* Before block bi's transaction: it and the due blocks after it, up to the depth. */
+static void poll_pipe_fill(struct df1 *h, struct poll_engine *e, size_t bi, int64_t start)
+{
+	int depth = link_pipe_depth(h);
+	struct pblock *b = &e->blocks[bi];
+
+	if (depth <= 1)
+		return;
+	if (!b->alone && b->pipe_scan != e->scan_no && link_pipe_used(h) < LINK_PIPE_MAX - 1)
+		poll_pipe_put(h, e, b);
+	for (size_t i = bi + 1; i < e->nblocks; i++) {
+		if (link_pipe_pending(h) >= depth || link_pipe_used(h) >= LINK_PIPE_MAX - 1)
+			break;
+		if (poll_pipe_candidate(e, &e->blocks[i], start))
+			poll_pipe_put(h, e, &e->blocks[i]);
+	}
+}
+
+/* The read of block b takes the reply of what was submitted for it, if anything. */
+static int poll_block_read(struct df1 *h, struct poll_engine *e, struct pblock *b)
+{
+	int rc;
+
+	if (b->pipe_scan == e->scan_no && b->pipe_slot >= 0) {
+		link_replay(h, b->pipe_slot);
+		b->pipe_slot = -1;
+	}
+	rc = poll_block_io(h, e, b);
+	link_replay(h, -1);
+	return rc;
+}
+
+/* The end of a scan (or its abort): nothing submitted ahead is left behind. */
+static int poll_pipe_end(struct df1 *h, int rc)
+{
+	if (rc < 0) {
+		link_pipe_reset(h);
+		return rc;
+	}
+	if (link_pipe_used(h) > 0) {
+		int r = link_pipe_flush(h);
+
+		if (r < 0)
+			return r;
+	}
+	return rc;
+}
+
 /* The block answered with data: every member gets its values. */
 static void poll_block_good(struct df1 *h, struct poll_engine *e, struct pblock *b)
 {
@@ -67,7 +143,9 @@ static int poll_read_block(struct df1 *h, struct poll_engine *e, size_t bi, int 
 		e->stats.reads++;
 		e->scan_tx++;
 		done++;
-		rc = poll_block_io(h, e, b);
+		poll_pipe_fill(h, e, bi, start);
+		b = &e->blocks[bi];
+		rc = poll_block_read(h, e, b);
 		o = poll_outcome(h, rc);
 		now = df1_now_ms();
 		if (o != OUT_OK && o != OUT_ABORT)     /* an interrupted read did not fail */
@@ -225,10 +303,10 @@ int poll_scan(struct df1 *h, struct poll_engine *e, int64_t start)
 		else
 			r = poll_discover(h, e, stn, start, &ps);   /* stations without tags */
 		if (r < 0)
-			return r;
+			return poll_pipe_end(h, r);
 		done += r;
 	}
-	r = poll_run_writes(h, e);
+	r = poll_pipe_end(h, poll_run_writes(h, e));
 	if (r < 0)
 		return r;
 	done += r;

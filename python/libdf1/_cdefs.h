@@ -235,6 +235,7 @@ enum df1_option {
 	DF1_OPT_LISTEN_ONLY,
 	DF1_OPT_PLC5_TIMER_WORDS,
 	DF1_OPT_PLC2_WORD_ADDR,
+	DF1_OPT_MAX_OUTSTANDING,
 };
 int df1_new(df1_t **out);
 void df1_free(df1_t *h);
@@ -395,6 +396,7 @@ enum df1_fault {
 };
 int df1_server_set_fault(df1_t *h, enum df1_fault f, int per_mille, int value);
 void df1_server_set_seed(df1_t *h, uint64_t seed);
+int df1_server_set_max_queue(df1_t *h, int max_queue);
 int df1_set_line_baud(df1_t *h, int baud);
 struct df1_table;
 int df1_table_new(struct df1_table **out, enum df1_plc plc);
