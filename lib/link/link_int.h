@@ -13,6 +13,12 @@
 int link_setup(struct df1 *h);
 enum df1_check link_tx_check(const struct df1 *h);
 int64_t link_timeout_ms(const struct df1 *h);
+/* Microseconds of one character at baud with the handle's framing (8N1: 10 bits). */
+int64_t link_char_us(const struct df1 *h, int baud);
+/* A deadline ms after our last transmission has left the line (df1_now_ms
+ * clock): timers that wait for an answer start there, not when write()
+ * returned (a 220-byte frame needs 1.8 s at 1200 baud). */
+int64_t link_after_tx_ms(const struct df1 *h, int64_t ms);
 
 /* transmission: DLE sym with its counter (ACK/NAK also set the last response) */
 int link_send_sym(struct df1 *h, uint8_t sym);
