@@ -82,6 +82,8 @@ struct df1 {
 	size_t echo_len, echo_pos;
 	int64_t rx_last_ms;          /* time of the last byte read (lib/link/core.c) */
 	int64_t tx_end_us;           /* when our last byte has left the line (df1_now_us clock) */
+	uint8_t tx_hold[4];          /* DLE symbols to go out with our next transmission */
+	size_t tx_hold_len;
 	int64_t rx_due_us;           /* line_baud: when the bytes read so far arrived on the line */
 	int64_t scan_epoch_ms;       /* DF1_OPT_SCAN_TIME_MS: the first scan began (df1_open) */
 

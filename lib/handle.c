@@ -108,6 +108,7 @@ static void handle_reset_io(struct df1 *h)
 	h->echo_len = h->echo_pos = 0;
 	frame_decoder_reset(&h->dec);
 	h->tx_end_us = h->rx_due_us = 0;
+	h->tx_hold_len = 0;
 	h->scan_epoch_ms = df1_now_ms();
 }
 

@@ -141,6 +141,28 @@ static void assert_write_bytes(size_t i, const uint8_t *want, size_t n)
 	assert_memory_equal(got, want, n);
 }
 
+/* Write i of a responder: its DLE ACK and the reply after it, in one write
+ * (the ACK held for the reply that follows at once). The reply's bytes. */
+static const uint8_t *write_after_ack(size_t i, size_t *n)
+{
+	size_t got_n;
+	const uint8_t *got = mock_port_write_at(i, &got_n);
+
+	assert_true(got_n > 2);
+	assert_memory_equal(got, ACK, 2);
+	*n = got_n - 2;
+	return got + 2;
+}
+
+static void assert_ack_and(size_t i, const uint8_t *want, size_t n)
+{
+	size_t got_n;
+	const uint8_t *got = write_after_ack(i, &got_n);
+
+	assert_int_equal(got_n, n);
+	assert_memory_equal(got, want, n);
+}
+
 /* App bytes of a reply: DST SRC CMD STS TNS, then data. */
 static size_t make_reply(uint8_t *app, uint8_t dst, uint8_t src, uint8_t cmd, uint8_t sts,
                          uint16_t tns, const uint8_t *data, size_t dn)
@@ -1710,9 +1732,10 @@ static void test_peer_command_ack_reply(void **state)
 	mock_port_feed_hex(A2_FD_CRC);
 	mock_port_feed(ACK, 2);
 	assert_int_equal(serve_script(h), 1);
-	assert_int_equal(mock_port_writes(), 2);
-	assert_write_bytes(0, ACK, 2);
-	assert_write_bytes(1, want, wn);
+	assert_int_equal(mock_port_writes(), 1);
+	assert_ack_and(0, want, wn);       /* one write: the ACK and the reply */
+	assert_int_equal(cnt(h, 2535), 1); /* CNT_ACKS_SENT: counted all the same */
+	assert_int_equal(cnt(h, 2560), 2 + wn);
 	assert_int_equal(cnt(h, 2529), 1);
 	assert_int_equal(cnt(h, 2536), 1);
 	assert_int_equal(server_responder(h)->replies[0].used, false);
@@ -1728,9 +1751,9 @@ static void test_peer_reply_nak_retransmitted(void **state)
 	mock_port_feed(NAK, 2);
 	mock_port_feed(ACK, 2);
 	assert_int_equal(serve_script(h), 1);
-	assert_int_equal(mock_port_writes(), 3);
+	assert_int_equal(mock_port_writes(), 2);
+	assert_ack_and(0, want, wn);
 	assert_write_bytes(1, want, wn);
-	assert_write_bytes(2, want, wn);
 	assert_int_equal(cnt(h, 2541), 1);
 	assert_int_equal(cnt(h, 2529), 1);
 }
@@ -1743,8 +1766,8 @@ static void test_peer_reply_ack_timeout_enq(void **state)
 	mock_port_expire(); /* no ACK for the reply */
 	mock_port_feed(ACK, 2);
 	assert_int_equal(serve_script(h), 1);
-	assert_int_equal(mock_port_writes(), 3);
-	assert_write_bytes(2, ENQ, 2);
+	assert_int_equal(mock_port_writes(), 2);
+	assert_write_bytes(1, ENQ, 2);
 	assert_int_equal(cnt(h, 2543), 1);
 }
 
@@ -1757,7 +1780,7 @@ static void test_peer_reply_enq_limit_drops(void **state)
 	mock_port_expire();
 	mock_port_expire();
 	assert_int_equal(serve_script(h), 1);
-	assert_int_equal(mock_port_writes(), 3);
+	assert_int_equal(mock_port_writes(), 2);
 	assert_int_equal(cnt(h, 2544), 1);
 	assert_false(server_responder(h)->replies[0].used);
 }
@@ -1771,8 +1794,8 @@ static void test_peer_duplicate_command_not_run(void **state)
 	mock_port_feed_hex(A2_FD_CRC); /* our ACK was lost: the same command again */
 	assert_int_equal(serve_script(h), 1);
 	assert_int_equal(handler_calls, 1);
-	assert_int_equal(mock_port_writes(), 3);
-	assert_write_bytes(2, ACK, 2);
+	assert_int_equal(mock_port_writes(), 2);
+	assert_write_bytes(1, ACK, 2);
 	assert_int_equal(cnt(h, 2549), 1);
 }
 
@@ -1792,8 +1815,8 @@ static void test_peer_duplicate_other_command_no_reply(void **state)
 	mock_port_feed(NAK, 2);
 	assert_int_equal(serve_script(h), 1);
 	assert_int_equal(handler_calls, 1);
-	assert_int_equal(mock_port_writes(), 3);
-	assert_write_bytes(2, ACK, 2);
+	assert_int_equal(mock_port_writes(), 2);
+	assert_write_bytes(1, ACK, 2);
 	assert_int_equal(cnt(h, 2549), 1);
 	assert_int_equal(cnt(h, 2541), 0);      /* the reply was not sent again */
 	assert_false(server_responder(h)->replies[0].used);
@@ -1817,9 +1840,9 @@ static void test_peer_enq_gets_last_response(void **state)
 	assert_write_bytes(0, NAK, 2);
 	assert_write_bytes(1, NAK, 2);
 	assert_write_bytes(2, NAK, 2);
-	assert_write_bytes(3, ACK, 2);
-	assert_write_bytes(5, ACK, 2);
-	assert_int_equal(mock_port_writes(), 6);
+	write_after_ack(3, &n);  /* the ACK and the reply */
+	assert_write_bytes(4, ACK, 2);
+	assert_int_equal(mock_port_writes(), 5);
 	assert_int_equal(handler_calls, 1);
 	assert_int_equal(cnt(h, 2547), 1);
 }
@@ -1838,7 +1861,7 @@ static void test_peer_nak_with_nothing_in_flight_2511(void **state)
 	assert_int_equal(logged(2517), 0);
 	assert_int_equal(cnt(h, 2534), 1);
 	assert_int_equal(cnt(h, 2541), 0);
-	assert_int_equal(mock_port_writes(), 2); /* ACK, reply */
+	assert_int_equal(mock_port_writes(), 1); /* ACK and reply in one write */
 }
 
 /* A reply with STS != 0 is an error message sent (2539), once however often
@@ -1854,8 +1877,8 @@ static void test_peer_error_reply_counted_2539(void **state)
 	mock_port_feed(NAK, 2);         /* the reply once more */
 	mock_port_feed(ACK, 2);
 	assert_int_equal(serve_script(h), 1);
-	assert_int_equal(mock_port_writes(), 3);
-	w = (uint8_t *)mock_port_write_at(1, &wn);
+	assert_int_equal(mock_port_writes(), 2);
+	w = (uint8_t *)write_after_ack(0, &wn);
 	assert_true(wn > 6);
 	assert_int_equal(w[5], 0x10);   /* DLE STX DST SRC CMD STS */
 	assert_int_equal(cnt(h, 2529), 1);
@@ -1976,12 +1999,12 @@ static void test_fault_corrupt_reply_then_good(void **state)
 	mock_port_feed(NAK, 2);
 	mock_port_feed(ACK, 2);
 	assert_int_equal(serve_script(h), 1);
-	assert_int_equal(mock_port_writes(), 3);
-	w = mock_port_write_at(1, &n);
+	assert_int_equal(mock_port_writes(), 2);
+	w = write_after_ack(0, &n);
 	assert_int_equal(n, wn);
 	assert_memory_equal(w, want, wn - 1);
 	assert_int_equal(w[wn - 1], want[wn - 1] ^ 0xFF);
-	assert_write_bytes(2, want, wn);
+	assert_write_bytes(1, want, wn);
 }
 
 static void test_fault_stale_reply_first(void **state)
@@ -1996,9 +2019,9 @@ static void test_fault_stale_reply_first(void **state)
 	mock_port_feed(ACK, 2);
 	mock_port_feed(ACK, 2);
 	assert_int_equal(serve_script(h), 1);
-	assert_int_equal(mock_port_writes(), 3);
-	assert_write_bytes(1, stale, sn);
-	assert_write_bytes(2, want, wn);
+	assert_int_equal(mock_port_writes(), 2);
+	assert_ack_and(0, stale, sn);
+	assert_write_bytes(1, want, wn);
 }
 
 static void test_fault_stale_reply_hd(void **state)
@@ -2034,7 +2057,7 @@ static void test_fault_noise_before_reply(void **state)
 	mock_port_feed_hex(A2_FD_CRC);
 	mock_port_feed(ACK, 2);
 	assert_int_equal(serve_script(h), 1);
-	w = mock_port_write_at(1, &n);
+	w = write_after_ack(0, &n);
 	assert_int_equal(n, 3 + wn);
 	for (int i = 0; i < 3; i++)
 		assert_int_not_equal(w[i], DF1_DLE);

@@ -196,7 +196,38 @@ static void link_echo_add(struct df1 *h, const uint8_t *buf, size_t n)
 	h->echo_len += n;
 }
 
+static int link_send_wire(struct df1 *h, const uint8_t *buf, size_t n);
+
 int link_send_raw(struct df1 *h, const uint8_t *buf, size_t n)
+{
+	uint8_t both[sizeof h->tx_hold + FRAME_MAX_WIRE];
+
+	if (h->tx_hold_len == 0 || h->tx_hold_len + n > sizeof both) {
+		int r = link_tx_flush(h);
+
+		return r < 0 ? r : link_send_wire(h, buf, n);
+	}
+	/* the symbols held (an ACK) first, then this, in one write */
+	memcpy(both, h->tx_hold, h->tx_hold_len);
+	memcpy(both + h->tx_hold_len, buf, n);
+	n += h->tx_hold_len;
+	h->tx_hold_len = 0;
+	return link_send_wire(h, both, n);
+}
+
+int link_tx_flush(struct df1 *h)
+{
+	uint8_t held[sizeof h->tx_hold];
+	size_t n = h->tx_hold_len;
+
+	if (n == 0)
+		return 0;
+	memcpy(held, h->tx_hold, n);
+	h->tx_hold_len = 0;
+	return link_send_wire(h, held, n);
+}
+
+static int link_send_wire(struct df1 *h, const uint8_t *buf, size_t n)
 {
 	int64_t wire_ms, deadline;
 	int r;
@@ -252,6 +283,8 @@ int link_send_raw(struct df1 *h, const uint8_t *buf, size_t n)
 	return 0;
 }
 
+static void link_sym_sent(struct df1 *h, uint8_t sym);
+
 /* DLE ACK / NAK / EOT / ENQ with its counter; ACK and NAK become the last response. */
 int link_send_sym(struct df1 *h, uint8_t sym)
 {
@@ -260,6 +293,30 @@ int link_send_sym(struct df1 *h, uint8_t sym)
 
 	if (r < 0)
 		return r;
+	link_sym_sent(h, sym);
+	return 0;
+}
+
+int link_send_sym_held(struct df1 *h, uint8_t sym)
+{
+	if (!h->port || h->fd < 0)
+		return df1_fail(h, DF1_E_NOT_OPEN, -1, "handle is not open");
+	if (h->cfg.listen_only)
+		return port_refuse_tx(h);
+	if (h->tx_hold_len + 2 > sizeof h->tx_hold) {
+		int r = link_tx_flush(h);
+
+		if (r < 0)
+			return r;
+	}
+	h->tx_hold[h->tx_hold_len++] = DF1_DLE;
+	h->tx_hold[h->tx_hold_len++] = sym;
+	link_sym_sent(h, sym);
+	return 0;
+}
+
+static void link_sym_sent(struct df1 *h, uint8_t sym)
+{
 	switch (sym) {
 	case DF1_ACK:
 		df1_count(h, DF1_ID_CNT_ACKS_SENT);
@@ -275,7 +332,6 @@ int link_send_sym(struct df1 *h, uint8_t sym)
 	default:
 		break;
 	}
-	return 0;
 }
 
 void link_flush(struct df1 *h)
@@ -394,6 +450,12 @@ int link_read_symbol(struct df1 *h, int64_t deadline_ms, struct df1_symbol *sym)
 			dl = h->rx_last_ms + link_gap_ms(h);
 			if (dl > hard)
 				dl = hard; /* a line that never stops talking */
+		}
+		if (h->tx_hold_len) {
+			/* nothing followed the ACK held: it goes before we wait */
+			r = link_tx_flush(h);
+			if (r < 0)
+				return r;
 		}
 		r = link_fill(h, dl, &expired);
 		if (r < 0)

@@ -323,7 +323,8 @@ static int full_serve_frame(struct df1 *h, const struct df1_symbol *s, link_hand
 	if (drop_ack) {
 		h->last_response = DF1_ACK; /* as if our ACK was lost on the line */
 	} else {
-		r = link_send_sym(h, DF1_ACK);
+		/* with the reply if it is ready at once (full_serve sends it next) */
+		r = link_send_sym_held(h, DF1_ACK);
 		if (r < 0)
 			return r;
 	}
