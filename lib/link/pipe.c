@@ -21,6 +21,11 @@
  *    dropped quietly instead of counting as stale.
  *  - With no slot in use, link_transact keeps using full_transact: N = 1 and
  *    the synchronous calls behave exactly as before.
+ *  - The ACK of a reply is held (link_send_sym_held) so that it goes out in
+ *    one write with our next command; when no command may go yet, it goes
+ *    before the link waits for input or before link_pipe_wait returns.
+ *  - Timers that wait for an answer start when our bytes have left the line
+ *    (link_after_tx_ms), as full_transact's.
  */
 #include "link.h"
 
@@ -156,7 +161,7 @@ static int pipe_send(struct df1 *h, struct link_pipe_slot *p, bool first)
 	if (first)
 		df1_count(h, DF1_ID_CNT_CMD_MSGS_SENT);
 	p->state = PIPE_TX;
-	p->deadline_ms = df1_now_ms() + link_timeout_ms(h);
+	p->deadline_ms = link_after_tx_ms(h, link_timeout_ms(h));
 	h->pipe.tx = (int)(p - h->pipe.slot) + 1;
 	return 0;
 }
@@ -230,7 +235,7 @@ static int pipe_timeouts(struct df1 *h, int64_t dl)
 		r = link_send_sym(h, DF1_ENQ);
 		if (r < 0)
 			return r;
-		p->deadline_ms = df1_now_ms() + link_timeout_ms(h);
+		p->deadline_ms = link_after_tx_ms(h, link_timeout_ms(h));
 	}
 	return 0;
 }
@@ -281,7 +286,8 @@ static int pipe_frame(struct df1 *h, const struct df1_symbol *s)
 
 	if (link_is_dup(h, s->data[1], s->data, s->len))
 		return link_ack_dup(h, s);
-	r = link_send_sym(h, DF1_ACK);
+	/* held: it goes out with our next command, in one write (or before we wait) */
+	r = link_send_sym_held(h, DF1_ACK);
 	if (r < 0)
 		return r;
 	link_remember(h, s->data[1], s->data, s->len);
@@ -369,6 +375,15 @@ int link_pipe_wait(struct df1 *h, int slot, uint8_t *reply, size_t cap)
 			link_pipe_abandon(h, slot);
 			return r;
 		}
+	}
+	/* the ACK of the reply just taken goes with the next command if one may
+	 * go now; if not, at once: the caller may not come back for a while */
+	r = pipe_start(h);
+	if (r >= 0 && h->tx_hold_len)
+		r = link_tx_flush(h);
+	if (r < 0) {
+		link_pipe_abandon(h, slot);
+		return r;
 	}
 	h->err = saved; /* other slots' failures are theirs */
 	r = p->rc;
