@@ -5,7 +5,8 @@
 # reply to the one before has come (the frame trace shows the order), every
 # command is answered once (the frame log); against --max-queue 1 the commands
 # beyond the one held are NAKed, retried, and every tag still ends GOOD; the
-# one-shot tools take --outstanding too; out-of-range values are usage errors.
+# one-shot tools take --outstanding too; half duplex reads the same with it;
+# out-of-range values are usage errors.
 # (The writes under faults: tests/test_pipeline_sim.c.) Run from the repository
 # root; DF1_BIN = the built tools.
 . tests/lib.sh
@@ -77,6 +78,14 @@ check "NAKs received and retried" \
 	'grep -q "^2534 CNT_NAKS_RCVD [1-9]" "$T/out" && grep -q "^2541 CNT_NAK_RETRIES [1-9]" "$T/out"'
 check "no NAK limit reached" 'grep -q "^2542 CNT_NAK_LIMIT_EXCEEDED 0" "$T/out"'
 check "every tag GOOD" '[ "$(grep -c " GOOD" "$T/out")" -eq 7 ]'
+sim_stop
+
+# half duplex: one message per poll, the option changes nothing
+sim_start half --duplex half --station 1,2 --log "$T/half.log" || exit 1
+expect 0 "half duplex, --outstanding 4" -- "$MON" -d "$SIM_DEV" --duplex half --outstanding 4 \
+	--map "$T/map.csv" -1
+table > "$T/th.txt"
+same "half duplex: the same values" "$(cat "$T/th.txt")" "$(cat "$T/t1.txt")"
 sim_stop
 
 expect 2 "df1sim --max-queue 9: usage" -- "$BIN/df1sim" --pty "$T/x" --max-queue 9

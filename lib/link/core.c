@@ -50,7 +50,10 @@
  *    2561 counts every byte read, including the echo discarded on 2-wire
  *    lines. Port read errors (2551) are counted by the port backends.
  *  - Full-duplex responder: one reply in flight; a new command supersedes a
- *    reply still waiting for its ACK (the master has moved on).
+ *    reply still waiting for its ACK (the master has moved on). With a queue
+ *    (df1_server_set_max_queue) the replies go out in command order instead,
+ *    each after the ACK of the one before, and a command beyond the queue is
+ *    NAKed and not run (spec 1.7: a full message sink).
  *  - Faults: DROP_ACK and NAK_COMMAND act on new commands only (duplicates are
  *    ACKed), so one dropped ACK leads to exactly one execution. DROP_ACK leaves
  *    the last response at ACK, as a lost ACK would: an ENQ then gets the ACK.
