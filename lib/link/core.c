@@ -66,6 +66,7 @@
  */
 #include "link.h"
 
+#include <poll.h>
 #include <string.h>
 
 #include "link_int.h"
@@ -121,6 +122,22 @@ static int link_pause_us(struct df1 *h, int64_t deadline_us)
 	if ((int64_t)df1_now_us() >= deadline_us)
 		return 0;
 	return port_wait_us(h, -1, 0, deadline_us);
+}
+
+/* A pause between the pieces of a paced transmission (line_baud). Bytes that
+ * become readable meanwhile are noted as seen then (h->rx_seen_us): the
+ * receive pacing counts them from there, not from when we get round to
+ * reading them, so a paced full-duplex line carries both ways at once. */
+static int link_pause_tx_us(struct df1 *h, int64_t deadline_us)
+{
+	if (h->rx_seen_us == 0 && h->fd >= 0 && (int64_t)df1_now_us() < deadline_us) {
+		int r = port_wait_us(h, h->fd, POLLIN, deadline_us);
+
+		if (r <= 0)
+			return r;
+		h->rx_seen_us = (int64_t)df1_now_us();
+	}
+	return link_pause_us(h, deadline_us);
 }
 
 /* Microseconds one character takes on the line at baud: start bit, data bits,
@@ -270,7 +287,7 @@ static int link_send_wire(struct df1 *h, const uint8_t *buf, size_t n)
 			size_t c = n - off < chunk ? n - off : chunk;
 			int64_t due_us = start + (int64_t)(off + c) * char_us;
 
-			r = link_pause_us(h, due_us);
+			r = link_pause_tx_us(h, due_us);
 			if (r < 0)
 				return r;
 			r = link_write(h, buf + off, c, deadline);
@@ -368,16 +385,20 @@ static int link_fill(struct df1 *h, int64_t deadline_ms, bool *expired)
 		 * characters per read, each handed on when its last character
 		 * has arrived, so the sender sees what a UART would do to it */
 		size_t chunk = (size_t)h->cfg.line_baud / 10 / 250;
+		int64_t char_us = link_char_us(h, h->cfg.line_baud);
 
 		n = h->port->read(h, h->rxbuf, chunk < 1 ? 1 : chunk, deadline_ms);
 		if (n > 0) {
-			int64_t now = (int64_t)df1_now_us();
-			int64_t from = h->rx_due_us > now ? h->rx_due_us : now;
+			/* bytes already waiting arrived one after the other from the
+			 * moment the line was idle and they were seen: while we were
+			 * transmitting, if they came then (link_pause_tx_us; a
+			 * full-duplex line carries both ways at once) */
+			int64_t seen = h->rx_seen_us ? h->rx_seen_us : (int64_t)df1_now_us();
+			int64_t from = h->rx_due_us > seen ? h->rx_due_us : seen;
 			int r;
 
-			/* bytes already waiting arrived one after the other from the
-			 * moment the line was idle and they were seen */
-			h->rx_due_us = from + (int64_t)n * link_char_us(h, h->cfg.line_baud);
+			h->rx_seen_us = 0;
+			h->rx_due_us = from + (int64_t)n * char_us;
 			r = link_pause_us(h, h->rx_due_us);
 			if (r < 0)
 				return r;
