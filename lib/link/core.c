@@ -369,12 +369,14 @@ static int link_fill(struct df1 *h, int64_t deadline_ms, bool *expired)
 		n = h->port->read(h, h->rxbuf, chunk < 1 ? 1 : chunk, deadline_ms);
 		if (n > 0) {
 			int64_t now = (int64_t)df1_now_us();
-			int64_t from = h->rx_due_us > now ? h->rx_due_us : now;
+			int64_t due = h->rx_due_us + (int64_t)n * link_char_us(h, h->cfg.line_baud);
 			int r;
 
-			/* bytes already waiting arrived one after the other from the
-			 * moment the line was idle and they were seen */
-			h->rx_due_us = from + (int64_t)n * link_char_us(h, h->cfg.line_baud);
+			/* the line delivers each byte a character after the one before
+			 * it, and none before it was written: a burst (a UART's write)
+			 * trickles in, bytes a paced sender handed over at line rate
+			 * are taken as they come, not delayed once more */
+			h->rx_due_us = due > now ? due : now;
 			r = link_pause_us(h, h->rx_due_us);
 			if (r < 0)
 				return r;
