@@ -114,7 +114,6 @@ struct df1 {
 	uint8_t tx_hold[4];          /* DLE symbols to go out with our next transmission */
 	size_t tx_hold_len;
 	int64_t rx_due_us;           /* line_baud: when the bytes read so far arrived on the line */
-	int64_t rx_seen_us;          /* line_baud: bytes became readable while we sent, 0: none */
 	int64_t scan_epoch_ms;       /* DF1_OPT_SCAN_TIME_MS: the first scan began (df1_open) */
 	struct link_pipe pipe;       /* full-duplex commands in flight (lib/link/pipe.c) */
 

@@ -66,7 +66,6 @@
  */
 #include "link.h"
 
-#include <poll.h>
 #include <string.h>
 
 #include "link_int.h"
@@ -124,22 +123,6 @@ static int link_pause_us(struct df1 *h, int64_t deadline_us)
 	return port_wait_us(h, -1, 0, deadline_us);
 }
 
-/* A pause between the pieces of a paced transmission (line_baud). Bytes that
- * become readable meanwhile are noted as seen then (h->rx_seen_us): the
- * receive pacing counts them from there, not from when we get round to
- * reading them, so a paced full-duplex line carries both ways at once. */
-static int link_pause_tx_us(struct df1 *h, int64_t deadline_us)
-{
-	if (h->rx_seen_us == 0 && h->fd >= 0 && (int64_t)df1_now_us() < deadline_us) {
-		int r = port_wait_us(h, h->fd, POLLIN, deadline_us);
-
-		if (r <= 0)
-			return r;
-		h->rx_seen_us = (int64_t)df1_now_us();
-	}
-	return link_pause_us(h, deadline_us);
-}
-
 /* Microseconds one character takes on the line at baud: start bit, data bits,
  * parity bit, stop bits (10 for 8N1). */
 int64_t link_char_us(const struct df1 *h, int baud)
@@ -153,10 +136,12 @@ int64_t link_char_us(const struct df1 *h, int baud)
 /* When the bytes just written will have left the line. A paced line (df1sim,
  * df1_set_line_baud) handed each chunk over when its last character was due,
  * so they have. A real UART takes them into the kernel's buffer at once and
- * sends them at the configured baud after what is still queued there; tcdrain
- * would tell exactly but blocks past the cancel descriptor, so the link keeps
- * its own account from the line rate. TCP (a device server) and other
- * descriptors have no such delay. */
+ * sends them at the configured baud, after what it still holds of ours;
+ * tcdrain would wait for that but blocks past the cancel descriptor, so the
+ * link keeps its own account from the line rate (link_fill ends it when the
+ * peer answers: an answer shows our bytes are through, and a pseudo-terminal,
+ * which carries them at once, must not let the account run ahead of the
+ * clock). TCP (a device server) and other descriptors have no such delay. */
 static void link_tx_account(struct df1 *h, size_t n)
 {
 	int64_t now = (int64_t)df1_now_us();
@@ -287,7 +272,7 @@ static int link_send_wire(struct df1 *h, const uint8_t *buf, size_t n)
 			size_t c = n - off < chunk ? n - off : chunk;
 			int64_t due_us = start + (int64_t)(off + c) * char_us;
 
-			r = link_pause_tx_us(h, due_us);
+			r = link_pause_us(h, due_us);
 			if (r < 0)
 				return r;
 			r = link_write(h, buf + off, c, deadline);
@@ -385,20 +370,18 @@ static int link_fill(struct df1 *h, int64_t deadline_ms, bool *expired)
 		 * characters per read, each handed on when its last character
 		 * has arrived, so the sender sees what a UART would do to it */
 		size_t chunk = (size_t)h->cfg.line_baud / 10 / 250;
-		int64_t char_us = link_char_us(h, h->cfg.line_baud);
 
 		n = h->port->read(h, h->rxbuf, chunk < 1 ? 1 : chunk, deadline_ms);
 		if (n > 0) {
-			/* bytes already waiting arrived one after the other from the
-			 * moment the line was idle and they were seen: while we were
-			 * transmitting, if they came then (link_pause_tx_us; a
-			 * full-duplex line carries both ways at once) */
-			int64_t seen = h->rx_seen_us ? h->rx_seen_us : (int64_t)df1_now_us();
-			int64_t from = h->rx_due_us > seen ? h->rx_due_us : seen;
+			int64_t now = (int64_t)df1_now_us();
+			int64_t due = h->rx_due_us + (int64_t)n * link_char_us(h, h->cfg.line_baud);
 			int r;
 
-			h->rx_seen_us = 0;
-			h->rx_due_us = from + (int64_t)n * char_us;
+			/* the line delivers each byte a character after the one before
+			 * it, and none before it was written: a burst (a UART's write)
+			 * trickles in, bytes a paced sender handed over at line rate
+			 * are taken as they come, not delayed once more */
+			h->rx_due_us = due > now ? due : now;
 			r = link_pause_us(h, h->rx_due_us);
 			if (r < 0)
 				return r;
@@ -427,6 +410,8 @@ static int link_fill(struct df1 *h, int64_t deadline_ms, bool *expired)
 	}
 	h->rx_pos = i;
 	h->rx_len = (size_t)n;
+	if (h->rx_pos < h->rx_len && h->tx_end_us > (int64_t)df1_now_us())
+		h->tx_end_us = (int64_t)df1_now_us(); /* the peer talks (not our echo): we are through */
 	return (int)(h->rx_len - h->rx_pos);
 }
 

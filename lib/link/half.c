@@ -268,7 +268,7 @@ int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 	                                sizeof wire);
 	int64_t cmd_deadline, wait = h->cfg.cmd_timeout_ms > 0 ? h->cfg.cmd_timeout_ms
 	                                                        : link_timeout_ms(h);
-	int64_t ack_us, poll_at_us;
+	int64_t ack_us, poll_at_us, poll_us = 0;
 	struct repoll_est *lat;
 	int tries = 0, enqs = 0, cause = 0, r;
 
@@ -327,6 +327,7 @@ int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 			                 "no reply from station %d within %lld ms", stn, (long long)wait));
 		}
 		if (polled) {
+			poll_us = now_us;
 			r = hd_send_poll(h, stn);
 			if (r < 0)
 				return r;
@@ -346,7 +347,9 @@ int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 		switch (a) {
 		case ANS_REPLY:
 			h->stations[stn].active = true;
-			repoll_learn(lat, now_us - ack_us);
+			/* the reply was ready when the poll that drew it went out (not
+			 * when it had arrived: its own wire time is no latency) */
+			repoll_learn(lat, poll_us - ack_us);
 			return (int)len;
 		case ANS_TIMEOUT:
 			if (!polled)
