@@ -304,9 +304,13 @@ static void cmdlog_rx_frame(struct sim_cmdlog *l, const struct df1_symbol *sym)
 	if (l->half && (station < 0 || station > 255 || !l->tables[station]))
 		return;                 /* for another slave on the line */
 	for (int i = 0; i < 16; i++) {
-		if (l->ring[i].used && l->ring[i].app[1] == a[1] && l->ring[i].app[2] == a[2] &&
-		    l->ring[i].app[4] == a[4] && l->ring[i].app[5] == a[5])
-			return;         /* a repeat of a command already seen */
+		/* a repeat of a command already seen: the same bytes again (SRC,
+		 * CMD and TNS alone would also match a new master process that
+		 * drew a TNS an earlier one used, and leave its command unlogged) */
+		if (l->ring[i].used && l->ring[i].n == (sym->len < sizeof l->ring[0].app ? sym->len
+		                                                                    : sizeof l->ring[0].app) &&
+		    memcmp(l->ring[i].app, a, l->ring[i].n) == 0)
+			return;
 	}
 	l->ring[l->next].used = true;
 	l->ring[l->next].logged = false;
