@@ -114,6 +114,14 @@ DF1_API int df1_error_catalog_id(int err);
  * request the library splits over several commands this holds for the failed one
  * only. @since 0.4 */
 DF1_API bool df1_error_unexecuted(int err);
+/* True when the PCCC command pccc[0..n) (CMD STS TNS(2) [FNC] data, no DST SRC)
+ * may change the controller: writes of every kind (PLC-2 00 02 05 08, 0F/00
+ * 0F/02 0F/26 0F/67 0F/A9 0F/AA 0F/AB), mode changes (0F/3A 0F/80), interface
+ * settings and counter resets (06/02 06/04-06/07), downloads, uploads and
+ * every command not known to only read. False only for 01, 06/00 06/01 06/03,
+ * 0F/01 0F/68 0F/A1 0F/A2. Fewer than 4 bytes (5 for CMD 06 and 0F): true.
+ * @since 0.4 */
+DF1_API bool df1_pccc_is_write(const uint8_t *pccc, size_t n);
 
 /* STS (M p.8-2/8-3) and EXT STS for CMD 0F (M p.8-4) / DH-485 (M p.8-5). */
 DF1_API const char *df1_sts_text(uint8_t sts);
@@ -820,6 +828,31 @@ DF1_API int df1_poll(df1_t *h, int timeout_ms);
  * application's own poll loop; df1_poll() drains it), or DF1_E_*. */
 DF1_API int df1_poll_next_ms(const df1_t *h);
 DF1_API int df1_poll_fd(df1_t *h);
+
+/* Any PCCC command through the poll engine's line (a bridge such as df1gw
+ * --eip). pccc[0..n) is CMD STS TNS(2) [FNC] data as the requester sent it
+ * (4..DF1_PCCC_MAX bytes, no DST SRC; copied). Safe from any thread. It joins
+ * the queue of df1_tag_write() (one FIFO for every submitter) and is sent in
+ * the next free slot between two transactions, with the line's own TNS. Each
+ * accepted command ends exactly once through done(user, result, reply, n),
+ * from the df1_poll() thread: result 0 with the reply CMD|40 STS TNS [EXT STS]
+ * data (reply valid during the call only), carrying the requester's TNS again;
+ * a reply with an error STS is passed through unchanged, still result 0. Or
+ * result DF1_E_* when the line gave no reply (DF1_E_TIMEOUT, DF1_E_NAK_LIMIT,
+ * DF1_E_INACTIVE, DF1_E_BAD_REPLY ...; reply NULL, n 0). A command for which
+ * df1_pccc_is_write() is true is sent once: after a failure it is retried only
+ * when df1_error_unexecuted() says it did not execute; other commands get the
+ * station's retries, as block reads do. Commands still queued at df1_free() end
+ * with DF1_E_NOT_OPEN. At most DF1_PCCC_QUEUE_MAX are waiting at a time.
+ * The engine must exist first (df1_poll_fd(), df1_poll() or df1_tag_add() on
+ * the df1_poll() thread makes it). Returns 0, DF1_E_INVAL (h, no engine yet,
+ * pccc, n, station 0..254, done NULL, a reply code) or DF1_E_BUSY (the queue
+ * is full: try again after some have ended), DF1_E_NOMEM. @since 0.4 */
+#define DF1_PCCC_MAX 262        /* the link layer's 264 app bytes of a frame less DST SRC */
+#define DF1_PCCC_QUEUE_MAX 64
+typedef void (*df1_pccc_done_fn)(void *user, int result, const uint8_t *reply, size_t n);
+DF1_API int df1_poll_submit_pccc(df1_t *h, int station, const uint8_t *pccc, size_t n,
+                                 df1_pccc_done_fn done, void *user);
 
 /* Station health (seed 000): a station goes offline when absolute_retries > 0
  * and more than that many attempts in a row failed, or else when watchdog_ms

@@ -5,6 +5,8 @@
 #define DF1_CATALOG_COUNT 61
 #define DF1_ERROR_COUNT 32
 #define DF1_E_LAST_ -32
+#define DF1_PCCC_MAX 262
+#define DF1_PCCC_QUEUE_MAX 64
 #define DF1_READ_MULTI_STOP 1
 #define DF1_SILENT_ALL 256
 #define DF1_STRING_MAX 82
@@ -60,6 +62,7 @@ const char *df1_strerror(int err);
 const char *df1_errname(int err);
 int df1_error_catalog_id(int err);
 _Bool df1_error_unexecuted(int err);
+_Bool df1_pccc_is_write(const uint8_t *pccc, size_t n);
 const char *df1_sts_text(uint8_t sts);
 const char *df1_ext_sts_text(uint8_t ext);
 const char *df1_ext_sts_text_dh485(uint8_t ext);
@@ -511,6 +514,8 @@ int df1_tag_write(df1_t *h, int id, const struct df1_value *v, size_t n, df1_wri
 int df1_poll(df1_t *h, int timeout_ms);
 int df1_poll_next_ms(const df1_t *h);
 int df1_poll_fd(df1_t *h);
+typedef void (*df1_pccc_done_fn)(void *user, int result, const uint8_t *reply, size_t n);
+int df1_poll_submit_pccc(df1_t *h, int station, const uint8_t *pccc, size_t n, df1_pccc_done_fn done, void *user);
 int df1_poll_set_watchdog(df1_t *h, int watchdog_ms, int absolute_retries);
 int df1_poll_set_station_range(df1_t *h, int lo, int hi);
 struct df1_poll_stats {
