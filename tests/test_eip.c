@@ -14,6 +14,7 @@
 
 #include "df1.h"
 #include "eip.h"
+#include "eip_session.h"
 
 /* "65 00 04" -> bytes */
 static size_t hex(const char *s, uint8_t *out, size_t cap)
@@ -517,6 +518,119 @@ static void test_cip_identity_attributes(void **state)
 	assert_int_equal(cip_identity_all_build(out, 16, &id), DF1_E_NOSPACE);
 }
 
+/* ------------------------------------------------------------------------
+ * The server connection's state machine (eip_session.c)
+ * ------------------------------------------------------------------------ */
+
+static const struct eip_identity sess_id = { 1, 2, 44818, 0x7F000001, 0, 0x0E, 0, 0, 4, 0, 9, "sim", 3 };
+
+static enum eip_verdict feed(struct eip_session *s, const char *msg_hex, uint8_t *out, size_t *n,
+                             struct eip_pending *p)
+{
+	uint8_t in[256];
+	size_t len = hex(msg_hex, in, sizeof in);
+
+	return eip_session_input(s, &sess_id, false, in, len, out, 512, n, p);
+}
+
+static void test_eip_session_register_and_pccc(void **state)
+{
+	struct eip_session s;
+	struct eip_pending p;
+	uint8_t out[512], in[256];
+	size_t n;
+	int len;
+	(void)state;
+
+	eip_session_init(&s, 0x01020304);
+	/* SendRRData before RegisterSession: 0x0064 */
+	assert_int_equal(feed(&s, "6F 00 00 00 04 03 02 01 00 00 00 00 11 22 33 44 55 66 77 88 00 00 00 00", out, &n,
+	                      &p), EIP_SEND);
+	assert_bytes(out, (int)n, "6F 00 00 00 04 03 02 01 64 00 00 00 11 22 33 44 55 66 77 88 00 00 00 00");
+	assert_int_equal(feed(&s, "65 00 04 00 00 00 00 00 00 00 00 00 11 22 33 44 55 66 77 88 00 00 00 00 01 00 00 00",
+	                      out, &n, &p), EIP_SEND);
+	assert_bytes(out, (int)n,
+	             "65 00 04 00 04 03 02 01 00 00 00 00 11 22 33 44 55 66 77 88 00 00 00 00 01 00 00 00");
+	assert_true(s.registered);
+	/* Execute PCCC (the vector of test_eip_send_rr_data_pccc_both_ways) */
+	len = (int)hex(RR_PCCC_READ, in, sizeof in);
+	assert_int_equal(eip_session_input(&s, &sess_id, false, in, (size_t)len, out, sizeof out, &n, &p), EIP_PCCC);
+	assert_int_equal(p.station, -1);
+	assert_false(p.connected);
+	assert_false(p.routed);
+	assert_bytes(p.reqid, (int)p.reqid_len, "07 4D 00 78 56 34 12");
+	assert_bytes(p.pccc, (int)p.len, "0F 00 34 12 A2 04 07 89 00 00");
+	/* its reply: CB 00 00 00, requester ID, the PCCC reply */
+	len = eip_session_reply(&p, 0, 0, (const uint8_t *)"\x4F\x00\x34\x12\x05\x00\x06\x00", 8, out, sizeof out);
+	assert_bytes(out, len,
+	             "6F 00 23 00 04 03 02 01 00 00 00 00 11 22 33 44 55 66 77 88 00 00 00 00 |"
+	             " 00 00 00 00 00 00 02 00 00 00 00 00 B2 00 13 00 |"
+	             " CB 00 00 00 07 4D 00 78 56 34 12 4F 00 34 12 05 00 06 00");
+	/* or a CIP error: 01 with extended status 0204 */
+	len = eip_session_reply(&p, 0x01, 0x0204, NULL, 0, out, sizeof out);
+	assert_bytes(out + 40, len - 40, "CB 00 01 01 04 02");
+	/* UnRegisterSession: close, no reply */
+	assert_int_equal(feed(&s, "66 00 00 00 04 03 02 01 00 00 00 00 11 22 33 44 55 66 77 88 00 00 00 00", out, &n,
+	                      &p), EIP_CLOSE);
+}
+
+static void test_eip_session_errors(void **state)
+{
+	struct eip_session s;
+	struct eip_pending p;
+	uint8_t out[512], in[64];
+	size_t n, len;
+	(void)state;
+
+	eip_session_init(&s, 7);
+	/* unknown command: 0x0001, the connection stays */
+	assert_int_equal(feed(&s, "99 00 00 00 00 00 00 00 00 00 00 00 01 02 03 04 05 06 07 08 00 00 00 00", out, &n,
+	                      &p), EIP_SEND);
+	assert_bytes(out, (int)n, "99 00 00 00 00 00 00 00 01 00 00 00 01 02 03 04 05 06 07 08 00 00 00 00");
+	/* NOP and a request with options: nothing */
+	assert_int_equal(feed(&s, "00 00 01 00 00 00 00 00 00 00 00 00 01 02 03 04 05 06 07 08 00 00 00 00 AA", out, &n,
+	                      &p), EIP_SILENT);
+	assert_int_equal(feed(&s, "04 00 00 00 00 00 00 00 00 00 00 00 01 02 03 04 05 06 07 08 01 00 00 00", out, &n,
+	                      &p), EIP_SILENT);
+	/* RegisterSession of 3 bytes: 0x0065; version 2: 0x0069 naming version 1 */
+	assert_int_equal(feed(&s, "65 00 03 00 00 00 00 00 00 00 00 00 01 02 03 04 05 06 07 08 00 00 00 00 01 00 00",
+	                      out, &n, &p), EIP_SEND);
+	assert_int_equal(out[8], 0x65);
+	assert_int_equal(feed(&s, "65 00 04 00 00 00 00 00 00 00 00 00 01 02 03 04 05 06 07 08 00 00 00 00 02 00 00 00",
+	                      out, &n, &p), EIP_SEND);
+	assert_bytes(out + 8, 4, "69 00 00 00");
+	assert_bytes(out + 24, (int)n - 24, "01 00 00 00");
+	assert_false(s.registered);
+	/* a length over the limit (only the header given): 0x0065 and close */
+	len = hex("6F 00 F0 FF 07 00 00 00 00 00 00 00 01 02 03 04 05 06 07 08 00 00 00 00", in, sizeof in);
+	assert_int_equal(eip_session_input(&s, &sess_id, false, in, len, out, sizeof out, &n, &p), EIP_SEND_CLOSE);
+	assert_int_equal(out[8], 0x65);
+	/* over UDP only ListIdentity / ListServices are answered */
+	len = hex("65 00 04 00 00 00 00 00 00 00 00 00 01 02 03 04 05 06 07 08 00 00 00 00 01 00 00 00", in, sizeof in);
+	assert_int_equal(eip_session_input(&s, &sess_id, true, in, len, out, sizeof out, &n, &p), EIP_SILENT);
+	len = hex("63 00 00 00 00 00 00 00 00 00 00 00 01 02 03 04 05 06 07 08 00 00 00 00", in, sizeof in);
+	assert_int_equal(eip_session_input(&s, &sess_id, true, in, len, out, sizeof out, &n, &p), EIP_SEND);
+	assert_int_equal(out[24 + 6 + 32], 3);     /* the name "sim" */
+}
+
+static void test_eip_pccc_writes_by_command(void **state)
+{
+	(void)state;
+	assert_false(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\xA2", 5));
+	assert_false(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\xA1", 5));
+	assert_false(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\x68", 5));
+	assert_false(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\x01", 5));
+	assert_false(eip_pccc_writes((const uint8_t *)"\x06\x00\x01\x00\x03", 5));
+	assert_false(eip_pccc_writes((const uint8_t *)"\x01\x00\x01\x00", 4));
+	assert_true(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\xAA", 5));
+	assert_true(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\xAB", 5));
+	assert_true(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\x80", 5));
+	assert_true(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\x26", 5));
+	assert_true(eip_pccc_writes((const uint8_t *)"\x06\x00\x01\x00\x07", 5));
+	assert_true(eip_pccc_writes((const uint8_t *)"\x08\x00\x01\x00", 4));
+	assert_true(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00", 4));   /* no FNC */
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -532,6 +646,9 @@ int main(void)
 		cmocka_unit_test(test_cip_forward_close_both_ways),
 		cmocka_unit_test(test_cip_unconnected_send_both_ways),
 		cmocka_unit_test(test_cip_identity_attributes),
+		cmocka_unit_test(test_eip_session_register_and_pccc),
+		cmocka_unit_test(test_eip_session_errors),
+		cmocka_unit_test(test_eip_pccc_writes_by_command),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);
