@@ -492,12 +492,12 @@ static int setup(struct gw *g, int argc, char **argv)
 		return r;
 	if (g->cli.argc > 0)
 		return cli_usage_error(&g->cli, "unexpected operand '%s'", g->cli.argv[0]);
+	if (!g->eip.listen && (g->eip.allow || g->eip.read_only || g->eip.station >= 0))
+		return cli_usage_error(&g->cli, "--eip-station, --eip-allow and --eip-read-only go with --eip");
 	if (!g->map_path && !g->eip.listen)
 		return cli_usage_error(&g->cli, "no tags: give --map FILE.csv (or --eip PORT for a bridge)");
 	if (!g->mqtt_url && !g->eip.listen)
 		return cli_usage_error(&g->cli, "no broker: give --mqtt mqtt://HOST[:PORT] (or --eip PORT for a bridge)");
-	if (!g->eip.listen && (g->eip.allow || g->eip.read_only || g->eip.station >= 0))
-		return cli_usage_error(&g->cli, "--eip-station, --eip-allow and --eip-read-only go with --eip");
 	if (g->once && !g->mqtt_url)
 		return cli_usage_error(&g->cli, "--once publishes: it needs --mqtt");
 	if (g->eip.station < 0)
