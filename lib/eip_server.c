@@ -312,6 +312,8 @@ static void watch(struct df1_eip_server *s, struct eip_client *c, int slot)
 		ev |= EPOLLOUT;
 	else if (!c->waiting && !c->close_after)
 		ev |= EPOLLIN;
+	if (c->waiting)
+		ev |= EPOLLRDHUP;     /* a client gone while the caller works: its answer goes nowhere */
 	if (ev == c->events)
 		return;
 	memset(&e, 0, sizeof e);
@@ -670,6 +672,10 @@ DF1_API int df1_eip_server_process(df1_eip_server_t *s)
 		} else if (tag < (uint32_t)s->max_clients && s->cl[tag].fd >= 0) {
 			struct eip_client *c = &s->cl[tag];
 
+			if (c->waiting && (ev[i].events & (EPOLLRDHUP | EPOLLHUP | EPOLLERR))) {
+				client_close(s, c);
+				continue;
+			}
 			if ((ev[i].events & EPOLLOUT) && !client_flush(s, c))
 				continue;
 			if (ev[i].events & (EPOLLIN | EPOLLHUP | EPOLLERR))
