@@ -125,6 +125,14 @@ expect 2 "--eip-allow without --eip" -- "$BIN/df1sim" --pty "$T/x" --eip-allow 1
 err_has "says what goes with what" "--eip-allow and --eip-read-only go with --eip"
 expect 2 "--eip-allow that is no network" -- "$BIN/df1sim" --eip 0 --eip-allow 10.0.0.0/33
 err_has "names the bad network" "10.0.0.0/33"
+expect 2 "--eip 0:PORT (every interface, not written out)" -- "$BIN/df1sim" --eip 0:0
+err_has "says how to write it" "every interface only as 0.0.0.0 or ::"
+"$BIN/df1sim" --eip 0.0.0.0:0 > "$T/any.out" 2> "$T/any.err" &
+AL=$!
+echo "$AL" >> "$T/.sims"
+wait_for "df1sim --eip 0.0.0.0:0 starts" 100 eip_line any
+check "says every interface is reachable" "grep -q 'every interface, reachable from other hosts' '$T/any.err'"
+sim_stop "$AL"
 expect 2 "--eip with a bad port" -- "$BIN/df1sim" --eip 127.0.0.1:99999
 err_has "names the listen address" "127.0.0.1:99999"
 

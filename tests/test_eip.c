@@ -12,6 +12,12 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include "df1.h"
 #include "eip.h"
 #include "eip_session.h"
@@ -44,6 +50,11 @@ static void assert_bytes(const uint8_t *got, int got_len, const char *expect_hex
 
 	assert_int_equal(got_len, (int)n);
 	assert_memory_equal(got, e, n);
+}
+
+static uint32_t le32_of(const uint8_t *p)
+{
+	return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
 }
 
 static const uint8_t ctx[8] = { 0x11, 0x22, 0x33, 0x44, 0x55, 0x66, 0x77, 0x88 };
@@ -631,6 +642,156 @@ static void test_eip_pccc_writes_by_command(void **state)
 	assert_true(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00", 4));   /* no FNC */
 }
 
+/* ------------------------------------------------------------------------
+ * The server (lib/eip_server.c) on real loopback sockets: a request
+ * answered later, a client gone before its answer, the counters
+ * ------------------------------------------------------------------------ */
+
+struct srv_seen {
+	int calls;
+	uint32_t request;
+	int station;
+	uint8_t pccc[64];
+	size_t n;
+};
+
+static void srv_on_pccc(void *user, df1_eip_server_t *s, uint32_t request, int station, const uint8_t *pccc,
+                        size_t n)
+{
+	struct srv_seen *seen = user;
+
+	(void)s;
+	seen->calls++;
+	seen->request = request;
+	seen->station = station;
+	seen->n = n < sizeof seen->pccc ? n : sizeof seen->pccc;
+	memcpy(seen->pccc, pccc, seen->n);
+}
+
+/* Process until cond or 5 s (bounded; no sleep). */
+static void srv_run(df1_eip_server_t *s, const int *counter, int want)
+{
+	for (int i = 0; i < 500 && *counter < want; i++) {
+		struct pollfd p = { df1_eip_server_fd(s), POLLIN, 0 };
+
+		(void)poll(&p, 1, 10);
+		assert_true(df1_eip_server_process(s) >= 0);
+	}
+	assert_int_equal(*counter, want);
+}
+
+static int srv_connect(df1_eip_server_t *s)
+{
+	struct sockaddr_in a;
+	const char *addr = df1_eip_server_address(s);
+	int fd = socket(AF_INET, SOCK_STREAM, 0);
+
+	assert_true(fd >= 0);
+	memset(&a, 0, sizeof a);
+	a.sin_family = AF_INET;
+	a.sin_port = htons((uint16_t)atoi(strchr(addr, ':') + 1));
+	a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+	assert_int_equal(connect(fd, (struct sockaddr *)&a, sizeof a), 0);
+	return fd;
+}
+
+/* Read one whole message (bounded by the server's processing). */
+static size_t srv_recv(df1_eip_server_t *s, int fd, uint8_t *buf, size_t cap)
+{
+	size_t got = 0;
+
+	for (int i = 0; i < 500; i++) {
+		struct pollfd p[2] = { { df1_eip_server_fd(s), POLLIN, 0 }, { fd, POLLIN, 0 } };
+		ssize_t r;
+
+		(void)poll(p, 2, 10);
+		(void)df1_eip_server_process(s);
+		r = recv(fd, buf + got, cap - got, MSG_DONTWAIT);
+		if (r > 0)
+			got += (size_t)r;
+		if (got >= 24 && got >= eip_msg_len(buf, got))
+			return got;
+	}
+	fail_msg("no whole reply from the server (%zu bytes)", got);
+	return 0;
+}
+
+static void test_eip_server_deferred_reply_and_counters(void **state)
+{
+	struct df1_eip_server_config c;
+	struct df1_eip_server_stats st;
+	struct srv_seen seen = { 0 };
+	df1_eip_server_t *s;
+	uint8_t msg[256], in[256];
+	size_t n;
+	int fd, fd2;
+	(void)state;
+
+	memset(&c, 0, sizeof c);
+	c.listen = "0";
+	strcpy(c.identity.product_name, "test");
+	assert_int_equal(df1_eip_server_new(&s, &c, srv_on_pccc, &seen), 0);
+	assert_int_equal(strncmp(df1_eip_server_address(s), "127.0.0.1:", 10), 0);
+	fd = srv_connect(s);
+	n = hex("65 00 04 00 00 00 00 00 00 00 00 00 11 22 33 44 55 66 77 88 00 00 00 00 01 00 00 00", msg, sizeof msg);
+	assert_int_equal(send(fd, msg, n, 0), (ssize_t)n);
+	n = srv_recv(s, fd, in, sizeof in);
+	assert_int_equal(n, 28);
+	assert_int_equal(le32_of(in + 8), 0);
+	/* the PCCC read, in the session the server gave */
+	n = hex(RR_PCCC_READ, msg, sizeof msg);
+	memcpy(msg + 4, in + 4, 4);
+	assert_int_equal(send(fd, msg, n, 0), (ssize_t)n);
+	srv_run(s, &seen.calls, 1);
+	assert_int_equal(seen.station, -1);
+	assert_bytes(seen.pccc, (int)seen.n, "0F 00 34 12 A2 04 07 89 00 00");
+	/* answered later, from outside the callback */
+	assert_int_equal(df1_eip_server_reply(s, seen.request, (const uint8_t *)"\x4F\x00\x34\x12\x07\x00\x08\x00",
+	                                      8), 0);
+	n = srv_recv(s, fd, in, sizeof in);
+	assert_bytes(in + 40, (int)n - 40, "CB 00 00 00 07 4D 00 78 56 34 12 4F 00 34 12 07 00 08 00");
+	/* twice: not waiting any more */
+	assert_int_equal(df1_eip_server_reply(s, seen.request, (const uint8_t *)"\x4F\x00\x34\x12", 4), DF1_E_INVAL);
+	/* a second client asks, then goes away before the answer */
+	fd2 = srv_connect(s);
+	n = hex("65 00 04 00 00 00 00 00 00 00 00 00 11 22 33 44 55 66 77 88 00 00 00 00 01 00 00 00", msg, sizeof msg);
+	assert_int_equal(send(fd2, msg, n, 0), (ssize_t)n);
+	n = srv_recv(s, fd2, in, sizeof in);
+	n = hex(RR_PCCC_READ, msg, sizeof msg);
+	memcpy(msg + 4, in + 4, 4);
+	assert_int_equal(send(fd2, msg, n, 0), (ssize_t)n);
+	srv_run(s, &seen.calls, 2);
+	close(fd2);
+	for (int i = 0; i < 100; i++) {
+		df1_eip_server_stats(s, &st);
+		if (st.sessions_open == 1)
+			break;
+		struct pollfd p = { df1_eip_server_fd(s), POLLIN, 0 };
+		(void)poll(&p, 1, 10);
+		(void)df1_eip_server_process(s);
+	}
+	assert_int_equal(df1_eip_server_fail(s, seen.request, 0x01 | 0x0204 << 8), DF1_E_CLOSED);
+	df1_eip_server_stats(s, &st);
+	assert_int_equal(st.sessions, 2);
+	assert_int_equal(st.sessions_open, 1);
+	assert_int_equal(st.requests, 4);
+	assert_int_equal(st.errors, 0);
+	assert_int_equal(st.refused_clients, 0);
+	close(fd);
+	df1_eip_server_free(s);
+	/* what df1_eip_server_new refuses, and says why */
+	c.listen = "127.0.0.1:x";
+	assert_int_equal(df1_eip_server_new(&s, &c, srv_on_pccc, &seen), DF1_E_INVAL);
+	assert_non_null(strstr(df1_eip_server_error(NULL), "127.0.0.1:x"));
+	c.listen = "0";
+	c.allow = "10.0.0.0/8,nonsense";
+	assert_int_equal(df1_eip_server_new(&s, &c, srv_on_pccc, &seen), DF1_E_INVAL);
+	assert_non_null(strstr(df1_eip_server_error(NULL), "nonsense"));
+	c.allow = NULL;
+	c.max_clients = 256;
+	assert_int_equal(df1_eip_server_new(&s, &c, srv_on_pccc, &seen), DF1_E_INVAL);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -649,6 +810,7 @@ int main(void)
 		cmocka_unit_test(test_eip_session_register_and_pccc),
 		cmocka_unit_test(test_eip_session_errors),
 		cmocka_unit_test(test_eip_pccc_writes_by_command),
+		cmocka_unit_test(test_eip_server_deferred_reply_and_counters),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);
