@@ -87,7 +87,9 @@ DF1_API const struct df1_version *df1_version(void);
 	X(DF1_E_BAD_REPLY,   -28, 0,                             "invalid reply message")                 \
 	X(DF1_E_NO_ETX,      -29, DF1_ID_NTC_NO_ETX_RCVD,        "incomplete message, no ETX received")   \
 	X(DF1_E_NODEV,       -30, 0,                             "no such device")                        \
-	X(DF1_E_PERM,        -31, 0,                             "permission denied")
+	X(DF1_E_PERM,        -31, 0,                             "permission denied")                     \
+	X(DF1_E_EIP,         -32, 0,                             "EtherNet/IP encapsulation error")       \
+	X(DF1_E_CIP,         -33, 0,                             "CIP error status")
 
 #define DF1_ERROR_ENUM_ITEM(name, value, id, text) name = value,
 enum df1_error { DF1_ERROR_TABLE(DF1_ERROR_ENUM_ITEM) };
@@ -284,6 +286,10 @@ enum df1_option {
 	 * instead of the byte address 2 * element: the common interface file of an SLC or
 	 * MicroLogix with S:2/8 = 0 (spec 4.7). Client and responder. @since 0.3 */
 	DF1_OPT_PLC2_WORD_ADDR,
+	/* bool, default 0: an eip:// target (libdf1(7)) carries PCCC in connected explicit
+	 * messages (Forward Open at df1_open(), SendUnitData, Forward Close at df1_close())
+	 * instead of unconnected SendRRData. Set it before df1_open(). @since 0.4 */
+	DF1_OPT_EIP_CONNECTED,
 };
 
 DF1_API int  df1_new(df1_t **out);      /* defaults: 19200 8N1, full duplex, CRC, station 0 */
@@ -907,6 +913,31 @@ DF1_API int df1_station_health(const df1_t *h, int station, struct df1_station_h
 #endif
 DF1_API int df1_poll_station(const df1_t *h, int station, struct df1_station_health *out)
 	DF1_DEPRECATED("use df1_station_health");
+
+/* ------------------------------------------------------------------------
+ * EtherNet/IP client: eip:// targets (libdf1(7)), discovery. @since 0.4
+ * ------------------------------------------------------------------------ */
+/* One device that answered ListIdentity (df1mon --who over eip://). */
+struct df1_eip_device {
+	char address[64];               /* "ADDR:PORT" that answered */
+	uint16_t vendor_id, device_type, product_code;
+	uint8_t rev_major, rev_minor;
+	uint16_t status;                /* the Identity object's status word */
+	uint32_t serial;
+	char product_name[33];
+	uint8_t state;
+};
+typedef void (*df1_eip_device_fn)(void *user, const struct df1_eip_device *d);
+/* ListIdentity to target "eip://HOST[:PORT]" (port default 44818; a route such as
+ * "/2" is ignored): over TCP to that host, one answer; when HOST is a broadcast
+ * address (255.255.255.255 or a local interface's), one UDP datagram and every
+ * answer within timeout_ms. fn (may be NULL) is called for each device. h must not
+ * be open: it gives the cancel fd and keeps the error detail. Returns the number of
+ * devices, or DF1_E_INVAL (bad target, h open), DF1_E_NODEV (unknown host),
+ * DF1_E_SYS (refused, no route), DF1_E_TIMEOUT (TCP: no reply), DF1_E_BAD_REPLY,
+ * DF1_E_EIP, DF1_E_INTR. @since 0.4 */
+DF1_API int df1_eip_list_identity(df1_t *h, const char *target, int timeout_ms,
+                                  df1_eip_device_fn fn, void *user);
 
 #ifdef __cplusplus
 }

@@ -37,6 +37,7 @@ struct df1_config {
 	int plc5_timer_words;        /* 3 or 5: PLC-5 typed-read timers (DF1_OPT_PLC5_TIMER_WORDS) */
 	bool plc2_word_addr;         /* PLC-2 commands address words, not bytes (spec 4.7) */
 	bool listen_only;            /* DF1_OPT_LISTEN_ONLY: open read only, never transmit */
+	bool eip_connected;          /* DF1_OPT_EIP_CONNECTED: eip:// over a Forward Open connection */
 	int line_baud;               /* pace transmitted bytes (simulator); 0 = off */
 };
 
@@ -50,6 +51,7 @@ struct station_state {
 };
 
 struct server_state;             /* lib/server.c */
+struct link_eip;                 /* lib/link/eip.c: an eip:// target's session */
 
 /* The responder's state (lib/link/link.h): owned by the server (lib/server.c),
  * lent to the link layer for the length of a link_serve() call. */
@@ -76,6 +78,7 @@ struct df1 {
 	uint8_t echo_buf[FRAME_MAX_WIRE]; /* own transmission to discard on 2-wire lines */
 	size_t echo_len, echo_pos;
 	int64_t rx_last_ms;          /* time of the last byte read (lib/link/core.c) */
+	struct link_eip *eip;        /* eip:// target: the EtherNet/IP session, else NULL */
 
 	uint64_t counters[CNT_COUNT];
 

@@ -3,8 +3,8 @@
 #define DF1_ADDR_ASCII_MAX 52
 #define DF1_ADDR_NONE -1
 #define DF1_CATALOG_COUNT 61
-#define DF1_ERROR_COUNT 32
-#define DF1_E_LAST_ -32
+#define DF1_ERROR_COUNT 34
+#define DF1_E_LAST_ -34
 #define DF1_READ_MULTI_STOP 1
 #define DF1_SILENT_ALL 256
 #define DF1_STRING_MAX 82
@@ -55,6 +55,8 @@ enum df1_error {
 	DF1_E_NO_ETX = -29,
 	DF1_E_NODEV = -30,
 	DF1_E_PERM = -31,
+	DF1_E_EIP = -32,
+	DF1_E_CIP = -33,
 };
 const char *df1_strerror(int err);
 const char *df1_errname(int err);
@@ -235,6 +237,7 @@ enum df1_option {
 	DF1_OPT_LISTEN_ONLY,
 	DF1_OPT_PLC5_TIMER_WORDS,
 	DF1_OPT_PLC2_WORD_ADDR,
+	DF1_OPT_EIP_CONNECTED,
 };
 int df1_new(df1_t **out);
 void df1_free(df1_t *h);
