@@ -111,6 +111,12 @@ static int64_t eip_wait_ms(const struct df1 *h)
 	return h->cfg.cmd_timeout_ms > t ? h->cfg.cmd_timeout_ms : t;
 }
 
+/* The deadline of a wait that starts now: the one place that adds to the clock. */
+static int64_t eip_deadline(const struct df1 *h)
+{
+	return df1_now_ms() + eip_wait_ms(h);
+}
+
 static int eip_write(struct df1 *h, const uint8_t *buf, size_t n, int64_t deadline_ms)
 {
 	size_t off = 0;
@@ -217,7 +223,7 @@ static int eip_send_msg(struct df1 *h, struct link_eip *e, uint16_t command, con
 static int eip_await(struct df1 *h, struct link_eip *e, uint16_t command, const uint8_t ctx[8],
                      const char *what, struct eip_hdr *hd)
 {
-	int64_t deadline = df1_now_ms() + eip_wait_ms(h);
+	int64_t deadline = eip_deadline(h);
 
 	for (;;) {
 		int r = eip_recv(h, e, deadline, hd);
@@ -253,7 +259,7 @@ static int eip_register(struct df1 *h, struct link_eip *e)
 	(void)eip_register_build(data, sizeof data, EIP_PROTOCOL_VERSION, 0);
 	eip_next_context(e, ctx);
 	r = eip_send_msg(h, e, EIP_CMD_REGISTER_SESSION, ctx, data, sizeof data,
-	                 df1_now_ms() + eip_wait_ms(h));
+	                 eip_deadline(h));
 	if (r < 0)
 		return r;
 	r = eip_await(h, e, EIP_CMD_REGISTER_SESSION, ctx, "RegisterSession", &hd);
@@ -283,7 +289,7 @@ static int eip_rr_call(struct df1 *h, struct link_eip *e, const uint8_t *cip, si
 	len = eip_packet_build(e->out, sizeof e->out, e->session, ctx, 0, &p);
 	if (len < 0)
 		return df1_fail(h, DF1_E_INVAL, -1, "%s: request of %zu bytes does not fit", what, n);
-	r = eip_write(h, e->out, (size_t)len, df1_now_ms() + eip_wait_ms(h));
+	r = eip_write(h, e->out, (size_t)len, eip_deadline(h));
 	if (r < 0)
 		return r;
 	r = eip_await(h, e, EIP_CMD_SEND_RR_DATA, ctx, what, &hd);
@@ -487,7 +493,7 @@ void link_eip_close(struct df1 *h)
 			eip_forward_close(h, e);
 		eip_next_context(e, ctx);
 		(void)eip_send_msg(h, e, EIP_CMD_UNREGISTER_SESSION, ctx, NULL, 0,
-		                   df1_now_ms() + eip_wait_ms(h));
+		                   eip_deadline(h));
 	}
 	h->eip = NULL;
 	free(e);
@@ -613,7 +619,7 @@ static enum eip_outcome eip_exchange(struct df1 *h, struct link_eip *e, const ui
 		*result = df1_fail(h, DF1_E_INVAL, station, "command of %zu bytes does not fit", n);
 		return EIP_FAILED;
 	}
-	deadline = df1_now_ms() + eip_wait_ms(h);
+	deadline = eip_deadline(h);
 	r = eip_write(h, e->out, (size_t)len, deadline);
 	if (r < 0) {
 		e->broken = true;
@@ -691,7 +697,7 @@ static void eip_idle_check(struct df1 *h, struct link_eip *e)
 
 		if (r <= 0)
 			return;
-		r = eip_recv(h, e, df1_now_ms() + eip_wait_ms(h), &hd);
+		r = eip_recv(h, e, eip_deadline(h), &hd);
 		if (r < 0) {
 			e->broken = true;
 			return;
@@ -761,7 +767,7 @@ int link_eip_test(struct df1 *h)
 	if (e->broken && (r = eip_reopen(h, e)) < 0)
 		return r;
 	eip_next_context(e, ctx);
-	r = eip_send_msg(h, e, EIP_CMD_LIST_SERVICES, ctx, NULL, 0, df1_now_ms() + eip_wait_ms(h));
+	r = eip_send_msg(h, e, EIP_CMD_LIST_SERVICES, ctx, NULL, 0, eip_deadline(h));
 	if (r < 0) {
 		e->broken = true;
 		return r;
