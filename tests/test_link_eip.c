@@ -127,7 +127,8 @@ static void peer_send_hdr(struct peer *p, uint16_t cmd, uint32_t session, uint32
 	h.status = status;
 	memcpy(h.context, ctx, 8);
 	eip_hdr_build(out, sizeof out, &h);
-	memcpy(out + EIP_HDR_LEN, data, n);
+	if (n)
+		memcpy(out + EIP_HDR_LEN, data, n);
 	peer_send(p, out, EIP_HDR_LEN + n);
 }
 
@@ -220,7 +221,8 @@ static void peer_reply(struct peer *p, const struct msg *m, const struct eip_pcc
 
 	memcpy(body, pc->reqid, pc->reqid_len);
 	bl = pc->reqid_len;
-	memcpy(body + bl, pccc_reply, n);
+	if (n)
+		memcpy(body + bl, pccc_reply, n);
 	bl += n;
 	if (st == 0)
 		cl = cip_resp_build(cip, sizeof cip, CIP_SVC_EXECUTE_PCCC, 0, NULL, 0, body, bl);
