@@ -96,6 +96,8 @@
 #define CIP_EXT_NO_MORE_CONNECTIONS    0x0113
 #define CIP_EXT_UNCONNECTED_TIMEOUT    0x0204   /* the target did not answer in time */
 #define CIP_EXT_INVALID_SEGMENT        0x0315   /* invalid segment in connection path */
+#define CIP_EXT_INVALID_PORT           0x0311   /* route path: no such port */
+#define CIP_EXT_INVALID_LINK           0x0312   /* route path: invalid link address */
 
 /* CIP EPATH segments this codec reads and writes */
 #define CIP_SEG_CLASS8      0x20
