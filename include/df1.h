@@ -87,7 +87,9 @@ DF1_API const struct df1_version *df1_version(void);
 	X(DF1_E_BAD_REPLY,   -28, 0,                             "invalid reply message")                 \
 	X(DF1_E_NO_ETX,      -29, DF1_ID_NTC_NO_ETX_RCVD,        "incomplete message, no ETX received")   \
 	X(DF1_E_NODEV,       -30, 0,                             "no such device")                        \
-	X(DF1_E_PERM,        -31, 0,                             "permission denied")
+	X(DF1_E_PERM,        -31, 0,                             "permission denied")                     \
+	X(DF1_E_EIP,         -32, 0,                             "EtherNet/IP encapsulation error")       \
+	X(DF1_E_CIP,         -33, 0,                             "CIP error status")
 
 #define DF1_ERROR_ENUM_ITEM(name, value, id, text) name = value,
 enum df1_error { DF1_ERROR_TABLE(DF1_ERROR_ENUM_ITEM) };
@@ -114,13 +116,9 @@ DF1_API int df1_error_catalog_id(int err);
  * request the library splits over several commands this holds for the failed one
  * only. @since 0.4 */
 DF1_API bool df1_error_unexecuted(int err);
-/* True when the PCCC command pccc[0..n) (CMD STS TNS(2) [FNC] data, no DST SRC)
- * may change the controller: writes of every kind (PLC-2 00 02 05 08, 0F/00
- * 0F/02 0F/26 0F/67 0F/A9 0F/AA 0F/AB), mode changes (0F/3A 0F/80), interface
- * settings and counter resets (06/02 06/04-06/07), downloads, uploads and
- * every command not known to only read. False only for 01, 06/00 06/01 06/03,
- * 0F/01 0F/68 0F/A1 0F/A2. Fewer than 4 bytes (5 for CMD 06 and 0F): true.
- * @since 0.4 */
+/* True when the PCCC command pccc[0..n) (CMD STS TNS [FNC] data) may change the
+ * controller; false only for 01, 06/00 06/01 06/03, 0F/01 0F/68 0F/A1 0F/A2
+ * (df1_poll(3)). @since 0.4 */
 DF1_API bool df1_pccc_is_write(const uint8_t *pccc, size_t n);
 
 /* STS (M p.8-2/8-3) and EXT STS for CMD 0F (M p.8-4) / DH-485 (M p.8-5). */
@@ -308,6 +306,10 @@ enum df1_option {
 	 * all, instead of DLE EOT, when it has no reply ready (devices that suppress the
 	 * EOT). @since 0.4 */
 	DF1_OPT_NO_EOT,
+	/* bool, default 0: an eip:// target (libdf1(7)) carries PCCC in connected explicit
+	 * messages (Forward Open at df1_open(), SendUnitData, Forward Close at df1_close())
+	 * instead of unconnected SendRRData. Set it before df1_open(). @since 0.4 */
+	DF1_OPT_EIP_CONNECTED,
 };
 
 DF1_API int  df1_new(df1_t **out);      /* defaults: 19200 8N1, full duplex, CRC, station 0 */
@@ -913,25 +915,14 @@ DF1_API int df1_poll(df1_t *h, int timeout_ms);
 DF1_API int df1_poll_next_ms(const df1_t *h);
 DF1_API int df1_poll_fd(df1_t *h);
 
-/* Any PCCC command through the poll engine's line (a bridge such as df1gw
- * --eip). pccc[0..n) is CMD STS TNS(2) [FNC] data as the requester sent it
- * (4..DF1_PCCC_MAX bytes, no DST SRC; copied). Safe from any thread. It joins
- * the queue of df1_tag_write() (one FIFO for every submitter) and is sent in
- * the next free slot between two transactions, with the line's own TNS. Each
- * accepted command ends exactly once through done(user, result, reply, n),
- * from the df1_poll() thread: result 0 with the reply CMD|40 STS TNS [EXT STS]
- * data (reply valid during the call only), carrying the requester's TNS again;
- * a reply with an error STS is passed through unchanged, still result 0. Or
- * result DF1_E_* when the line gave no reply (DF1_E_TIMEOUT, DF1_E_NAK_LIMIT,
- * DF1_E_INACTIVE, DF1_E_BAD_REPLY ...; reply NULL, n 0). A command for which
- * df1_pccc_is_write() is true is sent once: after a failure it is retried only
- * when df1_error_unexecuted() says it did not execute; other commands get the
- * station's retries, as block reads do. Commands still queued at df1_free() end
- * with DF1_E_NOT_OPEN. At most DF1_PCCC_QUEUE_MAX are waiting at a time.
- * The engine must exist first (df1_poll_fd(), df1_poll() or df1_tag_add() on
- * the df1_poll() thread makes it). Returns 0, DF1_E_INVAL (h, no engine yet,
- * pccc, n, station 0..254, done NULL, a reply code) or DF1_E_BUSY (the queue
- * is full: try again after some have ended), DF1_E_NOMEM. @since 0.4 */
+/* Any PCCC command (CMD STS TNS [FNC] data, 4..DF1_PCCC_MAX bytes, copied) to a
+ * station, from any thread, queued with df1_tag_write()'s writes (one FIFO) and
+ * sent between two transactions with the line's TNS. done() runs once in the
+ * df1_poll() thread: result 0 with the reply (CMD|40 STS TNS ...; the caller's
+ * TNS; error STS passed through), or DF1_E_* when no reply came. Writes
+ * (df1_pccc_is_write) are not resent unless df1_error_unexecuted(). Returns 0,
+ * DF1_E_INVAL (also: no engine yet), DF1_E_BUSY (DF1_PCCC_QUEUE_MAX waiting),
+ * DF1_E_NOMEM. df1_poll(3). @since 0.4 */
 #define DF1_PCCC_MAX 262        /* the link layer's 264 app bytes of a frame less DST SRC */
 #define DF1_PCCC_QUEUE_MAX 64
 typedef void (*df1_pccc_done_fn)(void *user, int result, const uint8_t *reply, size_t n);
@@ -1040,6 +1031,31 @@ DF1_API int df1_station_health(const df1_t *h, int station, struct df1_station_h
 #endif
 DF1_API int df1_poll_station(const df1_t *h, int station, struct df1_station_health *out)
 	DF1_DEPRECATED("use df1_station_health");
+
+/* ------------------------------------------------------------------------
+ * EtherNet/IP client: eip:// targets (libdf1(7)), discovery. @since 0.4
+ * ------------------------------------------------------------------------ */
+/* One device that answered ListIdentity (df1mon --who over eip://). */
+struct df1_eip_device {
+	char address[64];               /* "ADDR:PORT" that answered */
+	uint16_t vendor_id, device_type, product_code;
+	uint8_t rev_major, rev_minor;
+	uint16_t status;                /* the Identity object's status word */
+	uint32_t serial;
+	char product_name[33];
+	uint8_t state;
+};
+typedef void (*df1_eip_device_fn)(void *user, const struct df1_eip_device *d);
+/* ListIdentity to target "eip://HOST[:PORT]" (port default 44818; a route such as
+ * "/2" is ignored): over TCP to that host, one answer; when HOST is a broadcast
+ * address (255.255.255.255 or a local interface's), one UDP datagram and every
+ * answer within timeout_ms. fn (may be NULL) is called for each device. h must not
+ * be open: it gives the cancel fd and keeps the error detail. Returns the number of
+ * devices, or DF1_E_INVAL (bad target, h open), DF1_E_NODEV (unknown host),
+ * DF1_E_SYS (refused, no route), DF1_E_TIMEOUT (TCP: no reply), DF1_E_BAD_REPLY,
+ * DF1_E_EIP, DF1_E_INTR. @since 0.4 */
+DF1_API int df1_eip_list_identity(df1_t *h, const char *target, int timeout_ms,
+                                  df1_eip_device_fn fn, void *user);
 
 #ifdef __cplusplus
 }

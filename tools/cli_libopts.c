@@ -51,6 +51,7 @@ static const struct lib_opt lib_opts[] = {
 	{ CLI_OPT_EOT_BCC, DF1_OPT_EOT_WITH_BCC, "--eot-bcc", w_yes_no, "yes or no", 0, 0, true },
 	{ CLI_OPT_ECHO_DISCARD, DF1_OPT_ECHO_DISCARD, "--echo-discard", NULL, NULL, 1, 1, false },
 	{ CLI_OPT_POLL_TIMEOUT, DF1_OPT_POLL_TIMEOUT_MS, "--poll-timeout", NULL, NULL, 0, 60000, false },
+	{ CLI_OPT_EIP_CONNECTED, DF1_OPT_EIP_CONNECTED, "--eip-connected", NULL, NULL, 1, 1, false },
 };
 
 #define N_LIB_OPTS (sizeof lib_opts / sizeof lib_opts[0])

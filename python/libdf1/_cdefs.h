@@ -3,8 +3,8 @@
 #define DF1_ADDR_ASCII_MAX 52
 #define DF1_ADDR_NONE -1
 #define DF1_CATALOG_COUNT 61
-#define DF1_ERROR_COUNT 32
-#define DF1_E_LAST_ -32
+#define DF1_ERROR_COUNT 34
+#define DF1_E_LAST_ -34
 #define DF1_PCCC_MAX 262
 #define DF1_PCCC_QUEUE_MAX 64
 #define DF1_READ_MULTI_STOP 1
@@ -57,6 +57,8 @@ enum df1_error {
 	DF1_E_NO_ETX = -29,
 	DF1_E_NODEV = -30,
 	DF1_E_PERM = -31,
+	DF1_E_EIP = -32,
+	DF1_E_CIP = -33,
 };
 const char *df1_strerror(int err);
 const char *df1_errname(int err);
@@ -241,6 +243,7 @@ enum df1_option {
 	DF1_OPT_POLL_TIMEOUT_MS,
 	DF1_OPT_SCAN_TIME_MS,
 	DF1_OPT_NO_EOT,
+	DF1_OPT_EIP_CONNECTED,
 };
 int df1_new(df1_t **out);
 void df1_free(df1_t *h);
@@ -598,3 +601,14 @@ int df1_read_multi(df1_t *h, int station, struct df1_read_req *reqs, size_t n, u
 int df1_packet_max(enum df1_plc plc, _Bool write);
 int df1_station_health(const df1_t *h, int station, struct df1_station_health *out);
 int df1_poll_station(const df1_t *h, int station, struct df1_station_health *out) ;
+struct df1_eip_device {
+	char address[64];
+	uint16_t vendor_id, device_type, product_code;
+	uint8_t rev_major, rev_minor;
+	uint16_t status;
+	uint32_t serial;
+	char product_name[33];
+	uint8_t state;
+};
+typedef void (*df1_eip_device_fn)(void *user, const struct df1_eip_device *d);
+int df1_eip_list_identity(df1_t *h, const char *target, int timeout_ms, df1_eip_device_fn fn, void *user);
