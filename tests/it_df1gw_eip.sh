@@ -103,6 +103,28 @@ same "two clients: each write executed exactly once" "$dup" 0
 expect 0 "client 1's last value" -- $PROBE "$EIP" read - 119 1019
 expect 0 "client 2's last value (station 3)" -- $PROBE "$EIP" read 3 219 2019
 
+# libdf1's own client: df1read / df1write -d eip:// (eip://HOST:PORT/2 routes
+# to the station of -a)
+if "$BIN/df1read" --help 2>&1 | grep -q 'eip://'; then
+	expect 0 "df1read -d eip:// N7:50" -- "$BIN/df1read" -d "eip://$EIP" N7:50
+	out_is "df1read's value through the bridge" "123"
+	n0=$(logged 'station=1 cmd=0F/AA addr=N7:60 ')
+	expect 0 "df1write -d eip:// N7:60=606" -- "$BIN/df1write" -d "eip://$EIP" N7:60=606
+	same "df1write's write reached the PLC once" "$(logged 'station=1 cmd=0F/AA addr=N7:60 ')" $((n0 + 1))
+	expect 0 "df1write -d eip://.../2 -a 3 N7:61=3061 (routed)" -- \
+		"$BIN/df1write" -d "eip://$EIP/2" -a 3 N7:61=3061
+	expect 0 "df1read -d eip://.../2 -a 3 N7:61 N7:60" -- "$BIN/df1read" -d "eip://$EIP/2" -a 3 N7:61 N7:60
+	out_is "station 3's values" "3061
+60"
+	expect 0 "df1read --eip-connected (Forward Open) N7:60" -- "$BIN/df1read" -d "eip://$EIP" --eip-connected N7:60
+	out_is "connected read" "606"
+	expect 0 "df1mon --who over eip://" -- "$BIN/df1mon" -d "eip://$EIP" --who
+	check "df1mon --who: the bridge's identity" 'grep -q "libdf1 DF1 bridge" "$T/out"'
+else
+	echo "SKIP: df1read without eip:// targets (branch eipcli not merged)"
+	ok
+fi
+
 # pycomm3 (PyPI) as an independent client, when installed
 if $PYC available; then
 	expect 0 "pycomm3 writes N7:40 through the bridge" -- $PYC "$EIP" write N7:40=4242
