@@ -333,6 +333,48 @@ static void test_faults_half(void **state)
 	run_faults(*state, true);
 }
 
+/* One FIFO: a tag write, a raw read, a tag write, a raw write end in that order */
+static int wdone_order[2];
+
+static void on_wdone(void *user, int tag, int wid, int result)
+{
+	(void)tag;
+	(void)wid;
+	assert_int_equal(result, 0);
+	*(int *)user = ++order_next;
+}
+
+static void test_fifo_with_tag_writes(void **state)
+{
+	struct fix *f = *state;
+	static const uint8_t rd[] = { 0x0F, 0x00, 0x09, 0x00, 0xA2, 0x02, 0x07, 0x89, 0x0A, 0x00 };
+	static const uint8_t wr[] = { 0x0F, 0x00, 0x0A, 0x00, 0xAA, 0x02, 0x07, 0x89, 0x0B, 0x00, 0x05, 0x00 };
+	struct df1_tag_config c = { .access = DF1_ACCESS_READWRITE, .station = 1, .plc = DF1_PLC_SLC,
+		                    .count = 1, .scan_ms = 60000 };
+	struct df1_value v = { .kind = DF1_VAL_INT16, .v.i16 = 42 };
+	int id;
+
+	start(f, false, NULL, NULL, 300);
+	assert_int_equal(df1_addr_parse("N7:12", &c.addr), 0);
+	snprintf(c.name, sizeof c.name, "t");
+	id = df1_tag_add(f->h, &c);
+	assert_true(id >= 0);
+	assert_true(df1_tag_write(f->h, id, &v, 1, on_wdone, &wdone_order[0]) > 0);
+	assert_int_equal(df1_poll_submit_pccc(f->h, 1, rd, sizeof rd, on_done, &dn[0]), 0);
+	assert_true(df1_tag_write(f->h, id, &v, 1, on_wdone, &wdone_order[1]) > 0);
+	assert_int_equal(df1_poll_submit_pccc(f->h, 1, wr, sizeof wr, on_done, &dn[1]), 0);
+	poll_until_calls(f, &dn[1], 1, 10000);
+	assert_int_equal(wdone_order[0], 1);
+	assert_int_equal(dn[0].order, 2);
+	assert_int_equal(wdone_order[1], 3);
+	assert_int_equal(dn[1].order, 4);
+	/* N7:10 = 10 (df1sim's default table), the requester's TNS 0009 */
+	assert_int_equal(dn[0].n, 6);
+	assert_memory_equal(dn[0].reply, ((uint8_t[]){ 0x4F, 0x00, 0x09, 0x00, 0x0A, 0x00 }), 6);
+	assert_int_equal(simproc_log_wait(&f->sim, "cmd=0F/AA addr=N7:11 ", NULL, 1, 5000), 1);
+	assert_int_equal(simproc_log_wait(&f->sim, "cmd=0F/AA addr=N7:12 ", NULL, 2, 5000), 2);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -341,6 +383,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_diag_status_raw, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_raw_write_once_and_error_passed, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_no_answer, fix_setup, fix_teardown),
+		cmocka_unit_test_setup_teardown(test_fifo_with_tag_writes, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_faults_full, fix_setup, fix_teardown),
 		cmocka_unit_test_setup_teardown(test_faults_half, fix_setup, fix_teardown),
 	};
