@@ -87,7 +87,9 @@ DF1_API const struct df1_version *df1_version(void);
 	X(DF1_E_BAD_REPLY,   -28, 0,                             "invalid reply message")                 \
 	X(DF1_E_NO_ETX,      -29, DF1_ID_NTC_NO_ETX_RCVD,        "incomplete message, no ETX received")   \
 	X(DF1_E_NODEV,       -30, 0,                             "no such device")                        \
-	X(DF1_E_PERM,        -31, 0,                             "permission denied")
+	X(DF1_E_PERM,        -31, 0,                             "permission denied")                     \
+	X(DF1_E_EIP,         -32, 0,                             "EtherNet/IP encapsulation error")       \
+	X(DF1_E_CIP,         -33, 0,                             "CIP error status")
 
 #define DF1_ERROR_ENUM_ITEM(name, value, id, text) name = value,
 enum df1_error { DF1_ERROR_TABLE(DF1_ERROR_ENUM_ITEM) };
@@ -114,6 +116,10 @@ DF1_API int df1_error_catalog_id(int err);
  * request the library splits over several commands this holds for the failed one
  * only. @since 0.4 */
 DF1_API bool df1_error_unexecuted(int err);
+/* True when the PCCC command pccc[0..n) (CMD STS TNS [FNC] data) may change the
+ * controller; false only for 01, 06/00 06/01 06/03, 0F/01 0F/68 0F/A1 0F/A2
+ * (df1_poll(3)). @since 0.4 */
+DF1_API bool df1_pccc_is_write(const uint8_t *pccc, size_t n);
 
 /* STS (M p.8-2/8-3) and EXT STS for CMD 0F (M p.8-4) / DH-485 (M p.8-5). */
 DF1_API const char *df1_sts_text(uint8_t sts);
@@ -306,6 +312,10 @@ enum df1_option {
 	 * back to back and match the replies by SRC and TNS as they come (df1_poll(3),
 	 * libdf1(7)). Half duplex ignores it (one message per poll). @since 0.4 */
 	DF1_OPT_MAX_OUTSTANDING,
+	/* bool, default 0: an eip:// target (libdf1(7)) carries PCCC in connected explicit
+	 * messages (Forward Open at df1_open(), SendUnitData, Forward Close at df1_close())
+	 * instead of unconnected SendRRData. Set it before df1_open(). @since 0.4 */
+	DF1_OPT_EIP_CONNECTED,
 };
 
 DF1_API int  df1_new(df1_t **out);      /* defaults: 19200 8N1, full duplex, CRC, station 0 */
@@ -589,6 +599,90 @@ DF1_API void df1_server_set_seed(df1_t *h, uint64_t seed);
 DF1_API int df1_server_set_max_queue(df1_t *h, int max_queue);
 /* Pace transmitted bytes as a line at this baud rate (0 = off). */
 DF1_API int df1_set_line_baud(df1_t *h, int baud);
+/* Answer one PCCC command without a link, as df1_serve() would (EtherNet/IP
+ * servers, df1sim --eip): pccc[0..n) is CMD STS TNS(2) [FNC] data (no DST SRC),
+ * station the station it is for (the callbacks' station argument). Writes the
+ * reply CMD|40 STS TNS [EXT STS] data to reply[0..cap) and returns its length,
+ * 0 when there is nothing to answer (fewer than 4 bytes, or a reply), or
+ * DF1_E_INVAL / DF1_E_NOSPACE. Statuses as df1_serve(). @since 0.4 */
+DF1_API int df1_serve_pccc(df1_t *h, const struct df1_server_ops *ops, void *user, int station,
+                           const uint8_t *pccc, size_t n, uint8_t *reply, size_t cap);
+
+/* ------------------------------------------------------------------------
+ * EtherNet/IP server (df1_eip_server(3), df1-eip(7)): RegisterSession,
+ * ListIdentity (TCP and UDP), ListServices, SendRRData and SendUnitData with
+ * Forward Open / Forward Close, Unconnected Send with a route path, the
+ * Identity object, and CIP Execute PCCC handed to the caller. One descriptor
+ * for the caller's poll loop; nothing blocks. One thread at a time per server.
+ * ------------------------------------------------------------------------ */
+typedef struct df1_eip_server df1_eip_server_t;
+
+/* What ListIdentity and the Identity object (class 01) report. @since 0.4 */
+struct df1_eip_identity {
+	uint16_t vendor_id, device_type, product_code;
+	uint8_t rev_major, rev_minor;
+	uint16_t status;
+	uint32_t serial;
+	char product_name[33];      /* up to 32 characters */
+};
+
+/* @since 0.4 */
+struct df1_eip_server_config {
+	const char *listen;         /* "[ADDR:]PORT" (TCP and UDP); no ADDR = 127.0.0.1;
+	                             * PORT 0: an ephemeral port (df1_eip_server_address) */
+	const char *allow;          /* "CIDR[,CIDR]" (1.2.3.0/24, ::1, 10.0.0.5) or NULL = any client */
+	bool read_only;             /* refuse PCCC commands that write or change mode */
+	int max_clients;            /* 0 = default (32); at most 255 */
+	struct df1_eip_identity identity;
+};
+
+/* A PCCC command from a client: pccc = CMD STS TNS(2) FNC data as the client
+ * sent it (valid during the call only); station = the DF1 station the route
+ * path names (Unconnected Send to port 2, link address N; or the Forward Open
+ * connection path), or -1 if none. Answer now or later, at most once, with
+ * df1_eip_server_reply() or df1_eip_server_fail(); the client sends nothing
+ * else until then. @since 0.4 */
+typedef void (*df1_eip_pccc_fn)(void *user, df1_eip_server_t *s, uint32_t request, int station,
+                                const uint8_t *pccc, size_t n);
+
+/* A server listening on c->listen (TCP and UDP). *out is freed with
+ * df1_eip_server_free(). Returns 0, DF1_E_INVAL (bad listen, allow, max_clients,
+ * no fn), DF1_E_NOMEM or DF1_E_SYS (socket, bind: errno kept);
+ * df1_eip_server_error(NULL) says why. @since 0.4 */
+DF1_API int df1_eip_server_new(df1_eip_server_t **out, const struct df1_eip_server_config *c,
+                               df1_eip_pccc_fn fn, void *user);
+/* "ADDR:PORT" as bound ("[ADDR]:PORT" for IPv6). @since 0.4 */
+DF1_API const char *df1_eip_server_address(const df1_eip_server_t *s);
+/* The one descriptor to watch: when it is readable, call df1_eip_server_process(). @since 0.4 */
+DF1_API int df1_eip_server_fd(const df1_eip_server_t *s);
+/* Accept, read, answer, write what is ready; never blocks. Returns the PCCC
+ * requests handed to fn (>= 0) or DF1_E_INVAL. @since 0.4 */
+DF1_API int df1_eip_server_process(df1_eip_server_t *s);
+/* Answer request with a PCCC reply (CMD|40 STS TNS [EXT STS] data; its TNS is
+ * the client's). Returns 0, DF1_E_CLOSED (the client went away: nothing sent),
+ * DF1_E_INVAL (no such request, n 0 or over 4000 bytes). @since 0.4 */
+DF1_API int df1_eip_server_reply(df1_eip_server_t *s, uint32_t request, const uint8_t *pccc_reply,
+                                 size_t n);
+/* Answer request with a CIP error instead: cip_status = general status
+ * (0x01-0xFF) | extended status << 8 (e.g. 0x01 | 0x0204 << 8: connection
+ * failure, unconnected request timed out). Returns as df1_eip_server_reply(). @since 0.4 */
+DF1_API int df1_eip_server_fail(df1_eip_server_t *s, uint32_t request, int cip_status);
+
+/* @since 0.4 */
+struct df1_eip_server_stats {
+	uint64_t sessions;           /* sessions registered, in all */
+	uint64_t sessions_open;      /* sessions registered now */
+	uint64_t requests;           /* encapsulation messages received (TCP and UDP) */
+	uint64_t errors;             /* replies with an error status, and connections closed for one */
+	uint64_t refused_clients;    /* outside the allow list, or over max_clients */
+	uint64_t read_only_refusals; /* PCCC commands refused by read_only */
+};
+DF1_API void df1_eip_server_stats(const df1_eip_server_t *s, struct df1_eip_server_stats *st);
+/* The text of s's last failure, or with s NULL the calling thread's last
+ * df1_eip_server_new() failure ("" if none). @since 0.4 */
+DF1_API const char *df1_eip_server_error(const df1_eip_server_t *s);
+/* Closes every connection; pending requests are dropped. NULL is a no-op. @since 0.4 */
+DF1_API void df1_eip_server_free(df1_eip_server_t *s);
 
 /* ------------------------------------------------------------------------
  * Data table (df1_table(3)): the files of a simulated or real slave, served
@@ -832,6 +926,20 @@ DF1_API int df1_poll(df1_t *h, int timeout_ms);
 DF1_API int df1_poll_next_ms(const df1_t *h);
 DF1_API int df1_poll_fd(df1_t *h);
 
+/* Any PCCC command (CMD STS TNS [FNC] data, 4..DF1_PCCC_MAX bytes, copied) to a
+ * station, from any thread, queued with df1_tag_write()'s writes (one FIFO) and
+ * sent between two transactions with the line's TNS. done() runs once in the
+ * df1_poll() thread: result 0 with the reply (CMD|40 STS TNS ...; the caller's
+ * TNS; error STS passed through), or DF1_E_* when no reply came. Writes
+ * (df1_pccc_is_write) are not resent unless df1_error_unexecuted(). Returns 0,
+ * DF1_E_INVAL (also: no engine yet), DF1_E_BUSY (DF1_PCCC_QUEUE_MAX waiting),
+ * DF1_E_NOMEM. df1_poll(3). @since 0.4 */
+#define DF1_PCCC_MAX 262        /* the link layer's 264 app bytes of a frame less DST SRC */
+#define DF1_PCCC_QUEUE_MAX 64
+typedef void (*df1_pccc_done_fn)(void *user, int result, const uint8_t *reply, size_t n);
+DF1_API int df1_poll_submit_pccc(df1_t *h, int station, const uint8_t *pccc, size_t n,
+                                 df1_pccc_done_fn done, void *user);
+
 /* Station health (seed 000): a station goes offline when absolute_retries > 0
  * and more than that many attempts in a row failed, or else when watchdog_ms
  * passed since its last answer (at a failed attempt). Offline stations are
@@ -934,6 +1042,31 @@ DF1_API int df1_station_health(const df1_t *h, int station, struct df1_station_h
 #endif
 DF1_API int df1_poll_station(const df1_t *h, int station, struct df1_station_health *out)
 	DF1_DEPRECATED("use df1_station_health");
+
+/* ------------------------------------------------------------------------
+ * EtherNet/IP client: eip:// targets (libdf1(7)), discovery. @since 0.4
+ * ------------------------------------------------------------------------ */
+/* One device that answered ListIdentity (df1mon --who over eip://). */
+struct df1_eip_device {
+	char address[64];               /* "ADDR:PORT" that answered */
+	uint16_t vendor_id, device_type, product_code;
+	uint8_t rev_major, rev_minor;
+	uint16_t status;                /* the Identity object's status word */
+	uint32_t serial;
+	char product_name[33];
+	uint8_t state;
+};
+typedef void (*df1_eip_device_fn)(void *user, const struct df1_eip_device *d);
+/* ListIdentity to target "eip://HOST[:PORT]" (port default 44818; a route such as
+ * "/2" is ignored): over TCP to that host, one answer; when HOST is a broadcast
+ * address (255.255.255.255 or a local interface's), one UDP datagram and every
+ * answer within timeout_ms. fn (may be NULL) is called for each device. h must not
+ * be open: it gives the cancel fd and keeps the error detail. Returns the number of
+ * devices, or DF1_E_INVAL (bad target, h open), DF1_E_NODEV (unknown host),
+ * DF1_E_SYS (refused, no route), DF1_E_TIMEOUT (TCP: no reply), DF1_E_BAD_REPLY,
+ * DF1_E_EIP, DF1_E_INTR. @since 0.4 */
+DF1_API int df1_eip_list_identity(df1_t *h, const char *target, int timeout_ms,
+                                  df1_eip_device_fn fn, void *user);
 
 #ifdef __cplusplus
 }

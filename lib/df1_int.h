@@ -38,6 +38,7 @@ struct df1_config {
 	int plc5_timer_words;        /* 3 or 5: PLC-5 typed-read timers (DF1_OPT_PLC5_TIMER_WORDS) */
 	bool plc2_word_addr;         /* PLC-2 commands address words, not bytes (spec 4.7) */
 	bool listen_only;            /* DF1_OPT_LISTEN_ONLY: open read only, never transmit */
+	bool eip_connected;          /* DF1_OPT_EIP_CONNECTED: eip:// over a Forward Open connection */
 	int line_baud;               /* pace transmitted bytes (simulator); 0 = off */
 	int poll_timeout_ms;         /* DF1_OPT_POLL_TIMEOUT_MS: 0 = automatic */
 	int scan_time_ms;            /* DF1_OPT_SCAN_TIME_MS: responder's program scan */
@@ -84,6 +85,7 @@ struct station_state {
 };
 
 struct server_state;             /* lib/server.c */
+struct link_eip;                 /* lib/link/eip.c: an eip:// target's session */
 
 /* The responder's state (lib/link/link.h): owned by the server (lib/server.c),
  * lent to the link layer for the length of a link_serve() call. */
@@ -116,6 +118,7 @@ struct df1 {
 	int64_t rx_due_us;           /* line_baud: when the bytes read so far arrived on the line */
 	int64_t scan_epoch_ms;       /* DF1_OPT_SCAN_TIME_MS: the first scan began (df1_open) */
 	struct link_pipe pipe;       /* full-duplex commands in flight (lib/link/pipe.c) */
+	struct link_eip *eip;        /* eip:// target: the EtherNet/IP session, else NULL */
 
 	uint64_t counters[CNT_COUNT];
 

@@ -10,6 +10,7 @@
  */
 #include "df1_int.h"
 #include "link.h"
+#include "link_eip.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -466,6 +467,7 @@ static const char *handle_option_name(enum df1_option opt)
 	case DF1_OPT_SCAN_TIME_MS: return "SCAN_TIME_MS";
 	case DF1_OPT_NO_EOT: return "NO_EOT";
 	case DF1_OPT_MAX_OUTSTANDING: return "MAX_OUTSTANDING";
+	case DF1_OPT_EIP_CONNECTED: return "EIP_CONNECTED";
 	}
 	return NULL;
 }
@@ -487,6 +489,7 @@ static bool *handle_option_flag(struct df1_config *c, enum df1_option opt)
 	case DF1_OPT_LISTEN_ONLY: return &c->listen_only;
 	case DF1_OPT_PLC2_WORD_ADDR: return &c->plc2_word_addr;
 	case DF1_OPT_NO_EOT: return &c->no_eot;
+	case DF1_OPT_EIP_CONNECTED: return &c->eip_connected;
 	case DF1_OPT_MAX_PACKET: case DF1_OPT_PLC5_TIMER_WORDS:
 	case DF1_OPT_POLL_TIMEOUT_MS: case DF1_OPT_SCAN_TIME_MS: case DF1_OPT_MAX_OUTSTANDING:
 		return NULL;
@@ -544,6 +547,9 @@ int df1_set_option(df1_t *h, enum df1_option opt, int value)
 	flag = handle_option_flag(&h->cfg, opt);
 	if (opt == DF1_OPT_LISTEN_ONLY && h->port && *flag != (value != 0))
 		return df1_fail(h, DF1_E_INVAL, -1, "option LISTEN_ONLY is set before df1_open(): "
+		                "%s is open", h->port_name);
+	if (opt == DF1_OPT_EIP_CONNECTED && h->eip && *flag != (value != 0))
+		return df1_fail(h, DF1_E_INVAL, -1, "option EIP_CONNECTED is set before df1_open(): "
 		                "%s is open", h->port_name);
 	*flag = value != 0;
 	if (opt == DF1_OPT_RS485)
@@ -637,6 +643,8 @@ int df1_open(df1_t *h, const char *target)
 	df1_clear_error(h);
 	handle_port_reset(h);
 	/* a URI scheme is case-insensitive (RFC 3986 3.1): "TCP://" too */
+	if (strncasecmp(target, "eip:", 4) == 0)
+		return handle_opened(h, &port_tcp_ops, link_eip_open(h, target));
 	ops = strncasecmp(target, "tcp:", 4) == 0 ? &port_tcp_ops : &port_termios_ops;
 	return handle_opened(h, ops, ops->open(h, target));
 }
@@ -658,6 +666,8 @@ void df1_close(df1_t *h)
 {
 	if (!h || !h->port)
 		return;
+	if (h->eip)
+		link_eip_close(h); /* UnRegisterSession (Forward Close) while the socket is open */
 	h->port->close(h);
 	handle_port_reset(h);
 	h->rx_len = h->rx_pos = 0;

@@ -564,7 +564,10 @@ static int srv_slc(struct srv *s, uint8_t fnc)
 		return srv_fail_sts(s, 0x10);
 	d = s->m->data + k;
 	rest = s->m->len - (size_t)k;
-	if (rest != (rd ? 0u : masked ? 2u * nb : nb))
+	/* AB with one mask word for every word of the data (pycomm3 and NPC send
+	 * it so for F, L and ST elements: spec 4.6) or a mask as long as the data */
+	bool mask_word = masked && nb > 2 && !(nb & 1) && rest == 2u + nb;
+	if (rest != (rd ? 0u : masked ? 2u * nb : nb) && !mask_word)
 		return srv_fail_sts(s, 0x10);
 	t = pccc_slc_code_file_type(tc);       /* O: 8B or 82, I: 8C or 83 (spec 4.11) */
 	if (t == DF1_FT_NONE)
@@ -578,7 +581,13 @@ static int srv_slc(struct srv *s, uint8_t fnc)
 	off = (size_t)elem * elem_size(t) + (size_t)sub * 2;
 	if (rd)
 		rc = srv_tbl_read(s, t, (int)file, off, s->data, nb);
-	else if (masked)
+	else if (mask_word) {
+		uint8_t mask[255];
+
+		for (size_t i = 0; i < nb; i++)
+			mask[i] = d[i & 1];
+		rc = srv_tbl_write(s, t, (int)file, off, d + 2, mask, nb);
+	} else if (masked)
 		rc = srv_tbl_write(s, t, (int)file, off, d + nb, d, nb);
 	else
 		rc = srv_tbl_write(s, t, (int)file, off, d, NULL, nb);
@@ -963,4 +972,40 @@ DF1_API int df1_serve(df1_t *h, const struct df1_server_ops *ops, void *user, in
 	c.ops = ops;
 	c.user = user;
 	return link_serve(h, resp, server_handle, &c, df1_now_ms() + timeout_ms);
+}
+
+DF1_API int df1_serve_pccc(df1_t *h, const struct df1_server_ops *ops, void *user, int station,
+                           const uint8_t *pccc, size_t n, uint8_t *reply, size_t cap)
+{
+	uint8_t cmd[FRAME_MAX_DATA], rep[FRAME_MAX_DATA + 2];
+	struct server_ctx c = { ops, user };
+	int rc;
+
+	if (!h || !ops || !pccc || !reply || station < 0 || station > 254)
+		return h ? df1_fail(h, DF1_E_INVAL, station, "df1_serve_pccc: %s",
+		                    !ops ? "no server callbacks" : station < 0 || station > 254
+		                    ? "station out of range 0-254" : "no command or reply buffer")
+		         : DF1_E_INVAL;
+	if (n < 4 || (pccc[0] & PCCC_REPLY_BIT))
+		return 0;
+	if (n + 2 > sizeof cmd) {       /* longer than a DF1 message: illegal format */
+		if (cap < 4)
+			return df1_fail(h, DF1_E_NOSPACE, station, "df1_serve_pccc: reply buffer of %zu bytes", cap);
+		reply[0] = (uint8_t)(pccc[0] | PCCC_REPLY_BIT);
+		reply[1] = 0x10;
+		reply[2] = pccc[2];
+		reply[3] = pccc[3];
+		return 4;
+	}
+	cmd[0] = (uint8_t)station;
+	cmd[1] = (uint8_t)station;      /* no link: the source is not used */
+	memcpy(cmd + 2, pccc, n);
+	rc = server_handle(h, &c, cmd, n + 2, rep, sizeof rep);
+	if (rc <= 2)
+		return rc < 0 ? rc : 0;
+	if ((size_t)rc - 2 > cap)
+		return df1_fail(h, DF1_E_NOSPACE, station, "df1_serve_pccc: reply of %d bytes, buffer of %zu",
+		                rc - 2, cap);
+	memcpy(reply, rep + 2, (size_t)rc - 2);
+	return rc - 2;
 }

@@ -262,8 +262,8 @@ static void test_errors_catalog_names_are_the_seed_ids(void **state)
 	assert_int_equal(DF1_ID_CNT_ACKS_SENT, 2535);
 	assert_int_equal(DF1_ID_CRT_BAD_CMD_TIMEOUT, 2559);
 	assert_int_equal(DF1_ID_CRD_CHAR_RECV, 2561);
-	assert_int_equal(DF1_ERROR_COUNT, 32);
-	assert_int_equal(DF1_E_LAST_, DF1_E_PERM - 1);
+	assert_int_equal(DF1_ERROR_COUNT, 34);
+	assert_int_equal(DF1_E_LAST_, DF1_E_CIP - 1);
 	assert_int_equal(df1_error_catalog_id(DF1_E_TIMEOUT), 2508);
 	assert_int_equal(df1_error_catalog_id(DF1_E_NO_ETX), 2518);
 }

@@ -6,6 +6,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "decode.h"
 
@@ -46,7 +47,9 @@ void cli_trace(void *user, enum df1_dir dir, const uint8_t *bytes, size_t n, uin
 		fprintf(stderr, "%s: %llu.%06llu %s %s\n", c->name, (unsigned long long)(rel / 1000000),
 		        (unsigned long long)(rel % 1000000), dname, hex);
 	}
-	/* and every symbol they complete */
+	/* and every symbol they complete; EtherNet/IP bytes are no DF1 symbols */
+	if (c->device && strncasecmp(c->device, "eip:", 4) == 0)
+		return;
 	if (!c->trace_ctx) {
 		c->trace_ctx = malloc(sizeof *c->trace_ctx);
 		if (!c->trace_ctx)

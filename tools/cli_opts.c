@@ -15,7 +15,7 @@
 
 const struct cli_common_opt cli_common_opts[] = {
 	{ CLI_OPT_DEVICE, "device", required_argument, 'd', "DEV",
-	  "serial device or tcp://HOST:PORT (env DF1_DEVICE)" },
+	  "serial device, tcp://HOST:PORT or eip://HOST (env DF1_DEVICE)" },
 	{ CLI_OPT_NET, "net", required_argument, 'N', "FILE", "network configuration CSV" },
 	{ CLI_OPT_STATION, "station", required_argument, 'a', "N", "destination station 0-254 (default 1)" },
 	{ CLI_OPT_SRC, "src", required_argument, LONG_ONLY(CLI_OPT_SRC), "N",
@@ -76,6 +76,8 @@ const struct cli_common_opt cli_common_opts[] = {
 	  "half duplex: poll again when a poll's answer has not begun (0 = auto)" },
 	{ CLI_OPT_OUTSTANDING, "outstanding", required_argument, LONG_ONLY(CLI_OPT_OUTSTANDING), "N",
 	  "full duplex: commands awaiting replies 1-16 (default 1)" },
+	{ CLI_OPT_EIP_CONNECTED, "eip-connected", no_argument, LONG_ONLY(CLI_OPT_EIP_CONNECTED), NULL,
+	  "eip:// target: connected messaging (Forward Open)" },
 };
 
 const size_t cli_n_common = sizeof cli_common_opts / sizeof cli_common_opts[0];

@@ -293,6 +293,12 @@ static void cmdlog_command(struct sim_cmdlog *l, int station, const uint8_t *app
 		l->error = errno ? errno : EIO;         /* the tool stops and says so */
 }
 
+void sim_cmdlog_command(struct sim_cmdlog *l, int station, const uint8_t *app, size_t n)
+{
+	if (l->fp)
+		cmdlog_command(l, station, app, n);
+}
+
 static void cmdlog_rx_frame(struct sim_cmdlog *l, const struct df1_symbol *sym)
 {
 	const uint8_t *a = sym->data;

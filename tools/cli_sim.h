@@ -72,5 +72,8 @@ int sim_cmdlog_open(struct sim_cmdlog *l, const char *path, enum df1_check check
                     struct df1_table *const *tables, int first_station);
 void sim_cmdlog_close(struct sim_cmdlog *l);    /* a log never opened is fine */
 void sim_cmdlog_feed(struct sim_cmdlog *l, enum df1_dir dir, const uint8_t *bytes, size_t n);
+/* Log a command answered without a link (EtherNet/IP): app = DST SRC CMD STS
+ * TNS [FNC] data. A log never opened is fine. */
+void sim_cmdlog_command(struct sim_cmdlog *l, int station, const uint8_t *app, size_t n);
 
 #endif

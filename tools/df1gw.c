@@ -7,7 +7,9 @@
  * (SIGHUP: reload), the broker's socket (gw_mqtt.c) and the poll engine's
  * wake descriptor, with the timeout of whatever is due next (df1_poll_next_ms,
  * keepalive, reconnect, reopen, --refresh); due line work runs with
- * df1_poll(h, 0). Another northbound side is one more descriptor here.
+ * df1_poll(h, 0). The EtherNet/IP side (--eip, gw_eip.c) is one more
+ * descriptor; its requests join the poll engine's queue. With --eip, --map
+ * and --mqtt are optional: without a broker df1gw is a pure bridge.
  *
  * The line: a handle configured once from the options (cli_configure) with
  * the tags loaded; opened, closed when it is lost (tags BAD "line_lost") and
@@ -38,7 +40,7 @@
 enum {
 	OPT_MAP = CLI_KEY_EXTRA, OPT_MQTT, OPT_CAFILE, OPT_CERT, OPT_KEY, OPT_CLIENT_ID, OPT_USERNAME,
 	OPT_PASSWORD_FILE, OPT_PASSWORD, OPT_PREFIX, OPT_QOS, OPT_KEEPALIVE, OPT_REFRESH, OPT_ONCE,
-	OPT_WATCHDOG,
+	OPT_WATCHDOG, OPT_EIP, OPT_EIP_STATION, OPT_EIP_ALLOW, OPT_EIP_READ_ONLY, OPT_COUNTERS,
 };
 
 static const struct cli_extra_opt gw_opts[] = {
@@ -61,6 +63,14 @@ static const struct cli_extra_opt gw_opts[] = {
 	{ "watchdog", required_argument, OPT_WATCHDOG, "MS",
 	  "station offline after MS ms without an answer (default 10000)" },
 	{ "once", no_argument, OPT_ONCE, NULL, "one scan, publish, exit (cron, tests)" },
+	{ "eip", required_argument, OPT_EIP, "[ADDR:]PORT",
+	  "also an EtherNet/IP bridge (PCCC), on 127.0.0.1 unless ADDR is given (44818 is the standard port)" },
+	{ "eip-station", required_argument, OPT_EIP_STATION, "N",
+	  "--eip: the station of requests without a route path (default 1)" },
+	{ "eip-allow", required_argument, OPT_EIP_ALLOW, "CIDR[,CIDR]", "--eip: only these clients" },
+	{ "eip-read-only", no_argument, OPT_EIP_READ_ONLY, NULL,
+	  "--eip: refuse commands that write or change mode (STS 60h)" },
+	{ "counters", no_argument, OPT_COUNTERS, NULL, "the line's and EtherNet/IP counters on stdout at exit" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -88,6 +98,11 @@ static int gw_extra(struct cli *c, int key, const char *arg, void *user)
 	case OPT_REFRESH: return cli_parse_int(c, "--refresh", arg, 0, 86400, &g->refresh_s);
 	case OPT_WATCHDOG: return cli_parse_int(c, "--watchdog", arg, 0, 86400000, &g->watchdog_ms);
 	case OPT_ONCE: g->once = true; break;
+	case OPT_EIP: g->eip.listen = arg; break;
+	case OPT_EIP_STATION: return cli_parse_int(c, "--eip-station", arg, 0, 254, &g->eip.station);
+	case OPT_EIP_ALLOW: g->eip.allow = arg; break;
+	case OPT_EIP_READ_ONLY: g->eip.read_only = true; break;
+	case OPT_COUNTERS: g->counters = true; break;
 	default: return CLI_EXIT_USAGE;
 	}
 	return CLI_CONTINUE;
@@ -95,8 +110,8 @@ static int gw_extra(struct cli *c, int key, const char *arg, void *user)
 
 static const struct cli_tool gw_tool = {
 	.name = GW_PROG,
-	.synopsis = "-d DEV --map FILE.csv --mqtt mqtt://HOST[:PORT] [OPTIONS]",
-	.summary = "Keep a DF1 line's tags in an MQTT broker, and take writes back.",
+	.synopsis = "-d DEV (--map FILE.csv --mqtt mqtt://HOST[:PORT] | --eip [ADDR:]PORT) [OPTIONS]",
+	.summary = "Keep a DF1 line's tags in an MQTT broker, and take writes back; bridge EtherNet/IP to it.",
 	.accepts = (CLI_ACCEPT_LINK & ~CLI_ACCEPT(CLI_OPT_STATION)) | CLI_ACCEPT(CLI_OPT_VERBOSE) |
 	           CLI_ACCEPT(CLI_OPT_QUIET),
 	.common_help = { [CLI_OPT_VERBOSE] = "what is published and received; -vv link events, -vvv frames" },
@@ -155,6 +170,15 @@ static int line_build(struct gw *g, df1_t **out)
 		df1_set_log(h, NULL, NULL);
 	if (g->cli.verbose < 3)
 		df1_set_trace(h, NULL, NULL);
+	if (df1_poll_fd(h) < 0) {       /* the engine, for --eip's requests before any tag */
+		fprintf(stderr, "%s: out of memory\n", GW_PROG);
+		df1_free(h);
+		return CLI_EXIT_FAIL;
+	}
+	if (!g->map_path) {             /* --eip alone: a pure bridge */
+		*out = h;
+		return 0;
+	}
 	n = df1_tag_load_map(h, g->map_path, true, map_issue, &m);
 	if (n < 0) {
 		if (!m.issues) {
@@ -311,10 +335,16 @@ static void line_lost(struct gw *g, int err)
 }
 
 /* A station's last error that means the port itself is gone. */
-static int line_gone(const struct gw *g)
+static int line_gone(struct gw *g)
 {
 	if (!df1_is_open(g->h))
 		return DF1_E_NOT_OPEN;
+	if (g->eip.line_gone) {
+		int r = g->eip.line_gone;
+
+		g->eip.line_gone = 0;
+		return r;
+	}
 	for (int stn = 0; stn < 255; stn++) {
 		struct df1_station_health sh;
 
@@ -346,6 +376,11 @@ static void reload(struct gw *g)
 {
 	df1_t *nh, *old = g->h;
 
+	if (!g->map_path) {
+		if (!g->cli.quiet)
+			fprintf(stderr, "%s: SIGHUP: no --map to reload\n", GW_PROG);
+		return;
+	}
 	if (!g->cli.quiet)
 		fprintf(stderr, "%s: SIGHUP: reloading %s\n", GW_PROG, g->map_path);
 	if (line_build(g, &nh) != 0) {
@@ -457,15 +492,25 @@ static int setup(struct gw *g, int argc, char **argv)
 		return r;
 	if (g->cli.argc > 0)
 		return cli_usage_error(&g->cli, "unexpected operand '%s'", g->cli.argv[0]);
-	if (!g->map_path)
-		return cli_usage_error(&g->cli, "no tags: give --map FILE.csv");
-	if (!g->mqtt_url)
-		return cli_usage_error(&g->cli, "no broker: give --mqtt mqtt://HOST[:PORT]");
-	if (gw_url_parse(g->mqtt_url, &url, err, sizeof err) < 0) {
+	if (!g->eip.listen && (g->eip.allow || g->eip.read_only || g->eip.station >= 0))
+		return cli_usage_error(&g->cli, "--eip-station, --eip-allow and --eip-read-only go with --eip");
+	if (!g->map_path && !g->eip.listen)
+		return cli_usage_error(&g->cli, "no tags: give --map FILE.csv (or --eip PORT for a bridge)");
+	if (!g->mqtt_url && !g->eip.listen)
+		return cli_usage_error(&g->cli, "no broker: give --mqtt mqtt://HOST[:PORT] (or --eip PORT for a bridge)");
+	if (g->once && !g->mqtt_url)
+		return cli_usage_error(&g->cli, "--once publishes: it needs --mqtt");
+	if (g->eip.station < 0)
+		g->eip.station = 1;     /* -a is not df1gw's: tags name their stations */
+	if (g->mqtt_url && gw_url_parse(g->mqtt_url, &url, err, sizeof err) < 0) {
 		fprintf(stderr, "%s: --mqtt %s: %s\n", GW_PROG, g->mqtt_url, err);
 		return CLI_EXIT_USAGE;
 	}
-	if (!url.tls && (g->cafile || g->cert || g->keyfile)) {
+	if (!g->mqtt_url && (g->cafile || g->cert || g->keyfile || g->username || g->password_file)) {
+		fprintf(stderr, "%s: --cafile, --cert, --key, --username and --password-file go with --mqtt\n", GW_PROG);
+		return CLI_EXIT_USAGE;
+	}
+	if (g->mqtt_url && !url.tls && (g->cafile || g->cert || g->keyfile)) {
 		fprintf(stderr, "%s: --cafile, --cert and --key are for mqtts:// (TLS)\n", GW_PROG);
 		return CLI_EXIT_USAGE;
 	}
@@ -499,7 +544,7 @@ static int setup(struct gw *g, int argc, char **argv)
 			return CLI_EXIT_FAIL;
 		}
 	}
-	{
+	if (g->mqtt_url) {
 		static char will[GW_TOPIC_MAX + 8];
 		struct gw_mqtt_config mc = {
 			.prog = GW_PROG, .url = g->mqtt_url, .host = NULL, .port = url.port, .tls = url.tls,
@@ -522,6 +567,8 @@ static int setup(struct gw *g, int argc, char **argv)
 		}
 		g->mq_configured = true;
 	}
+	if (g->eip.listen && (r = gw_eip_open(&g->eip, GW_PROG, g->cli.quiet)) != 0)
+		return r;
 	if (gw_ids_init(&g->ids, GW_IDS_DEFAULT) < 0) {
 		fprintf(stderr, "%s: out of memory\n", GW_PROG);
 		return CLI_EXIT_FAIL;
@@ -584,15 +631,16 @@ static int run(struct gw *g)
 		fprintf(stderr, "%s: %s\n", GW_PROG, g->line_error);
 		return CLI_EXIT_FAIL;
 	}
-	if (!g->cli.quiet && g->cli.verbose)
+	if (!g->cli.quiet && g->cli.verbose && g->mq_configured)
 		fprintf(stderr, "%s: %s: %d tags; broker %s, topics %s/...\n", GW_PROG, g->cli.device, g->ntags,
 		        g->mqtt_url, g->prefix);
-	gw_mqtt_service(&g->mq, 0, gw_now_ms());        /* the first connect */
+	if (g->mq_configured)
+		gw_mqtt_service(&g->mq, 0, gw_now_ms());        /* the first connect */
 	if (g->refresh_s > 0)
 		g->next_refresh_ms = gw_now_ms() + (int64_t)g->refresh_s * 1000;
 	while (!cli_stop) {
-		struct pollfd p[4];
-		int np = 0, i_sig, i_hup = -1, i_mq = -1, i_line = -1, timeout = 1000, t, r;
+		struct pollfd p[5];
+		int np = 0, i_sig, i_hup = -1, i_mq = -1, i_line = -1, i_eip = -1, timeout = 1000, t, r;
 		int64_t now = gw_now_ms();
 
 		p[np] = (struct pollfd){ cli_signal_fd(), POLLIN, 0 };
@@ -609,7 +657,11 @@ static int run(struct gw *g)
 			p[np] = (struct pollfd){ r, POLLIN, 0 };
 			i_line = np++;
 		}
-		t = gw_mqtt_wait_ms(&g->mq, now);
+		if (gw_eip_fd(&g->eip) >= 0) {
+			p[np] = (struct pollfd){ gw_eip_fd(&g->eip), POLLIN, 0 };
+			i_eip = np++;
+		}
+		t = g->mq_configured ? gw_mqtt_wait_ms(&g->mq, now) : timeout;
 		if (t < timeout)
 			timeout = t;
 		if (g->line_up) {
@@ -633,7 +685,8 @@ static int run(struct gw *g)
 		if (p[i_sig].revents)
 			cli_signal_drain();
 		now = gw_now_ms();
-		gw_mqtt_service(&g->mq, i_mq >= 0 ? p[i_mq].revents : 0, now);
+		if (g->mq_configured)
+			gw_mqtt_service(&g->mq, i_mq >= 0 ? p[i_mq].revents : 0, now);
 		if (g->mq.refused && (!g->mq.ever_up || g->once)) {
 			fprintf(stderr, "%s: broker %s: refused the connection: %s\n", GW_PROG, g->mqtt_url,
 			        g->mq.refused_text);
@@ -654,6 +707,10 @@ static int run(struct gw *g)
 			if (!g->once)
 				reload(g);
 		}
+		g->eip.h = g->h;
+		g->eip.line_up = g->line_up;
+		if (i_eip >= 0 && p[i_eip].revents)
+			gw_eip_process(&g->eip);       /* requests join the line's queue */
 		if (g->line_up && (df1_poll_next_ms(g->h) == 0 || (i_line >= 0 && p[i_line].revents)))
 			line_work(g);
 		else if (!g->line_up && now >= g->line_next_try_ms)
@@ -686,13 +743,44 @@ static int run(struct gw *g)
 	return status;
 }
 
+/* --counters: the poll engine's figures, EtherNet/IP's, the line's catalog counters. */
+static void print_counters(const struct gw *g)
+{
+	struct df1_poll_stats ps;
+
+	if (!g->h)
+		return;
+	df1_poll_stats(g->h, &ps);
+	printf("scans %llu, %llu transactions (%llu reads, %llu failed, %llu writes, %llu failed, "
+	       "%llu retries)\n", (unsigned long long)ps.scans, (unsigned long long)ps.transactions,
+	       (unsigned long long)ps.reads, (unsigned long long)ps.read_failures,
+	       (unsigned long long)ps.writes, (unsigned long long)ps.write_failures,
+	       (unsigned long long)ps.retries);
+	gw_eip_counters(&g->eip, stdout);
+	for (size_t i = 0;; i++) {
+		const struct df1_catalog_entry *e = df1_catalog_at(i);
+		uint64_t v = 0;
+
+		if (!e)
+			break;
+		if (e->severity == DF1_SEV_COUNTER && df1_counter(g->h, e->id, &v) == 0)
+			printf("%d %s %llu\n", e->id, e->mnemonic, (unsigned long long)v);
+	}
+	fflush(stdout);
+}
+
 static void shutdown_gw(struct gw *g)
 {
 	char topic[GW_TOPIC_MAX];
 
-	/* queued writes end first (their results go out), then the line closes */
+	if (g->counters)
+		print_counters(g);
+	/* queued writes and EtherNet/IP requests end first (their results go
+	 * out), then the line closes, then the EtherNet/IP server */
 	df1_free(g->h);
 	g->h = NULL;
+	g->eip.h = NULL;
+	gw_eip_close(&g->eip);
 	if (g->mq_configured) {
 		if (!g->once && gw_mqtt_up(&g->mq)) {
 			snprintf(topic, sizeof topic, "%s/status", g->prefix);
@@ -719,6 +807,7 @@ int main(int argc, char **argv)
 	static struct gw g;
 	int r;
 
+	g.eip.station = -1;
 	gw_pubs_init(&g.pubs);
 	gw_buf_init(&g.buf);
 	gw_buf_init(&g.key);

@@ -673,7 +673,11 @@ int main(int argc, char **argv)
 		}
 	}
 	if (d->flags & TALKS) {
-		r = cli_open(&m.cli, &m.h);
+		/* --who over eip:// asks ListIdentity on a socket of its own */
+		if (m.mode == MODE_WHO && who_is_eip(&m))
+			r = cli_configure(&m.cli, &m.h);
+		else
+			r = cli_open(&m.cli, &m.h);
 		if (r != CLI_EXIT_OK) {
 			cli_cleanup(&m.cli);
 			return r;

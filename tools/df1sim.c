@@ -7,7 +7,13 @@
  * is tools/cli.h (cli_parse: the line options, df1sim's own as extra options;
  * signals) and tools/cli_sim.h (pty and TCP, --log, fault probabilities).
  *
- * stdout: the device served, one line, once ready. stderr: messages.
+ * With --eip it also answers PCCC over EtherNet/IP (df1_eip_server(3)) from
+ * the same data table, on the same thread: the server's descriptor is watched
+ * with the signal pipe through one epoll set, the link's cancel descriptor, so
+ * an EtherNet/IP request cuts a link wait short and the link resumes after it.
+ *
+ * stdout: the device served, one line, once ready (then the EtherNet/IP
+ * address as eip://ADDR:PORT; that line alone with --eip only). stderr: messages.
  * SIGUSR1 silences every station (no ACK, no reply, no answer to polls or
  * ENQs), SIGUSR2 makes them answer again (--silent still applies).
  * Exit status: 0 (stopped by SIGINT/SIGTERM), 1 (communication / system error),
@@ -22,6 +28,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/epoll.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -57,6 +64,9 @@ struct sim {
 	struct sim_cmdlog log;          /* --log */
 	int silent_pm, silent_station;  /* --silent, put back by SIGUSR2 (0: none) */
 	bool muted;                     /* SIGUSR1 applied: every station silent */
+	df1_t *h;                       /* for df1_serve_pccc (PLC type, options) */
+	df1_eip_server_t *eip;          /* --eip */
+	int wait_fd;                    /* epoll of the signal pipe and the server, or -1 */
 };
 
 static struct df1_table *sim_table_for(struct sim *s, int station)
@@ -102,6 +112,65 @@ static const struct df1_server_ops sim_ops = {
 	.diag_status = sim_diag_status,
 	.change_mode = sim_change_mode,
 };
+
+/* ------------------------------------------------------------------------
+ * EtherNet/IP (--eip): PCCC answered from the same tables
+ * ------------------------------------------------------------------------ */
+
+/* A simulated MicroLogix 1400 that says what it is: no vendor ID is ours to
+ * claim (vendor 1 is Rockwell's), so 0; device type 0x0E, programmable
+ * logic controller (ODVA Vol. 1 table 5-1.1); revision = libdf1's 0.4. */
+static const struct df1_eip_identity sim_identity = {
+	.vendor_id = 0,
+	.device_type = 0x0E,
+	.product_code = 0,
+	.rev_major = 0,
+	.rev_minor = 4,
+	.status = 0,
+	.serial = 0x0DF10001,
+	.product_name = "libdf1 df1sim MicroLogix 1400",
+};
+
+/* CIP status of a station that does not answer: connection failure,
+ * unconnected request timed out (what a bridge reports for a silent node). */
+#define SIM_EIP_NO_ANSWER (0x01 | 0x0204 << 8)
+
+static void sim_eip_pccc(void *user, df1_eip_server_t *srv, uint32_t request, int station,
+                         const uint8_t *pccc, size_t n)
+{
+	struct sim *s = user;
+	uint8_t reply[300], app[300];
+	int r;
+
+	if (station < 0)
+		station = s->stations[0];
+	if (s->muted || (station != s->stations[0] && !s->tables[station]) ||
+	    (s->silent_pm && (s->silent_station == station || s->silent_station == DF1_SILENT_ALL))) {
+		(void)df1_eip_server_fail(srv, request, SIM_EIP_NO_ANSWER);
+		return;
+	}
+	r = df1_serve_pccc(s->h, &sim_ops, s, station, pccc, n, reply, sizeof reply);
+	if (r > 0) {
+		if (n + 2 <= sizeof app) {
+			app[0] = (uint8_t)station;
+			app[1] = (uint8_t)station;
+			memcpy(app + 2, pccc, n);
+			sim_cmdlog_command(&s->log, station, app, n + 2);
+		}
+		if (s->verbose)
+			msg("eip: station %d: CMD %02X TNS %04X answered, STS %02X", station, pccc[0],
+			    pccc[2] | pccc[3] << 8, reply[1]);
+		(void)df1_eip_server_reply(srv, request, reply, (size_t)r);
+	} else {
+		(void)df1_eip_server_fail(srv, request, 0x03);     /* a reply, not a command */
+	}
+}
+
+static void sim_eip_process(struct sim *s)
+{
+	if (s->eip)
+		(void)df1_eip_server_process(s->eip);
+}
 
 static void hexdump(enum df1_dir dir, const uint8_t *b, size_t n)
 {
@@ -161,13 +230,16 @@ struct opts {
 	int max_queue;                  /* full duplex: commands held before NAK */
 	const char *log;
 	int baud, data_bits;            /* -d only; the library checks them when it opens DEV */
+	const char *eip;                /* --eip ADDR */
+	const char *eip_allow;          /* --eip-allow CIDR[,CIDR] */
+	bool eip_read_only;             /* --eip-read-only */
 };
 
 enum {
 	OPT_PTY = CLI_KEY_EXTRA, OPT_LISTEN, OPT_STATION, OPT_DATA_BITS, OPT_LINE_BAUD, OPT_PROCESSOR,
 	OPT_PLC5_FLOAT_SWAPPED, OPT_DATA, OPT_DROP_ACK, OPT_CORRUPT, OPT_NAK, OPT_DELAY, OPT_SILENT,
 	OPT_STALE, OPT_NOISE, OPT_SEED, OPT_LOG, OPT_SCAN_TIME, OPT_NO_EOT,
-	OPT_MAX_QUEUE,
+	OPT_MAX_QUEUE, OPT_EIP, OPT_EIP_ALLOW, OPT_EIP_READ_ONLY,
 };
 
 /* -d, --station and -b are df1sim's own: -d is the device served (never
@@ -177,6 +249,9 @@ static const struct cli_extra_opt sim_opts[] = {
 	{ "pty", required_argument, OPT_PTY, "PATH", "create a pseudo-terminal, symlink PATH to it" },
 	{ "device", required_argument, 'd', "DEV", "serve a serial port (or tcp://HOST:PORT as a client)" },
 	{ "listen", required_argument, OPT_LISTEN, "ADDR", "serve TCP clients one after another on ADDR" },
+	{ "eip", required_argument, OPT_EIP, "ADDR", "also serve PCCC over EtherNet/IP on ADDR (TCP and UDP)" },
+	{ "eip-allow", required_argument, OPT_EIP_ALLOW, "CIDR[,CIDR]", "--eip: only these clients (default any)" },
+	{ "eip-read-only", no_argument, OPT_EIP_READ_ONLY, NULL, "--eip: refuse commands that write (STS 60)" },
 	{ "station", required_argument, OPT_STATION, "N[,N...]",
 	  "stations served 0-254, ranges A-B allowed (default 1)" },
 	{ "baud", required_argument, 'b', "N", "-d only: baud rate (default 19200)" },
@@ -314,6 +389,9 @@ static int on_option(struct cli *c, int key, const char *arg, void *user)
 		break;
 	case OPT_LOG: o->log = arg; break;
 	case OPT_MAX_QUEUE: return cli_parse_int(c, "--max-queue", arg, 0, 8, &o->max_queue);
+	case OPT_EIP: o->eip = arg; break;
+	case OPT_EIP_ALLOW: o->eip_allow = arg; break;
+	case OPT_EIP_READ_ONLY: o->eip_read_only = true; break;
 	default:
 		if (key >= OPT_DROP_ACK && key <= OPT_NOISE)
 			return set_fault(o, key - OPT_DROP_ACK, arg);
@@ -324,7 +402,7 @@ static int on_option(struct cli *c, int key, const char *arg, void *user)
 
 static const struct cli_tool sim_tool = {
 	.name = PROG,
-	.synopsis = "(--pty PATH | -d DEV | --listen [tcp://][HOST:]PORT) [OPTIONS]",
+	.synopsis = "(--pty PATH | -d DEV | --listen [tcp://][HOST:]PORT) [--eip ADDR] [OPTIONS] | --eip ADDR [OPTIONS]",
 	.summary = "A simulated PLC (DF1 half-duplex slave or full-duplex peer) with a data table\n"
 	           "and fault injection. Prints the device it serves on stdout once ready.",
 	.accepts = CLI_ACCEPT(CLI_OPT_PARITY) | CLI_ACCEPT(CLI_OPT_STOP_BITS) | CLI_ACCEPT(CLI_OPT_DUPLEX) |
@@ -374,9 +452,11 @@ static int parse_args(int argc, char **argv, struct opts *o)
 		return r;
 	if (o->cli.argc > 0)
 		return cli_usage_error(&o->cli, "unexpected argument '%s'", o->cli.argv[0]);
-	if (o->where != 1)
+	if (o->where > 1 || (o->where == 0 && !o->eip))
 		return cli_usage_error(&o->cli, o->where ? "give only one of --pty, -d and --listen"
-		                                         : "one of --pty PATH, -d DEV or --listen ADDR is required");
+		                                         : "one of --pty PATH, -d DEV, --listen ADDR or --eip ADDR is required");
+	if ((o->eip_allow || o->eip_read_only) && !o->eip)
+		return cli_usage_error(&o->cli, "--eip-allow and --eip-read-only go with --eip");
 	if (cli_lib_option_set(&o->cli, CLI_OPT_PLC5_FLOAT) && o->cli.lib_value[CLI_OPT_PLC5_FLOAT] &&
 	    o->cli.plc != DF1_PLC_PLC5)
 		return cli_usage_error(&o->cli, "--plc5-float swapped goes with --plc plc5 only");
@@ -437,6 +517,7 @@ static int serve_open(df1_t *h, struct sim *s)
 
 	while (!cli_stop && !s->log.error) {
 		sim_wakeup(h, s);
+		sim_eip_process(s);
 		r = df1_serve(h, &sim_ops, s, 1000);
 		if (r >= 0 || (r == DF1_E_INTR && !cli_stop))
 			continue;
@@ -450,12 +531,13 @@ static int serve_open(df1_t *h, struct sim *s)
 static int serve_tcp(df1_t *h, struct sim *s, int lfd, const char *shown)
 {
 	for (;;) {
-		struct pollfd pfd[2] = { { lfd, POLLIN, 0 }, { cli_signal_fd(), POLLIN, 0 } };
+		struct pollfd pfd[3] = { { lfd, POLLIN, 0 }, { cli_signal_fd(), POLLIN, 0 },
+		                         { s->eip ? df1_eip_server_fd(s->eip) : -1, POLLIN, 0 } };
 		int cfd, r, one = 1;
 
 		if (cli_stop || s->log.error)
 			return 0;
-		r = poll(pfd, 2, -1);
+		r = poll(pfd, 3, -1);
 		if (r < 0) {
 			if (errno == EINTR)
 				continue;
@@ -464,6 +546,8 @@ static int serve_tcp(df1_t *h, struct sim *s, int lfd, const char *shown)
 		}
 		if (cli_stop)
 			return 0;
+		if (pfd[2].revents)
+			sim_eip_process(s);
 		if (pfd[1].revents) {
 			sim_wakeup(h, s);       /* SIGUSR1 / SIGUSR2 */
 			continue;
@@ -495,6 +579,66 @@ static int serve_tcp(df1_t *h, struct sim *s, int lfd, const char *shown)
 		}
 		return 0;
 	}
+}
+
+/* --eip only: the server and the signals until a stop signal. */
+static int serve_eip_only(df1_t *h, struct sim *s)
+{
+	while (!cli_stop && !s->log.error) {
+		struct pollfd pfd[2] = { { df1_eip_server_fd(s->eip), POLLIN, 0 }, { cli_signal_fd(), POLLIN, 0 } };
+
+		if (poll(pfd, 2, -1) < 0 && errno != EINTR) {
+			msg("poll: %s", strerror(errno));
+			return CLI_EXIT_FAIL;
+		}
+		if (pfd[1].revents)
+			sim_wakeup(h, s);
+		if (pfd[0].revents)
+			sim_eip_process(s);
+	}
+	return 0;
+}
+
+/* The EtherNet/IP server of --eip [tcp://]ADDR, and the one descriptor the
+ * link waits on: the signal pipe and the server's. Prints nothing yet. */
+static int sim_eip_open(struct sim *s, const struct opts *o, df1_t *h)
+{
+	struct df1_eip_server_config c;
+	struct epoll_event ev;
+	const char *a;
+	int r;
+
+	const char *spec = o->eip;
+
+	memset(&c, 0, sizeof c);
+	c.listen = strncmp(spec, "tcp://", 6) == 0 ? spec + 6 : spec;
+	c.allow = o->eip_allow;
+	c.read_only = o->eip_read_only;
+	c.identity = sim_identity;
+	r = df1_eip_server_new(&s->eip, &c, sim_eip_pccc, s);
+	if (r < 0) {
+		msg("--eip %s: %s", spec, df1_eip_server_error(NULL));
+		return r == DF1_E_INVAL ? CLI_EXIT_USAGE : CLI_EXIT_FAIL;
+	}
+	a = df1_eip_server_address(s->eip);
+	if (strncmp(a, "0.0.0.0:", 8) == 0 || strncmp(a, "[::]:", 5) == 0)
+		msg("EtherNet/IP on %s: every interface, reachable from other hosts", a);
+	else if (strncmp(a, "127.", 4) != 0 && strncmp(a, "[::1]:", 6) != 0)
+		msg("EtherNet/IP on %s: not loopback, reachable from other hosts", a);
+	s->wait_fd = epoll_create1(EPOLL_CLOEXEC);
+	if (s->wait_fd < 0) {
+		msg("epoll: %s", strerror(errno));
+		return CLI_EXIT_FAIL;
+	}
+	memset(&ev, 0, sizeof ev);
+	ev.events = EPOLLIN;
+	if (epoll_ctl(s->wait_fd, EPOLL_CTL_ADD, cli_signal_fd(), &ev) != 0 ||
+	    epoll_ctl(s->wait_fd, EPOLL_CTL_ADD, df1_eip_server_fd(s->eip), &ev) != 0) {
+		msg("epoll: %s", strerror(errno));
+		return CLI_EXIT_FAIL;
+	}
+	df1_set_cancel_fd(h, s->wait_fd);
+	return 0;
 }
 
 static int setup_handle(df1_t *h, const struct opts *o, struct sim *s)
@@ -538,6 +682,9 @@ static int setup_handle(df1_t *h, const struct opts *o, struct sim *s)
 
 static void sim_free(struct sim *s)
 {
+	df1_eip_server_free(s->eip);
+	if (s->wait_fd >= 0)
+		close(s->wait_fd);
 	for (int i = 0; i < 256; i++)
 		df1_table_free(s->tables[i]);
 	sim_cmdlog_close(&s->log);
@@ -549,6 +696,7 @@ static int sim_build(struct sim *s, const struct opts *o)
 	int r;
 
 	memset(s, 0, sizeof *s);
+	s->wait_fd = -1;
 	s->plc = o->cli.plc;
 	s->half = o->cli.half_duplex;
 	s->verbose = o->cli.verbose;
@@ -564,6 +712,13 @@ static int sim_build(struct sim *s, const struct opts *o)
 		return CLI_EXIT_FAIL;
 	}
 	s->tables[s->stations[0]] = tmpl;       /* sim_free() frees it from here on */
+	/* --eip simulates a MicroLogix 1400 (its identity): its diagnostic status
+	 * too, unless --processor or a --plc other than the default says otherwise */
+	if (o->eip && !o->processor && o->cli.plc == DF1_PLC_SLC &&
+	    df1_table_set_processor(tmpl, "ml1400") < 0) {
+		msg("out of memory");
+		return CLI_EXIT_FAIL;
+	}
 	if (o->processor && df1_table_set_processor(tmpl, o->processor) < 0) {
 		cli_usage_error(&o->cli, "--processor: unknown processor '%s' (e.g. slc5/04, ml1400, plc5/40, 0x5B)",
 		            o->processor);
@@ -632,6 +787,12 @@ int main(int argc, char **argv)
 		goto out;
 	}
 	df1_set_cancel_fd(h, cli_signal_fd());
+	sim.h = h;
+	if (o.eip) {
+		status = sim_eip_open(&sim, &o, h);
+		if (status)
+			goto out;
+	}
 
 	if (o.pty) {
 		status = sim_pty_create(&pty, o.pty, err, sizeof err);
@@ -653,7 +814,7 @@ int main(int argc, char **argv)
 			goto out;
 		}
 		snprintf(shown, sizeof shown, "%s", o.device);
-	} else {
+	} else if (o.listen) {
 		enum sim_listen_scope scope;
 
 		lfd = sim_listen_open(o.listen, shown, sizeof shown, &scope, err, sizeof err);
@@ -670,7 +831,8 @@ int main(int argc, char **argv)
 	}
 	/* the ready line a script waits for: one that cannot be written is an error */
 	errno = 0;
-	if (printf("%s\n", shown) < 0 || fflush(stdout) != 0) {
+	if ((o.where && printf("%s\n", shown) < 0) ||
+	    (sim.eip && printf("eip://%s\n", df1_eip_server_address(sim.eip)) < 0) || fflush(stdout) != 0) {
 		msg("stdout: the device line could not be written: %s", strerror(errno ? errno : EIO));
 		status = CLI_EXIT_FAIL;
 		goto out;
@@ -678,6 +840,8 @@ int main(int argc, char **argv)
 
 	if (lfd >= 0) {
 		status = serve_tcp(h, &sim, lfd, shown);
+	} else if (!o.where) {
+		status = serve_eip_only(h, &sim);
 	} else {
 		r = serve_open(h, &sim);
 		status = r < 0 ? report(h, shown, r) : 0;

@@ -11,6 +11,7 @@
 #include <stdint.h>
 
 #include "cli.h"
+#include "gw_eip.h"
 #include "gw_json.h"
 #include "gw_mqtt.h"
 #include "gw_state.h"
@@ -32,6 +33,8 @@ struct gw {
 	int refresh_s;
 	int watchdog_ms;
 	bool once;
+	bool counters;               /* --counters */
+	struct gw_eip eip;           /* --eip (listen NULL: off) */
 
 	char client_id[320];
 	char prefix[400];

@@ -138,6 +138,7 @@ int run_read(struct mon *m);        /* mon_read.c */
 int run_counters(struct mon *m);    /* mon_counters.c */
 int run_ping(struct mon *m);        /* mon_ping.c */
 int run_who(struct mon *m);         /* mon_who.c */
+bool who_is_eip(const struct mon *m);  /* mon_who.c: an eip:// device */
 /* --who's operand "N" or "LO-HI" (0..254) into m->who_lo, who_hi; exit 2 if bad. */
 int parse_range(struct mon *m, const char *arg);
 /* Every counter of the seed table in ID order, in the -f format; final: the one at exit. */

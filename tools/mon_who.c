@@ -1,11 +1,13 @@
 /*
- * mon_who - df1mon --who: station discovery with processor type.
+ * mon_who - df1mon --who: station discovery with processor type; with an
+ * eip:// device, what EtherNet/IP ListIdentity reports.
  */
 #include "mon.h"
 
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 /* "N" or "LO-HI", 0..254. */
 int parse_range(struct mon *m, const char *arg)
@@ -115,6 +117,71 @@ static int who_station(void *user, const struct df1_discover_result *r)
 	return out_broken();
 }
 
+bool who_is_eip(const struct mon *m)
+{
+	return m->cli.device && strncasecmp(m->cli.device, "eip:", 4) == 0;
+}
+
+/* One device of df1_eip_list_identity(3). */
+static void who_device(void *user, const struct df1_eip_device *d)
+{
+	struct who_scan *w = user;
+
+	w->found++;
+	switch (w->m->cli.format) {
+	case CLI_FMT_CSV:
+		printf("%s,%u,%u,%u,%u.%u,%08X,", d->address, d->vendor_id, d->device_type,
+		       d->product_code, d->rev_major, d->rev_minor, d->serial);
+		cli_csv_field(stdout, d->product_name);
+		printf(",%u,%04X\n", d->state, d->status);
+		break;
+	case CLI_FMT_JSON:
+		fputs("{\"address\":", stdout);
+		cli_json_string(stdout, d->address);
+		printf(",\"vendor_id\":%u,\"device_type\":%u,\"product_code\":%u,"
+		       "\"revision\":\"%u.%u\",\"serial\":\"%08X\",\"product_name\":",
+		       d->vendor_id, d->device_type, d->product_code, d->rev_major, d->rev_minor,
+		       d->serial);
+		cli_json_string(stdout, d->product_name);
+		printf(",\"state\":%u,\"status\":\"%04X\"}\n", d->state, d->status);
+		break;
+	default:
+		printf("%s: \"%s\" vendor %u device type %u product code %u revision %u.%u "
+		       "serial %08X state %u status %04X\n", d->address, d->product_name, d->vendor_id,
+		       d->device_type, d->product_code, d->rev_major, d->rev_minor, d->serial, d->state,
+		       d->status);
+		break;
+	}
+	fflush(stdout);
+}
+
+/* --who with an eip:// device: ListIdentity, TCP to the host or UDP to a
+ * broadcast address, answers until -o. The station range does not apply. */
+static int run_who_eip(struct mon *m)
+{
+	struct who_scan w;
+	char text[320];
+	int r;
+
+	memset(&w, 0, sizeof w);
+	w.m = m;
+	if (m->cli.format == CLI_FMT_CSV)
+		puts("address,vendor_id,device_type,product_code,revision,serial,product_name,state,"
+		     "status");
+	r = df1_eip_list_identity(m->h, m->cli.device, m->cli.timeout_ms, who_device, &w);
+	if (r < 0 && r != DF1_E_INTR && !cli_stop) {
+		if (!m->cli.quiet) {
+			cli_error_text(m->h, r, text, sizeof text);
+			fprintf(stderr, "%s: --who: %s: %s\n", m->cli.name, m->cli.device, text);
+		}
+		return CLI_EXIT_FAIL;
+	}
+	if (!m->cli.quiet)
+		fprintf(stderr, "%s: %s: %d device%s answered ListIdentity\n", m->cli.name,
+		        m->cli.device, w.found, w.found == 1 ? "" : "s");
+	return w.found > 0 ? CLI_EXIT_OK : CLI_EXIT_FAIL;
+}
+
 /*
  * df1_discover(3) does the probing: half duplex, a poll per station, bounded
  * by -o (200 ms by default for --who), and the diagnostic status of a station
@@ -129,6 +196,8 @@ int run_who(struct mon *m)
 	char text[320];
 	int r = 0;
 
+	if (who_is_eip(m))
+		return run_who_eip(m);
 	memset(&w, 0, sizeof w);
 	w.m = m;
 	w.last = -1;

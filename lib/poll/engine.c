@@ -194,7 +194,9 @@ static void poll_free_engine(struct df1 *h)
 	while (w) {
 		struct wnode *next = w->next;
 
-		if (w->done)
+		if (w->pdone)
+			w->pdone(w->user, DF1_E_NOT_OPEN, NULL, 0);
+		else if (w->done)
 			w->done(w->user, w->tag, w->wid, DF1_E_NOT_OPEN);
 		free(w);
 		w = next;

@@ -92,6 +92,14 @@
  * ACK or reply safe); its result goes to the callback once; the engine never
  * sends a failed write again. A good write makes the tag's block due so the
  * value is read back.
+ *
+ * Raw PCCC commands (df1_poll_submit_pccc) join the same FIFO, so writes and
+ * every bridge client are served in the order they came, none starved. Each is
+ * one link_transact() with the line's TNS; the requester's TNS is put back in
+ * the reply. A command that may write (df1_pccc_is_write) gets one attempt
+ * unless the failure says it never executed; read commands get the station's
+ * tries as block reads do. The queue holds at most DF1_PCCC_QUEUE_MAX raw
+ * commands (DF1_E_BUSY beyond): a bridge's clients cannot grow it without end.
  */
 #ifndef LIBDF1_POLL_INT_H
 #define LIBDF1_POLL_INT_H
@@ -188,12 +196,17 @@ struct pstation {
 	int last_error;
 };
 
+/* A queued write (df1_tag_write) or a raw PCCC command (df1_poll_submit_pccc,
+ * pdone set: station, n bytes at pccc); one FIFO keeps them in order. */
 struct wnode {
 	struct wnode *next;
 	int tag, wid;
 	df1_write_done_fn done;
+	df1_pccc_done_fn pdone;
+	int station;
 	void *user;
 	size_t n;
+	uint8_t *pccc;
 	struct df1_value v[];
 };
 
@@ -225,6 +238,7 @@ struct poll_engine {
 	/* write queue (mu) */
 	struct wnode *wq_head, *wq_tail;
 	unsigned wq_len;
+	unsigned pccc_len;      /* raw PCCC commands of them (DF1_PCCC_QUEUE_MAX) */
 	int next_wid;
 
 	df1_tag_fn cb;

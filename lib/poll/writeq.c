@@ -1,8 +1,12 @@
 /*
- * writeq.c - queued writes: df1_tag_write() from any thread, and the queue
- * run between two transactions of df1_poll().
+ * writeq.c - queued writes and raw PCCC commands: df1_tag_write() and
+ * df1_poll_submit_pccc() from any thread, and the queue run between two
+ * transactions of df1_poll().
  */
 #include "poll_int.h"
+
+#include "link.h"
+#include "pccc.h"
 
 static int poll_write_one(struct df1 *h, struct poll_engine *e, struct wnode *w)
 {
@@ -37,6 +41,61 @@ static int poll_write_one(struct df1 *h, struct poll_engine *e, struct wnode *w)
 	return o == OUT_ABORT ? rc : 1;
 }
 
+/* One attempt of a raw command: the reply's app bytes (DST SRC CMD|40 ...) in
+ * r, their length, or DF1_E_*. The line's TNS goes out, not the requester's. */
+static int poll_pccc_try(struct df1 *h, const struct wnode *w, uint8_t *r, size_t cap)
+{
+	uint8_t c[FRAME_MAX_DATA];
+	int rc;
+
+	c[0] = (uint8_t)w->station;
+	memcpy(c + 2, w->pccc, w->n);  /* SRC and TNS are the link's */
+	df1_clear_error(h);
+	rc = link_transact(h, c, w->n + 2, r, cap);
+	if (rc < 0)
+		return rc;
+	if (rc < PCCC_HDR_LEN)
+		return df1_fail(h, DF1_E_BAD_REPLY, w->station, "PCCC %02X: %d-byte reply", w->pccc[0], rc);
+	if (r[2] != (w->pccc[0] | PCCC_REPLY_BIT))
+		return df1_fail(h, DF1_E_BAD_FUNCTION, w->station, "PCCC %02X: reply CMD %02X",
+		                w->pccc[0], r[2]);
+	return rc;
+}
+
+/* A raw command: tries while the link fails and the command surely did not
+ * execute (or only reads); the reply with the requester's TNS to pdone. */
+static int poll_pccc_one(struct df1 *h, struct poll_engine *e, struct wnode *w)
+{
+	uint8_t r[FRAME_MAX_DATA];
+	int stn = w->station, tries = poll_tries(&e->st[stn]), rc;
+	bool writes = df1_pccc_is_write(w->pccc, w->n);
+	enum outcome o;
+
+	for (;;) {
+		poll_attempt(e, stn, df1_now_ms());
+		rc = poll_pccc_try(h, w, r, sizeof r);
+		o = poll_outcome(h, rc);
+		if (o != OUT_LINK)
+			break;
+		e->st[stn].last_error = rc;
+		poll_station_fail(e, stn, rc, df1_now_ms());
+		if (--tries <= 0 || e->st[stn].state == DF1_STATION_OFFLINE ||
+		    (writes && !df1_error_unexecuted(rc)))
+			break;
+		e->stats.retries++;
+	}
+	if (rc >= 0) {
+		poll_station_answer(e, stn, df1_now_ms());
+		r[4] = w->pccc[2];              /* the requester's TNS again */
+		r[5] = w->pccc[3];
+		w->pdone(w->user, 0, r + 2, (size_t)rc - 2);
+	} else {
+		w->pdone(w->user, rc, NULL, 0);
+	}
+	free(w);
+	return o == OUT_ABORT ? rc : 1;
+}
+
 static struct wnode *poll_wq_pop(struct poll_engine *e)
 {
 	struct wnode *w;
@@ -48,9 +107,27 @@ static struct wnode *poll_wq_pop(struct poll_engine *e)
 		if (!e->wq_head)
 			e->wq_tail = NULL;
 		e->wq_len--;
+		if (w->pdone)
+			e->pccc_len--;
 	}
 	pthread_mutex_unlock(&e->mu);
 	return w;
+}
+
+/* Append w to the FIFO and wake df1_poll(); e->mu held. */
+static void poll_wq_push_locked(struct poll_engine *e, struct wnode *w)
+{
+	uint64_t one = 1;
+	ssize_t wr;
+
+	if (e->wq_tail)
+		e->wq_tail->next = w;
+	else
+		e->wq_head = w;
+	e->wq_tail = w;
+	e->wq_len++;
+	wr = write(e->wake_fd, &one, sizeof one);   /* under the lock: the fd outlives it */
+	(void)wr;                                   /* EAGAIN: the counter is full, still readable */
 }
 
 /* The writes queued now, in order: the free slot between two transactions. */
@@ -68,7 +145,7 @@ int poll_run_writes(struct df1 *h, struct poll_engine *e)
 
 		if (!w)
 			break;
-		r = poll_write_one(h, e, w);
+		r = w->pdone ? poll_pccc_one(h, e, w) : poll_write_one(h, e, w);
 		if (r < 0)
 			return r;
 		done += r;
@@ -83,8 +160,6 @@ int df1_tag_write(df1_t *h, int id, const struct df1_value *v, size_t n, df1_wri
 	struct ptag *t = NULL;
 	struct wnode *w;
 	enum df1_file_type vt;
-	uint64_t one = 1;
-	ssize_t wr;
 	int wid;
 
 	/* any thread: no df1_fail() here (the error detail belongs to the poll thread) */
@@ -113,7 +188,7 @@ int df1_tag_write(df1_t *h, int id, const struct df1_value *v, size_t n, df1_wri
 	w = malloc(sizeof *w + n * sizeof *v);
 	if (!w)
 		return DF1_E_NOMEM;
-	w->next = NULL;
+	memset(w, 0, sizeof *w);
 	w->tag = id;
 	w->done = done;
 	w->user = user;
@@ -122,14 +197,42 @@ int df1_tag_write(df1_t *h, int id, const struct df1_value *v, size_t n, df1_wri
 	pthread_mutex_lock(&e->mu);
 	w->wid = wid = e->next_wid;
 	e->next_wid = e->next_wid == INT_MAX ? 1 : e->next_wid + 1;
-	if (e->wq_tail)
-		e->wq_tail->next = w;
-	else
-		e->wq_head = w;
-	e->wq_tail = w;
-	e->wq_len++;
-	wr = write(e->wake_fd, &one, sizeof one);   /* under the lock: the fd outlives it */
+	poll_wq_push_locked(e, w);
 	pthread_mutex_unlock(&e->mu);
-	(void)wr;                                   /* EAGAIN: the counter is full, still readable */
 	return wid;                                 /* w may be gone already */
+}
+
+int df1_poll_submit_pccc(df1_t *h, int station, const uint8_t *pccc, size_t n,
+                         df1_pccc_done_fn done, void *user)
+{
+	struct poll_engine *e;
+	struct wnode *w;
+
+	/* any thread: no df1_fail() here, as df1_tag_write() */
+	if (!h || !pccc || !done || n < 4 || n > DF1_PCCC_MAX || station < 0 || station > 254 ||
+	    (pccc[0] & PCCC_REPLY_BIT))
+		return DF1_E_INVAL;
+	e = h->poll;
+	if (!e)
+		return DF1_E_INVAL;     /* df1_poll_fd() or df1_poll() make the engine first */
+	w = malloc(sizeof *w + n);
+	if (!w)
+		return DF1_E_NOMEM;
+	memset(w, 0, sizeof *w);
+	w->pdone = done;
+	w->station = station;
+	w->user = user;
+	w->n = n;
+	w->pccc = (uint8_t *)w->v;
+	memcpy(w->pccc, pccc, n);
+	pthread_mutex_lock(&e->mu);
+	if (e->pccc_len >= DF1_PCCC_QUEUE_MAX) {
+		pthread_mutex_unlock(&e->mu);
+		free(w);
+		return DF1_E_BUSY;
+	}
+	e->pccc_len++;
+	poll_wq_push_locked(e, w);
+	pthread_mutex_unlock(&e->mu);
+	return 0;
 }

@@ -1,7 +1,9 @@
 /*
  * port_tcp.c - raw DF1 over a TCP connection (a serial device server, df1sim
  * --listen): "tcp://host:port", "tcp://192.168.1.20:2101", "tcp://[::1]:2222";
- * the scheme in any case ("TCP://host:port"), "tcp:host:port" too.
+ * the scheme in any case ("TCP://host:port"), "tcp:host:port" too. The same
+ * connection carries EtherNet/IP for an "eip://host[:port]" target (the link's
+ * lib/link/eip.c opens it so): there the port may be left out, 44818.
  *
  * The connect is non-blocking and bounded by a deadline of the handle's
  * timeout (at least 1000 ms), trying each address getaddrinfo() returns;
@@ -28,9 +30,11 @@
 #include "df1_int.h"
 
 #define TCP_MIN_CONNECT_MS 1000
+#define EIP_TCP_PORT 44818        /* EtherNet/IP encapsulation (df1-eip(7)) */
 
-/* Split "host:port" / "[v6]:port" (after the scheme). 0 or DF1_E_INVAL. */
-static int tcp_parse(struct df1 *h, const char *target, const char *rest, char *host,
+/* Split "host:port" / "[v6]:port" (after the scheme); with eip, "host" and
+ * "[v6]" alone too (port 44818). 0 or DF1_E_INVAL. */
+static int tcp_parse(struct df1 *h, const char *target, const char *rest, bool eip, char *host,
                      size_t hcap, char *port, size_t pcap)
 {
 	const char *colon, *hs = rest, *he;
@@ -40,11 +44,16 @@ static int tcp_parse(struct df1 *h, const char *target, const char *rest, char *
 	if (*rest == '[') {
 		hs = rest + 1;
 		he = strchr(hs, ']');
-		if (!he || he[1] != ':')
+		if (!he || (he[1] != ':' && !(eip && (he[1] == '\0' || strcmp(he + 1, "/") == 0))))
 			goto bad;
 		colon = he + 1;
 	} else {
 		colon = strrchr(rest, ':');
+		if (!colon && eip) {
+			colon = rest + strlen(rest);
+			if (colon > rest && colon[-1] == '/')
+				colon--;
+		}
 		if (!colon)
 			goto bad;
 		he = colon;
@@ -55,6 +64,10 @@ static int tcp_parse(struct df1 *h, const char *target, const char *rest, char *
 		goto bad;
 	memcpy(host, hs, (size_t)(he - hs));
 	host[he - hs] = '\0';
+	if (eip && *colon != ':') {
+		snprintf(port, pcap, "%d", EIP_TCP_PORT);
+		return 0;
+	}
 	errno = 0;
 	num = strtol(colon + 1, &end, 10);
 	if (colon[1] < '0' || colon[1] > '9' || errno || num < 1 || num > 65535 ||
@@ -63,6 +76,10 @@ static int tcp_parse(struct df1 *h, const char *target, const char *rest, char *
 	snprintf(port, pcap, "%ld", num);
 	return 0;
 bad:
+	if (eip)
+		return df1_fail(h, DF1_E_INVAL, -1,
+		                "invalid EtherNet/IP target \"%s\": expected eip://HOST[:PORT] or "
+		                "eip://[IPv6][:PORT] (port 1..65535, default 44818)", target);
 	return df1_fail(h, DF1_E_INVAL, -1,
 	                "invalid TCP target \"%s\": expected tcp://HOST:PORT or tcp://[IPv6]:PORT "
 	                "(port 1..65535)", target);
@@ -111,16 +128,17 @@ static int tcp_open(struct df1 *h, const char *target)
 	char host[256], port[8];
 	struct addrinfo hints, *res = NULL, *ai;
 	const char *rest = target;
+	bool eip = strncasecmp(target, "eip:", 4) == 0;
 	int r, fd = -1, err = ECONNREFUSED, one = 1;
 	int wait_ms = h->cfg.timeout_ms > TCP_MIN_CONNECT_MS ? h->cfg.timeout_ms : TCP_MIN_CONNECT_MS;
 	int64_t deadline_ms = df1_now_ms() + wait_ms;
 
 	snprintf(h->port_name, sizeof h->port_name, "%s", target);
-	if (strncasecmp(rest, "tcp:", 4) == 0) /* the scheme in any case */
+	if (strncasecmp(rest, "tcp:", 4) == 0 || eip) /* the scheme in any case */
 		rest += 4;
 	if (strncmp(rest, "//", 2) == 0)
 		rest += 2;
-	r = tcp_parse(h, target, rest, host, sizeof host, port, sizeof port);
+	r = tcp_parse(h, target, rest, eip, host, sizeof host, port, sizeof port);
 	if (r < 0)
 		return r;
 	snprintf(h->port_name, sizeof h->port_name, strchr(host, ':') ? "[%s]:%s" : "%s:%s",

@@ -3,8 +3,10 @@
 #define DF1_ADDR_ASCII_MAX 52
 #define DF1_ADDR_NONE -1
 #define DF1_CATALOG_COUNT 61
-#define DF1_ERROR_COUNT 32
-#define DF1_E_LAST_ -32
+#define DF1_ERROR_COUNT 34
+#define DF1_E_LAST_ -34
+#define DF1_PCCC_MAX 262
+#define DF1_PCCC_QUEUE_MAX 64
 #define DF1_READ_MULTI_STOP 1
 #define DF1_SILENT_ALL 256
 #define DF1_STRING_MAX 82
@@ -55,11 +57,14 @@ enum df1_error {
 	DF1_E_NO_ETX = -29,
 	DF1_E_NODEV = -30,
 	DF1_E_PERM = -31,
+	DF1_E_EIP = -32,
+	DF1_E_CIP = -33,
 };
 const char *df1_strerror(int err);
 const char *df1_errname(int err);
 int df1_error_catalog_id(int err);
 _Bool df1_error_unexecuted(int err);
+_Bool df1_pccc_is_write(const uint8_t *pccc, size_t n);
 const char *df1_sts_text(uint8_t sts);
 const char *df1_ext_sts_text(uint8_t ext);
 const char *df1_ext_sts_text_dh485(uint8_t ext);
@@ -239,6 +244,7 @@ enum df1_option {
 	DF1_OPT_SCAN_TIME_MS,
 	DF1_OPT_NO_EOT,
 	DF1_OPT_MAX_OUTSTANDING,
+	DF1_OPT_EIP_CONNECTED,
 };
 int df1_new(df1_t **out);
 void df1_free(df1_t *h);
@@ -401,6 +407,40 @@ int df1_server_set_fault(df1_t *h, enum df1_fault f, int per_mille, int value);
 void df1_server_set_seed(df1_t *h, uint64_t seed);
 int df1_server_set_max_queue(df1_t *h, int max_queue);
 int df1_set_line_baud(df1_t *h, int baud);
+int df1_serve_pccc(df1_t *h, const struct df1_server_ops *ops, void *user, int station, const uint8_t *pccc, size_t n, uint8_t *reply, size_t cap);
+typedef struct df1_eip_server df1_eip_server_t;
+struct df1_eip_identity {
+	uint16_t vendor_id, device_type, product_code;
+	uint8_t rev_major, rev_minor;
+	uint16_t status;
+	uint32_t serial;
+	char product_name[33];
+};
+struct df1_eip_server_config {
+	const char *listen;
+	const char *allow;
+	_Bool read_only;
+	int max_clients;
+	struct df1_eip_identity identity;
+};
+typedef void (*df1_eip_pccc_fn)(void *user, df1_eip_server_t *s, uint32_t request, int station, const uint8_t *pccc, size_t n);
+int df1_eip_server_new(df1_eip_server_t **out, const struct df1_eip_server_config *c, df1_eip_pccc_fn fn, void *user);
+const char *df1_eip_server_address(const df1_eip_server_t *s);
+int df1_eip_server_fd(const df1_eip_server_t *s);
+int df1_eip_server_process(df1_eip_server_t *s);
+int df1_eip_server_reply(df1_eip_server_t *s, uint32_t request, const uint8_t *pccc_reply, size_t n);
+int df1_eip_server_fail(df1_eip_server_t *s, uint32_t request, int cip_status);
+struct df1_eip_server_stats {
+	uint64_t sessions;
+	uint64_t sessions_open;
+	uint64_t requests;
+	uint64_t errors;
+	uint64_t refused_clients;
+	uint64_t read_only_refusals;
+};
+void df1_eip_server_stats(const df1_eip_server_t *s, struct df1_eip_server_stats *st);
+const char *df1_eip_server_error(const df1_eip_server_t *s);
+void df1_eip_server_free(df1_eip_server_t *s);
 struct df1_table;
 int df1_table_new(struct df1_table **out, enum df1_plc plc);
 void df1_table_free(struct df1_table *t);
@@ -513,6 +553,8 @@ int df1_tag_write(df1_t *h, int id, const struct df1_value *v, size_t n, df1_wri
 int df1_poll(df1_t *h, int timeout_ms);
 int df1_poll_next_ms(const df1_t *h);
 int df1_poll_fd(df1_t *h);
+typedef void (*df1_pccc_done_fn)(void *user, int result, const uint8_t *reply, size_t n);
+int df1_poll_submit_pccc(df1_t *h, int station, const uint8_t *pccc, size_t n, df1_pccc_done_fn done, void *user);
 int df1_poll_set_watchdog(df1_t *h, int watchdog_ms, int absolute_retries);
 int df1_poll_set_station_range(df1_t *h, int lo, int hi);
 struct df1_poll_stats {
@@ -561,3 +603,14 @@ int df1_read_multi(df1_t *h, int station, struct df1_read_req *reqs, size_t n, u
 int df1_packet_max(enum df1_plc plc, _Bool write);
 int df1_station_health(const df1_t *h, int station, struct df1_station_health *out);
 int df1_poll_station(const df1_t *h, int station, struct df1_station_health *out) ;
+struct df1_eip_device {
+	char address[64];
+	uint16_t vendor_id, device_type, product_code;
+	uint8_t rev_major, rev_minor;
+	uint16_t status;
+	uint32_t serial;
+	char product_name[33];
+	uint8_t state;
+};
+typedef void (*df1_eip_device_fn)(void *user, const struct df1_eip_device *d);
+int df1_eip_list_identity(df1_t *h, const char *target, int timeout_ms, df1_eip_device_fn fn, void *user);
