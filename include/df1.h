@@ -18,9 +18,9 @@
 #include <time.h>
 
 #define DF1_VERSION_MAJOR 0
-#define DF1_VERSION_MINOR 3
+#define DF1_VERSION_MINOR 4
 #define DF1_VERSION_MICRO 0
-#define DF1_VERSION_STRING "0.3.0"
+#define DF1_VERSION_STRING "0.4.0"
 
 /* The version of the library a program runs with (as libusb_get_version()).
  * The macros above are the header a program was compiled against; with the
@@ -284,6 +284,22 @@ enum df1_option {
 	 * instead of the byte address 2 * element: the common interface file of an SLC or
 	 * MicroLogix with S:2/8 = 0 (spec 4.7). Client and responder. @since 0.3 */
 	DF1_OPT_PLC2_WORD_ADDR,
+	/* ms, 0..60000, default 0 = automatic: a half-duplex master that gets no first byte
+	 * in answer to a poll within this time polls again (until Cmd_Timeout) instead of
+	 * waiting the whole ACK timeout: some slaves answer a poll with nothing at all
+	 * when they have no reply yet, instead of DLE EOT. Automatic: 6 character times at
+	 * the line's baud + 20 ms turnaround, + 50 ms on TCP; never more than the timeout.
+	 * @since 0.4 */
+	DF1_OPT_POLL_TIMEOUT_MS,
+	/* ms, 0..10000, default 0: a responder (df1_serve) that acts as a controller with
+	 * this program scan: a command's reply becomes available at the end of the scan in
+	 * progress when it arrived (scans run back to back from df1_open), as an SLC
+	 * answers communication at its end of scan. 0: at once. @since 0.4 */
+	DF1_OPT_SCAN_TIME_MS,
+	/* bool, default 0: a half-duplex slave (df1_serve) answers a poll with nothing at
+	 * all, instead of DLE EOT, when it has no reply ready (devices that suppress the
+	 * EOT). @since 0.4 */
+	DF1_OPT_NO_EOT,
 };
 
 DF1_API int  df1_new(df1_t **out);      /* defaults: 19200 8N1, full duplex, CRC, station 0 */

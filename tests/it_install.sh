@@ -17,6 +17,11 @@ CC=${CC:-cc}
 [ -f Makefile ] && [ -f examples/read_n7.c ] || { echo "run from the repository root"; exit 1; }
 # a make of our own, not a part of the make that may be running this test
 unset MAKEFLAGS MFLAGS MAKELEVEL MAKEOVERRIDES SAN EXTRA TOOLS_LIB
+# nor the install directories of an outer build (a package build runs make
+# check with its own LIBDIR, SYSTEMDUNITDIR ...: they reach us as variables
+# of the environment); this test chooses its own
+unset PREFIX BINDIR LIBDIR INCLUDEDIR MANDIR PKGCONFIGDIR SYSTEMDUNITDIR WIRESHARK_PLUGINDIR \
+	DESTDIR MULTIARCH
 # (variables given on the outer make command line, like SAN=1 for the
 # sanitizer pass, reach us through the environment: the installed tree is
 # what a user builds, without sanitizers)

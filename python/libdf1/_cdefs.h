@@ -13,7 +13,7 @@
 #define DF1_TABLE_FILES_MAX 1000
 #define DF1_VERSION_MAJOR 0
 #define DF1_VERSION_MICRO 0
-#define DF1_VERSION_MINOR 3
+#define DF1_VERSION_MINOR 4
 
 struct df1_version {
 	int major;
@@ -235,6 +235,9 @@ enum df1_option {
 	DF1_OPT_LISTEN_ONLY,
 	DF1_OPT_PLC5_TIMER_WORDS,
 	DF1_OPT_PLC2_WORD_ADDR,
+	DF1_OPT_POLL_TIMEOUT_MS,
+	DF1_OPT_SCAN_TIME_MS,
+	DF1_OPT_NO_EOT,
 };
 int df1_new(df1_t **out);
 void df1_free(df1_t *h);
