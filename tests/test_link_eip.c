@@ -14,6 +14,8 @@
 #include <cmocka.h>
 
 #include <arpa/inet.h>
+#include <ifaddrs.h>
+#include <net/if.h>
 #include <netinet/in.h>
 #include <poll.h>
 #include <pthread.h>
@@ -927,6 +929,117 @@ static void test_eip_list_identity_tcp(void **state)
 	peer_join(&p);
 }
 
+/* ListIdentity by UDP broadcast: a responder bound to a local interface's
+ * broadcast address (it listens on no unicast address) answers twice, from
+ * loopback, as two devices would; both are reported. The one datagram also
+ * goes out on that interface, to an ephemeral port that no EtherNet/IP
+ * device listens on. Skipped where no interface has a broadcast address. */
+struct udp_peer {
+	int rx, tx;
+	bool failed;
+};
+
+static void *udp_main(void *arg)
+{
+	struct udp_peer *u = arg;
+	struct pollfd pf = { u->rx, POLLIN, 0 };
+	struct sockaddr_in from;
+	socklen_t fl = sizeof from;
+	uint8_t req[64], d[128], out[200];
+	struct eip_hdr h;
+	struct eip_identity id;
+	ssize_t n;
+
+	if (poll(&pf, 1, PEER_WAIT_MS) != 1 ||
+	    (n = recvfrom(u->rx, req, sizeof req, 0, (struct sockaddr *)&from, &fl)) != EIP_HDR_LEN ||
+	    eip_hdr_parse(&h, req, (size_t)n) < 0 || h.command != EIP_CMD_LIST_IDENTITY) {
+		u->failed = true;
+		return NULL;
+	}
+	for (int i = 0; i < 2; i++) {
+		int dl;
+
+		memset(&id, 0, sizeof id);
+		id.encap_version = 1;
+		id.sin_family = AF_INET;
+		id.sin_port = 44818;
+		id.vendor_id = 77;
+		id.serial = 0x100u + (uint32_t)i;
+		snprintf(id.product_name, sizeof id.product_name, "device %d", i);
+		dl = eip_identity_build(d, sizeof d, &id);
+		h.length = (uint16_t)dl;
+		eip_hdr_build(out, sizeof out, &h);
+		memcpy(out + EIP_HDR_LEN, d, (size_t)dl);
+		if (sendto(u->tx, out, EIP_HDR_LEN + (size_t)dl, 0, (struct sockaddr *)&from, fl) < 0)
+			u->failed = true;
+	}
+	return NULL;
+}
+
+static int udp_seen;
+static uint32_t udp_serials;
+static void on_udp_device(void *user, const struct df1_eip_device *d)
+{
+	(void)user;
+	udp_seen++;
+	udp_serials |= 1u << (d->serial & 0x1F);
+	assert_string_equal(d->address, "127.0.0.1:44818");
+}
+
+static void test_eip_list_identity_udp_broadcast(void **state)
+{
+	struct ifaddrs *ifs, *i;
+	struct sockaddr_in brd, lo;
+	struct udp_peer u = { -1, -1, false };
+	socklen_t al = sizeof brd;
+	bool have = false;
+	pthread_t t;
+	char target[64], ip[INET_ADDRSTRLEN];
+	df1_t *h;
+
+	(void)state;
+	assert_int_equal(getifaddrs(&ifs), 0);
+	for (i = ifs; i && !have; i = i->ifa_next)
+		if ((i->ifa_flags & IFF_BROADCAST) && (i->ifa_flags & IFF_UP) && i->ifa_broadaddr &&
+		    i->ifa_broadaddr->sa_family == AF_INET) {
+			memcpy(&brd, i->ifa_broadaddr, sizeof brd);
+			have = true;
+		}
+	freeifaddrs(ifs);
+	if (!have) {
+		skip();
+		return;
+	}
+	brd.sin_port = 0;
+	u.rx = socket(AF_INET, SOCK_DGRAM, 0);
+	u.tx = socket(AF_INET, SOCK_DGRAM, 0);
+	if (bind(u.rx, (struct sockaddr *)&brd, sizeof brd) < 0) {
+		close(u.rx);
+		close(u.tx);
+		skip();
+		return;
+	}
+	assert_int_equal(getsockname(u.rx, (struct sockaddr *)&brd, &al), 0);
+	memset(&lo, 0, sizeof lo);
+	lo.sin_family = AF_INET;
+	lo.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+	assert_int_equal(bind(u.tx, (struct sockaddr *)&lo, sizeof lo), 0);
+	assert_int_equal(pthread_create(&t, NULL, udp_main, &u), 0);
+	inet_ntop(AF_INET, &brd.sin_addr, ip, sizeof ip);
+	snprintf(target, sizeof target, "eip://%s:%d", ip, ntohs(brd.sin_port));
+	assert_int_equal(df1_new(&h), 0);
+	udp_seen = 0;
+	udp_serials = 0;
+	assert_int_equal(df1_eip_list_identity(h, target, 1000, on_udp_device, NULL), 2);
+	pthread_join(t, NULL);
+	assert_false(u.failed);
+	assert_int_equal(udp_seen, 2);
+	assert_int_equal(udp_serials, 3u);
+	df1_free(h);
+	close(u.rx);
+	close(u.tx);
+}
+
 /* Targets: syntax, unknown host, refused port, listen only; serial-only
  * settings are ignored (a half-duplex setting does not make it poll). */
 static void test_eip_targets(void **state)
@@ -1025,6 +1138,7 @@ int main(void)
 		cmocka_unit_test(test_eip_link_test),
 		cmocka_unit_test(test_eip_register_refused),
 		cmocka_unit_test(test_eip_list_identity_tcp),
+		cmocka_unit_test(test_eip_list_identity_udp_broadcast),
 		cmocka_unit_test(test_eip_targets),
 		cmocka_unit_test(test_eip_half_duplex_setting_ignored),
 		cmocka_unit_test(test_eip_read_only_commands),
