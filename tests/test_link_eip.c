@@ -768,6 +768,102 @@ static void test_eip_connected(void **state)
 	assert_int_equal(p.unregisters, 1);
 }
 
+/* Forward Open refused (general status 01, extended 0113h): the open fails
+ * with DF1_E_CIP naming both, and nothing is left open. */
+static void s_fwd_refused(struct peer *p)
+{
+	struct msg m;
+	uint8_t cip[16], out[96];
+	uint16_t ext = CIP_EXT_NO_MORE_CONNECTIONS;
+	struct eip_packet rp;
+	int cl, ol;
+
+	if (!peer_open(p) || !peer_recv(p, &m))
+		return;
+	cl = cip_resp_build(cip, sizeof cip, CIP_SVC_FORWARD_OPEN, CIP_ST_CONNECTION_FAILURE, &ext, 1,
+	                    NULL, 0);
+	memset(&rp, 0, sizeof rp);
+	rp.data = cip;
+	rp.len = (size_t)cl;
+	ol = eip_packet_build(out, sizeof out, SESSION, m.h.context, 0, &rp);
+	peer_send(p, out, (size_t)ol);
+	peer_drain(p);
+}
+
+static void test_eip_forward_open_refused(void **state)
+{
+	struct peer p;
+	df1_t *h;
+	char t[64];
+
+	(void)state;
+	peer_start(&p, s_fwd_refused);
+	assert_int_equal(df1_new(&h), 0);
+	assert_int_equal(df1_set_option(h, DF1_OPT_EIP_CONNECTED, 1), 0);
+	snprintf(t, sizeof t, "eip://127.0.0.1:%d", p.port);
+	assert_int_equal(df1_open(h, t), DF1_E_CIP);
+	assert_non_null(strstr(df1_last_error(h)->message, "Forward Open failed"));
+	assert_non_null(strstr(df1_last_error(h)->message, "0x01 (connection failure), extended 0x0113"));
+	assert_false(df1_is_open(h));
+	df1_free(h);
+	peer_join(&p);
+}
+
+/* Connected: a reply on another connection id or with an old sequence count
+ * is stale, dropped and counted; the one that matches is taken. */
+static void s_connected_stale(struct peer *p)
+{
+	struct msg m;
+	struct cip_fwd_open f;
+	struct eip_pccc pc;
+	uint8_t data[64], cip[96], out[200], r[16];
+	struct eip_packet rp;
+	uint32_t to;
+	size_t n;
+	int dl, cl, ol;
+
+	if (!peer_open(p) || !peer_recv(p, &m) ||
+	    cip_fwd_open_parse(&f, false, m.req.data, m.req.len) < 0)
+		return;
+	p->to_id = f.to_conn_id;
+	f.ot_conn_id = OT_ID;
+	dl = cip_fwd_open_reply_build(data, sizeof data, &f);
+	cl = cip_resp_build(cip, sizeof cip, CIP_SVC_FORWARD_OPEN, 0, NULL, 0, data, (size_t)dl);
+	memset(&rp, 0, sizeof rp);
+	rp.data = cip;
+	rp.len = (size_t)cl;
+	ol = eip_packet_build(out, sizeof out, SESSION, m.h.context, 0, &rp);
+	peer_send(p, out, (size_t)ol);
+	if (!peer_recv(p, &m) || !peer_pccc_of(p, &m, &pc))
+		return;
+	n = peer_answer(p, &pc, 0, r);
+	to = p->to_id;
+	p->to_id = to ^ 0x1000u;           /* another connection */
+	peer_reply(p, &m, &pc, 0, 0, r, n);
+	p->to_id = to;
+	m.p.seq = (uint16_t)(m.p.seq - 1); /* an older sequence count */
+	peer_reply(p, &m, &pc, 0, 0, r, n);
+	m.p.seq = (uint16_t)(m.p.seq + 1);
+	peer_reply(p, &m, &pc, 0, 0, r, n);
+	peer_drain(p);
+}
+
+static void test_eip_connected_stale(void **state)
+{
+	struct peer p;
+	df1_t *h;
+	int16_t v = 0;
+
+	(void)state;
+	peer_start(&p, s_connected_stale);
+	h = client(&p, "", true);
+	assert_int_equal(df1_read_int16(h, 1, "N7:0", &v, 1), 1);
+	assert_int_equal(v, 1234);
+	assert_int_equal(counter(h, DF1_ID_CNT_STALE_MSGS_RCVD), 2);
+	df1_free(h);
+	peer_join(&p);
+}
+
 /* "/2": Unconnected Send, route path port 2 with the station as link address. */
 static void s_routed(struct peer *p)
 {
@@ -1134,6 +1230,8 @@ int main(void)
 		cmocka_unit_test(test_eip_peer_closes_write_not_resent),
 		cmocka_unit_test(test_eip_idle_close_write_once),
 		cmocka_unit_test(test_eip_connected),
+		cmocka_unit_test(test_eip_forward_open_refused),
+		cmocka_unit_test(test_eip_connected_stale),
 		cmocka_unit_test(test_eip_route_path),
 		cmocka_unit_test(test_eip_link_test),
 		cmocka_unit_test(test_eip_register_refused),
