@@ -412,6 +412,8 @@ static int eip_reopen(struct df1 *h, struct link_eip *e)
 	r = eip_start(h, e);
 	if (r < 0)
 		e->broken = true;
+	else
+		df1_clear_error(h); /* what broke the old session is no error of this command */
 	return r;
 }
 
