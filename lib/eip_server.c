@@ -228,6 +228,15 @@ static int ep_add(struct df1_eip_server *s, int fd, uint32_t tag, uint32_t event
 	return epoll_ctl(s->ep, EPOLL_CTL_ADD, fd, &ev);
 }
 
+/* 0.0.0.0 or ::, however the resolver was given it (0, 0x0 ...). */
+static bool is_wildcard(const struct sockaddr *sa)
+{
+	if (sa->sa_family == AF_INET)
+		return ((const struct sockaddr_in *)sa)->sin_addr.s_addr == htonl(INADDR_ANY);
+	return sa->sa_family == AF_INET6 &&
+	       IN6_IS_ADDR_UNSPECIFIED(&((const struct sockaddr_in6 *)sa)->sin6_addr);
+}
+
 /* TCP listener and UDP socket on the same address and port. */
 static int open_sockets(struct df1_eip_server *s, const char *where)
 {
@@ -246,6 +255,11 @@ static int open_sockets(struct df1_eip_server *s, const char *where)
 	rc = getaddrinfo(host, port, &hints, &res);
 	if (rc != 0 || !res)
 		return srv_err(NULL, DF1_E_INVAL, "listen address \"%s\": %s", where, gai_strerror(rc));
+	if (is_wildcard(res->ai_addr) && strcmp(host, "0.0.0.0") != 0 && strcmp(host, "::") != 0) {
+		freeaddrinfo(res);
+		return srv_err(NULL, DF1_E_INVAL, "listen address \"%s\": every interface only as 0.0.0.0 or ::"
+		               " written out", where);
+	}
 	s->lfd = socket(res->ai_family, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
 	if (s->lfd < 0)
 		goto sys;
@@ -298,6 +312,8 @@ static void watch(struct df1_eip_server *s, struct eip_client *c, int slot)
 		ev |= EPOLLOUT;
 	else if (!c->waiting && !c->close_after)
 		ev |= EPOLLIN;
+	if (c->waiting)
+		ev |= EPOLLRDHUP;     /* a client gone while the caller works: its answer goes nowhere */
 	if (ev == c->events)
 		return;
 	memset(&e, 0, sizeof e);
@@ -656,6 +672,10 @@ DF1_API int df1_eip_server_process(df1_eip_server_t *s)
 		} else if (tag < (uint32_t)s->max_clients && s->cl[tag].fd >= 0) {
 			struct eip_client *c = &s->cl[tag];
 
+			if (c->waiting && (ev[i].events & (EPOLLRDHUP | EPOLLHUP | EPOLLERR))) {
+				client_close(s, c);
+				continue;
+			}
 			if ((ev[i].events & EPOLLOUT) && !client_flush(s, c))
 				continue;
 			if (ev[i].events & (EPOLLIN | EPOLLHUP | EPOLLERR))

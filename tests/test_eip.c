@@ -12,8 +12,15 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include "df1.h"
 #include "eip.h"
+#include "eip_session.h"
 
 /* "65 00 04" -> bytes */
 static size_t hex(const char *s, uint8_t *out, size_t cap)
@@ -43,6 +50,11 @@ static void assert_bytes(const uint8_t *got, int got_len, const char *expect_hex
 
 	assert_int_equal(got_len, (int)n);
 	assert_memory_equal(got, e, n);
+}
+
+static uint32_t le32_of(const uint8_t *p)
+{
+	return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
 }
 
 static const uint8_t ctx[8] = { 0x11, 0x22, 0x33, 0x44, 0x55, 0x66, 0x77, 0x88 };
@@ -517,6 +529,269 @@ static void test_cip_identity_attributes(void **state)
 	assert_int_equal(cip_identity_all_build(out, 16, &id), DF1_E_NOSPACE);
 }
 
+/* ------------------------------------------------------------------------
+ * The server connection's state machine (eip_session.c)
+ * ------------------------------------------------------------------------ */
+
+static const struct eip_identity sess_id = { 1, 2, 44818, 0x7F000001, 0, 0x0E, 0, 0, 4, 0, 9, "sim", 3 };
+
+static enum eip_verdict feed(struct eip_session *s, const char *msg_hex, uint8_t *out, size_t *n,
+                             struct eip_pending *p)
+{
+	uint8_t in[256];
+	size_t len = hex(msg_hex, in, sizeof in);
+
+	return eip_session_input(s, &sess_id, false, in, len, out, 512, n, p);
+}
+
+static void test_eip_session_register_and_pccc(void **state)
+{
+	struct eip_session s;
+	struct eip_pending p;
+	uint8_t out[512], in[256];
+	size_t n;
+	int len;
+	(void)state;
+
+	eip_session_init(&s, 0x01020304);
+	/* SendRRData before RegisterSession: 0x0064 */
+	assert_int_equal(feed(&s, "6F 00 00 00 04 03 02 01 00 00 00 00 11 22 33 44 55 66 77 88 00 00 00 00", out, &n,
+	                      &p), EIP_SEND);
+	assert_bytes(out, (int)n, "6F 00 00 00 04 03 02 01 64 00 00 00 11 22 33 44 55 66 77 88 00 00 00 00");
+	assert_int_equal(feed(&s, "65 00 04 00 00 00 00 00 00 00 00 00 11 22 33 44 55 66 77 88 00 00 00 00 01 00 00 00",
+	                      out, &n, &p), EIP_SEND);
+	assert_bytes(out, (int)n,
+	             "65 00 04 00 04 03 02 01 00 00 00 00 11 22 33 44 55 66 77 88 00 00 00 00 01 00 00 00");
+	assert_true(s.registered);
+	/* Execute PCCC (the vector of test_eip_send_rr_data_pccc_both_ways) */
+	len = (int)hex(RR_PCCC_READ, in, sizeof in);
+	assert_int_equal(eip_session_input(&s, &sess_id, false, in, (size_t)len, out, sizeof out, &n, &p), EIP_PCCC);
+	assert_int_equal(p.station, -1);
+	assert_false(p.connected);
+	assert_false(p.routed);
+	assert_bytes(p.reqid, (int)p.reqid_len, "07 4D 00 78 56 34 12");
+	assert_bytes(p.pccc, (int)p.len, "0F 00 34 12 A2 04 07 89 00 00");
+	/* its reply: CB 00 00 00, requester ID, the PCCC reply */
+	len = eip_session_reply(&p, 0, 0, (const uint8_t *)"\x4F\x00\x34\x12\x05\x00\x06\x00", 8, out, sizeof out);
+	assert_bytes(out, len,
+	             "6F 00 23 00 04 03 02 01 00 00 00 00 11 22 33 44 55 66 77 88 00 00 00 00 |"
+	             " 00 00 00 00 00 00 02 00 00 00 00 00 B2 00 13 00 |"
+	             " CB 00 00 00 07 4D 00 78 56 34 12 4F 00 34 12 05 00 06 00");
+	/* or a CIP error: 01 with extended status 0204 */
+	len = eip_session_reply(&p, 0x01, 0x0204, NULL, 0, out, sizeof out);
+	assert_bytes(out + 40, len - 40, "CB 00 01 01 04 02");
+	/* UnRegisterSession: close, no reply */
+	assert_int_equal(feed(&s, "66 00 00 00 04 03 02 01 00 00 00 00 11 22 33 44 55 66 77 88 00 00 00 00", out, &n,
+	                      &p), EIP_CLOSE);
+}
+
+static void test_eip_session_errors(void **state)
+{
+	struct eip_session s;
+	struct eip_pending p;
+	uint8_t out[512], in[64];
+	size_t n, len;
+	(void)state;
+
+	eip_session_init(&s, 7);
+	/* unknown command: 0x0001, the connection stays */
+	assert_int_equal(feed(&s, "99 00 00 00 00 00 00 00 00 00 00 00 01 02 03 04 05 06 07 08 00 00 00 00", out, &n,
+	                      &p), EIP_SEND);
+	assert_bytes(out, (int)n, "99 00 00 00 00 00 00 00 01 00 00 00 01 02 03 04 05 06 07 08 00 00 00 00");
+	/* NOP and a request with options: nothing */
+	assert_int_equal(feed(&s, "00 00 01 00 00 00 00 00 00 00 00 00 01 02 03 04 05 06 07 08 00 00 00 00 AA", out, &n,
+	                      &p), EIP_SILENT);
+	assert_int_equal(feed(&s, "04 00 00 00 00 00 00 00 00 00 00 00 01 02 03 04 05 06 07 08 01 00 00 00", out, &n,
+	                      &p), EIP_SILENT);
+	/* RegisterSession of 3 bytes: 0x0065; version 2: 0x0069 naming version 1 */
+	assert_int_equal(feed(&s, "65 00 03 00 00 00 00 00 00 00 00 00 01 02 03 04 05 06 07 08 00 00 00 00 01 00 00",
+	                      out, &n, &p), EIP_SEND);
+	assert_int_equal(out[8], 0x65);
+	assert_int_equal(feed(&s, "65 00 04 00 00 00 00 00 00 00 00 00 01 02 03 04 05 06 07 08 00 00 00 00 02 00 00 00",
+	                      out, &n, &p), EIP_SEND);
+	assert_bytes(out + 8, 4, "69 00 00 00");
+	assert_bytes(out + 24, (int)n - 24, "01 00 00 00");
+	assert_false(s.registered);
+	/* a length over the limit (only the header given): 0x0065 and close */
+	len = hex("6F 00 F0 FF 07 00 00 00 00 00 00 00 01 02 03 04 05 06 07 08 00 00 00 00", in, sizeof in);
+	assert_int_equal(eip_session_input(&s, &sess_id, false, in, len, out, sizeof out, &n, &p), EIP_SEND_CLOSE);
+	assert_int_equal(out[8], 0x65);
+	/* over UDP only ListIdentity / ListServices are answered */
+	len = hex("65 00 04 00 00 00 00 00 00 00 00 00 01 02 03 04 05 06 07 08 00 00 00 00 01 00 00 00", in, sizeof in);
+	assert_int_equal(eip_session_input(&s, &sess_id, true, in, len, out, sizeof out, &n, &p), EIP_SILENT);
+	len = hex("63 00 00 00 00 00 00 00 00 00 00 00 01 02 03 04 05 06 07 08 00 00 00 00", in, sizeof in);
+	assert_int_equal(eip_session_input(&s, &sess_id, true, in, len, out, sizeof out, &n, &p), EIP_SEND);
+	assert_int_equal(out[24 + 6 + 32], 3);     /* the name "sim" */
+}
+
+static void test_eip_pccc_writes_by_command(void **state)
+{
+	(void)state;
+	assert_false(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\xA2", 5));
+	assert_false(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\xA1", 5));
+	assert_false(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\x68", 5));
+	assert_false(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\x01", 5));
+	assert_false(eip_pccc_writes((const uint8_t *)"\x06\x00\x01\x00\x03", 5));
+	assert_false(eip_pccc_writes((const uint8_t *)"\x01\x00\x01\x00", 4));
+	assert_true(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\xAA", 5));
+	assert_true(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\xAB", 5));
+	assert_true(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\x80", 5));
+	assert_true(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\x26", 5));
+	assert_true(eip_pccc_writes((const uint8_t *)"\x06\x00\x01\x00\x07", 5));
+	assert_true(eip_pccc_writes((const uint8_t *)"\x08\x00\x01\x00", 4));
+	assert_true(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00", 4));   /* no FNC */
+}
+
+/* ------------------------------------------------------------------------
+ * The server (lib/eip_server.c) on real loopback sockets: a request
+ * answered later, a client gone before its answer, the counters
+ * ------------------------------------------------------------------------ */
+
+struct srv_seen {
+	int calls;
+	uint32_t request;
+	int station;
+	uint8_t pccc[64];
+	size_t n;
+};
+
+static void srv_on_pccc(void *user, df1_eip_server_t *s, uint32_t request, int station, const uint8_t *pccc,
+                        size_t n)
+{
+	struct srv_seen *seen = user;
+
+	(void)s;
+	seen->calls++;
+	seen->request = request;
+	seen->station = station;
+	seen->n = n < sizeof seen->pccc ? n : sizeof seen->pccc;
+	memcpy(seen->pccc, pccc, seen->n);
+}
+
+/* Process until cond or 5 s (bounded; no sleep). */
+static void srv_run(df1_eip_server_t *s, const int *counter, int want)
+{
+	for (int i = 0; i < 500 && *counter < want; i++) {
+		struct pollfd p = { df1_eip_server_fd(s), POLLIN, 0 };
+
+		(void)poll(&p, 1, 10);
+		assert_true(df1_eip_server_process(s) >= 0);
+	}
+	assert_int_equal(*counter, want);
+}
+
+static int srv_connect(df1_eip_server_t *s)
+{
+	struct sockaddr_in a;
+	const char *addr = df1_eip_server_address(s);
+	int fd = socket(AF_INET, SOCK_STREAM, 0);
+
+	assert_true(fd >= 0);
+	memset(&a, 0, sizeof a);
+	a.sin_family = AF_INET;
+	a.sin_port = htons((uint16_t)atoi(strchr(addr, ':') + 1));
+	a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+	assert_int_equal(connect(fd, (struct sockaddr *)&a, sizeof a), 0);
+	return fd;
+}
+
+/* Read one whole message (bounded by the server's processing). */
+static size_t srv_recv(df1_eip_server_t *s, int fd, uint8_t *buf, size_t cap)
+{
+	size_t got = 0;
+
+	for (int i = 0; i < 500; i++) {
+		struct pollfd p[2] = { { df1_eip_server_fd(s), POLLIN, 0 }, { fd, POLLIN, 0 } };
+		ssize_t r;
+
+		(void)poll(p, 2, 10);
+		(void)df1_eip_server_process(s);
+		r = recv(fd, buf + got, cap - got, MSG_DONTWAIT);
+		if (r > 0)
+			got += (size_t)r;
+		if (got >= 24 && got >= eip_msg_len(buf, got))
+			return got;
+	}
+	fail_msg("no whole reply from the server (%zu bytes)", got);
+	return 0;
+}
+
+static void test_eip_server_deferred_reply_and_counters(void **state)
+{
+	struct df1_eip_server_config c;
+	struct df1_eip_server_stats st;
+	struct srv_seen seen = { 0 };
+	df1_eip_server_t *s;
+	uint8_t msg[256], in[256];
+	size_t n;
+	int fd, fd2;
+	(void)state;
+
+	memset(&c, 0, sizeof c);
+	c.listen = "0";
+	strcpy(c.identity.product_name, "test");
+	assert_int_equal(df1_eip_server_new(&s, &c, srv_on_pccc, &seen), 0);
+	assert_int_equal(strncmp(df1_eip_server_address(s), "127.0.0.1:", 10), 0);
+	fd = srv_connect(s);
+	n = hex("65 00 04 00 00 00 00 00 00 00 00 00 11 22 33 44 55 66 77 88 00 00 00 00 01 00 00 00", msg, sizeof msg);
+	assert_int_equal(send(fd, msg, n, 0), (ssize_t)n);
+	n = srv_recv(s, fd, in, sizeof in);
+	assert_int_equal(n, 28);
+	assert_int_equal(le32_of(in + 8), 0);
+	/* the PCCC read, in the session the server gave */
+	n = hex(RR_PCCC_READ, msg, sizeof msg);
+	memcpy(msg + 4, in + 4, 4);
+	assert_int_equal(send(fd, msg, n, 0), (ssize_t)n);
+	srv_run(s, &seen.calls, 1);
+	assert_int_equal(seen.station, -1);
+	assert_bytes(seen.pccc, (int)seen.n, "0F 00 34 12 A2 04 07 89 00 00");
+	/* answered later, from outside the callback */
+	assert_int_equal(df1_eip_server_reply(s, seen.request, (const uint8_t *)"\x4F\x00\x34\x12\x07\x00\x08\x00",
+	                                      8), 0);
+	n = srv_recv(s, fd, in, sizeof in);
+	assert_bytes(in + 40, (int)n - 40, "CB 00 00 00 07 4D 00 78 56 34 12 4F 00 34 12 07 00 08 00");
+	/* twice: not waiting any more */
+	assert_int_equal(df1_eip_server_reply(s, seen.request, (const uint8_t *)"\x4F\x00\x34\x12", 4), DF1_E_INVAL);
+	/* a second client asks, then goes away before the answer */
+	fd2 = srv_connect(s);
+	n = hex("65 00 04 00 00 00 00 00 00 00 00 00 11 22 33 44 55 66 77 88 00 00 00 00 01 00 00 00", msg, sizeof msg);
+	assert_int_equal(send(fd2, msg, n, 0), (ssize_t)n);
+	n = srv_recv(s, fd2, in, sizeof in);
+	n = hex(RR_PCCC_READ, msg, sizeof msg);
+	memcpy(msg + 4, in + 4, 4);
+	assert_int_equal(send(fd2, msg, n, 0), (ssize_t)n);
+	srv_run(s, &seen.calls, 2);
+	close(fd2);
+	for (int i = 0; i < 100; i++) {
+		df1_eip_server_stats(s, &st);
+		if (st.sessions_open == 1)
+			break;
+		struct pollfd p = { df1_eip_server_fd(s), POLLIN, 0 };
+		(void)poll(&p, 1, 10);
+		(void)df1_eip_server_process(s);
+	}
+	assert_int_equal(df1_eip_server_fail(s, seen.request, 0x01 | 0x0204 << 8), DF1_E_CLOSED);
+	df1_eip_server_stats(s, &st);
+	assert_int_equal(st.sessions, 2);
+	assert_int_equal(st.sessions_open, 1);
+	assert_int_equal(st.requests, 4);
+	assert_int_equal(st.errors, 0);
+	assert_int_equal(st.refused_clients, 0);
+	close(fd);
+	df1_eip_server_free(s);
+	/* what df1_eip_server_new refuses, and says why */
+	c.listen = "127.0.0.1:x";
+	assert_int_equal(df1_eip_server_new(&s, &c, srv_on_pccc, &seen), DF1_E_INVAL);
+	assert_non_null(strstr(df1_eip_server_error(NULL), "127.0.0.1:x"));
+	c.listen = "0";
+	c.allow = "10.0.0.0/8,nonsense";
+	assert_int_equal(df1_eip_server_new(&s, &c, srv_on_pccc, &seen), DF1_E_INVAL);
+	assert_non_null(strstr(df1_eip_server_error(NULL), "nonsense"));
+	c.allow = NULL;
+	c.max_clients = 256;
+	assert_int_equal(df1_eip_server_new(&s, &c, srv_on_pccc, &seen), DF1_E_INVAL);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -532,6 +807,10 @@ int main(void)
 		cmocka_unit_test(test_cip_forward_close_both_ways),
 		cmocka_unit_test(test_cip_unconnected_send_both_ways),
 		cmocka_unit_test(test_cip_identity_attributes),
+		cmocka_unit_test(test_eip_session_register_and_pccc),
+		cmocka_unit_test(test_eip_session_errors),
+		cmocka_unit_test(test_eip_pccc_writes_by_command),
+		cmocka_unit_test(test_eip_server_deferred_reply_and_counters),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

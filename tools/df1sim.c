@@ -606,7 +606,9 @@ static int sim_eip_open(struct sim *s, const struct opts *o, df1_t *h)
 		return r == DF1_E_INVAL ? CLI_EXIT_USAGE : CLI_EXIT_FAIL;
 	}
 	a = df1_eip_server_address(s->eip);
-	if (strncmp(a, "127.", 4) != 0 && strcmp(a, "[::1]") != 0 && strncmp(a, "[::1]:", 6) != 0)
+	if (strncmp(a, "0.0.0.0:", 8) == 0 || strncmp(a, "[::]:", 5) == 0)
+		msg("EtherNet/IP on %s: every interface, reachable from other hosts", a);
+	else if (strncmp(a, "127.", 4) != 0 && strncmp(a, "[::1]:", 6) != 0)
 		msg("EtherNet/IP on %s: not loopback, reachable from other hosts", a);
 	s->wait_fd = epoll_create1(EPOLL_CLOEXEC);
 	if (s->wait_fd < 0) {

@@ -346,8 +346,10 @@ enum eip_verdict eip_session_input(struct eip_session *s, const struct eip_ident
 	if (!s || !id || !msg || !out || cap < 64 || !pend || eip_hdr_parse(&h, msg, n) != 0)
 		return EIP_CLOSE;
 	if ((size_t)h.length + EIP_HDR_LEN > EIP_SESSION_MSG_MAX || n != EIP_HDR_LEN + (size_t)h.length) {
+		if (udp)
+			return EIP_SILENT;
 		*out_len = put_reply(out, &h, h.session, EIP_ST_INVALID_LENGTH, 0);
-		return udp ? EIP_SILENT : EIP_SEND_CLOSE;
+		return EIP_SEND_CLOSE;
 	}
 	if (h.status != 0 || h.options != 0)
 		return EIP_SILENT;

@@ -18,6 +18,7 @@ FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-om
 FUZZ_CFLAGS = -O1 -g $(FUZZ_SAN) -fsanitize=fuzzer-no-link $(DF1_CFLAGS) -Itests/fuzz -Itests -Itools
 
 FUZZ_TARGETS := frame pccc_reply pccc_command addr value net_csv map_csv table_file mon_read link poll
+FUZZ_TARGETS += eip
 FUZZ_BINS := $(FUZZ_TARGETS:%=$(FUZZ_B)/bin/fuzz_%)
 FUZZ_LIB_OBJS := $(LIB_SRCS:%.c=$(FUZZ_B)/%.o)
 FUZZ_COMMON_OBJS := $(FUZZ_B)/tests/fuzz/fuzz_file.o
@@ -43,6 +44,7 @@ FUZZ_DICT_table_file := csv addr value
 FUZZ_DICT_mon_read := df1 pcap
 FUZZ_DICT_link := df1 pccc
 FUZZ_DICT_poll := df1 pccc
+FUZZ_DICT_eip := eip
 
 FUZZ_COMPILE = $(Q)mkdir -p $(dir $@); $(if $(Q),echo "  FUZZCC  $@";) $(FUZZ_CC) $(FUZZ_CFLAGS)
 

@@ -119,6 +119,44 @@ def chunk(c, data):
     return bytes([c, len(data)]) + data
 
 
+def eip_msg(cmd, data=b"", session=0):
+    return struct.pack("<HHII8sI", cmd, len(data), session, 0, b"ctx-fuzz", 0) + data
+
+
+def eip_rr(cip, session=1):
+    return eip_msg(0x6F, struct.pack("<IHHHHHH", 0, 10, 2, 0, 0, 0xB2, len(cip)) + cip, session)
+
+
+def eip_unit(conn, seq, cip, session=1):
+    return eip_msg(0x70, struct.pack("<IHHHHIHHH", 0, 0, 2, 0xA1, 4, conn, 0xB1, len(cip) + 2, seq) + cip,
+                   session)
+
+
+def eip_conversations(pcccs):
+    """Whole sessions: register, identity, PCCC direct, routed and connected, close."""
+    session = 0x00010203       # fuzz_eip's session handle
+    reqid = b"\x07\x4d\x00\x78\x56\x34\x12"
+    cm = b"\x02\x20\x06\x24\x01"
+    reg = eip_msg(0x65, b"\x01\x00\x00\x00")
+    path = b"\x01\x00\x20\x02\x24\x01"
+    fo = (b"\x54" + cm + b"\x0a\x0e" + struct.pack("<IIHHI", 0, 0x11223344, 7, 0x4D, 0x87654321) +
+          b"\x03\x00\x00\x00" + struct.pack("<IHIH", 2000000, 0x43F4, 2000000, 0x43F4) + b"\xa3\x03" + path)
+    fc = b"\x4e" + cm + b"\x0a\x0e" + struct.pack("<HHI", 7, 0x4D, 0x87654321) + b"\x03\x00" + path
+    # the O->T id eip_session gives the first connection of this session
+    ot = ((session << 16) ^ 1 ^ 0x80000000) & 0xFFFFFFFF
+    out = [eip_msg(0x63) + eip_msg(0x04) + reg + eip_msg(0x65, b"\x02\x00\x00\x00")]
+    for p in pcccs[:40]:
+        ex = b"\x4b\x02\x20\x67\x24\x01" + reqid + p
+        pad = b"\x00" if len(ex) % 2 else b""
+        us = b"\x52" + cm + b"\x0a\x0e" + struct.pack("<H", len(ex)) + ex + pad + b"\x01\x00\x02\x03"
+        out.append(reg + eip_rr(ex, session) + eip_rr(us, session) + eip_rr(fo, session) +
+                   eip_unit(ot, 1, ex, session) + eip_rr(fc, session) + eip_msg(0x66, b"", session))
+    out.append(reg + eip_rr(b"\x0e\x03\x20\x01\x24\x01\x30\x07", session) +
+               eip_rr(b"\x01\x02\x20\x01\x24\x01", session) + eip_msg(0x99) +
+               eip_msg(0x6F, b"", session)[:4] + b"\xf0\xff" + eip_msg(0x6F, b"", session)[6:])
+    return out
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
@@ -203,6 +241,12 @@ def main():
             body = (chunk(0x07, reply) + chunk(0x80, b"")) * 8
         for plan in (0x00, 0x13, 0x21):
             cp.add("poll", bytes([line, plan, 4]) + body)
+
+    # eip: [options] + encapsulation messages (a session's conversation), the
+    # PCCC commands of the vectors carried in Execute PCCC
+    for opt in (0, 1, 2):
+        for conv in eip_conversations([a[2:] for _, a in apps if len(a) > 6 and not a[2] & 0x40]):
+            cp.add("eip", bytes([opt]) + conv)
 
     for t in sorted(cp.count):
         print("seeds: %-13s %d" % (t, cp.count[t]))
