@@ -202,9 +202,9 @@ static bool peer_pccc_of(struct peer *p, const struct msg *m, struct eip_pccc *p
 		peer_fail(p, why);
 		return false;
 	}
-	/* requester ID: length 7, vendor 0xFFFF, a serial */
-	if (pc->reqid_len != 7 || pc->reqid[0] != 7 || pc->reqid[1] != 0xFF || pc->reqid[2] != 0xFF) {
-		peer_fail(p, "requester ID not 7 bytes with vendor FFFF");
+	/* requester ID: length 7, vendor 0 (none claimed), a serial */
+	if (pc->reqid_len != 7 || pc->reqid[0] != 7 || pc->reqid[1] != 0 || pc->reqid[2] != 0) {
+		peer_fail(p, "requester ID not 7 bytes with vendor 0");
 		return false;
 	}
 	memcpy(p->last_pccc, pc->pccc, pc->len);
@@ -724,7 +724,7 @@ static void s_connected(struct peer *p)
 		return;
 	if (m.p.connected || m.req.service != CIP_SVC_FORWARD_OPEN ||
 	    cip_fwd_open_parse(&f, false, m.req.data, m.req.len) < 0 || f.transport != 0xA3 ||
-	    f.vendor_id != 0xFFFF) {
+	    f.vendor_id != 0) {
 		peer_fail(p, "Forward Open expected");
 		return;
 	}
@@ -1194,24 +1194,16 @@ static void test_eip_half_duplex_setting_ignored(void **state)
 	peer_join(&p);
 }
 
-static void test_eip_read_only_commands(void **state)
+static void test_eip_status_texts(void **state)
 {
-	static const uint8_t rd[] = { 0x0F, 0, 1, 2, 0xA2 }, wr[] = { 0x0F, 0, 1, 2, 0xAA },
-	                     diag[] = { 0x06, 0, 1, 2, 0x03 }, mode[] = { 0x0F, 0, 1, 2, 0x80 },
-	                     plc2r[] = { 0x01, 0, 1, 2 }, plc2w[] = { 0x08, 0, 1, 2 };
-
 	(void)state;
-	assert_true(link_eip_read_only_cmd(rd, sizeof rd));
-	assert_true(link_eip_read_only_cmd(diag, sizeof diag));
-	assert_true(link_eip_read_only_cmd(plc2r, sizeof plc2r));
-	assert_false(link_eip_read_only_cmd(wr, sizeof wr));
-	assert_false(link_eip_read_only_cmd(mode, sizeof mode));
-	assert_false(link_eip_read_only_cmd(plc2w, sizeof plc2w));
-	assert_false(link_eip_read_only_cmd(rd, 4));
 	assert_string_equal(link_eip_status_text(EIP_ST_INVALID_LENGTH), "invalid length");
+	assert_string_equal(link_eip_status_text(0x1234), "unknown status");
 	assert_string_equal(link_cip_status_text(CIP_ST_PATH_DESTINATION), "path destination unknown");
 	assert_string_equal(df1_errname(DF1_E_EIP), "DF1_E_EIP");
 	assert_string_equal(df1_strerror(DF1_E_CIP), "CIP error status");
+	assert_false(df1_error_unexecuted(DF1_E_EIP));
+	assert_false(df1_error_unexecuted(DF1_E_CIP));
 }
 
 int main(void)
@@ -1239,7 +1231,7 @@ int main(void)
 		cmocka_unit_test(test_eip_list_identity_udp_broadcast),
 		cmocka_unit_test(test_eip_targets),
 		cmocka_unit_test(test_eip_half_duplex_setting_ignored),
-		cmocka_unit_test(test_eip_read_only_commands),
+		cmocka_unit_test(test_eip_status_texts),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
