@@ -274,13 +274,30 @@ static bool peer_serve_one(struct peer *p, struct msg *m)
 	return true;
 }
 
-/* Serve until the client goes (EOF). */
+/* Serve until the client goes (EOF); a Forward Close is answered (and
+ * counted), so that closing a connected handle waits for nothing. */
 static void peer_drain(struct peer *p)
 {
 	struct msg m;
 
-	while (peer_recv(p, &m))
-		;
+	while (peer_recv(p, &m)) {
+		struct cip_fwd_close f;
+		struct eip_packet rp;
+		uint8_t data[32], cip[48], out[128];
+		int dl, cl, ol;
+
+		if (m.req.service != CIP_SVC_FORWARD_CLOSE || m.p.connected ||
+		    cip_fwd_close_parse(&f, m.req.data, m.req.len) < 0)
+			continue;
+		p->forward_closes++;
+		dl = cip_fwd_close_reply_build(data, sizeof data, &f);
+		cl = cip_resp_build(cip, sizeof cip, CIP_SVC_FORWARD_CLOSE, 0, NULL, 0, data, (size_t)dl);
+		memset(&rp, 0, sizeof rp);
+		rp.data = cip;
+		rp.len = (size_t)cl;
+		ol = eip_packet_build(out, sizeof out, SESSION, m.h.context, 0, &rp);
+		peer_send(p, out, (size_t)ol);
+	}
 }
 
 static void *peer_main(void *arg)
@@ -743,10 +760,6 @@ static void s_connected(struct peer *p)
 		if (!m.p.connected || m.p.conn_id != OT_ID || m.p.seq != i)
 			peer_fail(p, "SendUnitData on O->T id with sequence 1, 2");
 	}
-	if (!peer_recv(p, &m))
-		return;
-	if (m.req.service == CIP_SVC_FORWARD_CLOSE)
-		p->forward_closes++;
 	peer_drain(p);
 }
 
