@@ -2,7 +2,8 @@
  * df1.h - libdf1: the Allen-Bradley DF1 serial protocol (PCCC over RS-232/RS-485
  * or raw DF1 over TCP) for PLC-5, SLC 500 and MicroLogix controllers.
  *
- * The installed header (with df1_catalog.h, which it includes). Conventions (see libdf1(7)):
+ * The installed header (with df1_catalog.h and df1_eip.h, which it includes).
+ * Conventions (see libdf1(7)):
  *  - every int function returns >= 0 on success (0 or a count) and a negative
  *    DF1_E_* code on failure; df1_strerror()/df1_errname() turn it into text;
  *  - buffers belong to the caller; the library never prints, exits or aborts;
@@ -18,9 +19,9 @@
 #include <time.h>
 
 #define DF1_VERSION_MAJOR 0
-#define DF1_VERSION_MINOR 3
+#define DF1_VERSION_MINOR 4
 #define DF1_VERSION_MICRO 0
-#define DF1_VERSION_STRING "0.3.0"
+#define DF1_VERSION_STRING "0.4.0"
 
 /* The version of the library a program runs with (as libusb_get_version()).
  * The macros above are the header a program was compiled against; with the
@@ -286,6 +287,22 @@ enum df1_option {
 	 * instead of the byte address 2 * element: the common interface file of an SLC or
 	 * MicroLogix with S:2/8 = 0 (spec 4.7). Client and responder. @since 0.3 */
 	DF1_OPT_PLC2_WORD_ADDR,
+	/* ms, 0..60000, default 0 = automatic: a half-duplex master that gets no first byte
+	 * in answer to a poll within this time polls again (until Cmd_Timeout) instead of
+	 * waiting the whole ACK timeout: some slaves answer a poll with nothing at all
+	 * when they have no reply yet, instead of DLE EOT. Automatic: 6 character times at
+	 * the line's baud + 20 ms turnaround, + 50 ms on TCP; never more than the timeout.
+	 * @since 0.4 */
+	DF1_OPT_POLL_TIMEOUT_MS,
+	/* ms, 0..10000, default 0: a responder (df1_serve) that acts as a controller with
+	 * this program scan: a command's reply becomes available at the end of the scan in
+	 * progress when it arrived (scans run back to back from df1_open), as an SLC
+	 * answers communication at its end of scan. 0: at once. @since 0.4 */
+	DF1_OPT_SCAN_TIME_MS,
+	/* bool, default 0: a half-duplex slave (df1_serve) answers a poll with nothing at
+	 * all, instead of DLE EOT, when it has no reply ready (devices that suppress the
+	 * EOT). @since 0.4 */
+	DF1_OPT_NO_EOT,
 	/* bool, default 0: an eip:// target (libdf1(7)) carries PCCC in connected explicit
 	 * messages (Forward Open at df1_open(), SendUnitData, Forward Close at df1_close())
 	 * instead of unconnected SendRRData. Set it before df1_open(). @since 0.4 */
@@ -577,81 +594,9 @@ DF1_API int df1_set_line_baud(df1_t *h, int baud);
 DF1_API int df1_serve_pccc(df1_t *h, const struct df1_server_ops *ops, void *user, int station,
                            const uint8_t *pccc, size_t n, uint8_t *reply, size_t cap);
 
-/* ------------------------------------------------------------------------
- * EtherNet/IP server (df1_eip_server(3), df1-eip(7)): RegisterSession,
- * ListIdentity (TCP and UDP), ListServices, SendRRData and SendUnitData with
- * Forward Open / Forward Close, Unconnected Send with a route path, the
- * Identity object, and CIP Execute PCCC handed to the caller. One descriptor
- * for the caller's poll loop; nothing blocks. One thread at a time per server.
- * ------------------------------------------------------------------------ */
-typedef struct df1_eip_server df1_eip_server_t;
-
-/* What ListIdentity and the Identity object (class 01) report. @since 0.4 */
-struct df1_eip_identity {
-	uint16_t vendor_id, device_type, product_code;
-	uint8_t rev_major, rev_minor;
-	uint16_t status;
-	uint32_t serial;
-	char product_name[33];      /* up to 32 characters */
-};
-
-/* @since 0.4 */
-struct df1_eip_server_config {
-	const char *listen;         /* "[ADDR:]PORT" (TCP and UDP); no ADDR = 127.0.0.1;
-	                             * PORT 0: an ephemeral port (df1_eip_server_address) */
-	const char *allow;          /* "CIDR[,CIDR]" (1.2.3.0/24, ::1, 10.0.0.5) or NULL = any client */
-	bool read_only;             /* refuse PCCC commands that write or change mode */
-	int max_clients;            /* 0 = default (32); at most 255 */
-	struct df1_eip_identity identity;
-};
-
-/* A PCCC command from a client: pccc = CMD STS TNS(2) FNC data as the client
- * sent it (valid during the call only); station = the DF1 station the route
- * path names (Unconnected Send to port 2, link address N; or the Forward Open
- * connection path), or -1 if none. Answer now or later, at most once, with
- * df1_eip_server_reply() or df1_eip_server_fail(); the client sends nothing
- * else until then. @since 0.4 */
-typedef void (*df1_eip_pccc_fn)(void *user, df1_eip_server_t *s, uint32_t request, int station,
-                                const uint8_t *pccc, size_t n);
-
-/* A server listening on c->listen (TCP and UDP). *out is freed with
- * df1_eip_server_free(). Returns 0, DF1_E_INVAL (bad listen, allow, max_clients,
- * no fn), DF1_E_NOMEM or DF1_E_SYS (socket, bind: errno kept);
- * df1_eip_server_error(NULL) says why. @since 0.4 */
-DF1_API int df1_eip_server_new(df1_eip_server_t **out, const struct df1_eip_server_config *c,
-                               df1_eip_pccc_fn fn, void *user);
-/* "ADDR:PORT" as bound ("[ADDR]:PORT" for IPv6). @since 0.4 */
-DF1_API const char *df1_eip_server_address(const df1_eip_server_t *s);
-/* The one descriptor to watch: when it is readable, call df1_eip_server_process(). @since 0.4 */
-DF1_API int df1_eip_server_fd(const df1_eip_server_t *s);
-/* Accept, read, answer, write what is ready; never blocks. Returns the PCCC
- * requests handed to fn (>= 0) or DF1_E_INVAL. @since 0.4 */
-DF1_API int df1_eip_server_process(df1_eip_server_t *s);
-/* Answer request with a PCCC reply (CMD|40 STS TNS [EXT STS] data; its TNS is
- * the client's). Returns 0, DF1_E_CLOSED (the client went away: nothing sent),
- * DF1_E_INVAL (no such request, n 0 or over 4000 bytes). @since 0.4 */
-DF1_API int df1_eip_server_reply(df1_eip_server_t *s, uint32_t request, const uint8_t *pccc_reply,
-                                 size_t n);
-/* Answer request with a CIP error instead: cip_status = general status
- * (0x01-0xFF) | extended status << 8 (e.g. 0x01 | 0x0204 << 8: connection
- * failure, unconnected request timed out). Returns as df1_eip_server_reply(). @since 0.4 */
-DF1_API int df1_eip_server_fail(df1_eip_server_t *s, uint32_t request, int cip_status);
-
-/* @since 0.4 */
-struct df1_eip_server_stats {
-	uint64_t sessions;           /* sessions registered, in all */
-	uint64_t sessions_open;      /* sessions registered now */
-	uint64_t requests;           /* encapsulation messages received (TCP and UDP) */
-	uint64_t errors;             /* replies with an error status, and connections closed for one */
-	uint64_t refused_clients;    /* outside the allow list, or over max_clients */
-	uint64_t read_only_refusals; /* PCCC commands refused by read_only */
-};
-DF1_API void df1_eip_server_stats(const df1_eip_server_t *s, struct df1_eip_server_stats *st);
-/* The text of s's last failure, or with s NULL the calling thread's last
- * df1_eip_server_new() failure ("" if none). @since 0.4 */
-DF1_API const char *df1_eip_server_error(const df1_eip_server_t *s);
-/* Closes every connection; pending requests are dropped. NULL is a no-op. @since 0.4 */
-DF1_API void df1_eip_server_free(df1_eip_server_t *s);
+/* The EtherNet/IP server (df1_eip_server(3)) and the client's discovery
+ * (df1_eip_list_identity(3)) are declared in df1_eip.h, which this header
+ * includes at its end. */
 
 /* ------------------------------------------------------------------------
  * Data table (df1_table(3)): the files of a simulated or real slave, served
@@ -998,33 +943,10 @@ DF1_API int df1_station_health(const df1_t *h, int station, struct df1_station_h
 DF1_API int df1_poll_station(const df1_t *h, int station, struct df1_station_health *out)
 	DF1_DEPRECATED("use df1_station_health");
 
-/* ------------------------------------------------------------------------
- * EtherNet/IP client: eip:// targets (libdf1(7)), discovery. @since 0.4
- * ------------------------------------------------------------------------ */
-/* One device that answered ListIdentity (df1mon --who over eip://). */
-struct df1_eip_device {
-	char address[64];               /* "ADDR:PORT" that answered */
-	uint16_t vendor_id, device_type, product_code;
-	uint8_t rev_major, rev_minor;
-	uint16_t status;                /* the Identity object's status word */
-	uint32_t serial;
-	char product_name[33];
-	uint8_t state;
-};
-typedef void (*df1_eip_device_fn)(void *user, const struct df1_eip_device *d);
-/* ListIdentity to target "eip://HOST[:PORT]" (port default 44818; a route such as
- * "/2" is ignored): over TCP to that host, one answer; when HOST is a broadcast
- * address (255.255.255.255 or a local interface's), one UDP datagram and every
- * answer within timeout_ms. fn (may be NULL) is called for each device. h must not
- * be open: it gives the cancel fd and keeps the error detail. Returns the number of
- * devices, or DF1_E_INVAL (bad target, h open), DF1_E_NODEV (unknown host),
- * DF1_E_SYS (refused, no route), DF1_E_TIMEOUT (TCP: no reply), DF1_E_BAD_REPLY,
- * DF1_E_EIP, DF1_E_INTR. @since 0.4 */
-DF1_API int df1_eip_list_identity(df1_t *h, const char *target, int timeout_ms,
-                                  df1_eip_device_fn fn, void *user);
-
 #ifdef __cplusplus
 }
 #endif
+
+#include "df1_eip.h"
 
 #endif /* LIBDF1_DF1_H */

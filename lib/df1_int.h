@@ -9,6 +9,7 @@
 #include "base.h"
 #include "frame.h"
 #include "port.h"
+#include "repoll.h"
 
 #define DF1_LOCAL __attribute__((visibility("hidden")))
 
@@ -39,11 +40,15 @@ struct df1_config {
 	bool listen_only;            /* DF1_OPT_LISTEN_ONLY: open read only, never transmit */
 	bool eip_connected;          /* DF1_OPT_EIP_CONNECTED: eip:// over a Forward Open connection */
 	int line_baud;               /* pace transmitted bytes (simulator); 0 = off */
+	int poll_timeout_ms;         /* DF1_OPT_POLL_TIMEOUT_MS: 0 = automatic */
+	int scan_time_ms;            /* DF1_OPT_SCAN_TIME_MS: responder's program scan */
+	bool no_eot;                 /* DF1_OPT_NO_EOT: half-duplex slave sends no EOT */
 };
 
 /* Last message accepted from a station: duplicate and stale detection. */
 struct station_state {
 	bool active;                 /* active station list (seeds/004); all start active */
+	struct repoll_est reply_latency; /* half-duplex master: when to poll it (repoll.h) */
 	bool have_last;
 	uint8_t last_hdr[6];         /* DST SRC CMD STS TNS TNS of the last accepted message */
 	size_t last_len;             /* its length and a hash of all of it: a duplicate that */
@@ -78,6 +83,11 @@ struct df1 {
 	uint8_t echo_buf[FRAME_MAX_WIRE]; /* own transmission to discard on 2-wire lines */
 	size_t echo_len, echo_pos;
 	int64_t rx_last_ms;          /* time of the last byte read (lib/link/core.c) */
+	int64_t tx_end_us;           /* when our last byte has left the line (df1_now_us clock) */
+	uint8_t tx_hold[4];          /* DLE symbols to go out with our next transmission */
+	size_t tx_hold_len;
+	int64_t rx_due_us;           /* line_baud: when the bytes read so far arrived on the line */
+	int64_t scan_epoch_ms;       /* DF1_OPT_SCAN_TIME_MS: the first scan began (df1_open) */
 	struct link_eip *eip;        /* eip:// target: the EtherNet/IP session, else NULL */
 
 	uint64_t counters[CNT_COUNT];

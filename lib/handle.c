@@ -108,6 +108,9 @@ static void handle_reset_io(struct df1 *h)
 	h->rx_len = h->rx_pos = 0;
 	h->echo_len = h->echo_pos = 0;
 	frame_decoder_reset(&h->dec);
+	h->tx_end_us = h->rx_due_us = 0;
+	h->tx_hold_len = 0;
+	h->scan_epoch_ms = df1_now_ms();
 }
 
 /* 16 random bits for a first TNS, never blocking: getrandom(2) without
@@ -459,6 +462,9 @@ static const char *handle_option_name(enum df1_option opt)
 	case DF1_OPT_LISTEN_ONLY: return "LISTEN_ONLY";
 	case DF1_OPT_PLC5_TIMER_WORDS: return "PLC5_TIMER_WORDS";
 	case DF1_OPT_PLC2_WORD_ADDR: return "PLC2_WORD_ADDR";
+	case DF1_OPT_POLL_TIMEOUT_MS: return "POLL_TIMEOUT_MS";
+	case DF1_OPT_SCAN_TIME_MS: return "SCAN_TIME_MS";
+	case DF1_OPT_NO_EOT: return "NO_EOT";
 	case DF1_OPT_EIP_CONNECTED: return "EIP_CONNECTED";
 	}
 	return NULL;
@@ -480,8 +486,10 @@ static bool *handle_option_flag(struct df1_config *c, enum df1_option opt)
 	case DF1_OPT_SLC_IO_CODES_82: return &c->slc_io_82;
 	case DF1_OPT_LISTEN_ONLY: return &c->listen_only;
 	case DF1_OPT_PLC2_WORD_ADDR: return &c->plc2_word_addr;
+	case DF1_OPT_NO_EOT: return &c->no_eot;
+	case DF1_OPT_MAX_PACKET: case DF1_OPT_PLC5_TIMER_WORDS:
+	case DF1_OPT_POLL_TIMEOUT_MS: case DF1_OPT_SCAN_TIME_MS: return NULL;
 	case DF1_OPT_EIP_CONNECTED: return &c->eip_connected;
-	case DF1_OPT_MAX_PACKET: case DF1_OPT_PLC5_TIMER_WORDS: return NULL;
 	}
 	return NULL;
 }
@@ -513,6 +521,15 @@ int df1_set_option(df1_t *h, enum df1_option opt, int value)
 		h->cfg.plc5_timer_words = value;
 		return 0;
 	}
+	if (opt == DF1_OPT_POLL_TIMEOUT_MS || opt == DF1_OPT_SCAN_TIME_MS) {
+		int max = opt == DF1_OPT_POLL_TIMEOUT_MS ? 60000 : 10000;
+
+		if (value < 0 || value > max)
+			return df1_fail(h, DF1_E_CONFIG, -1,
+			                "invalid value %d for option %s: must be 0..%d ms", value, name, max);
+		*(opt == DF1_OPT_POLL_TIMEOUT_MS ? &h->cfg.poll_timeout_ms : &h->cfg.scan_time_ms) = value;
+		return 0;
+	}
 	if (value != 0 && value != 1)
 		return df1_fail(h, DF1_E_CONFIG, -1, "invalid value %d for option %s: must be 0 or 1",
 		                value, name);
@@ -540,6 +557,10 @@ int df1_get_option(const df1_t *h, enum df1_option opt)
 		return h->cfg.max_packet;
 	if (opt == DF1_OPT_PLC5_TIMER_WORDS)
 		return h->cfg.plc5_timer_words;
+	if (opt == DF1_OPT_POLL_TIMEOUT_MS)
+		return h->cfg.poll_timeout_ms;
+	if (opt == DF1_OPT_SCAN_TIME_MS)
+		return h->cfg.scan_time_ms;
 	c = h->cfg;
 	flag = handle_option_flag(&c, opt);
 	return flag && *flag ? 1 : 0;

@@ -17,6 +17,11 @@ CC=${CC:-cc}
 [ -f Makefile ] && [ -f examples/read_n7.c ] || { echo "run from the repository root"; exit 1; }
 # a make of our own, not a part of the make that may be running this test
 unset MAKEFLAGS MFLAGS MAKELEVEL MAKEOVERRIDES SAN EXTRA TOOLS_LIB
+# nor the install directories of an outer build (a package build runs make
+# check with its own LIBDIR, SYSTEMDUNITDIR ...: they reach us as variables
+# of the environment); this test chooses its own
+unset PREFIX BINDIR LIBDIR INCLUDEDIR MANDIR PKGCONFIGDIR SYSTEMDUNITDIR WIRESHARK_PLUGINDIR \
+	DESTDIR MULTIARCH
 # (variables given on the outer make command line, like SAN=1 for the
 # sanitizer pass, reach us through the environment: the installed tree is
 # what a user builds, without sanitizers)
@@ -30,7 +35,7 @@ ok
 U="$STAGE/usr"
 
 # ---- what was installed, where ----
-for f in bin/df1read bin/df1write bin/df1mon bin/df1sim bin/df1gw include/df1.h include/df1_catalog.h lib/libdf1.a \
+for f in bin/df1read bin/df1write bin/df1mon bin/df1sim bin/df1gw include/df1.h include/df1_catalog.h include/df1_eip.h lib/libdf1.a \
 	lib/pkgconfig/libdf1.pc share/man/man1/df1read.1 share/man/man1/df1write.1 \
 	share/man/man1/df1mon.1 share/man/man1/df1sim.1 share/man/man1/df1gw.1 share/man/man7/libdf1.7 \
 	share/man/man3/df1_open.3 share/man/man3/df1_read_int16.3; do

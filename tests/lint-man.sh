@@ -11,7 +11,7 @@ for f in man/man*/*.[137]; do
 	fi
 	if [ -n "$out" ]; then echo "$out"; status=1; fi
 done
-for fn in $(sed -n 's/^DF1_API[^(]*[ *]\(df1_[a-z0-9_]*\)(.*/\1/p' include/df1.h | sort -u); do
+for fn in $(sed -n 's/^DF1_API[^(]*[ *]\(df1_[a-z0-9_]*\)(.*/\1/p' include/*.h | sort -u); do
 	if [ ! -f "man/man3/$fn.3" ]; then
 		echo "lint-man: public function $fn has no man page (man/man3/$fn.3)"
 		status=1

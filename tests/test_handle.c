@@ -408,10 +408,26 @@ static void test_handle_options(void **state)
 	assert_int_equal(DF1_OPT_LISTEN_ONLY, 12);
 	assert_int_equal(DF1_OPT_PLC5_TIMER_WORDS, 13);
 	assert_int_equal(DF1_OPT_PLC2_WORD_ADDR, 14);
-	assert_int_equal(DF1_OPT_EIP_CONNECTED, 15);
+	assert_int_equal(DF1_OPT_POLL_TIMEOUT_MS, 15);
+	assert_int_equal(DF1_OPT_SCAN_TIME_MS, 16);
+	assert_int_equal(DF1_OPT_NO_EOT, 17);
+	/* 0.4: the poll-answer time and a responder's scan, in ms; no EOT, a flag */
+	assert_int_equal(df1_get_option(h, DF1_OPT_POLL_TIMEOUT_MS), 0);     /* automatic */
+	assert_int_equal(df1_set_option(h, DF1_OPT_POLL_TIMEOUT_MS, 60000), 0);
+	assert_int_equal(df1_get_option(h, DF1_OPT_POLL_TIMEOUT_MS), 60000);
+	expect_config_range(h, df1_set_option(h, DF1_OPT_POLL_TIMEOUT_MS, 60001), "POLL_TIMEOUT_MS",
+	                    "0..60000 ms");
+	expect_config_range(h, df1_set_option(h, DF1_OPT_SCAN_TIME_MS, -1), "SCAN_TIME_MS", "0..10000 ms");
+	assert_int_equal(df1_set_option(h, DF1_OPT_SCAN_TIME_MS, 5), 0);
+	assert_int_equal(df1_get_option(h, DF1_OPT_SCAN_TIME_MS), 5);
+	assert_int_equal(df1_get_option(h, DF1_OPT_NO_EOT), 0);
+	assert_int_equal(df1_set_option(h, DF1_OPT_NO_EOT, 1), 0);
+	assert_int_equal(df1_get_option(h, DF1_OPT_NO_EOT), 1);
+	expect_config_range(h, df1_set_option(h, DF1_OPT_NO_EOT, 2), "NO_EOT", "0 or 1");
+	assert_int_equal(DF1_OPT_EIP_CONNECTED, 18);
 	/* the first value past the end is not an option */
-	assert_int_equal(df1_set_option(h, (enum df1_option)16, 1), DF1_E_INVAL);
-	assert_int_equal(df1_get_option(h, (enum df1_option)16), DF1_E_INVAL);
+	assert_int_equal(df1_set_option(h, (enum df1_option)19, 1), DF1_E_INVAL);
+	assert_int_equal(df1_get_option(h, (enum df1_option)19), DF1_E_INVAL);
 	assert_int_equal(df1_get_option(h, (enum df1_option)99), DF1_E_INVAL);
 }
 

@@ -141,6 +141,28 @@ static void assert_write_bytes(size_t i, const uint8_t *want, size_t n)
 	assert_memory_equal(got, want, n);
 }
 
+/* Write i of a responder: its DLE ACK and the reply after it, in one write
+ * (the ACK held for the reply that follows at once). The reply's bytes. */
+static const uint8_t *write_after_ack(size_t i, size_t *n)
+{
+	size_t got_n;
+	const uint8_t *got = mock_port_write_at(i, &got_n);
+
+	assert_true(got_n > 2);
+	assert_memory_equal(got, ACK, 2);
+	*n = got_n - 2;
+	return got + 2;
+}
+
+static void assert_ack_and(size_t i, const uint8_t *want, size_t n)
+{
+	size_t got_n;
+	const uint8_t *got = write_after_ack(i, &got_n);
+
+	assert_int_equal(got_n, n);
+	assert_memory_equal(got, want, n);
+}
+
 /* App bytes of a reply: DST SRC CMD STS TNS, then data. */
 static size_t make_reply(uint8_t *app, uint8_t dst, uint8_t src, uint8_t cmd, uint8_t sts,
                          uint16_t tns, const uint8_t *data, size_t dn)
@@ -915,7 +937,10 @@ static void hd_slave_hook(const uint8_t *buf, size_t n, void *user)
 		return;
 	}
 	if (n >= 4 && buf[0] == 0x10 && buf[1] == 0x05) {
-		const char *a = script.poll_answers[script.npoll++];
+		/* past the script: nothing, as a slave without EOT (polls repeat) */
+		const char *a = script.npoll < 16 ? script.poll_answers[script.npoll] : NULL;
+
+		script.npoll++;
 
 		if (!a)
 			return;
@@ -989,12 +1014,16 @@ static void test_hd_bcc_master_message_byte_exact(void **state)
 	script.poll_answers[0] = NULL;
 	script.poll_answers[1] = NULL;
 	h->cfg.enq_retries = 1;
-	assert_int_equal(transact_a2(h, out, sizeof out), DF1_E_ENQ_LIMIT);
+	h->cfg.cmd_timeout_ms = 500;
+	/* polls nobody answers are polled again (a slave that sends no EOT),
+	 * not ENQ retries, until Cmd_Timeout: DLE NAK, 2545, DF1_E_TIMEOUT */
+	assert_int_equal(transact_a2(h, out, sizeof out), DF1_E_TIMEOUT);
 	assert_write(0, A2_HD_BCC);
 	assert_write(1, "10 05 01 FF");
 	assert_write(2, "10 05 01 FF");
-	assert_int_equal(cnt(h, 2543), 1);
-	assert_int_equal(cnt(h, 2544), 1);
+	assert_write(mock_port_writes() - 1, "10 15");
+	assert_int_equal(cnt(h, 2543), 0);
+	assert_int_equal(cnt(h, 2545), 1);
 	assert_int_equal(df1_station_active(h, 1), 0);
 }
 
@@ -1132,7 +1161,7 @@ static void test_hd_poll_answer_not_eot_or_stx_2516(void **state)
 
 	h->cfg.enq_retries = 3;
 	script.msg_answers[0] = 1;
-	script.poll_answers[0] = "ACK"; /* stray: ignored, the poll times out */
+	script.poll_answers[0] = "ACK"; /* stray: ignored, the poll unanswered: polled again */
 	script.poll_answers[1] = "NAK";
 	script.poll_answers[2] = "BAD";
 	script.poll_answers[3] = "R0001";
@@ -1152,7 +1181,7 @@ static void test_hd_poll_answer_not_eot_or_stx_2516(void **state)
 	}
 	assert_int_equal(logged(2517), 1);
 	assert_int_equal(logged(2514), 1);
-	assert_int_equal(cnt(h, 2543), 3);
+	assert_int_equal(cnt(h, 2543), 2); /* the NAK and the broken symbol; silence is no retry */
 	assert_int_equal(cnt(h, 2534), 1);
 	assert_int_equal(cnt(h, 2530), 1);
 }
@@ -1234,10 +1263,11 @@ static void test_hd_enq_limit(void **state)
 	h->cfg.enq_retries = 2;
 	script.msg_answers[0] = 1;
 	script.poll_answers[0] = "X0001";
-	script.poll_answers[1] = NULL;
+	script.poll_answers[1] = NULL;  /* no answer: polled again, not a retry */
 	script.poll_answers[2] = "X0001";
+	script.poll_answers[3] = "X0001";
 	assert_int_equal(transact_a2(h, out, sizeof out), DF1_E_ENQ_LIMIT);
-	assert_int_equal(mock_port_writes(), 4);
+	assert_int_equal(mock_port_writes(), 5);
 	assert_int_equal(cnt(h, 2543), 2);
 	assert_int_equal(cnt(h, 2544), 1);
 	assert_int_equal(logged(2520), 1);
@@ -1702,9 +1732,10 @@ static void test_peer_command_ack_reply(void **state)
 	mock_port_feed_hex(A2_FD_CRC);
 	mock_port_feed(ACK, 2);
 	assert_int_equal(serve_script(h), 1);
-	assert_int_equal(mock_port_writes(), 2);
-	assert_write_bytes(0, ACK, 2);
-	assert_write_bytes(1, want, wn);
+	assert_int_equal(mock_port_writes(), 1);
+	assert_ack_and(0, want, wn);       /* one write: the ACK and the reply */
+	assert_int_equal(cnt(h, 2535), 1); /* CNT_ACKS_SENT: counted all the same */
+	assert_int_equal(cnt(h, 2560), 2 + wn);
 	assert_int_equal(cnt(h, 2529), 1);
 	assert_int_equal(cnt(h, 2536), 1);
 	assert_int_equal(server_responder(h)->replies[0].used, false);
@@ -1720,9 +1751,9 @@ static void test_peer_reply_nak_retransmitted(void **state)
 	mock_port_feed(NAK, 2);
 	mock_port_feed(ACK, 2);
 	assert_int_equal(serve_script(h), 1);
-	assert_int_equal(mock_port_writes(), 3);
+	assert_int_equal(mock_port_writes(), 2);
+	assert_ack_and(0, want, wn);
 	assert_write_bytes(1, want, wn);
-	assert_write_bytes(2, want, wn);
 	assert_int_equal(cnt(h, 2541), 1);
 	assert_int_equal(cnt(h, 2529), 1);
 }
@@ -1735,8 +1766,8 @@ static void test_peer_reply_ack_timeout_enq(void **state)
 	mock_port_expire(); /* no ACK for the reply */
 	mock_port_feed(ACK, 2);
 	assert_int_equal(serve_script(h), 1);
-	assert_int_equal(mock_port_writes(), 3);
-	assert_write_bytes(2, ENQ, 2);
+	assert_int_equal(mock_port_writes(), 2);
+	assert_write_bytes(1, ENQ, 2);
 	assert_int_equal(cnt(h, 2543), 1);
 }
 
@@ -1749,7 +1780,7 @@ static void test_peer_reply_enq_limit_drops(void **state)
 	mock_port_expire();
 	mock_port_expire();
 	assert_int_equal(serve_script(h), 1);
-	assert_int_equal(mock_port_writes(), 3);
+	assert_int_equal(mock_port_writes(), 2);
 	assert_int_equal(cnt(h, 2544), 1);
 	assert_false(server_responder(h)->replies[0].used);
 }
@@ -1763,8 +1794,8 @@ static void test_peer_duplicate_command_not_run(void **state)
 	mock_port_feed_hex(A2_FD_CRC); /* our ACK was lost: the same command again */
 	assert_int_equal(serve_script(h), 1);
 	assert_int_equal(handler_calls, 1);
-	assert_int_equal(mock_port_writes(), 3);
-	assert_write_bytes(2, ACK, 2);
+	assert_int_equal(mock_port_writes(), 2);
+	assert_write_bytes(1, ACK, 2);
 	assert_int_equal(cnt(h, 2549), 1);
 }
 
@@ -1784,8 +1815,8 @@ static void test_peer_duplicate_other_command_no_reply(void **state)
 	mock_port_feed(NAK, 2);
 	assert_int_equal(serve_script(h), 1);
 	assert_int_equal(handler_calls, 1);
-	assert_int_equal(mock_port_writes(), 3);
-	assert_write_bytes(2, ACK, 2);
+	assert_int_equal(mock_port_writes(), 2);
+	assert_write_bytes(1, ACK, 2);
 	assert_int_equal(cnt(h, 2549), 1);
 	assert_int_equal(cnt(h, 2541), 0);      /* the reply was not sent again */
 	assert_false(server_responder(h)->replies[0].used);
@@ -1809,9 +1840,9 @@ static void test_peer_enq_gets_last_response(void **state)
 	assert_write_bytes(0, NAK, 2);
 	assert_write_bytes(1, NAK, 2);
 	assert_write_bytes(2, NAK, 2);
-	assert_write_bytes(3, ACK, 2);
-	assert_write_bytes(5, ACK, 2);
-	assert_int_equal(mock_port_writes(), 6);
+	write_after_ack(3, &n);  /* the ACK and the reply */
+	assert_write_bytes(4, ACK, 2);
+	assert_int_equal(mock_port_writes(), 5);
 	assert_int_equal(handler_calls, 1);
 	assert_int_equal(cnt(h, 2547), 1);
 }
@@ -1830,7 +1861,7 @@ static void test_peer_nak_with_nothing_in_flight_2511(void **state)
 	assert_int_equal(logged(2517), 0);
 	assert_int_equal(cnt(h, 2534), 1);
 	assert_int_equal(cnt(h, 2541), 0);
-	assert_int_equal(mock_port_writes(), 2); /* ACK, reply */
+	assert_int_equal(mock_port_writes(), 1); /* ACK and reply in one write */
 }
 
 /* A reply with STS != 0 is an error message sent (2539), once however often
@@ -1846,8 +1877,8 @@ static void test_peer_error_reply_counted_2539(void **state)
 	mock_port_feed(NAK, 2);         /* the reply once more */
 	mock_port_feed(ACK, 2);
 	assert_int_equal(serve_script(h), 1);
-	assert_int_equal(mock_port_writes(), 3);
-	w = (uint8_t *)mock_port_write_at(1, &wn);
+	assert_int_equal(mock_port_writes(), 2);
+	w = (uint8_t *)write_after_ack(0, &wn);
 	assert_true(wn > 6);
 	assert_int_equal(w[5], 0x10);   /* DLE STX DST SRC CMD STS */
 	assert_int_equal(cnt(h, 2529), 1);
@@ -1968,12 +1999,12 @@ static void test_fault_corrupt_reply_then_good(void **state)
 	mock_port_feed(NAK, 2);
 	mock_port_feed(ACK, 2);
 	assert_int_equal(serve_script(h), 1);
-	assert_int_equal(mock_port_writes(), 3);
-	w = mock_port_write_at(1, &n);
+	assert_int_equal(mock_port_writes(), 2);
+	w = write_after_ack(0, &n);
 	assert_int_equal(n, wn);
 	assert_memory_equal(w, want, wn - 1);
 	assert_int_equal(w[wn - 1], want[wn - 1] ^ 0xFF);
-	assert_write_bytes(2, want, wn);
+	assert_write_bytes(1, want, wn);
 }
 
 static void test_fault_stale_reply_first(void **state)
@@ -1988,9 +2019,9 @@ static void test_fault_stale_reply_first(void **state)
 	mock_port_feed(ACK, 2);
 	mock_port_feed(ACK, 2);
 	assert_int_equal(serve_script(h), 1);
-	assert_int_equal(mock_port_writes(), 3);
-	assert_write_bytes(1, stale, sn);
-	assert_write_bytes(2, want, wn);
+	assert_int_equal(mock_port_writes(), 2);
+	assert_ack_and(0, stale, sn);
+	assert_write_bytes(1, want, wn);
 }
 
 static void test_fault_stale_reply_hd(void **state)
@@ -2026,7 +2057,7 @@ static void test_fault_noise_before_reply(void **state)
 	mock_port_feed_hex(A2_FD_CRC);
 	mock_port_feed(ACK, 2);
 	assert_int_equal(serve_script(h), 1);
-	w = mock_port_write_at(1, &n);
+	w = write_after_ack(0, &n);
 	assert_int_equal(n, 3 + wn);
 	for (int i = 0; i < 3; i++)
 		assert_int_not_equal(w[i], DF1_DLE);

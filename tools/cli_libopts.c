@@ -50,6 +50,7 @@ static const struct lib_opt lib_opts[] = {
 	{ CLI_OPT_NAK_0F, DF1_OPT_ACCEPT_NAK_0F, "--nak-0f", w_yes_no, "yes or no", 0, 0, true },
 	{ CLI_OPT_EOT_BCC, DF1_OPT_EOT_WITH_BCC, "--eot-bcc", w_yes_no, "yes or no", 0, 0, true },
 	{ CLI_OPT_ECHO_DISCARD, DF1_OPT_ECHO_DISCARD, "--echo-discard", NULL, NULL, 1, 1, false },
+	{ CLI_OPT_POLL_TIMEOUT, DF1_OPT_POLL_TIMEOUT_MS, "--poll-timeout", NULL, NULL, 0, 60000, false },
 	{ CLI_OPT_EIP_CONNECTED, DF1_OPT_EIP_CONNECTED, "--eip-connected", NULL, NULL, 1, 1, false },
 };
 

@@ -72,6 +72,8 @@ const struct cli_common_opt cli_common_opts[] = {
 	  "ignore one byte after DLE EOT (default no)" },
 	{ CLI_OPT_ECHO_DISCARD, "echo-discard", no_argument, LONG_ONLY(CLI_OPT_ECHO_DISCARD), NULL,
 	  "2-wire line: drop the echo of our own bytes" },
+	{ CLI_OPT_POLL_TIMEOUT, "poll-timeout", required_argument, LONG_ONLY(CLI_OPT_POLL_TIMEOUT), "MS",
+	  "half duplex: poll again when a poll's answer has not begun (0 = auto)" },
 	{ CLI_OPT_EIP_CONNECTED, "eip-connected", no_argument, LONG_ONLY(CLI_OPT_EIP_CONNECTED), NULL,
 	  "eip:// target: connected messaging (Forward Open)" },
 };

@@ -225,6 +225,8 @@ struct opts {
 	struct fault_opt faults[8];     /* by enum df1_fault */
 	uint64_t seed;
 	int line_baud;
+	int scan_time;                  /* --scan-time MS: replies at the end of the scan */
+	bool no_eot;                    /* --no-eot: half duplex, silence instead of DLE EOT */
 	const char *log;
 	int baud, data_bits;            /* -d only; the library checks them when it opens DEV */
 	const char *eip;                /* --eip ADDR */
@@ -235,7 +237,8 @@ struct opts {
 enum {
 	OPT_PTY = CLI_KEY_EXTRA, OPT_LISTEN, OPT_STATION, OPT_DATA_BITS, OPT_LINE_BAUD, OPT_PROCESSOR,
 	OPT_PLC5_FLOAT_SWAPPED, OPT_DATA, OPT_DROP_ACK, OPT_CORRUPT, OPT_NAK, OPT_DELAY, OPT_SILENT,
-	OPT_STALE, OPT_NOISE, OPT_SEED, OPT_LOG, OPT_EIP, OPT_EIP_ALLOW, OPT_EIP_READ_ONLY,
+	OPT_STALE, OPT_NOISE, OPT_SEED, OPT_LOG, OPT_SCAN_TIME, OPT_NO_EOT, OPT_EIP, OPT_EIP_ALLOW,
+	OPT_EIP_READ_ONLY,
 };
 
 /* -d, --station and -b are df1sim's own: -d is the device served (never
@@ -252,7 +255,12 @@ static const struct cli_extra_opt sim_opts[] = {
 	  "stations served 0-254, ranges A-B allowed (default 1)" },
 	{ "baud", required_argument, 'b', "N", "-d only: baud rate (default 19200)" },
 	{ "data-bits", required_argument, OPT_DATA_BITS, "N", "-d only: data bits 5-8 (default 8)" },
-	{ "line-baud", required_argument, OPT_LINE_BAUD, "N", "pace the bytes sent as a line at N baud (default 0: off)" },
+	{ "line-baud", required_argument, OPT_LINE_BAUD, "N",
+	  "pace the bytes sent and received as a line at N baud (default 0: off)" },
+	{ "scan-time", required_argument, OPT_SCAN_TIME, "MS",
+	  "answer at the end of a program scan of MS ms, as a controller does (default 0: at once)" },
+	{ "no-eot", no_argument, OPT_NO_EOT, NULL,
+	  "half duplex: answer a poll with nothing, not DLE EOT, when no reply is ready" },
 	{ "processor", required_argument, OPT_PROCESSOR, "NAME",
 	  "the processor of the diagnostic status (default per --plc)" },
 	{ "plc5-float-swapped", no_argument, OPT_PLC5_FLOAT_SWAPPED, NULL,
@@ -361,6 +369,8 @@ static int on_option(struct cli *c, int key, const char *arg, void *user)
 	case 'b': return cli_parse_int(c, "--baud", arg, 50, 4000000, &o->baud);
 	case OPT_DATA_BITS: return cli_parse_int(c, "--data-bits", arg, 5, 8, &o->data_bits);
 	case OPT_LINE_BAUD: return cli_parse_int(c, "--line-baud", arg, 0, 4000000, &o->line_baud);
+	case OPT_SCAN_TIME: return cli_parse_int(c, "--scan-time", arg, 0, 10000, &o->scan_time);
+	case OPT_NO_EOT: o->no_eot = true; break;
 	case OPT_PROCESSOR: o->processor = arg; break;
 	case OPT_PLC5_FLOAT_SWAPPED:
 		c->lib_value[CLI_OPT_PLC5_FLOAT] = 1;
@@ -643,6 +653,10 @@ static int setup_handle(df1_t *h, const struct opts *o, struct sim *s)
 			r = df1_server_set_fault(h, o->faults[k].kind, o->faults[k].per_mille, o->faults[k].value);
 	if (r >= 0 && o->line_baud)
 		r = df1_set_line_baud(h, o->line_baud);
+	if (r >= 0 && o->scan_time)
+		r = df1_set_option(h, DF1_OPT_SCAN_TIME_MS, o->scan_time);
+	if (r >= 0 && o->no_eot)
+		r = df1_set_option(h, DF1_OPT_NO_EOT, 1);
 	if (r < 0) {
 		const struct df1_error_detail *d = df1_last_error(h);
 

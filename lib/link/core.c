@@ -112,6 +112,52 @@ static int link_pause(struct df1 *h, int64_t deadline_ms)
 	return port_wait(h, -1, 0, deadline_ms);
 }
 
+/* The same to the microsecond (pacing: a character's time at 19200 baud is 521 µs). */
+static int link_pause_us(struct df1 *h, int64_t deadline_us)
+{
+	if ((int64_t)df1_now_us() >= deadline_us)
+		return 0;
+	return port_wait_us(h, -1, 0, deadline_us);
+}
+
+/* Microseconds one character takes on the line at baud: start bit, data bits,
+ * parity bit, stop bits (10 for 8N1). */
+int64_t link_char_us(const struct df1 *h, int baud)
+{
+	int bits = 1 + (h->cfg.data_bits > 0 ? h->cfg.data_bits : 8) + (h->cfg.parity != 'N') +
+	           (h->cfg.stop_bits > 0 ? h->cfg.stop_bits : 1);
+
+	return baud > 0 ? (int64_t)bits * 1000000 / baud : 0;
+}
+
+/* When the bytes just written will have left the line. A paced line (df1sim,
+ * df1_set_line_baud) handed each chunk over when its last character was due,
+ * so they have. A real UART takes them into the kernel's buffer at once and
+ * sends them at the configured baud after what is still queued there; tcdrain
+ * would tell exactly but blocks past the cancel descriptor, so the link keeps
+ * its own account from the line rate. TCP (a device server) and other
+ * descriptors have no such delay. */
+static void link_tx_account(struct df1 *h, size_t n)
+{
+	int64_t now = (int64_t)df1_now_us();
+
+	if (h->cfg.line_baud <= 0 && h->port == &port_termios_ops && h->cfg.baud > 0) {
+		int64_t from = h->tx_end_us > now ? h->tx_end_us : now;
+
+		h->tx_end_us = from + (int64_t)n * link_char_us(h, h->cfg.baud);
+	} else {
+		h->tx_end_us = now;
+	}
+}
+
+int64_t link_after_tx_ms(const struct df1 *h, int64_t ms)
+{
+	int64_t now = df1_now_ms();
+	int64_t end = (h->tx_end_us + 999) / 1000;
+
+	return (end > now ? end : now) + ms;
+}
+
 static int link_write(struct df1 *h, const uint8_t *buf, size_t n, int64_t deadline_ms)
 {
 	size_t off = 0;
@@ -150,7 +196,38 @@ static void link_echo_add(struct df1 *h, const uint8_t *buf, size_t n)
 	h->echo_len += n;
 }
 
+static int link_send_wire(struct df1 *h, const uint8_t *buf, size_t n);
+
 int link_send_raw(struct df1 *h, const uint8_t *buf, size_t n)
+{
+	uint8_t both[sizeof h->tx_hold + FRAME_MAX_WIRE];
+
+	if (h->tx_hold_len == 0 || h->tx_hold_len + n > sizeof both) {
+		int r = link_tx_flush(h);
+
+		return r < 0 ? r : link_send_wire(h, buf, n);
+	}
+	/* the symbols held (an ACK) first, then this, in one write */
+	memcpy(both, h->tx_hold, h->tx_hold_len);
+	memcpy(both + h->tx_hold_len, buf, n);
+	n += h->tx_hold_len;
+	h->tx_hold_len = 0;
+	return link_send_wire(h, both, n);
+}
+
+int link_tx_flush(struct df1 *h)
+{
+	uint8_t held[sizeof h->tx_hold];
+	size_t n = h->tx_hold_len;
+
+	if (n == 0)
+		return 0;
+	memcpy(held, h->tx_hold, n);
+	h->tx_hold_len = 0;
+	return link_send_wire(h, held, n);
+}
+
+static int link_send_wire(struct df1 *h, const uint8_t *buf, size_t n)
 {
 	int64_t wire_ms, deadline;
 	int r;
@@ -177,18 +254,20 @@ int link_send_raw(struct df1 *h, const uint8_t *buf, size_t n)
 		/* a slow line: about 4 ms of characters per write, each handed
 		 * over when its last character would have arrived on the wire
 		 * (10 bits per character), so the far end never sees a byte early */
-		uint64_t start = df1_now_us();
+		int64_t start = (int64_t)df1_now_us();
+		int64_t char_us = link_char_us(h, h->cfg.line_baud);
 		size_t chunk = (size_t)h->cfg.line_baud / 10 / 250;
 		size_t off;
 
 		if (chunk < 1)
 			chunk = 1;
+		if (start < h->tx_end_us)
+			start = h->tx_end_us; /* the previous transmission is still on the line */
 		for (off = 0; off < n;) {
 			size_t c = n - off < chunk ? n - off : chunk;
-			uint64_t due_us = start + (uint64_t)(off + c) * 10u * 1000000u /
-			                  (uint64_t)h->cfg.line_baud;
+			int64_t due_us = start + (int64_t)(off + c) * char_us;
 
-			r = link_pause(h, (int64_t)((due_us + 999) / 1000));
+			r = link_pause_us(h, due_us);
 			if (r < 0)
 				return r;
 			r = link_write(h, buf + off, c, deadline);
@@ -197,11 +276,14 @@ int link_send_raw(struct df1 *h, const uint8_t *buf, size_t n)
 			off += c;
 		}
 	}
+	link_tx_account(h, n);
 	df1_count_n(h, DF1_ID_CRD_CHAR_SENT, n);
 	if (h->cfg.echo_discard)
 		link_echo_add(h, buf, n);
 	return 0;
 }
+
+static void link_sym_sent(struct df1 *h, uint8_t sym);
 
 /* DLE ACK / NAK / EOT / ENQ with its counter; ACK and NAK become the last response. */
 int link_send_sym(struct df1 *h, uint8_t sym)
@@ -211,6 +293,30 @@ int link_send_sym(struct df1 *h, uint8_t sym)
 
 	if (r < 0)
 		return r;
+	link_sym_sent(h, sym);
+	return 0;
+}
+
+int link_send_sym_held(struct df1 *h, uint8_t sym)
+{
+	if (!h->port || h->fd < 0)
+		return df1_fail(h, DF1_E_NOT_OPEN, -1, "handle is not open");
+	if (h->cfg.listen_only)
+		return port_refuse_tx(h);
+	if (h->tx_hold_len + 2 > sizeof h->tx_hold) {
+		int r = link_tx_flush(h);
+
+		if (r < 0)
+			return r;
+	}
+	h->tx_hold[h->tx_hold_len++] = DF1_DLE;
+	h->tx_hold[h->tx_hold_len++] = sym;
+	link_sym_sent(h, sym);
+	return 0;
+}
+
+static void link_sym_sent(struct df1 *h, uint8_t sym)
+{
 	switch (sym) {
 	case DF1_ACK:
 		df1_count(h, DF1_ID_CNT_ACKS_SENT);
@@ -226,7 +332,6 @@ int link_send_sym(struct df1 *h, uint8_t sym)
 	default:
 		break;
 	}
-	return 0;
 }
 
 void link_flush(struct df1 *h)
@@ -255,7 +360,30 @@ static int link_fill(struct df1 *h, int64_t deadline_ms, bool *expired)
 
 	*expired = false;
 	h->rx_pos = h->rx_len = 0;
-	n = h->port->read(h, h->rxbuf, sizeof h->rxbuf, deadline_ms);
+	if (h->cfg.line_baud > 0) {
+		/* a paced line delivers no faster than its baud: a few ms of
+		 * characters per read, each handed on when its last character
+		 * has arrived, so the sender sees what a UART would do to it */
+		size_t chunk = (size_t)h->cfg.line_baud / 10 / 250;
+
+		n = h->port->read(h, h->rxbuf, chunk < 1 ? 1 : chunk, deadline_ms);
+		if (n > 0) {
+			int64_t now = (int64_t)df1_now_us();
+			int64_t due = h->rx_due_us + (int64_t)n * link_char_us(h, h->cfg.line_baud);
+			int r;
+
+			/* the line delivers each byte a character after the one before
+			 * it, and none before it was written: a burst (a UART's write)
+			 * trickles in, bytes a paced sender handed over at line rate
+			 * are taken as they come, not delayed once more */
+			h->rx_due_us = due > now ? due : now;
+			r = link_pause_us(h, h->rx_due_us);
+			if (r < 0)
+				return r;
+		}
+	} else {
+		n = h->port->read(h, h->rxbuf, sizeof h->rxbuf, deadline_ms);
+	}
 	if (n < 0)
 		return (int)n; /* the backend counted 2551 and recorded the error */
 	if (n == 0) {
@@ -324,6 +452,12 @@ int link_read_symbol(struct df1 *h, int64_t deadline_ms, struct df1_symbol *sym)
 			dl = h->rx_last_ms + link_gap_ms(h);
 			if (dl > hard)
 				dl = hard; /* a line that never stops talking */
+		}
+		if (h->tx_hold_len) {
+			/* nothing followed the ACK held: it goes before we wait */
+			r = link_tx_flush(h);
+			if (r < 0)
+				return r;
 		}
 		r = link_fill(h, dl, &expired);
 		if (r < 0)
@@ -550,8 +684,15 @@ struct link_reply *link_slot_new(struct df1 *h, uint8_t stn, const uint8_t *app,
 		memcpy(r->app, app, n);
 		r->corrupt = link_fault(h->resp, DF1_FAULT_CORRUPT_REPLY);
 		r->stale_first = link_fault(h->resp, DF1_FAULT_STALE_REPLY);
+		if (h->cfg.scan_time_ms > 0) {
+			/* answered at the end of the program scan in progress */
+			int64_t scan = h->cfg.scan_time_ms, now = df1_now_ms();
+
+			r->due_ms = h->scan_epoch_ms + ((now - h->scan_epoch_ms) / scan + 1) * scan;
+		}
 		if (link_fault(h->resp, DF1_FAULT_DELAY_REPLY))
-			r->due_ms = df1_now_ms() + h->resp->faults.value[DF1_FAULT_DELAY_REPLY];
+			r->due_ms += (r->due_ms ? 0 : df1_now_ms()) +
+			             h->resp->faults.value[DF1_FAULT_DELAY_REPLY];
 		return r;
 	}
 	return NULL;

@@ -53,7 +53,7 @@ int full_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 		return r;
 	df1_count(h, DF1_ID_CNT_MSG_PACKETS_SENT);
 	df1_count(h, DF1_ID_CNT_CMD_MSGS_SENT);
-	deadline = df1_now_ms() + link_timeout_ms(h);
+	deadline = link_after_tx_ms(h, link_timeout_ms(h));
 	for (;;) {
 		struct df1_symbol s;
 		size_t len = 0;
@@ -80,7 +80,7 @@ int full_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 			r = link_send_sym(h, DF1_ENQ);
 			if (r < 0)
 				return r;
-			deadline = df1_now_ms() + link_timeout_ms(h);
+			deadline = link_after_tx_ms(h, link_timeout_ms(h));
 			continue;
 		}
 		switch (s.kind) {
@@ -112,7 +112,7 @@ int full_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 			if (r < 0)
 				return r;
 			df1_count(h, DF1_ID_CNT_MSG_PACKETS_SENT);
-			deadline = df1_now_ms() + link_timeout_ms(h);
+			deadline = link_after_tx_ms(h, link_timeout_ms(h));
 			break;
 		case DF1_SYM_ENQ:
 			/* the peer asks for our last response */
@@ -170,7 +170,7 @@ int full_test(struct df1 *h)
 
 	if (r < 0)
 		return r;
-	deadline = df1_now_ms() + link_timeout_ms(h);
+	deadline = link_after_tx_ms(h, link_timeout_ms(h));
 	for (;;) {
 		struct df1_symbol s;
 
@@ -235,7 +235,7 @@ static int full_tx_start(struct df1 *h, struct link_reply *t)
 	if (r < 0)
 		return r;
 	t->sent = true;
-	t->ack_deadline_ms = df1_now_ms() + link_timeout_ms(h);
+	t->ack_deadline_ms = link_after_tx_ms(h, link_timeout_ms(h));
 	return 0;
 }
 
@@ -269,7 +269,7 @@ static int full_tx_nak(struct df1 *h, struct link_reply *t)
 	r = link_slot_send(h, t, t->stale_now, false);
 	if (r < 0)
 		return r;
-	t->ack_deadline_ms = df1_now_ms() + link_timeout_ms(h);
+	t->ack_deadline_ms = link_after_tx_ms(h, link_timeout_ms(h));
 	return 0;
 }
 
@@ -289,7 +289,7 @@ static int full_tx_timeout(struct df1 *h, struct link_reply *t)
 	r = link_send_sym(h, DF1_ENQ);
 	if (r < 0)
 		return r;
-	t->ack_deadline_ms = df1_now_ms() + link_timeout_ms(h);
+	t->ack_deadline_ms = link_after_tx_ms(h, link_timeout_ms(h));
 	return 0;
 }
 
@@ -323,7 +323,8 @@ static int full_serve_frame(struct df1 *h, const struct df1_symbol *s, link_hand
 	if (drop_ack) {
 		h->last_response = DF1_ACK; /* as if our ACK was lost on the line */
 	} else {
-		r = link_send_sym(h, DF1_ACK);
+		/* with the reply if it is ready at once (full_serve sends it next) */
+		r = link_send_sym_held(h, DF1_ACK);
 		if (r < 0)
 			return r;
 	}

@@ -15,14 +15,20 @@
  *    is DF1_E_NAK_LIMIT. Other symbols meanwhile are 2515 (after the
  *    decoder's own notice for a broken one) and ignored.
  *  - Polls run from the first poll until cmd_timeout_ms (Cmd_Timeout; DLE EOT
- *    means "not yet", the message is known to be outstanding). A poll with no
- *    answer within timeout_ms, a frame with a bad check (not ACKed: the slave
- *    sends it again, spec 2.3), a broken symbol or a NAK is an ENQ retry
- *    (2543, 2522); more than enq_retries is DF1_E_ENQ_LIMIT. An answer that
- *    is neither DLE EOT nor a slave frame (DLE ACK, DLE NAK, DLE + an invalid
- *    byte) is also 2516 NTC_EOT_STX_EXPECTED. After an EOT the
- *    next poll waits HD_REPOLL_GAP_MS (a read with that deadline: anything
- *    arriving is still handled) so a TCP-attached line is not flooded.
+ *    means "not yet", the message is known to be outstanding). A frame with a
+ *    bad check (not ACKed: the slave sends it again, spec 2.3), a broken
+ *    symbol or a NAK is an ENQ retry (2543, 2522); more than enq_retries is
+ *    DF1_E_ENQ_LIMIT. An answer that is neither DLE EOT nor a slave frame (DLE
+ *    ACK, DLE NAK, DLE + an invalid byte) is also 2516 NTC_EOT_STX_EXPECTED.
+ *    A poll whose answer does not begin within the poll-answer time
+ *    (hd_poll_answer_ms, DF1_OPT_POLL_TIMEOUT_MS) counts as an EOT: some
+ *    slaves send nothing when they have nothing, and a whole ACK timeout per
+ *    poll would exceed Cmd_Timeout before their reply is ready.
+ *  - Poll timing (lib/proto/repoll.h): the first poll after the ACK and the
+ *    next after each EOT go out when the station's reply is likely ready,
+ *    from its learned reply latency; never closer than two characters (at
+ *    least 1 ms, so a TCP-attached line is not flooded). Each pause is a
+ *    read with that deadline: anything arriving is still handled.
  *  - Cmd_Timeout: DLE NAK to the line (seeds/004 2545: "a NAK Symbol is sent
  *    to the remote device to terminate processing"; in half duplex a NAK from
  *    the master is the global link reset), 2545, 2508, DF1_E_TIMEOUT.
@@ -52,7 +58,34 @@
 
 #include "link_int.h"
 
-#define HD_REPOLL_GAP_MS 10
+/* polls of a reply overdue by far are at most this far apart (repoll.h) */
+#define HD_REPOLL_MAX_GAP_US 20000
+
+/* The least time between an answer and the next poll: two characters at the
+ * line's rate, at least a millisecond (a TCP-attached line is not flooded). */
+static int64_t hd_min_gap_us(const struct df1 *h)
+{
+	int baud = h->cfg.line_baud > 0 ? h->cfg.line_baud : h->cfg.baud;
+	int64_t g = 2 * link_char_us(h, baud);
+
+	return g < 1000 ? 1000 : g;
+}
+
+/* How long a poll's answer may take to begin (DF1_OPT_POLL_TIMEOUT_MS; 0:
+ * six characters at the line's rate + 20 ms turnaround, + 50 ms on TCP), never
+ * more than the ACK timeout. */
+static int64_t hd_poll_answer_ms(const struct df1 *h)
+{
+	int baud = h->cfg.line_baud > 0 ? h->cfg.line_baud : h->cfg.baud;
+	int64_t ms = h->cfg.poll_timeout_ms;
+
+	if (ms <= 0) {
+		ms = 6 * link_char_us(h, baud) / 1000 + 20;
+		if (h->port == &port_tcp_ops)
+			ms += 50;
+	}
+	return ms < link_timeout_ms(h) ? ms : link_timeout_ms(h);
+}
 
 enum hd_answer {
 	ANS_TIMEOUT = 0, /* nothing within the deadline */
@@ -200,7 +233,7 @@ static int hd_poll_once(struct df1 *h, uint8_t stn, int *cause)
 
 	if (r < 0)
 		return r;
-	r = hd_answer(h, stn, NULL, df1_now_ms() + link_timeout_ms(h), NULL, 0, &len, cause);
+	r = hd_answer(h, stn, NULL, link_after_tx_ms(h, link_timeout_ms(h)), NULL, 0, &len, cause);
 	if (r == ANS_EOT || r == ANS_SKIP)
 		h->stations[stn].active = true;
 	return r;
@@ -235,8 +268,9 @@ int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 	                                sizeof wire);
 	int64_t cmd_deadline, wait = h->cfg.cmd_timeout_ms > 0 ? h->cfg.cmd_timeout_ms
 	                                                        : link_timeout_ms(h);
+	int64_t ack_us, poll_at_us, poll_us = 0;
+	struct repoll_est *lat;
 	int tries = 0, enqs = 0, cause = 0, r;
-	bool poll_now = true;
 
 	if (wn == 0)
 		return df1_fail(h, DF1_E_INVAL, stn, "command of %zu bytes does not fit a frame", n);
@@ -254,7 +288,7 @@ int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 		df1_count(h, DF1_ID_CNT_MSG_PACKETS_SENT);
 		if (tries == 0)
 			df1_count(h, DF1_ID_CNT_CMD_MSGS_SENT);
-		r = hd_wait_ack(h, df1_now_ms() + link_timeout_ms(h), &cause);
+		r = hd_wait_ack(h, link_after_tx_ms(h, link_timeout_ms(h)), &cause);
 		if (r < 0)
 			return r;
 		if (r == 1)
@@ -270,11 +304,16 @@ int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 		df1_log(h, DF1_ID_NTC_NAK_RETRY, tries, cause);
 	}
 
-	/* 2. polls until the reply, the ENQ retry limit or Cmd_Timeout */
+	/* 2. polls until the reply, the ENQ retry limit or Cmd_Timeout; the
+	 * first when the reply is likely ready (repoll.h), the next ones after
+	 * each EOT or unanswered poll when it is likely ready then */
+	ack_us = (int64_t)df1_now_us();
 	cmd_deadline = df1_now_ms() + wait;
+	lat = &h->stations[stn].reply_latency;
+	poll_at_us = ack_us + repoll_first_us(lat);
 	for (;;) {
-		int64_t now = df1_now_ms(), dl;
-		bool polled = poll_now;
+		int64_t now = df1_now_ms(), now_us = (int64_t)df1_now_us(), dl;
+		bool polled = poll_at_us <= now_us;
 		size_t len = 0;
 		int a;
 
@@ -287,34 +326,44 @@ int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 			return hd_failed(h, stn, df1_fail(h, DF1_E_TIMEOUT, stn,
 			                 "no reply from station %d within %lld ms", stn, (long long)wait));
 		}
-		if (poll_now) {
+		if (polled) {
+			poll_us = now_us;
 			r = hd_send_poll(h, stn);
 			if (r < 0)
 				return r;
-			dl = now + link_timeout_ms(h);
+			/* a slave that suppresses DLE EOT sends nothing at all: a short
+			 * wait for the first byte, then a poll again (DF1_OPT_POLL_TIMEOUT_MS) */
+			dl = link_after_tx_ms(h, hd_poll_answer_ms(h));
 		} else {
-			dl = now + HD_REPOLL_GAP_MS;
+			/* the pause before the next poll is a read: anything arriving is handled */
+			dl = (poll_at_us + 999) / 1000;
 		}
 		if (dl > cmd_deadline)
 			dl = cmd_deadline;
-		poll_now = true;
 		a = hd_answer(h, stn, cmd, dl, reply, cap, &len, &cause);
 		if (a < 0)
 			return a;
+		now_us = (int64_t)df1_now_us();
 		switch (a) {
 		case ANS_REPLY:
 			h->stations[stn].active = true;
+			/* the reply was ready when the poll that drew it went out (not
+			 * when it had arrived: its own wire time is no latency) */
+			repoll_learn(lat, poll_us - ack_us);
 			return (int)len;
+		case ANS_TIMEOUT:
+			if (!polled)
+				break; /* the pause ended: poll now */
+			/* a poll nobody answered: not ready yet, as an EOT */
+			__attribute__((fallthrough));
 		case ANS_EOT:
-			poll_now = false; /* the message is outstanding: poll again shortly */
+			/* the message is outstanding: poll again when it is likely ready */
+			poll_at_us = now_us + repoll_next_us(lat, now_us - ack_us, hd_min_gap_us(h),
+			                                     HD_REPOLL_MAX_GAP_US);
 			break;
 		case ANS_SKIP:
+			poll_at_us = now_us;
 			break;
-		case ANS_TIMEOUT:
-			if (!polled || df1_now_ms() >= cmd_deadline)
-				break; /* the pause after an EOT ended / Cmd_Timeout: see above */
-			/* a poll without an answer */
-			__attribute__((fallthrough));
 		case ANS_BAD:
 		default:
 			if (enqs >= h->cfg.enq_retries) {
@@ -326,6 +375,7 @@ int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 			enqs++;
 			df1_count(h, DF1_ID_CNT_ENQ_RETRIES);
 			df1_log(h, DF1_ID_NTC_ENQ_RETRY, enqs, cause);
+			poll_at_us = now_us;
 			break;
 		}
 	}
@@ -390,9 +440,9 @@ static int hd_slave_poll(struct df1 *h, uint8_t stn)
 		t->used = false;
 	}
 	if (t && t->due_ms > df1_now_ms())
-		t = NULL; /* DF1_FAULT_DELAY_REPLY: not ready yet */
+		t = NULL; /* DF1_FAULT_DELAY_REPLY, DF1_OPT_SCAN_TIME_MS: not ready yet */
 	if (!t)
-		return link_send_sym(h, DF1_EOT);
+		return h->cfg.no_eot ? 0 : link_send_sym(h, DF1_EOT); /* DF1_OPT_NO_EOT: silence */
 	h->resp->awaiting = (int)(t - h->resp->replies) + 1;
 	if (t->stale_first) {
 		t->stale_first = false;

@@ -83,6 +83,13 @@ int link_serve(struct df1 *h, struct link_responder *resp, link_handler_fn fn, v
 	else
 		r = full_serve(h, fn, ctx, deadline_ms);
 	h->resp = NULL;
+	/* an ACK held for a reply that did not follow goes out before we return */
+	if (h->tx_hold_len) {
+		int f = link_tx_flush(h);
+
+		if (r >= 0 && f < 0)
+			r = f;
+	}
 	return r;
 }
 

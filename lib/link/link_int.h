@@ -13,9 +13,22 @@
 int link_setup(struct df1 *h);
 enum df1_check link_tx_check(const struct df1 *h);
 int64_t link_timeout_ms(const struct df1 *h);
+/* Microseconds of one character at baud with the handle's framing (8N1: 10 bits). */
+int64_t link_char_us(const struct df1 *h, int baud);
+/* A deadline ms after our last transmission has left the line (df1_now_ms
+ * clock): timers that wait for an answer start there, not when write()
+ * returned (a 220-byte frame needs 1.8 s at 1200 baud). */
+int64_t link_after_tx_ms(const struct df1 *h, int64_t ms);
 
 /* transmission: DLE sym with its counter (ACK/NAK also set the last response) */
 int link_send_sym(struct df1 *h, uint8_t sym);
+/* The same, but held to go out in one write with our next transmission (an
+ * ACK and the reply that follows it: one write, one wakeup, one TCP segment
+ * less per transaction). Counted now. Whatever is held goes out at the latest
+ * before the next wait for input (link_read_symbol) or when link_serve
+ * returns; link_tx_flush sends it at once. */
+int link_send_sym_held(struct df1 *h, uint8_t sym);
+int link_tx_flush(struct df1 *h);
 
 /* reception: 1 (sym filled), 0 (deadline passed), DF1_E_* */
 /* Noise or a broken symbol: the receiver's last response becomes NAK (spec 1.7). */

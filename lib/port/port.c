@@ -3,10 +3,13 @@
  * the handle's cancel descriptor; the clock is lib/base/clock.c), and
  * descriptor read/write with the port_ops contracts (lib/port/port.h).
  *
- * Waits are poll() against an absolute CLOCK_MONOTONIC deadline: after EINTR
- * the wait goes on for what is left of it, never for a fresh full timeout.
- * Nothing here sleeps or spins: poll() blocks until the descriptor is ready,
- * the cancel descriptor is readable, or the deadline passes.
+ * Waits are ppoll() against an absolute CLOCK_MONOTONIC deadline in
+ * microseconds (a paced transmission ends when its last character would, not
+ * at the next whole millisecond): after EINTR the wait goes on for what is
+ * left of it, never for a fresh full timeout. Nothing here sleeps or spins:
+ * ppoll() blocks until the descriptor is ready, the cancel descriptor is
+ * readable, or the deadline passes. The read/write contracts keep their
+ * deadlines in milliseconds (timeouts are configured in ms).
  */
 #include "port.h"
 
@@ -14,6 +17,7 @@
 #include <limits.h>
 #include <poll.h>
 #include <string.h>
+#include <time.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -28,10 +32,10 @@ int port_fail_sys(struct df1 *h, int code, int err, const char *what)
 	return df1_fail(h, code, -1, "%s %s: %s", what, h->port_name, text);
 }
 
-/* poll() fd for events (and the cancel fd for input) until deadline_ms.
- * Returns the fd's revents (> 0), 0 at the deadline, DF1_E_INTR, DF1_E_INVAL
- * (cancel fd closed under us) or DF1_E_SYS. */
-static int port_poll(struct df1 *h, int fd, short events, int64_t deadline_ms)
+/* ppoll() fd for events (and the cancel fd for input) until deadline_us
+ * (df1_now_us() clock). Returns the fd's revents (> 0), 0 at the deadline,
+ * DF1_E_INTR, DF1_E_INVAL (cancel fd closed under us) or DF1_E_SYS. */
+static int port_poll_us(struct df1 *h, int fd, short events, int64_t deadline_us)
 {
 	struct pollfd pfd[2];
 	nfds_t n = 1;
@@ -46,9 +50,15 @@ static int port_poll(struct df1 *h, int fd, short events, int64_t deadline_ms)
 		n = 2;
 	}
 	for (;;) {
-		int64_t left = deadline_ms - df1_now_ms();
-		int ms = left <= 0 ? 0 : left > INT_MAX ? INT_MAX : (int)left;
-		int r = poll(pfd, n, ms);
+		int64_t left = deadline_us - (int64_t)df1_now_us();
+		struct timespec ts;
+		int r;
+
+		if (left < 0)
+			left = 0;
+		ts.tv_sec = (time_t)(left / 1000000);
+		ts.tv_nsec = (long)(left % 1000000) * 1000;
+		r = ppoll(pfd, n, &ts, NULL);
 
 		if (r < 0) {
 			if (errno == EINTR)
@@ -65,11 +75,15 @@ static int port_poll(struct df1 *h, int fd, short events, int64_t deadline_ms)
 			return port_fail_sys(h, DF1_E_SYS, EBADF, "poll on");
 		if (pfd[0].revents)
 			return pfd[0].revents;
-		if (ms == 0 || df1_now_ms() >= deadline_ms)
+		if (left == 0 || (int64_t)df1_now_us() >= deadline_us)
 			return 0;
-		/* poll() returned before our millisecond clock reached the deadline
-		 * (INT_MAX clamp or rounding): wait for the rest */
+		/* ppoll() returned before our clock reached the deadline: wait for the rest */
 	}
+}
+
+static int port_poll(struct df1 *h, int fd, short events, int64_t deadline_ms)
+{
+	return port_poll_us(h, fd, events, deadline_ms > INT64_MAX / 1000 ? INT64_MAX : deadline_ms * 1000);
 }
 
 /* fd < 0 is allowed: poll() ignores it, so this is a pause that only the
@@ -77,6 +91,13 @@ static int port_poll(struct df1 *h, int fd, short events, int64_t deadline_ms)
 int port_wait(struct df1 *h, int fd, short events, int64_t deadline_ms)
 {
 	int r = port_poll(h, fd, events, deadline_ms);
+
+	return r > 0 ? 1 : r;
+}
+
+int port_wait_us(struct df1 *h, int fd, short events, int64_t deadline_us)
+{
+	int r = port_poll_us(h, fd, events, deadline_us);
 
 	return r > 0 ? 1 : r;
 }

@@ -39,6 +39,8 @@ extern const struct port_ops port_fd_ops;   /* an fd given by df1_open_fd (pty, 
  * Returns 1 ready, 0 deadline, DF1_E_INTR (cancel fd readable), DF1_E_SYS.
  * fd < 0: a pause only the cancel fd can end. */
 int port_wait(struct df1 *h, int fd, short events, int64_t deadline_ms);
+/* The same against a deadline in microseconds (df1_now_us() clock): pacing. */
+int port_wait_us(struct df1 *h, int fd, short events, int64_t deadline_us);
 /* Generic descriptor I/O on h->fd with the read/write contracts above (lib/port/port.c);
  * the backends' read/write use them. port_send_fd writes with send(MSG_NOSIGNAL)
  * (sockets: no SIGPIPE). Both refuse a listen-only handle (port_refuse_tx). */

@@ -13,7 +13,7 @@
 #define DF1_TABLE_FILES_MAX 1000
 #define DF1_VERSION_MAJOR 0
 #define DF1_VERSION_MICRO 0
-#define DF1_VERSION_MINOR 3
+#define DF1_VERSION_MINOR 4
 
 struct df1_version {
 	int major;
@@ -237,6 +237,9 @@ enum df1_option {
 	DF1_OPT_LISTEN_ONLY,
 	DF1_OPT_PLC5_TIMER_WORDS,
 	DF1_OPT_PLC2_WORD_ADDR,
+	DF1_OPT_POLL_TIMEOUT_MS,
+	DF1_OPT_SCAN_TIME_MS,
+	DF1_OPT_NO_EOT,
 	DF1_OPT_EIP_CONNECTED,
 };
 int df1_new(df1_t **out);
@@ -400,39 +403,6 @@ int df1_server_set_fault(df1_t *h, enum df1_fault f, int per_mille, int value);
 void df1_server_set_seed(df1_t *h, uint64_t seed);
 int df1_set_line_baud(df1_t *h, int baud);
 int df1_serve_pccc(df1_t *h, const struct df1_server_ops *ops, void *user, int station, const uint8_t *pccc, size_t n, uint8_t *reply, size_t cap);
-typedef struct df1_eip_server df1_eip_server_t;
-struct df1_eip_identity {
-	uint16_t vendor_id, device_type, product_code;
-	uint8_t rev_major, rev_minor;
-	uint16_t status;
-	uint32_t serial;
-	char product_name[33];
-};
-struct df1_eip_server_config {
-	const char *listen;
-	const char *allow;
-	_Bool read_only;
-	int max_clients;
-	struct df1_eip_identity identity;
-};
-typedef void (*df1_eip_pccc_fn)(void *user, df1_eip_server_t *s, uint32_t request, int station, const uint8_t *pccc, size_t n);
-int df1_eip_server_new(df1_eip_server_t **out, const struct df1_eip_server_config *c, df1_eip_pccc_fn fn, void *user);
-const char *df1_eip_server_address(const df1_eip_server_t *s);
-int df1_eip_server_fd(const df1_eip_server_t *s);
-int df1_eip_server_process(df1_eip_server_t *s);
-int df1_eip_server_reply(df1_eip_server_t *s, uint32_t request, const uint8_t *pccc_reply, size_t n);
-int df1_eip_server_fail(df1_eip_server_t *s, uint32_t request, int cip_status);
-struct df1_eip_server_stats {
-	uint64_t sessions;
-	uint64_t sessions_open;
-	uint64_t requests;
-	uint64_t errors;
-	uint64_t refused_clients;
-	uint64_t read_only_refusals;
-};
-void df1_eip_server_stats(const df1_eip_server_t *s, struct df1_eip_server_stats *st);
-const char *df1_eip_server_error(const df1_eip_server_t *s);
-void df1_eip_server_free(df1_eip_server_t *s);
 struct df1_table;
 int df1_table_new(struct df1_table **out, enum df1_plc plc);
 void df1_table_free(struct df1_table *t);
@@ -593,6 +563,39 @@ int df1_read_multi(df1_t *h, int station, struct df1_read_req *reqs, size_t n, u
 int df1_packet_max(enum df1_plc plc, _Bool write);
 int df1_station_health(const df1_t *h, int station, struct df1_station_health *out);
 int df1_poll_station(const df1_t *h, int station, struct df1_station_health *out) ;
+typedef struct df1_eip_server df1_eip_server_t;
+struct df1_eip_identity {
+	uint16_t vendor_id, device_type, product_code;
+	uint8_t rev_major, rev_minor;
+	uint16_t status;
+	uint32_t serial;
+	char product_name[33];
+};
+struct df1_eip_server_config {
+	const char *listen;
+	const char *allow;
+	_Bool read_only;
+	int max_clients;
+	struct df1_eip_identity identity;
+};
+typedef void (*df1_eip_pccc_fn)(void *user, df1_eip_server_t *s, uint32_t request, int station, const uint8_t *pccc, size_t n);
+int df1_eip_server_new(df1_eip_server_t **out, const struct df1_eip_server_config *c, df1_eip_pccc_fn fn, void *user);
+const char *df1_eip_server_address(const df1_eip_server_t *s);
+int df1_eip_server_fd(const df1_eip_server_t *s);
+int df1_eip_server_process(df1_eip_server_t *s);
+int df1_eip_server_reply(df1_eip_server_t *s, uint32_t request, const uint8_t *pccc_reply, size_t n);
+int df1_eip_server_fail(df1_eip_server_t *s, uint32_t request, int cip_status);
+struct df1_eip_server_stats {
+	uint64_t sessions;
+	uint64_t sessions_open;
+	uint64_t requests;
+	uint64_t errors;
+	uint64_t refused_clients;
+	uint64_t read_only_refusals;
+};
+void df1_eip_server_stats(const df1_eip_server_t *s, struct df1_eip_server_stats *st);
+const char *df1_eip_server_error(const df1_eip_server_t *s);
+void df1_eip_server_free(df1_eip_server_t *s);
 struct df1_eip_device {
 	char address[64];
 	uint16_t vendor_id, device_type, product_code;
