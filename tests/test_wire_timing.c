@@ -13,6 +13,8 @@
  *    and replies 150 ms after a command: reads and writes succeed at the
  *    default timeouts (a poll without an answer is polled again within the
  *    poll-answer time, not after a whole ACK timeout).
+ *  - on a pseudo-terminal, which carries bytes at once, the account of when
+ *    they leave does not run ahead of the clock (a timeout stays a timeout);
  *  - adaptive polling: against a slave with a 150 ms reply delay the master
  *    learns the latency and needs a handful of polls per transaction, not
  *    one every few ms (counted, not timed).
@@ -25,6 +27,7 @@
 #include <cmocka.h>
 #include <stdio.h>
 #include <string.h>
+#include <time.h>
 
 #include "df1.h"
 #include "repoll.h"
@@ -146,6 +149,38 @@ static void test_1200_baud_line_master_at_19200_enqs(void **state)
 	assert_int_equal(simproc_stop(&sp, false), 0);
 }
 
+/* A pseudo-terminal carries bytes at once, far faster than the 19200 baud the
+ * handle is set to: the account of when our bytes leave must not run ahead of
+ * the clock over many transactions (it ends when the peer answers), or every
+ * timeout after them would grow by seconds. 1000 reads would put it 10 s
+ * ahead; a station that never answers must still fail after its 100 ms
+ * timeout, not after 10 s (a bound 25 times the timeout, for slow machines). */
+static void test_tx_account_does_not_run_ahead_on_a_pty(void **state)
+{
+	static const char *const args[] = { "--station", "1,2", "--silent", "2", NULL };
+	struct simproc sp;
+	struct timespec t0, t1;
+	int16_t v;
+	df1_t *h;
+	double s;
+
+	(void)state;
+	assert_int_equal(simproc_start(&sp, false, NULL, false, args), 0);
+	h = open_master(sp.target, 19200, DF1_FULL_DUPLEX);
+	assert_int_equal(df1_set_timeout_ms(h, 100), 0);
+	assert_int_equal(df1_set_retries(h, 0, 0), 0);
+	for (int k = 0; k < 1000; k++)
+		OK(h, df1_read_int16(h, 1, "N7:0", &v, 1));
+	clock_gettime(CLOCK_MONOTONIC, &t0);
+	assert_int_equal(df1_read_int16(h, 2, "N7:0", &v, 1), DF1_E_ENQ_LIMIT);
+	clock_gettime(CLOCK_MONOTONIC, &t1);
+	s = (double)(t1.tv_sec - t0.tv_sec) + (double)(t1.tv_nsec - t0.tv_nsec) / 1e9;
+	if (s > 2.5)
+		fail_msg("a 100 ms timeout took %.1f s after 1000 transactions", s);
+	df1_free(h);
+	assert_int_equal(simproc_stop(&sp, false), 0);
+}
+
 /* ---- half duplex: a slave without EOT, a slave that takes 150 ms ---- */
 
 static void test_half_duplex_slave_without_eot(void **state)
@@ -204,6 +239,7 @@ int main(void)
 		cmocka_unit_test(test_1200_baud_full_duplex_write_100_words),
 		cmocka_unit_test(test_1200_baud_half_duplex_write_100_words),
 		cmocka_unit_test(test_1200_baud_line_master_at_19200_enqs),
+		cmocka_unit_test(test_tx_account_does_not_run_ahead_on_a_pty),
 		cmocka_unit_test(test_half_duplex_slave_without_eot),
 		cmocka_unit_test(test_half_duplex_polls_learn_the_reply_latency),
 	};

@@ -133,10 +133,12 @@ int64_t link_char_us(const struct df1 *h, int baud)
 /* When the bytes just written will have left the line. A paced line (df1sim,
  * df1_set_line_baud) handed each chunk over when its last character was due,
  * so they have. A real UART takes them into the kernel's buffer at once and
- * sends them at the configured baud after what is still queued there; tcdrain
- * would tell exactly but blocks past the cancel descriptor, so the link keeps
- * its own account from the line rate. TCP (a device server) and other
- * descriptors have no such delay. */
+ * sends them at the configured baud, after what it still holds of ours;
+ * tcdrain would wait for that but blocks past the cancel descriptor, so the
+ * link keeps its own account from the line rate (link_fill ends it when the
+ * peer answers: an answer shows our bytes are through, and a pseudo-terminal,
+ * which carries them at once, must not let the account run ahead of the
+ * clock). TCP (a device server) and other descriptors have no such delay. */
 static void link_tx_account(struct df1 *h, size_t n)
 {
 	int64_t now = (int64_t)df1_now_us();
@@ -405,6 +407,8 @@ static int link_fill(struct df1 *h, int64_t deadline_ms, bool *expired)
 	}
 	h->rx_pos = i;
 	h->rx_len = (size_t)n;
+	if (h->rx_pos < h->rx_len && h->tx_end_us > (int64_t)df1_now_us())
+		h->tx_end_us = (int64_t)df1_now_us(); /* the peer talks (not our echo): we are through */
 	return (int)(h->rx_len - h->rx_pos);
 }
 
