@@ -609,8 +609,9 @@ DF1_API int df1_set_line_baud(df1_t *h, int baud);
 DF1_API int df1_serve_pccc(df1_t *h, const struct df1_server_ops *ops, void *user, int station,
                            const uint8_t *pccc, size_t n, uint8_t *reply, size_t cap);
 
-/* The EtherNet/IP server (df1_eip_server(3)) is declared in df1_eip.h, which
- * this header includes at its end. */
+/* The EtherNet/IP server (df1_eip_server(3)) and the client's discovery
+ * (df1_eip_list_identity(3)) are declared in df1_eip.h, which this header
+ * includes at its end. */
 
 /* ------------------------------------------------------------------------
  * Data table (df1_table(3)): the files of a simulated or real slave, served
@@ -970,31 +971,6 @@ DF1_API int df1_station_health(const df1_t *h, int station, struct df1_station_h
 #endif
 DF1_API int df1_poll_station(const df1_t *h, int station, struct df1_station_health *out)
 	DF1_DEPRECATED("use df1_station_health");
-
-/* ------------------------------------------------------------------------
- * EtherNet/IP client: eip:// targets (libdf1(7)), discovery. @since 0.4
- * ------------------------------------------------------------------------ */
-/* One device that answered ListIdentity (df1mon --who over eip://). */
-struct df1_eip_device {
-	char address[64];               /* "ADDR:PORT" that answered */
-	uint16_t vendor_id, device_type, product_code;
-	uint8_t rev_major, rev_minor;
-	uint16_t status;                /* the Identity object's status word */
-	uint32_t serial;
-	char product_name[33];
-	uint8_t state;
-};
-typedef void (*df1_eip_device_fn)(void *user, const struct df1_eip_device *d);
-/* ListIdentity to target "eip://HOST[:PORT]" (port default 44818; a route such as
- * "/2" is ignored): over TCP to that host, one answer; when HOST is a broadcast
- * address (255.255.255.255 or a local interface's), one UDP datagram and every
- * answer within timeout_ms. fn (may be NULL) is called for each device. h must not
- * be open: it gives the cancel fd and keeps the error detail. Returns the number of
- * devices, or DF1_E_INVAL (bad target, h open), DF1_E_NODEV (unknown host),
- * DF1_E_SYS (refused, no route), DF1_E_TIMEOUT (TCP: no reply), DF1_E_BAD_REPLY,
- * DF1_E_EIP, DF1_E_INTR. @since 0.4 */
-DF1_API int df1_eip_list_identity(df1_t *h, const char *target, int timeout_ms,
-                                  df1_eip_device_fn fn, void *user);
 
 #ifdef __cplusplus
 }

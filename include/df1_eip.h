@@ -1,7 +1,8 @@
 /*
  * df1_eip.h - libdf1's EtherNet/IP server: PCCC over CIP for SCADA and HMI
- * clients (df1_eip_server(3), df1-eip(7)). Installed beside df1.h, which
- * includes it; include df1.h.
+ * clients (df1_eip_server(3), df1-eip(7)), and the client's discovery
+ * (df1_eip_list_identity(3); eip:// targets are df1_open(3)'s). Installed
+ * beside df1.h, which includes it; include df1.h.
  */
 #ifndef LIBDF1_DF1_EIP_H
 #define LIBDF1_DF1_EIP_H
@@ -87,6 +88,31 @@ DF1_API void df1_eip_server_stats(const df1_eip_server_t *s, struct df1_eip_serv
 DF1_API const char *df1_eip_server_error(const df1_eip_server_t *s);
 /* Closes every connection; pending requests are dropped. NULL is a no-op. @since 0.4 */
 DF1_API void df1_eip_server_free(df1_eip_server_t *s);
+
+/* ------------------------------------------------------------------------
+ * EtherNet/IP client: eip:// targets (libdf1(7)), discovery. @since 0.4
+ * ------------------------------------------------------------------------ */
+/* One device that answered ListIdentity (df1mon --who over eip://). */
+struct df1_eip_device {
+	char address[64];               /* "ADDR:PORT" that answered */
+	uint16_t vendor_id, device_type, product_code;
+	uint8_t rev_major, rev_minor;
+	uint16_t status;                /* the Identity object's status word */
+	uint32_t serial;
+	char product_name[33];
+	uint8_t state;
+};
+typedef void (*df1_eip_device_fn)(void *user, const struct df1_eip_device *d);
+/* ListIdentity to target "eip://HOST[:PORT]" (port default 44818; a route such as
+ * "/2" is ignored): over TCP to that host, one answer; when HOST is a broadcast
+ * address (255.255.255.255 or a local interface's), one UDP datagram and every
+ * answer within timeout_ms. fn (may be NULL) is called for each device. h must not
+ * be open: it gives the cancel fd and keeps the error detail. Returns the number of
+ * devices, or DF1_E_INVAL (bad target, h open), DF1_E_NODEV (unknown host),
+ * DF1_E_SYS (refused, no route), DF1_E_TIMEOUT (TCP: no reply), DF1_E_BAD_REPLY,
+ * DF1_E_EIP, DF1_E_INTR. @since 0.4 */
+DF1_API int df1_eip_list_identity(df1_t *h, const char *target, int timeout_ms,
+                                  df1_eip_device_fn fn, void *user);
 
 #ifdef __cplusplus
 }

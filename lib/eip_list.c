@@ -189,9 +189,10 @@ static int list_udp(struct df1 *h, struct in_addr a, const char *port, int64_t d
 }
 
 /* TCP: one request, one reply. */
-static int list_tcp(struct df1 *h, const char *host, const char *port, int64_t deadline_ms,
+static int list_tcp(struct df1 *h, const char *host, const char *port, int timeout_ms,
                     df1_eip_device_fn fn, void *user)
 {
+	int64_t deadline_ms;
 	char t[280];
 	uint8_t req[EIP_HDR_LEN], msg[600];
 	size_t got = 0, want = EIP_HDR_LEN;
@@ -201,6 +202,7 @@ static int list_tcp(struct df1 *h, const char *host, const char *port, int64_t d
 	r = port_tcp_ops.open(h, t);
 	if (r < 0)
 		return r;
+	deadline_ms = df1_now_ms() + timeout_ms; /* the reply's wait starts once connected */
 	list_request(req);
 	r = (int)port_send_fd(h, req, sizeof req, deadline_ms);
 	while (r >= 0 && got < want) {
@@ -236,7 +238,6 @@ int df1_eip_list_identity(df1_t *h, const char *target, int timeout_ms, df1_eip_
 {
 	char host[256], port[8];
 	struct in_addr a;
-	int64_t deadline;
 	int r;
 
 	if (!h)
@@ -253,8 +254,7 @@ int df1_eip_list_identity(df1_t *h, const char *target, int timeout_ms, df1_eip_
 		return r;
 	df1_clear_error(h);
 	snprintf(h->port_name, sizeof h->port_name, "%.100s:%s", host, port);
-	deadline = df1_now_ms() + timeout_ms;
 	if (inet_pton(AF_INET, host, &a) == 1 && list_is_broadcast(a))
-		return list_udp(h, a, port, deadline, fn, user);
-	return list_tcp(h, host, port, deadline, fn, user);
+		return list_udp(h, a, port, df1_now_ms() + timeout_ms, fn, user);
+	return list_tcp(h, host, port, timeout_ms, fn, user);
 }

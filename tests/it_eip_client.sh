@@ -196,6 +196,22 @@ same "the poll engine wrote nothing" "$(log_new "$L" "$before" 'cmd=0F/AA')" 0
 
 sim_stop "$MAIN_PID"
 
+# ---- route path: two stations behind one address (eip://HOST/2, -a N) ----
+eip_start two --station 1,4 --log "$T/two.log" || finish
+TWO=$SIM_PID
+expect 0 "routed write to station 4" -- "$W" -d "$EIP/2" -a 4 N7:3=44
+expect 0 "routed reads of stations 4 and 1" -- sh -c "'$R' -d '$EIP/2' -a 4 N7:3 && '$R' -d '$EIP/2' -a 1 N7:3"
+out_is "each station its own table" "44
+3"
+expect 0 "unrouted: the default station, whatever -a" -- "$R" -d "$EIP" -a 4 N7:3
+out_is "default station's value" "3"
+wait_for "routed commands logged" 50 log_has "$T/two.log" 4
+same "stations served, in order" "$(sed -n 's/.* station=\([0-9]*\) cmd=\([0-9A-F/]*\) .*/\1 \2/p' "$T/two.log" | tr '\n' ',')" "4 0F/AA,4 0F/A2,1 0F/A2,1 0F/A2,"
+printf 'Tag,Command,Type,Station,PLC_Type,Address\na,Read,INT,1,MicroLogix,N7:3\nb,Read,INT,4,MicroLogix,N7:3\n' > "$T/map2.csv"
+expect 0 "--map over a route, two stations" -- "$MON" -d "$EIP/2" --map "$T/map2.csv" -1
+check "--map: both stations' values" 'grep "^ *a " "$T/out" | grep -q " 3 " && grep "^ *b " "$T/out" | grep -q " 44 "'
+sim_stop "$TWO"
+
 # ---- the server goes away and comes back: the poll engine reconnects ----
 PORT=${MAIN_EIP##*:}
 "$BIN/df1sim" --eip "tcp://127.0.0.1:$PORT" --log "$T/r1.log" > "$T/r1.out" 2> "$T/r1.err" &

@@ -14,6 +14,8 @@
 #include <cmocka.h>
 
 #include <arpa/inet.h>
+#include <ifaddrs.h>
+#include <net/if.h>
 #include <netinet/in.h>
 #include <poll.h>
 #include <pthread.h>
@@ -200,9 +202,9 @@ static bool peer_pccc_of(struct peer *p, const struct msg *m, struct eip_pccc *p
 		peer_fail(p, why);
 		return false;
 	}
-	/* requester ID: length 7, vendor 0xFFFF, a serial */
-	if (pc->reqid_len != 7 || pc->reqid[0] != 7 || pc->reqid[1] != 0xFF || pc->reqid[2] != 0xFF) {
-		peer_fail(p, "requester ID not 7 bytes with vendor FFFF");
+	/* requester ID: length 7, vendor 0 (none claimed), a serial */
+	if (pc->reqid_len != 7 || pc->reqid[0] != 7 || pc->reqid[1] != 0 || pc->reqid[2] != 0) {
+		peer_fail(p, "requester ID not 7 bytes with vendor 0");
 		return false;
 	}
 	memcpy(p->last_pccc, pc->pccc, pc->len);
@@ -272,13 +274,30 @@ static bool peer_serve_one(struct peer *p, struct msg *m)
 	return true;
 }
 
-/* Serve until the client goes (EOF). */
+/* Serve until the client goes (EOF); a Forward Close is answered (and
+ * counted), so that closing a connected handle waits for nothing. */
 static void peer_drain(struct peer *p)
 {
 	struct msg m;
 
-	while (peer_recv(p, &m))
-		;
+	while (peer_recv(p, &m)) {
+		struct cip_fwd_close f;
+		struct eip_packet rp;
+		uint8_t data[32], cip[48], out[128];
+		int dl, cl, ol;
+
+		if (m.req.service != CIP_SVC_FORWARD_CLOSE || m.p.connected ||
+		    cip_fwd_close_parse(&f, m.req.data, m.req.len) < 0)
+			continue;
+		p->forward_closes++;
+		dl = cip_fwd_close_reply_build(data, sizeof data, &f);
+		cl = cip_resp_build(cip, sizeof cip, CIP_SVC_FORWARD_CLOSE, 0, NULL, 0, data, (size_t)dl);
+		memset(&rp, 0, sizeof rp);
+		rp.data = cip;
+		rp.len = (size_t)cl;
+		ol = eip_packet_build(out, sizeof out, SESSION, m.h.context, 0, &rp);
+		peer_send(p, out, (size_t)ol);
+	}
 }
 
 static void *peer_main(void *arg)
@@ -722,7 +741,7 @@ static void s_connected(struct peer *p)
 		return;
 	if (m.p.connected || m.req.service != CIP_SVC_FORWARD_OPEN ||
 	    cip_fwd_open_parse(&f, false, m.req.data, m.req.len) < 0 || f.transport != 0xA3 ||
-	    f.vendor_id != 0xFFFF) {
+	    f.vendor_id != 0) {
 		peer_fail(p, "Forward Open expected");
 		return;
 	}
@@ -741,10 +760,6 @@ static void s_connected(struct peer *p)
 		if (!m.p.connected || m.p.conn_id != OT_ID || m.p.seq != i)
 			peer_fail(p, "SendUnitData on O->T id with sequence 1, 2");
 	}
-	if (!peer_recv(p, &m))
-		return;
-	if (m.req.service == CIP_SVC_FORWARD_CLOSE)
-		p->forward_closes++;
 	peer_drain(p);
 }
 
@@ -764,6 +779,102 @@ static void test_eip_connected(void **state)
 	peer_join(&p);
 	assert_int_equal(p.forward_closes, 1);
 	assert_int_equal(p.unregisters, 1);
+}
+
+/* Forward Open refused (general status 01, extended 0113h): the open fails
+ * with DF1_E_CIP naming both, and nothing is left open. */
+static void s_fwd_refused(struct peer *p)
+{
+	struct msg m;
+	uint8_t cip[16], out[96];
+	uint16_t ext = CIP_EXT_NO_MORE_CONNECTIONS;
+	struct eip_packet rp;
+	int cl, ol;
+
+	if (!peer_open(p) || !peer_recv(p, &m))
+		return;
+	cl = cip_resp_build(cip, sizeof cip, CIP_SVC_FORWARD_OPEN, CIP_ST_CONNECTION_FAILURE, &ext, 1,
+	                    NULL, 0);
+	memset(&rp, 0, sizeof rp);
+	rp.data = cip;
+	rp.len = (size_t)cl;
+	ol = eip_packet_build(out, sizeof out, SESSION, m.h.context, 0, &rp);
+	peer_send(p, out, (size_t)ol);
+	peer_drain(p);
+}
+
+static void test_eip_forward_open_refused(void **state)
+{
+	struct peer p;
+	df1_t *h;
+	char t[64];
+
+	(void)state;
+	peer_start(&p, s_fwd_refused);
+	assert_int_equal(df1_new(&h), 0);
+	assert_int_equal(df1_set_option(h, DF1_OPT_EIP_CONNECTED, 1), 0);
+	snprintf(t, sizeof t, "eip://127.0.0.1:%d", p.port);
+	assert_int_equal(df1_open(h, t), DF1_E_CIP);
+	assert_non_null(strstr(df1_last_error(h)->message, "Forward Open failed"));
+	assert_non_null(strstr(df1_last_error(h)->message, "0x01 (connection failure), extended 0x0113"));
+	assert_false(df1_is_open(h));
+	df1_free(h);
+	peer_join(&p);
+}
+
+/* Connected: a reply on another connection id or with an old sequence count
+ * is stale, dropped and counted; the one that matches is taken. */
+static void s_connected_stale(struct peer *p)
+{
+	struct msg m;
+	struct cip_fwd_open f;
+	struct eip_pccc pc;
+	uint8_t data[64], cip[96], out[200], r[16];
+	struct eip_packet rp;
+	uint32_t to;
+	size_t n;
+	int dl, cl, ol;
+
+	if (!peer_open(p) || !peer_recv(p, &m) ||
+	    cip_fwd_open_parse(&f, false, m.req.data, m.req.len) < 0)
+		return;
+	p->to_id = f.to_conn_id;
+	f.ot_conn_id = OT_ID;
+	dl = cip_fwd_open_reply_build(data, sizeof data, &f);
+	cl = cip_resp_build(cip, sizeof cip, CIP_SVC_FORWARD_OPEN, 0, NULL, 0, data, (size_t)dl);
+	memset(&rp, 0, sizeof rp);
+	rp.data = cip;
+	rp.len = (size_t)cl;
+	ol = eip_packet_build(out, sizeof out, SESSION, m.h.context, 0, &rp);
+	peer_send(p, out, (size_t)ol);
+	if (!peer_recv(p, &m) || !peer_pccc_of(p, &m, &pc))
+		return;
+	n = peer_answer(p, &pc, 0, r);
+	to = p->to_id;
+	p->to_id = to ^ 0x1000u;           /* another connection */
+	peer_reply(p, &m, &pc, 0, 0, r, n);
+	p->to_id = to;
+	m.p.seq = (uint16_t)(m.p.seq - 1); /* an older sequence count */
+	peer_reply(p, &m, &pc, 0, 0, r, n);
+	m.p.seq = (uint16_t)(m.p.seq + 1);
+	peer_reply(p, &m, &pc, 0, 0, r, n);
+	peer_drain(p);
+}
+
+static void test_eip_connected_stale(void **state)
+{
+	struct peer p;
+	df1_t *h;
+	int16_t v = 0;
+
+	(void)state;
+	peer_start(&p, s_connected_stale);
+	h = client(&p, "", true);
+	assert_int_equal(df1_read_int16(h, 1, "N7:0", &v, 1), 1);
+	assert_int_equal(v, 1234);
+	assert_int_equal(counter(h, DF1_ID_CNT_STALE_MSGS_RCVD), 2);
+	df1_free(h);
+	peer_join(&p);
 }
 
 /* "/2": Unconnected Send, route path port 2 with the station as link address. */
@@ -927,6 +1038,117 @@ static void test_eip_list_identity_tcp(void **state)
 	peer_join(&p);
 }
 
+/* ListIdentity by UDP broadcast: a responder bound to a local interface's
+ * broadcast address (it listens on no unicast address) answers twice, from
+ * loopback, as two devices would; both are reported. The one datagram also
+ * goes out on that interface, to an ephemeral port that no EtherNet/IP
+ * device listens on. Skipped where no interface has a broadcast address. */
+struct udp_peer {
+	int rx, tx;
+	bool failed;
+};
+
+static void *udp_main(void *arg)
+{
+	struct udp_peer *u = arg;
+	struct pollfd pf = { u->rx, POLLIN, 0 };
+	struct sockaddr_in from;
+	socklen_t fl = sizeof from;
+	uint8_t req[64], d[128], out[200];
+	struct eip_hdr h;
+	struct eip_identity id;
+	ssize_t n;
+
+	if (poll(&pf, 1, PEER_WAIT_MS) != 1 ||
+	    (n = recvfrom(u->rx, req, sizeof req, 0, (struct sockaddr *)&from, &fl)) != EIP_HDR_LEN ||
+	    eip_hdr_parse(&h, req, (size_t)n) < 0 || h.command != EIP_CMD_LIST_IDENTITY) {
+		u->failed = true;
+		return NULL;
+	}
+	for (int i = 0; i < 2; i++) {
+		int dl;
+
+		memset(&id, 0, sizeof id);
+		id.encap_version = 1;
+		id.sin_family = AF_INET;
+		id.sin_port = 44818;
+		id.vendor_id = 77;
+		id.serial = 0x100u + (uint32_t)i;
+		snprintf(id.product_name, sizeof id.product_name, "device %d", i);
+		dl = eip_identity_build(d, sizeof d, &id);
+		h.length = (uint16_t)dl;
+		eip_hdr_build(out, sizeof out, &h);
+		memcpy(out + EIP_HDR_LEN, d, (size_t)dl);
+		if (sendto(u->tx, out, EIP_HDR_LEN + (size_t)dl, 0, (struct sockaddr *)&from, fl) < 0)
+			u->failed = true;
+	}
+	return NULL;
+}
+
+static int udp_seen;
+static uint32_t udp_serials;
+static void on_udp_device(void *user, const struct df1_eip_device *d)
+{
+	(void)user;
+	udp_seen++;
+	udp_serials |= 1u << (d->serial & 0x1F);
+	assert_string_equal(d->address, "127.0.0.1:44818");
+}
+
+static void test_eip_list_identity_udp_broadcast(void **state)
+{
+	struct ifaddrs *ifs, *i;
+	struct sockaddr_in brd, lo;
+	struct udp_peer u = { -1, -1, false };
+	socklen_t al = sizeof brd;
+	bool have = false;
+	pthread_t t;
+	char target[64], ip[INET_ADDRSTRLEN];
+	df1_t *h;
+
+	(void)state;
+	assert_int_equal(getifaddrs(&ifs), 0);
+	for (i = ifs; i && !have; i = i->ifa_next)
+		if ((i->ifa_flags & IFF_BROADCAST) && (i->ifa_flags & IFF_UP) && i->ifa_broadaddr &&
+		    i->ifa_broadaddr->sa_family == AF_INET) {
+			memcpy(&brd, i->ifa_broadaddr, sizeof brd);
+			have = true;
+		}
+	freeifaddrs(ifs);
+	if (!have) {
+		skip();
+		return;
+	}
+	brd.sin_port = 0;
+	u.rx = socket(AF_INET, SOCK_DGRAM, 0);
+	u.tx = socket(AF_INET, SOCK_DGRAM, 0);
+	if (bind(u.rx, (struct sockaddr *)&brd, sizeof brd) < 0) {
+		close(u.rx);
+		close(u.tx);
+		skip();
+		return;
+	}
+	assert_int_equal(getsockname(u.rx, (struct sockaddr *)&brd, &al), 0);
+	memset(&lo, 0, sizeof lo);
+	lo.sin_family = AF_INET;
+	lo.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+	assert_int_equal(bind(u.tx, (struct sockaddr *)&lo, sizeof lo), 0);
+	assert_int_equal(pthread_create(&t, NULL, udp_main, &u), 0);
+	inet_ntop(AF_INET, &brd.sin_addr, ip, sizeof ip);
+	snprintf(target, sizeof target, "eip://%s:%d", ip, ntohs(brd.sin_port));
+	assert_int_equal(df1_new(&h), 0);
+	udp_seen = 0;
+	udp_serials = 0;
+	assert_int_equal(df1_eip_list_identity(h, target, 1000, on_udp_device, NULL), 2);
+	pthread_join(t, NULL);
+	assert_false(u.failed);
+	assert_int_equal(udp_seen, 2);
+	assert_int_equal(udp_serials, 3u);
+	df1_free(h);
+	close(u.rx);
+	close(u.tx);
+}
+
 /* Targets: syntax, unknown host, refused port, listen only; serial-only
  * settings are ignored (a half-duplex setting does not make it poll). */
 static void test_eip_targets(void **state)
@@ -985,24 +1207,16 @@ static void test_eip_half_duplex_setting_ignored(void **state)
 	peer_join(&p);
 }
 
-static void test_eip_read_only_commands(void **state)
+static void test_eip_status_texts(void **state)
 {
-	static const uint8_t rd[] = { 0x0F, 0, 1, 2, 0xA2 }, wr[] = { 0x0F, 0, 1, 2, 0xAA },
-	                     diag[] = { 0x06, 0, 1, 2, 0x03 }, mode[] = { 0x0F, 0, 1, 2, 0x80 },
-	                     plc2r[] = { 0x01, 0, 1, 2 }, plc2w[] = { 0x08, 0, 1, 2 };
-
 	(void)state;
-	assert_true(link_eip_read_only_cmd(rd, sizeof rd));
-	assert_true(link_eip_read_only_cmd(diag, sizeof diag));
-	assert_true(link_eip_read_only_cmd(plc2r, sizeof plc2r));
-	assert_false(link_eip_read_only_cmd(wr, sizeof wr));
-	assert_false(link_eip_read_only_cmd(mode, sizeof mode));
-	assert_false(link_eip_read_only_cmd(plc2w, sizeof plc2w));
-	assert_false(link_eip_read_only_cmd(rd, 4));
 	assert_string_equal(link_eip_status_text(EIP_ST_INVALID_LENGTH), "invalid length");
+	assert_string_equal(link_eip_status_text(0x1234), "unknown status");
 	assert_string_equal(link_cip_status_text(CIP_ST_PATH_DESTINATION), "path destination unknown");
 	assert_string_equal(df1_errname(DF1_E_EIP), "DF1_E_EIP");
 	assert_string_equal(df1_strerror(DF1_E_CIP), "CIP error status");
+	assert_false(df1_error_unexecuted(DF1_E_EIP));
+	assert_false(df1_error_unexecuted(DF1_E_CIP));
 }
 
 int main(void)
@@ -1021,13 +1235,16 @@ int main(void)
 		cmocka_unit_test(test_eip_peer_closes_write_not_resent),
 		cmocka_unit_test(test_eip_idle_close_write_once),
 		cmocka_unit_test(test_eip_connected),
+		cmocka_unit_test(test_eip_forward_open_refused),
+		cmocka_unit_test(test_eip_connected_stale),
 		cmocka_unit_test(test_eip_route_path),
 		cmocka_unit_test(test_eip_link_test),
 		cmocka_unit_test(test_eip_register_refused),
 		cmocka_unit_test(test_eip_list_identity_tcp),
+		cmocka_unit_test(test_eip_list_identity_udp_broadcast),
 		cmocka_unit_test(test_eip_targets),
 		cmocka_unit_test(test_eip_half_duplex_setting_ignored),
-		cmocka_unit_test(test_eip_read_only_commands),
+		cmocka_unit_test(test_eip_status_texts),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -16,7 +16,7 @@
 # Usage: sh tools/test-debian.sh [--install] [--keep DIR]
 #        sh tools/test-debian.sh --update-symbols   (rewrite the symbols file
 #        from the built library, with the version of each symbol's "@since"
-#        in df1.h, 0.1.0 where none is given; run after adding API)
+#        in include/df1*.h, 0.1.0 where none is given; run after adding API)
 # Needs: dpkg-dev debhelper fakeroot lintian, and the Build-Depends.
 set -u
 cd "$(dirname "$0")/.." || exit 2
@@ -47,7 +47,8 @@ LIB=$(ls build/deb-symbols/libdf1.so."$MAJOR".* | head -n 1)
 want_symbols() {
 	nm -D --defined-only "$LIB" | awk '{print $3}' | python3 -c '
 import re, sys
-hdr = open("include/df1.h").read().split("\n")
+import glob
+hdr = "\n".join(open(f).read() for f in sorted(glob.glob("include/df1*.h"))).split("\n")
 since = {}
 block = []
 for line in hdr:
@@ -62,8 +63,8 @@ for line in hdr:
         if v:
             since[m.group(1)] = "%s.%s.0" % v[-1]
         block = []
-    elif not line.startswith((" ", "\t")):
-        block = []
+    elif s == "":
+        block = []      # a blank line ends a group: its notes are not for the next
 soname = sys.argv[1]
 print("%s libdf1-0 #MINVER#" % soname)
 print("* Build-Depends-Package: libdf1-dev")

@@ -11,7 +11,8 @@
  * (the peer closed it while idle, or answered 0064h invalid session) is
  * opened again and registered again, and the command sent; a connection lost
  * after the whole command went out is retried only for a command that only
- * reads (it may have executed: a write is reported, never sent twice).
+ * reads (eip_pccc_writes(), the rule the server's read-only mode uses): any
+ * other may have executed, and is reported, never sent twice.
  *
  * Self-contained over the TCP port: no call into core.c, so tests that
  * replace the DF1 link (tests/test_client.c) still link the handle with it.
@@ -27,12 +28,13 @@
 #include <unistd.h>
 
 #include "eip.h"
+#include "eip_session.h"
 #include "link_eip.h"
 
 /* The requester ID of our Execute PCCC requests and the originator of a
- * Forward Open: the project has no ODVA vendor ID, so it claims none: 0xFFFF,
- * with a random serial per handle (libdf1(7) ETHERNET/IP). */
-#define EIP_OUR_VENDOR 0xFFFFu
+ * Forward Open: the project has no ODVA vendor ID and claims none (0, as the
+ * server's identity, df1-eip(7)), with a random serial per handle. */
+#define EIP_OUR_VENDOR 0x0000u
 #define EIP_MSG_CAP 1024          /* one encapsulated message in or out */
 #define EIP_CONNECT_MIN_MS 1000
 /* Unconnected Send: 2^5 = 32 ms a tick */
@@ -412,6 +414,8 @@ static int eip_reopen(struct df1 *h, struct link_eip *e)
 	r = eip_start(h, e);
 	if (r < 0)
 		e->broken = true;
+	else
+		df1_clear_error(h); /* what broke the old session is no error of this command */
 	return r;
 }
 
@@ -502,26 +506,6 @@ void link_eip_close(struct df1 *h)
 /* ------------------------------------------------------------------------
  * Transactions
  * ------------------------------------------------------------------------ */
-
-/* Only reads: sent again after a connection lost with the command out. The
- * PCCC commands libdf1 and its users send to read (spec/protocol.md 4):
- * 01 (PLC-2 unprotected read), 06/00 echo, 06/03 diagnostic status, 0F/01
- * word range read, 0F/68 typed read, 0F/A1 and 0F/A2 protected typed logical
- * reads. Everything else may write. */
-bool link_eip_read_only_cmd(const uint8_t *pccc, size_t n)
-{
-	if (n < 1)
-		return false;
-	if (pccc[0] == 0x01)
-		return true;
-	if (n < 5)
-		return false;
-	if (pccc[0] == 0x06)
-		return pccc[4] == 0x00 || pccc[4] == 0x03;
-	if (pccc[0] == 0x0F)
-		return pccc[4] == 0x01 || pccc[4] == 0x68 || pccc[4] == 0xA1 || pccc[4] == 0xA2;
-	return false;
-}
 
 /* The CIP request of one command into buf: Execute PCCC, wrapped in an
  * Unconnected Send to port 2, link address station, for a routed target. */
@@ -712,7 +696,7 @@ static void eip_idle_check(struct df1 *h, struct link_eip *e)
 int link_eip_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap)
 {
 	struct link_eip *e = h->eip;
-	bool sent = false, retried = false, reads = link_eip_read_only_cmd(cmd + 2, n - 2);
+	bool sent = false, retried = false, reads = !eip_pccc_writes(cmd + 2, n - 2);
 	int station = cmd[0], result = 0;
 
 	if (e->route && station > 254)

@@ -19,7 +19,6 @@ int link_eip_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *repl
 int link_eip_test(struct df1 *h);
 
 /* pure helpers, for tests */
-bool link_eip_read_only_cmd(const uint8_t *pccc, size_t n);
 const char *link_eip_status_text(uint32_t status);
 const char *link_cip_status_text(uint8_t status);
 

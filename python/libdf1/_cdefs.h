@@ -570,17 +570,6 @@ int df1_read_multi(df1_t *h, int station, struct df1_read_req *reqs, size_t n, u
 int df1_packet_max(enum df1_plc plc, _Bool write);
 int df1_station_health(const df1_t *h, int station, struct df1_station_health *out);
 int df1_poll_station(const df1_t *h, int station, struct df1_station_health *out) ;
-struct df1_eip_device {
-	char address[64];
-	uint16_t vendor_id, device_type, product_code;
-	uint8_t rev_major, rev_minor;
-	uint16_t status;
-	uint32_t serial;
-	char product_name[33];
-	uint8_t state;
-};
-typedef void (*df1_eip_device_fn)(void *user, const struct df1_eip_device *d);
-int df1_eip_list_identity(df1_t *h, const char *target, int timeout_ms, df1_eip_device_fn fn, void *user);
 typedef struct df1_eip_server df1_eip_server_t;
 struct df1_eip_identity {
 	uint16_t vendor_id, device_type, product_code;
@@ -614,3 +603,14 @@ struct df1_eip_server_stats {
 void df1_eip_server_stats(const df1_eip_server_t *s, struct df1_eip_server_stats *st);
 const char *df1_eip_server_error(const df1_eip_server_t *s);
 void df1_eip_server_free(df1_eip_server_t *s);
+struct df1_eip_device {
+	char address[64];
+	uint16_t vendor_id, device_type, product_code;
+	uint8_t rev_major, rev_minor;
+	uint16_t status;
+	uint32_t serial;
+	char product_name[33];
+	uint8_t state;
+};
+typedef void (*df1_eip_device_fn)(void *user, const struct df1_eip_device *d);
+int df1_eip_list_identity(df1_t *h, const char *target, int timeout_ms, df1_eip_device_fn fn, void *user);
