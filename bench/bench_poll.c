@@ -1,12 +1,23 @@
 /*
- * bench_poll - the poll engine on a simulated 19200-baud half-duplex line with
- * five stations (bench/run.sh starts df1sim --line-baud 19200): 200 tags, scan
- * time measured against the wire-time bound (the bytes the scan sends and
- * receives, from the link counters 2560/2561, at 10 bits per character), and
- * transactions per scan against a naive poller that reads one tag per
- * transaction. A benchmark reports numbers; it asserts nothing.
+ * bench_poll - the poll engine on a simulated 19200-baud line with five
+ * stations (bench/run.sh starts df1sim --line-baud 19200 for each case): 200
+ * tags, the scan time measured against the wire-time bounds computed from the
+ * bytes the scan sends and receives (the link counters 2560/2561, 10 bits per
+ * character):
+ *   - serial bound: every byte of the scan one after the other;
+ *   - one-direction bound (full duplex): the busier direction alone, the limit
+ *     when both directions carry bytes at once (pipelining).
+ * With --scan-time MS (df1sim --scan-time: a reply is ready at the end of the
+ * slave's program scan) the bound adds the waits the workload cannot avoid:
+ * one transaction at a time per line, each command lands at a random point of
+ * its station's scan, so it waits MS/2 on average (df1sim(1)).
+ * The half-duplex case also runs a naive poller (one read per tag) to compare.
+ * A benchmark reports numbers; it asserts nothing. Its last output line is
+ *   case NAME ratio R
+ * for bench/run.sh, R = measured / the bound that applies (see above).
  *
- * usage: bench_poll DEVICE [SCANS]
+ * usage: bench_poll DEVICE half|full [SCANS] [--outstanding N] [--scan-time MS]
+ *                   [--name NAME]
  */
 #include <stdint.h>
 #include <stdio.h>
@@ -17,24 +28,34 @@
 #include "df1.h"
 
 #define BAUD 19200
+#define BITS_PER_CHAR 10
 #define STATIONS 5
 #define TAGS_PER_STATION 40
 
-static int64_t now_ms(void)
+static int64_t now_us(void)
 {
 	struct timespec ts;
 
 	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
+	return (int64_t)ts.tv_sec * 1000000 + ts.tv_nsec / 1000;
 }
 
-static uint64_t chars(df1_t *h)
-{
-	uint64_t tx = 0, rx = 0;
+struct bytes {
+	uint64_t tx, rx;
+};
 
-	df1_counter(h, 2560, &tx);      /* CRD_CHAR_SENT */
-	df1_counter(h, 2561, &rx);      /* CRD_CHAR_RCVD */
-	return tx + rx;
+static struct bytes chars(df1_t *h)
+{
+	struct bytes b = { 0, 0 };
+
+	df1_counter(h, 2560, &b.tx);    /* CRD_CHAR_SENT */
+	df1_counter(h, 2561, &b.rx);    /* CRD_CHAR_RCVD */
+	return b;
+}
+
+static double wire_ms(double bytes)
+{
+	return bytes * BITS_PER_CHAR * 1000.0 / BAUD;
 }
 
 static uint64_t transactions(df1_t *h)
@@ -83,25 +104,58 @@ static int add_tags(df1_t *h, struct df1_tag_config *all, int *n)
 	return 0;
 }
 
+static int scan_n(df1_t *h, int scans, struct df1_poll_stats *ps)
+{
+	uint64_t scans0;
+
+	if (df1_poll_stats(h, ps) < 0)
+		return -1;
+	scans0 = ps->scans;
+	while (df1_poll_stats(h, ps) == 0 && ps->scans < scans0 + (uint64_t)scans)
+		if (df1_poll(h, 1000) < 0)
+			return -1;
+	return 0;
+}
+
 int main(int argc, char **argv)
 {
 	static struct df1_tag_config tags[STATIONS * TAGS_PER_STATION];
 	struct df1_value v[4];
 	struct df1_poll_stats ps;
+	struct bytes b0, b1;
 	df1_t *h;
-	int n = 0, scans = argc > 2 ? atoi(argv[2]) : 10, naive_scans = 2;
-	uint64_t c0, t0tx, scans0;
-	int64_t t0, engine_ms, naive_ms;
-	double engine_bytes, engine_tx, naive_bytes, naive_tx, eb, nb;
+	int n = 0, scans = 10, naive_scans = 2, outstanding = 1, scan_time = 0;
+	bool full;
+	const char *name = NULL;
+	uint64_t t0tx;
+	int64_t t0;
+	double scan_ms, tx, rx, serial, one_dir, waits, trans, bound, ratio;
 
-	if (argc < 2) {
-		fprintf(stderr, "usage: bench_poll DEVICE [SCANS]\n");
+	if (argc < 3 || (strcmp(argv[2], "half") && strcmp(argv[2], "full"))) {
+		fprintf(stderr, "usage: bench_poll DEVICE half|full [SCANS] [--outstanding N] "
+		        "[--scan-time MS] [--name NAME]\n");
 		return 2;
+	}
+	full = strcmp(argv[2], "full") == 0;
+	for (int i = 3; i < argc; i++) {
+		if (!strcmp(argv[i], "--outstanding") && i + 1 < argc)
+			outstanding = atoi(argv[++i]);
+		else if (!strcmp(argv[i], "--scan-time") && i + 1 < argc)
+			scan_time = atoi(argv[++i]);
+		else if (!strcmp(argv[i], "--name") && i + 1 < argc)
+			name = argv[++i];
+		else
+			scans = atoi(argv[i]);
 	}
 	if (scans < 1)
 		scans = 1;
-	if (df1_new(&h) < 0 || df1_set_duplex(h, DF1_HALF_DUPLEX_MASTER) < 0 ||
-	    df1_set_line_baud(h, BAUD) < 0 || df1_open(h, argv[1]) < 0) {
+	if (!name)
+		name = argv[2];
+	if (df1_new(&h) < 0 ||
+	    df1_set_duplex(h, full ? DF1_FULL_DUPLEX : DF1_HALF_DUPLEX_MASTER) < 0 ||
+	    df1_set_line_baud(h, BAUD) < 0 ||
+	    (outstanding > 1 && df1_set_option(h, DF1_OPT_MAX_OUTSTANDING, outstanding) < 0) ||
+	    df1_open(h, argv[1]) < 0) {
 		fprintf(stderr, "bench_poll: %s: %s\n", argv[1], h ? df1_last_error(h)->message : "no memory");
 		return 1;
 	}
@@ -109,55 +163,76 @@ int main(int argc, char **argv)
 		return 1;
 
 	/* the poll engine: one warm-up scan, then `scans` scans */
-	while (df1_poll_stats(h, &ps) == 0 && ps.scans < 1)
-		if (df1_poll(h, 1000) < 0)
-			goto fail;
-	c0 = chars(h);
+	if (scan_n(h, 1, &ps) < 0)
+		goto fail;
+	b0 = chars(h);
 	t0tx = transactions(h);
-	scans0 = ps.scans;
-	t0 = now_ms();
-	while (df1_poll_stats(h, &ps) == 0 && ps.scans < scans0 + (uint64_t)scans)
-		if (df1_poll(h, 1000) < 0)
-			goto fail;
-	engine_ms = now_ms() - t0;
-	engine_bytes = (double)(chars(h) - c0) / scans;
-	engine_tx = (double)(transactions(h) - t0tx) / scans;
+	t0 = now_us();
+	if (scan_n(h, scans, &ps) < 0)
+		goto fail;
+	scan_ms = (double)(now_us() - t0) / 1000.0 / scans;
+	b1 = chars(h);
+	tx = (double)(b1.tx - b0.tx) / scans;
+	rx = (double)(b1.rx - b0.rx) / scans;
+	trans = (double)(transactions(h) - t0tx) / scans;
 	if (ps.read_failures)
 		fprintf(stderr, "bench_poll: %llu failed reads\n", (unsigned long long)ps.read_failures);
 
-	/* the naive poller: one read per tag */
-	c0 = chars(h);
-	t0tx = transactions(h);
-	t0 = now_ms();
-	for (int k = 0; k < naive_scans; k++) {
-		for (int i = 0; i < n; i++) {
-			int rc = df1_read_addr(h, tags[i].station, &tags[i].addr, v, 1);
+	serial = wire_ms(tx + rx);
+	one_dir = wire_ms(tx > rx ? tx : rx);
+	waits = trans * scan_time / 2.0;
+	printf("poll bench, case %s: %d tags, %d stations, %s duplex, %d baud (df1sim --line-baud %d)",
+	       name, n, STATIONS, full ? "full" : "half", BAUD, BAUD);
+	if (outstanding > 1)
+		printf(", --outstanding %d", outstanding);
+	if (scan_time)
+		printf(", stations with --scan-time %d", scan_time);
+	printf("\n  transactions/scan %.1f; bytes/scan sent %.0f, received %.0f; blocks %u\n", trans,
+	       tx, rx, ps.blocks);
+	printf("  serial wire-time bound %.1f ms", serial);
+	if (full)
+		printf("; one-direction bound %.1f ms", one_dir);
+	if (scan_time)
+		printf("; scan-time waits %.1f ms", waits);
+	printf("\n  measured scan %.1f ms: %.2f x serial bound", scan_ms, scan_ms / serial);
+	if (full)
+		printf(", %.2f x one-direction bound", scan_ms / one_dir);
+	if (scan_time)
+		printf(", %.2f x (serial bound + waits)", scan_ms / (serial + waits));
+	printf("\n");
 
-			if (rc < 0) {
-				fprintf(stderr, "bench_poll: %s: %s\n", tags[i].name, df1_last_error(h)->message);
-				goto fail;
+	if (!full && !scan_time) {
+		/* the naive poller: one read per tag */
+		double naive_ms, naive_bytes, naive_tx;
+
+		b0 = chars(h);
+		t0tx = transactions(h);
+		t0 = now_us();
+		for (int k = 0; k < naive_scans; k++) {
+			for (int i = 0; i < n; i++) {
+				int rc = df1_read_addr(h, tags[i].station, &tags[i].addr, v, 1);
+
+				if (rc < 0) {
+					fprintf(stderr, "bench_poll: %s: %s\n", tags[i].name,
+					        df1_last_error(h)->message);
+					goto fail;
+				}
 			}
 		}
+		naive_ms = (double)(now_us() - t0) / 1000.0 / naive_scans;
+		b1 = chars(h);
+		naive_bytes = (double)(b1.tx + b1.rx - b0.tx - b0.rx) / naive_scans;
+		naive_tx = (double)(transactions(h) - t0tx) / naive_scans;
+		printf("  naive poller (1 tag per read): transactions/scan %.1f, bytes/scan %.0f, "
+		       "bound %.1f ms, measured %.1f ms (%.2f x); the engine is %.1fx faster\n",
+		       naive_tx, naive_bytes, wire_ms(naive_bytes), naive_ms,
+		       naive_ms / wire_ms(naive_bytes), naive_ms / scan_ms);
 	}
-	naive_ms = now_ms() - t0;
-	naive_bytes = (double)(chars(h) - c0) / naive_scans;
-	naive_tx = (double)(transactions(h) - t0tx) / naive_scans;
-
-	eb = engine_bytes * 10.0 * 1000.0 / BAUD;
-	nb = naive_bytes * 10.0 * 1000.0 / BAUD;
-	printf("poll bench: %d tags, %d stations, half duplex, %d baud (df1sim --line-baud %d)\n",
-	       n, STATIONS, BAUD, BAUD);
-	printf("%-22s %12s %12s %14s %13s %7s\n", "", "trans/scan", "bytes/scan", "wire bound ms",
-	       "measured ms", "ratio");
-	printf("%-22s %12.1f %12.0f %14.1f %13.1f %7.2f\n", "poll engine", engine_tx, engine_bytes, eb,
-	       (double)engine_ms / scans, (double)engine_ms / scans / eb);
-	printf("%-22s %12.1f %12.0f %14.1f %13.1f %7.2f\n", "naive (1 tag per read)", naive_tx,
-	       naive_bytes, nb, (double)naive_ms / naive_scans, (double)naive_ms / naive_scans / nb);
-	printf("blocks per scan %u; scans measured %d (naive %d); speed-up %.1fx\n", ps.blocks, scans,
-	       naive_scans, ((double)naive_ms / naive_scans) / ((double)engine_ms / scans));
-	printf("ratio = measured / wire bound (1.00 = the wire is the limit). Both ends pace their\n"
-	       "bytes as a %d-baud line (df1sim --line-baud, df1_set_line_baud): a chunk is handed\n"
-	       "over when its last character would have arrived; the rest is turnaround time.\n", BAUD);
+	/* the ratio for the summary line: pipelining is measured against the serial
+	 * bound too, so that below 1.00 shows both directions at work at once */
+	bound = scan_time ? serial + waits : serial;
+	ratio = scan_ms / bound;
+	printf("case %s ratio %.2f\n", name, ratio);
 	df1_free(h);
 	return 0;
 fail:

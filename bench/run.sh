@@ -1,8 +1,12 @@
 #!/bin/sh
 # bench/run.sh BUILDDIR - benchmarks (make bench; never run by make check).
-# bench_poll: 200 tags over 5 stations on a simulated 19200-baud half-duplex
-# line (df1sim --line-baud 19200, both ends paced): measured scan time against
-# the wire-time bound, transactions per scan against a one-tag-per-read poller.
+# bench_poll: 200 tags over 5 stations on a simulated 19200-baud line (df1sim
+# --line-baud 19200, both ends paced), four cases: half duplex, full duplex,
+# full duplex pipelined (--outstanding 4 against df1sim --max-queue 8), half
+# duplex against slaves with a 5 ms program scan (--scan-time 5): measured
+# scan time against the wire-time bounds; half duplex also against a
+# one-tag-per-read poller. The last line of make bench is
+#   bench: half R1 full R2 full-pipelined R3 half-scan5 R4
 # bench_load: df1_tag_load_map of 40 000 tags, df1_map_load of a 10 MB field.
 # python/bench.py (when python3 has cffi): single-word reads per second from
 # Python next to the C figure, against one df1sim on a pty.
@@ -25,20 +29,55 @@ $CC -O2 -g -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra -Iinclude -o "$B/bench/bench
 $CC -O2 -g -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra -Iinclude -o "$B/bench/bench_poll" \
 	bench/bench_poll.c "$B/libdf1.a" -lcsv -lm -lpthread || exit 1
 
-mkfifo "$T/out" || exit 1
-"$B/bin/df1sim" --pty "$T/plc" --duplex half --station 1-5 --line-baud 19200 > "$T/out" 2> "$T/err" &
-pid=$!
-( sleep 10; kill "$pid" 2>/dev/null ) &
-dog=$!
-line=
-IFS= read -r line < "$T/out" || line=
-kill "$dog" 2>/dev/null
-if [ "$line" != "$T/plc" ]; then
-	echo "bench: df1sim did not start" >&2
-	cat "$T/err" >&2
-	exit 1
-fi
-"$B/bench/bench_poll" "$T/plc" "${BENCH_SCANS:-10}" || exit 1
+# start_sim NAME DF1SIM-OPTIONS...: a df1sim on the pty $T/NAME, paced as a
+# 19200-baud line; sets pid (stopped by stop_sim)
+start_sim() {
+	name=$1
+	shift
+	rm -f "$T/out"
+	mkfifo "$T/out" || exit 1
+	"$B/bin/df1sim" --pty "$T/$name" --station 1-5 --line-baud 19200 "$@" > "$T/out" 2> "$T/err" &
+	pid=$!
+	( sleep 10; kill "$pid" 2>/dev/null ) &
+	dog=$!
+	line=
+	IFS= read -r line < "$T/out" || line=
+	kill "$dog" 2>/dev/null
+	if [ "$line" != "$T/$name" ]; then
+		echo "bench: df1sim $* did not start" >&2
+		cat "$T/err" >&2
+		exit 1
+	fi
+}
+stop_sim() {
+	kill "$pid" 2>/dev/null && wait "$pid" 2>/dev/null
+	pid=
+}
+# run_case NAME DF1SIM-OPTIONS -- BENCH_POLL-ARGUMENTS...: one case; its ratio
+# (bench_poll's last line "case NAME ratio R") kept in $T/ratio.NAME
+run_case() {
+	name=$1
+	shift
+	sim_args=
+	while [ "$1" != "--" ]; do
+		sim_args="$sim_args $1"
+		shift
+	done
+	shift
+	# shellcheck disable=SC2086
+	start_sim "$name" $sim_args
+	"$B/bench/bench_poll" "$T/$name" "$@" --name "$name" > "$T/case.$name" || { cat "$T/case.$name"; exit 1; }
+	stop_sim
+	sed '$d' "$T/case.$name"
+	tail -n 1 "$T/case.$name" | sed -n 's/^case [^ ]* ratio //p' > "$T/ratio.$name"
+}
+S=${BENCH_SCANS:-10}
+run_case half --duplex half -- half "$S"
+run_case full --duplex full -- full "$S"
+# a controller that buffers commands (--max-queue), a master that pipelines
+run_case full-pipelined --duplex full --max-queue 8 -- full "$S" --outstanding 4
+# slaves that answer at the end of a 5 ms program scan, as an SLC does
+run_case half-scan5 --duplex half --scan-time 5 -- half "$S" --scan-time 5
 if python3 -c 'import cffi' >/dev/null 2>&1; then
 	LIBDF1_PATH="$B" DF1_BIN="$B/bin" python3 python/bench.py || exit 1
 else
@@ -47,3 +86,8 @@ fi
 
 # bench_gw: df1gw end to end (mosquitto, df1sim, df1gw): latency and CPU
 sh bench/bench_gw.sh "$B"
+
+# the summary line for scripts, last: measured scan / bound per case
+# (bench_poll's comment: serial wire-time bound; for half-scan5 plus the
+# scan-time waits the workload cannot avoid)
+echo "bench: half $(cat "$T/ratio.half") full $(cat "$T/ratio.full") full-pipelined $(cat "$T/ratio.full-pipelined") half-scan5 $(cat "$T/ratio.half-scan5")"
