@@ -227,9 +227,15 @@ relay_start
 P=df1/relayed
 # a retained .../set (stale, delivered at subscription) is no write
 mosquitto_pub -h 127.0.0.1 -p "$MQ_PORT" -q 1 -r -t "$P/tag/Offset/set" -m '{"value": 99, "id": "r-1"}'
-mosquitto_sub -h 127.0.0.1 -p "$MQ_PORT" -t "$P/tag/Offset/result" -v > "$T/retained.txt" 2>&1 &
+mosquitto_sub -h 127.0.0.1 -p "$MQ_PORT" -t "$P/tag/Offset/result" -t "$P/probe" -v > "$T/retained.txt" 2>&1 &
 RS=$!
 echo "$RS" >> "$T/.sims"
+# the result is not retained: df1gw starts once the subscriber is known to listen
+sub_ready() {
+	mosquitto_pub -h 127.0.0.1 -p "$MQ_PORT" -t "$P/probe" -m ready 2>/dev/null
+	grep -q "^$P/probe ready" "$T/retained.txt"
+}
+wait_for "relayed: the result subscriber listens" 100 sub_ready
 "$GW" -d "$SIM_DEV" --map "$T/map.csv" --mqtt "mqtt://127.0.0.1:$RELAY_PORT" --prefix "$P" --keepalive 5 \
 	> "$T/gw2.out" 2> "$T/gw2.err" &
 GW_PID=$!

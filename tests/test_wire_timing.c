@@ -232,6 +232,63 @@ static void test_half_duplex_polls_learn_the_reply_latency(void **state)
 	assert_int_equal(simproc_stop(&sp, false), 0);
 }
 
+/* The poll engine in half duplex: the ACK of a block's reply goes out with the
+ * next block's master message in one write (DLE ACK DLE SOH ...), and every
+ * reply is still ACKed (ACKs sent = replies received + duplicates). */
+struct tx_seen {
+	int writes, merged;
+};
+
+static void on_trace(void *user, enum df1_dir dir, const uint8_t *b, size_t n, uint64_t t_us)
+{
+	struct tx_seen *t = user;
+
+	(void)t_us;
+	if (dir != DF1_DIR_TX)
+		return;
+	t->writes++;
+	if (n > 4 && b[0] == 0x10 && b[1] == 0x06 && b[2] == 0x10 && b[3] == 0x01)
+		t->merged++;
+}
+
+static void test_half_duplex_scan_ack_with_next_message(void **state)
+{
+	static const char *const args[] = { "--duplex", "half", NULL };
+	static const char *const addrs[] = { "N7:0", "F8:0", "B3:0", "T4:0.ACC" };
+	struct tx_seen seen = { 0, 0 };
+	struct df1_poll_stats ps;
+	struct simproc sp;
+	df1_t *h;
+
+	(void)state;
+	assert_int_equal(simproc_start(&sp, false, NULL, false, args), 0);
+	h = open_master(sp.target, 19200, DF1_HALF_DUPLEX_MASTER);
+	for (size_t i = 0; i < 4; i++) {
+		struct df1_tag_config c;
+
+		memset(&c, 0, sizeof c);
+		snprintf(c.name, sizeof c.name, "t%zu", i);
+		c.access = DF1_ACCESS_READ;
+		c.station = 1;
+		c.plc = DF1_PLC_SLC;
+		c.count = 1;
+		c.scan_ms = 0;
+		assert_int_equal(df1_addr_parse(addrs[i], &c.addr), 0);
+		assert_true(df1_tag_add(h, &c) >= 0);
+	}
+	df1_set_trace(h, on_trace, &seen);
+	do
+		OK(h, df1_poll(h, 1000));
+	while (df1_poll_stats(h, &ps) == 0 && ps.scans < 3);
+	/* 4 blocks a scan: at least the 3 between them go with an ACK */
+	if (seen.merged < 3)
+		fail_msg("%d of %d writes carried an ACK and the next message", seen.merged, seen.writes);
+	assert_int_equal(cnt(h, 2535), cnt(h, 2530) + cnt(h, 2549)); /* ACKS_SENT */
+	assert_int_equal(cnt(h, 2543), 0);
+	df1_free(h);
+	assert_int_equal(simproc_stop(&sp, false), 0);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -242,6 +299,7 @@ int main(void)
 		cmocka_unit_test(test_tx_account_does_not_run_ahead_on_a_pty),
 		cmocka_unit_test(test_half_duplex_slave_without_eot),
 		cmocka_unit_test(test_half_duplex_polls_learn_the_reply_latency),
+		cmocka_unit_test(test_half_duplex_scan_ack_with_next_message),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

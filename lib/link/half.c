@@ -138,7 +138,9 @@ static int hd_answer(struct df1 *h, uint8_t stn, const uint8_t *cmd, int64_t dea
 				df1_log(h, DF1_ID_NTC_DUPLICATE_MSG_RCVD, (int)stn);
 				return ANS_SKIP;
 			}
-			r = link_send_sym(h, DF1_ACK);
+			/* in a poll engine's scan, with the next block's message in one
+			 * write (the ACK goes alone before any wait, or when df1_poll returns) */
+			r = h->hold_reply_ack && cmd ? link_send_sym_held(h, DF1_ACK) : link_send_sym(h, DF1_ACK);
 			if (r < 0)
 				return r;
 			link_remember(h, stn, s.data, s.len);

@@ -28,7 +28,6 @@ int link_send_sym(struct df1 *h, uint8_t sym);
  * before the next wait for input (link_read_symbol) or when link_serve
  * returns; link_tx_flush sends it at once. */
 int link_send_sym_held(struct df1 *h, uint8_t sym);
-int link_tx_flush(struct df1 *h);
 
 /* reception: 1 (sym filled), 0 (deadline passed), DF1_E_* */
 /* Noise or a broken symbol: the receiver's last response becomes NAK (spec 1.7). */

@@ -70,6 +70,19 @@ static int poll_wait(struct df1 *h, struct poll_engine *e, int64_t until)
 	return p[0].revents ? 1 : 0;
 }
 
+/* poll_work with a half-duplex master's reply ACKs held for the next frame
+ * (one write: ACK + the next block's message); none is left held on return. */
+static int poll_work_merged(struct df1 *h, struct poll_engine *e)
+{
+	int n, f;
+
+	h->hold_reply_ack = h->cfg.duplex == DF1_HALF_DUPLEX_MASTER;
+	n = poll_work(h, e);
+	h->hold_reply_ack = false;
+	f = link_tx_flush(h);
+	return n >= 0 && f < 0 ? f : n;
+}
+
 int df1_poll(df1_t *h, int timeout_ms)
 {
 	struct poll_engine *e;
@@ -83,7 +96,7 @@ int df1_poll(df1_t *h, int timeout_ms)
 		return df1_fail(h, DF1_E_NOMEM, -1, "poll engine: out of memory");
 	if (!df1_is_open(h))
 		return df1_fail(h, DF1_E_NOT_OPEN, -1, "poll: the handle is not open");
-	n = poll_work(h, e);
+	n = poll_work_merged(h, e);
 	if (n != 0 || timeout_ms == 0)
 		return n;
 	deadline = timeout_ms < 0 ? POLL_NEVER : df1_now_ms() + timeout_ms;
@@ -102,7 +115,7 @@ int df1_poll(df1_t *h, int timeout_ms)
 		if (r == 1)
 			break;
 	}
-	return poll_work(h, e);
+	return poll_work_merged(h, e);
 }
 
 int df1_poll_next_ms(const df1_t *h)
