@@ -114,7 +114,7 @@ struct df1 {
 	int64_t rx_last_ms;          /* time of the last byte read (lib/link/core.c) */
 	int64_t tx_end_us;           /* when our last byte has left the line (df1_now_us clock) */
 	uint8_t tx_hold[4];          /* DLE symbols to go out with our next transmission */
-	bool hold_reply_ack;         /* poll engine: a half-duplex reply's ACK may wait for our next frame */
+	bool hold_reply_ack;         /* poll engine: a reply's ACK may wait for our next frame */
 	size_t tx_hold_len;
 	int64_t rx_due_us;           /* line_baud: when the bytes read so far arrived on the line */
 	int64_t scan_epoch_ms;       /* DF1_OPT_SCAN_TIME_MS: the first scan began (df1_open) */

@@ -25,6 +25,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <cmocka.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <string.h>
 #include <time.h>
@@ -232,9 +233,10 @@ static void test_half_duplex_polls_learn_the_reply_latency(void **state)
 	assert_int_equal(simproc_stop(&sp, false), 0);
 }
 
-/* The poll engine in half duplex: the ACK of a block's reply goes out with the
- * next block's master message in one write (DLE ACK DLE SOH ...), and every
- * reply is still ACKed (ACKs sent = replies received + duplicates). */
+/* The poll engine: the ACK of a block's reply goes out with the next block's
+ * command in one write (DLE ACK DLE SOH ... in half duplex, DLE ACK DLE STX ...
+ * in full duplex), and every reply is still ACKed (ACKs sent = replies
+ * received + duplicates). */
 struct tx_seen {
 	int writes, merged;
 };
@@ -247,22 +249,21 @@ static void on_trace(void *user, enum df1_dir dir, const uint8_t *b, size_t n, u
 	if (dir != DF1_DIR_TX)
 		return;
 	t->writes++;
-	if (n > 4 && b[0] == 0x10 && b[1] == 0x06 && b[2] == 0x10 && b[3] == 0x01)
+	if (n > 4 && b[0] == 0x10 && b[1] == 0x06 && b[2] == 0x10 && (b[3] == 0x01 || b[3] == 0x02))
 		t->merged++;
 }
 
-static void test_half_duplex_scan_ack_with_next_message(void **state)
+static void scan_ack_with_next_command(bool half)
 {
-	static const char *const args[] = { "--duplex", "half", NULL };
+	static const char *const half_args[] = { "--duplex", "half", NULL };
 	static const char *const addrs[] = { "N7:0", "F8:0", "B3:0", "T4:0.ACC" };
 	struct tx_seen seen = { 0, 0 };
 	struct df1_poll_stats ps;
 	struct simproc sp;
 	df1_t *h;
 
-	(void)state;
-	assert_int_equal(simproc_start(&sp, false, NULL, false, args), 0);
-	h = open_master(sp.target, 19200, DF1_HALF_DUPLEX_MASTER);
+	assert_int_equal(simproc_start(&sp, false, NULL, false, half ? half_args : NULL), 0);
+	h = open_master(sp.target, 19200, half ? DF1_HALF_DUPLEX_MASTER : DF1_FULL_DUPLEX);
 	for (size_t i = 0; i < 4; i++) {
 		struct df1_tag_config c;
 
@@ -289,6 +290,18 @@ static void test_half_duplex_scan_ack_with_next_message(void **state)
 	assert_int_equal(simproc_stop(&sp, false), 0);
 }
 
+static void test_half_duplex_scan_ack_with_next_message(void **state)
+{
+	(void)state;
+	scan_ack_with_next_command(true);
+}
+
+static void test_full_duplex_scan_ack_with_next_command(void **state)
+{
+	(void)state;
+	scan_ack_with_next_command(false);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -300,6 +313,7 @@ int main(void)
 		cmocka_unit_test(test_half_duplex_slave_without_eot),
 		cmocka_unit_test(test_half_duplex_polls_learn_the_reply_latency),
 		cmocka_unit_test(test_half_duplex_scan_ack_with_next_message),
+		cmocka_unit_test(test_full_duplex_scan_ack_with_next_command),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -140,7 +140,9 @@ int full_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 				df1_log(h, DF1_ID_NTC_DUPLICATE_MSG_RCVD, (int)s.data[1]);
 				break;
 			}
-			r = link_send_sym(h, DF1_ACK);
+			/* in a poll engine's scan, with our next command in one write
+			 * (alone before any wait, or when df1_poll returns) */
+			r = h->hold_reply_ack ? link_send_sym_held(h, DF1_ACK) : link_send_sym(h, DF1_ACK);
 			if (r < 0)
 				return r;
 			link_remember(h, s.data[1], s.data, s.len);

@@ -69,8 +69,8 @@ int link_pipe_used(const struct df1 *h);       /* slots in use (results not take
 void link_capture_begin(struct df1 *h);
 /* Send at once what is held to go out with our next transmission (an ACK:
  * link_int.h's link_send_sym_held); 0 or DF1_E_*. The poll engine calls it when
- * df1_poll() returns: a half-duplex master holds the ACK of a block's reply for
- * the next block's command while h->hold_reply_ack is set. */
+ * df1_poll() returns: a master holds the ACK of a block's reply for the next
+ * block's command while h->hold_reply_ack is set. */
 int link_tx_flush(struct df1 *h);
 int link_capture_submit(struct df1 *h);
 void link_replay(struct df1 *h, int slot);

@@ -70,13 +70,13 @@ static int poll_wait(struct df1 *h, struct poll_engine *e, int64_t until)
 	return p[0].revents ? 1 : 0;
 }
 
-/* poll_work with a half-duplex master's reply ACKs held for the next frame
- * (one write: ACK + the next block's message); none is left held on return. */
+/* poll_work with the ACKs of replies held for our next frame (one write: the
+ * ACK and the next block's command); none is left held on return. */
 static int poll_work_merged(struct df1 *h, struct poll_engine *e)
 {
 	int n, f;
 
-	h->hold_reply_ack = h->cfg.duplex == DF1_HALF_DUPLEX_MASTER;
+	h->hold_reply_ack = true;
 	n = poll_work(h, e);
 	h->hold_reply_ack = false;
 	f = link_tx_flush(h);
