@@ -431,7 +431,7 @@ static bool client_message(struct df1_eip_server *s, struct eip_client *c, int s
 	case EIP_PCCC:
 		break;
 	}
-	if (s->read_only && eip_pccc_writes(c->pend.pccc, c->pend.len)) {
+	if (s->read_only && df1_pccc_is_write(c->pend.pccc, c->pend.len)) {
 		uint8_t pr[4];
 		int len;
 

@@ -627,19 +627,19 @@ static void test_eip_session_errors(void **state)
 static void test_eip_pccc_writes_by_command(void **state)
 {
 	(void)state;
-	assert_false(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\xA2", 5));
-	assert_false(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\xA1", 5));
-	assert_false(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\x68", 5));
-	assert_false(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\x01", 5));
-	assert_false(eip_pccc_writes((const uint8_t *)"\x06\x00\x01\x00\x03", 5));
-	assert_false(eip_pccc_writes((const uint8_t *)"\x01\x00\x01\x00", 4));
-	assert_true(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\xAA", 5));
-	assert_true(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\xAB", 5));
-	assert_true(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\x80", 5));
-	assert_true(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00\x26", 5));
-	assert_true(eip_pccc_writes((const uint8_t *)"\x06\x00\x01\x00\x07", 5));
-	assert_true(eip_pccc_writes((const uint8_t *)"\x08\x00\x01\x00", 4));
-	assert_true(eip_pccc_writes((const uint8_t *)"\x0F\x00\x01\x00", 4));   /* no FNC */
+	assert_false(df1_pccc_is_write((const uint8_t *)"\x0F\x00\x01\x00\xA2", 5));
+	assert_false(df1_pccc_is_write((const uint8_t *)"\x0F\x00\x01\x00\xA1", 5));
+	assert_false(df1_pccc_is_write((const uint8_t *)"\x0F\x00\x01\x00\x68", 5));
+	assert_false(df1_pccc_is_write((const uint8_t *)"\x0F\x00\x01\x00\x01", 5));
+	assert_false(df1_pccc_is_write((const uint8_t *)"\x06\x00\x01\x00\x03", 5));
+	assert_false(df1_pccc_is_write((const uint8_t *)"\x01\x00\x01\x00", 4));
+	assert_true(df1_pccc_is_write((const uint8_t *)"\x0F\x00\x01\x00\xAA", 5));
+	assert_true(df1_pccc_is_write((const uint8_t *)"\x0F\x00\x01\x00\xAB", 5));
+	assert_true(df1_pccc_is_write((const uint8_t *)"\x0F\x00\x01\x00\x80", 5));
+	assert_true(df1_pccc_is_write((const uint8_t *)"\x0F\x00\x01\x00\x26", 5));
+	assert_true(df1_pccc_is_write((const uint8_t *)"\x06\x00\x01\x00\x07", 5));
+	assert_true(df1_pccc_is_write((const uint8_t *)"\x08\x00\x01\x00", 4));
+	assert_true(df1_pccc_is_write((const uint8_t *)"\x0F\x00\x01\x00", 4));   /* no FNC */
 }
 
 /* ------------------------------------------------------------------------

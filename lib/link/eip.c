@@ -11,7 +11,7 @@
  * (the peer closed it while idle, or answered 0064h invalid session) is
  * opened again and registered again, and the command sent; a connection lost
  * after the whole command went out is retried only for a command that only
- * reads (eip_pccc_writes(), the rule the server's read-only mode uses): any
+ * reads (df1_pccc_is_write(), the rule the server's read-only mode uses): any
  * other may have executed, and is reported, never sent twice.
  *
  * Self-contained over the TCP port: no call into core.c, so tests that
@@ -696,7 +696,7 @@ static void eip_idle_check(struct df1 *h, struct link_eip *e)
 int link_eip_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap)
 {
 	struct link_eip *e = h->eip;
-	bool sent = false, retried = false, reads = !eip_pccc_writes(cmd + 2, n - 2);
+	bool sent = false, retried = false, reads = !df1_pccc_is_write(cmd + 2, n - 2);
 	int station = cmd[0], result = 0;
 
 	if (e->route && station > 254)

@@ -424,26 +424,3 @@ int eip_session_reply(const struct eip_pending *p, int cip_status, uint16_t ext,
 	pk.len = (size_t)len;
 	return eip_packet_build(out, cap, p->session, p->context, 0, &pk);
 }
-
-/* Only these read and change nothing: PLC-2 unprotected read (01), diagnostic
- * echo, read and status (06 00/01/03), and CMD 0F's word range read (01),
- * typed read (68) and SLC protected typed logical reads (A1, A2: also the
- * file directory). Every other command counts as one that writes. */
-bool eip_pccc_writes(const uint8_t *pccc, size_t n)
-{
-	uint8_t cmd, fnc;
-
-	if (!pccc || n < 4)
-		return true;
-	cmd = pccc[0];
-	if (cmd == 0x01)
-		return false;
-	if (n < 5)
-		return true;
-	fnc = pccc[4];
-	if (cmd == 0x06)
-		return !(fnc == 0x00 || fnc == 0x01 || fnc == 0x03);
-	if (cmd == 0x0F)
-		return !(fnc == 0x01 || fnc == 0x68 || fnc == 0xA1 || fnc == 0xA2);
-	return true;
-}

@@ -68,7 +68,5 @@ enum eip_verdict eip_session_input(struct eip_session *s, const struct eip_ident
 int eip_session_reply(const struct eip_pending *p, int cip_status, uint16_t ext, const uint8_t *pccc,
                       size_t n, uint8_t *out, size_t cap);
 
-/* Does this PCCC command write or change the mode (read_only refuses it)? */
-bool eip_pccc_writes(const uint8_t *pccc, size_t n);
 
 #endif
