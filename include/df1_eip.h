@@ -83,6 +83,10 @@ struct df1_eip_server_stats {
 	uint64_t read_only_refusals; /* PCCC commands refused by read_only */
 };
 DF1_API void df1_eip_server_stats(const df1_eip_server_t *s, struct df1_eip_server_stats *st);
+/* Replace what ListIdentity and the Identity object report from now on (a bridge
+ * that learned its controller's processor type); the socket address stays the
+ * server's. 0, or DF1_E_INVAL (s or id NULL). @since 0.4 */
+DF1_API int df1_eip_server_set_identity(df1_eip_server_t *s, const struct df1_eip_identity *id);
 /* The text of s's last failure, or with s NULL the calling thread's last
  * df1_eip_server_new() failure ("" if none). @since 0.4 */
 DF1_API const char *df1_eip_server_error(const df1_eip_server_t *s);

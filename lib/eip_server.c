@@ -576,6 +576,19 @@ static void kick(struct df1_eip_server *s)
 	(void)!write(s->kick, &one, sizeof one);
 }
 
+/* The identity fields the caller chooses (the address, version and state are ours). */
+static void srv_identity(struct df1_eip_server *s, const struct df1_eip_identity *id)
+{
+	s->id.vendor_id = id->vendor_id;
+	s->id.device_type = id->device_type;
+	s->id.product_code = id->product_code;
+	s->id.rev_major = id->rev_major;
+	s->id.rev_minor = id->rev_minor;
+	s->id.status = id->status;
+	s->id.serial = id->serial;
+	memcpy(s->id.product_name, id->product_name, 32);
+}
+
 DF1_API int df1_eip_server_new(df1_eip_server_t **out, const struct df1_eip_server_config *c,
                                df1_eip_pccc_fn fn, void *user)
 {
@@ -598,14 +611,7 @@ DF1_API int df1_eip_server_new(df1_eip_server_t **out, const struct df1_eip_serv
 	s->read_only = c->read_only;
 	s->max_clients = c->max_clients ? c->max_clients : EIP_CLIENTS_DEFAULT;
 	s->id.encap_version = EIP_PROTOCOL_VERSION;
-	s->id.vendor_id = c->identity.vendor_id;
-	s->id.device_type = c->identity.device_type;
-	s->id.product_code = c->identity.product_code;
-	s->id.rev_major = c->identity.rev_major;
-	s->id.rev_minor = c->identity.rev_minor;
-	s->id.status = c->identity.status;
-	s->id.serial = c->identity.serial;
-	memcpy(s->id.product_name, c->identity.product_name, 32);
+	srv_identity(s, &c->identity);
 	s->id.state = 3;     /* operational */
 	rc = c->allow ? parse_allow(s, c->allow) : 0;
 	if (rc == 0) {
@@ -767,6 +773,23 @@ DF1_API void df1_eip_server_stats(const df1_eip_server_t *s, struct df1_eip_serv
 		return;
 	}
 	*st = s->st;
+}
+
+DF1_API int df1_eip_server_set_identity(df1_eip_server_t *s, const struct df1_eip_identity *id)
+{
+	if (!s || !id)
+		return DF1_E_INVAL;
+	srv_identity(s, id);
+	for (int i = 0; i < s->max_clients; i++) {
+		struct eip_client *c = &s->cl[i];
+		uint32_t addr = c->id.sin_addr;
+
+		if (c->fd < 0)
+			continue;
+		c->id = s->id;                  /* those connected already: theirs too */
+		c->id.sin_addr = addr;
+	}
+	return 0;
 }
 
 DF1_API const char *df1_eip_server_error(const df1_eip_server_t *s)

@@ -14,7 +14,9 @@ GW="$BIN/df1gw"
 PROBE="python3 tests/tools/eipgw_probe.py"
 EPROBE="python3 tests/tools/eip_probe.py"
 PYC="python3 tests/tools/eip_pycomm3.py"
-NAME="libdf1 DF1 bridge"
+# ListIdentity names the bridge and the processor behind it (df1sim's diagnostic
+# status: an SLC 5/04 by default)
+NAME="libdf1 DF1 bridge SLC 5/04"
 
 # gw_start NAME OPTIONS...: df1gw in the background; GW_PID, its stdout/stderr
 # $T/NAME.out / $T/NAME.err

@@ -320,6 +320,7 @@ static int line_open(struct gw *g)
 	g->line_error[0] = '\0';
 	g->line_backoff_ms = LINE_BACKOFF_MIN;
 	g->republish = true;
+	gw_eip_identify(&g->eip, g->h);        /* the controller's type in ListIdentity */
 	return 0;
 }
 

@@ -100,6 +100,31 @@ static void gw_eip_pccc(void *user, df1_eip_server_t *s, uint32_t request, int s
 	}
 }
 
+void gw_eip_identify(struct gw_eip *e, df1_t *h)
+{
+	struct df1_eip_identity id = gw_identity;
+	struct df1_diag_status ds;
+
+	if (!e->s || !h)
+		return;
+	if (df1_diag_status(h, e->station, &ds) == 0 && ds.name[0]) {
+		/* 32 characters at most: a long name loses "libdf1 " first */
+		const char *base = gw_identity.product_name;
+		size_t n = strnlen(ds.name, sizeof ds.name), room = sizeof id.product_name - 1;
+
+		if (strlen(base) + 1 + n > room)
+			base = "DF1 bridge";
+		if (strlen(base) + 1 + n > room)
+			n = room - strlen(base) - 1;
+		memset(id.product_name, 0, sizeof id.product_name);
+		memcpy(id.product_name, base, strlen(base));
+		id.product_name[strlen(base)] = ' ';
+		memcpy(id.product_name + strlen(base) + 1, ds.name, n);
+		id.product_code = ds.type_code;
+	}
+	df1_eip_server_set_identity(e->s, &id);
+}
+
 static bool gw_eip_loopback(const char *a)
 {
 	return strncmp(a, "127.", 4) == 0 || strncmp(a, "[::1]", 5) == 0 ||

@@ -43,6 +43,11 @@ int gw_eip_open(struct gw_eip *e, const char *prog, bool quiet);
 int gw_eip_fd(const struct gw_eip *e);
 /* Accept, read and answer what is there; requests go to e->h. */
 void gw_eip_process(struct gw_eip *e);
+/* Ask the controller at e->station on h for its diagnostic status and report
+ * its processor type in the identity (ListIdentity's product name, "libdf1 DF1
+ * bridge SLC 5/04", and the product code its type code); the plain bridge
+ * identity when it does not answer. One transaction, when the line opens. */
+void gw_eip_identify(struct gw_eip *e, df1_t *h);
 /* The counters, one line, for --counters. */
 void gw_eip_counters(const struct gw_eip *e, FILE *f);
 /* After the line's handle is freed (its requests ended). NULL-safe. */

@@ -601,6 +601,7 @@ struct df1_eip_server_stats {
 	uint64_t read_only_refusals;
 };
 void df1_eip_server_stats(const df1_eip_server_t *s, struct df1_eip_server_stats *st);
+int df1_eip_server_set_identity(df1_eip_server_t *s, const struct df1_eip_identity *id);
 const char *df1_eip_server_error(const df1_eip_server_t *s);
 void df1_eip_server_free(df1_eip_server_t *s);
 struct df1_eip_device {
