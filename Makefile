@@ -21,7 +21,7 @@ CFLAGS ?= -O2 -g
 WERROR ?=
 DF1_CFLAGS = -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE -Wall -Wextra -Wshadow -Wstrict-prototypes \
 	-Wmissing-prototypes -Wpointer-arith -Wformat=2 -Wno-format-nonliteral -Wundef -Wvla \
-	-fvisibility=hidden -Iinclude $(LAYER_INCLUDES) $(WERROR)
+	-fvisibility=hidden -Iinclude $(WERROR)
 SAN_FLAGS = -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 
 # B is the build directory: build/ normally, build/san/ for the sanitizer pass.
@@ -32,12 +32,14 @@ else
   EXTRA =
 endif
 
-# lib/ in layers, bottom first (DESIGN.md 2): proto is pure (no I/O, no clock),
-# base the clock and the handle's error/counter/log helpers, port owns file
-# descriptors, link the DF1 link layer, client the read/write requests, lib/ top
-# the handle, server, data table, config and discovery, poll the poll engine.
-LAYERS := proto base port link client . poll
-LAYER_INCLUDES := $(foreach l,$(LAYERS),-Ilib/$(l))
+# lib/ is the hub (handle.c, df1_int.h) over a folder per layer or wing
+# (doc/ARCHITECTURE.md): an include names the folder it reaches into
+# ("link/link.h"), so lib/ is the only include path of the library's own
+# headers. tools/ sees the public headers and tools/ (common/, df1gw/, ...);
+# the tests see both.
+LIB_CPPFLAGS = -Ilib
+TOOL_CPPFLAGS = -Itools
+TEST_CPPFLAGS = -Ilib -Itools -Itests
 
 LIBS = -lcsv -lm
 CMOCKA_LIBS = $(shell pkg-config --libs cmocka 2>/dev/null || echo -lcmocka)
@@ -46,17 +48,21 @@ LIB_SRCS := $(sort $(wildcard lib/*.c lib/*/*.c))
 LIB_OBJS := $(LIB_SRCS:%.c=$(B)/%.o)
 LIB_PIC_OBJS := $(LIB_SRCS:%.c=$(B)/pic/%.o)
 TOOL_NAMES := df1read df1write df1mon df1sim df1gw
-# tools/mon_*.c belong to df1mon alone, tools/gw_*.c to df1gw (which links
-# libmosquitto); every other tools/*.c that is not a tool's main (cli_*,
-# decode*) is linked into every tool.
-TOOL_OWN_df1mon := $(patsubst %.c,$(B)/%.o,$(wildcard tools/mon_*.c))
-TOOL_OWN_df1gw := $(patsubst %.c,$(B)/%.o,$(wildcard tools/gw_*.c))
+# A one-file tool is tools/NAME.c; a program of several files is the folder
+# tools/NAME/ (its main is tools/NAME/NAME.c). tools/common/ is the code every
+# tool shares, linked as one internal archive (libdf1-tools.a, not installed).
+TOOL_SRCS_df1read := tools/df1read.c
+TOOL_SRCS_df1write := tools/df1write.c
+TOOL_SRCS_df1mon := $(sort $(wildcard tools/df1mon/*.c))
+TOOL_SRCS_df1sim := $(sort $(wildcard tools/df1sim/*.c))
+TOOL_SRCS_df1gw := $(sort $(wildcard tools/df1gw/*.c))
 TOOL_LIBS_df1gw := $(shell pkg-config --libs libmosquitto 2>/dev/null || echo -lmosquitto)
-# df1gw's pure modules (no libmosquitto), linked into its unit tests tests/test_gw_*.c
-GW_PURE_OBJS := $(patsubst %.c,$(B)/%.o,$(filter-out tools/gw_mqtt.c tools/gw_pub.c,$(wildcard tools/gw_*.c)))
-TOOL_COMMON := $(filter-out $(TOOL_NAMES:%=tools/%.c) $(wildcard tools/mon_*.c tools/gw_*.c),$(wildcard tools/*.c))
-TOOL_COMMON_OBJS := $(TOOL_COMMON:%.c=$(B)/%.o)
-TOOLS := $(foreach t,$(TOOL_NAMES),$(if $(wildcard tools/$(t).c),$(B)/bin/$(t)))
+# df1gw's modules that need no broker library, linked into its unit tests
+GW_PURE_OBJS := $(patsubst %.c,$(B)/%.o,$(filter-out tools/df1gw/df1gw.c tools/df1gw/gw_mqtt.c tools/df1gw/gw_pub.c,$(TOOL_SRCS_df1gw)))
+TOOL_COMMON_SRCS := $(sort $(wildcard tools/common/*.c))
+TOOL_COMMON_LIB := $(B)/libdf1-tools.a
+TOOLS := $(foreach t,$(TOOL_NAMES),$(B)/bin/$(t))
+TOOL_HDRS := $(wildcard tools/*/*.h)
 TEST_SRCS := $(sort $(wildcard tests/test_*.c))
 TEST_BINS := $(TEST_SRCS:tests/%.c=$(B)/tests/%)
 TEST_HELPERS := $(filter-out $(TEST_SRCS),$(wildcard tests/*.c))
@@ -102,14 +108,14 @@ COMPILE = $(Q)mkdir -p $(dir $@); $(if $(Q),echo "  CC      $@";) \
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(EXTRA) $(DF1_CFLAGS)
 
 $(B)/lib/%.o: lib/%.c $(LIB_HDRS)
-	$(COMPILE) -c -o $@ $<
-$(B)/tools/%.o: tools/%.c $(wildcard include/*.h) $(wildcard tools/*.h)
-	$(COMPILE) -c -o $@ $<
-$(B)/tests/%.o: tests/%.c $(LIB_HDRS) $(wildcard tests/*.h)
-	$(COMPILE) -c -o $@ $<
+	$(COMPILE) $(LIB_CPPFLAGS) -c -o $@ $<
+$(B)/tools/%.o: tools/%.c $(wildcard include/*.h) $(TOOL_HDRS)
+	$(COMPILE) $(TOOL_CPPFLAGS) -c -o $@ $<
+$(B)/tests/%.o: tests/%.c $(LIB_HDRS) $(TOOL_HDRS) $(wildcard tests/*.h)
+	$(COMPILE) $(TEST_CPPFLAGS) -c -o $@ $<
 
 $(B)/pic/lib/%.o: lib/%.c $(LIB_HDRS)
-	$(COMPILE) -fPIC -c -o $@ $<
+	$(COMPILE) $(LIB_CPPFLAGS) -fPIC -c -o $@ $<
 
 $(STATIC): $(LIB_OBJS)
 	@rm -f $@
@@ -123,23 +129,30 @@ $(SHARED): $(LIB_PIC_OBJS) lib/libdf1.map
 	$(Q)ln -sf $(SO_FILE) $(B)/libdf1.so.$(MAJOR)
 	$(Q)ln -sf libdf1.so.$(MAJOR) $(B)/libdf1.so
 
-$(B)/bin/df1mon: $(TOOL_OWN_df1mon)
-$(B)/bin/df1gw: $(TOOL_OWN_df1gw)
-$(B)/bin/%: $(B)/tools/%.o $(TOOL_COMMON_OBJS) $(TOOL_LIB_DEP)
-	@mkdir -p $(dir $@)
-	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) $(CFLAGS) $(EXTRA) $(LDFLAGS) -o $@ $< $(TOOL_OWN_$*) $(TOOL_COMMON_OBJS) $(TOOL_LIB_LINK) $(LIBS) \
-		$(TOOL_LIBS_$*) -lpthread
+$(TOOL_COMMON_LIB): $(TOOL_COMMON_SRCS:%.c=$(B)/%.o)
+	@rm -f $@
+	@$(if $(Q),echo "  AR      $@")
+	$(Q)ar rcs $@ $^
+
+# each program: its own objects, the tools' archive, libdf1
+define TOOL_RULE
+$(B)/bin/$(1): $$(TOOL_SRCS_$(1):%.c=$$(B)/%.o) $$(TOOL_COMMON_LIB) $$(TOOL_LIB_DEP)
+	@mkdir -p $$(dir $$@)
+	@$$(if $$(Q),echo "  LD      $$@")
+	$$(Q)$$(CC) $$(CFLAGS) $$(EXTRA) $$(LDFLAGS) -o $$@ $$(TOOL_SRCS_$(1):%.c=$$(B)/%.o) $$(TOOL_COMMON_LIB) \
+		$$(TOOL_LIB_LINK) $$(LIBS) $$(TOOL_LIBS_$(1)) -lpthread
+endef
+$(foreach t,$(TOOL_NAMES),$(eval $(call TOOL_RULE,$(t))))
 
 $(B)/libdf1.pc: libdf1.pc.in include/df1.h
 	$(Q)sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
 	    -e 's|@INCLUDEDIR@|$(INCLUDEDIR)|' -e 's|@VERSION@|$(VERSION)|' $< > $@
 
-$(B)/tests/test_gw_%: $(GW_PURE_OBJS) $(B)/tools/cli_text.o
+$(B)/tests/test_gw_%: $(GW_PURE_OBJS) $(TOOL_COMMON_LIB)
 $(B)/tests/%: $(B)/tests/%.o $(TEST_HELPER_OBJS) $(STATIC)
 	@mkdir -p $(dir $@)
 	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) $(CFLAGS) $(EXTRA) $(LDFLAGS) -o $@ $< $(if $(filter test_gw_%,$*),$(GW_PURE_OBJS) $(B)/tools/cli_text.o) \
+	$(Q)$(CC) $(CFLAGS) $(EXTRA) $(LDFLAGS) -o $@ $< $(if $(filter test_gw_%,$*),$(GW_PURE_OBJS) $(TOOL_COMMON_LIB)) \
 		$(TEST_HELPER_OBJS) $(STATIC) $(CMOCKA_LIBS) $(LIBS) -lpthread
 
 $(B)/examples/%: examples/%.c $(wildcard include/*.h) $(STATIC)
@@ -152,7 +165,7 @@ test-run: tests
 	@B=$(B) $(TEST_ENV) sh tests/run-tests.sh
 
 deps:
-	@sh tools/deps.sh
+	@sh scripts/deps.sh
 
 check: deps
 	$(MAKE) lint-man lint-code check-exports
@@ -169,7 +182,7 @@ lint-man:
 
 # The layers of DESIGN.md 2 kept: no two files or layers that call each other,
 # no bare catalog ID in code (DF1_ID_* names), no source file over 1000 lines.
-CODE_SRCS = $(wildcard include/*.h) $(wildcard lib/*.[ch] lib/*/*.[ch] tools/*.[ch])
+CODE_SRCS = $(wildcard include/*.h) $(wildcard lib/*.[ch] lib/*/*.[ch] tools/*.[ch] tools/*/*.[ch])
 lint-code: all
 	@B=$(B) sh tests/lint-layers.sh
 	@python3 tests/lint-ids.py $(CODE_SRCS) && echo "catalog IDs: named in code"
@@ -179,7 +192,7 @@ lint-code: all
 
 demo: deps
 	$(MAKE) all
-	@sh tools/demo.sh $(B)
+	@sh scripts/demo.sh $(B)
 
 bench: deps
 	$(MAKE) all

@@ -6,10 +6,10 @@
 #define LIBDF1_DF1_INT_H
 
 #include "df1.h"
-#include "base.h"
-#include "frame.h"
-#include "port.h"
-#include "repoll.h"
+#include "base/base.h"
+#include "proto/frame.h"
+#include "port/port.h"
+#include "link/half_repoll.h"
 
 #define DF1_LOCAL __attribute__((visibility("hidden")))
 
@@ -84,10 +84,10 @@ struct station_state {
 	uint32_t last_hash;          /* differs is a new command, not a retransmission */
 };
 
-struct server_state;             /* lib/server.c */
-struct link_eip;                 /* lib/link/eip.c: an eip:// target's session */
+struct server_state;             /* lib/server/server.c */
+struct link_eip;                 /* lib/eip/eip_link.c: an eip:// target's session */
 
-/* The responder's state (lib/link/link.h): owned by the server (lib/server.c),
+/* The responder's state (lib/link/link.h): owned by the server (lib/server/server.c),
  * lent to the link layer for the length of a link_serve() call. */
 struct link_responder;
 
@@ -131,7 +131,7 @@ struct df1 {
 	struct df1_error_detail err;
 
 	/* slave / peer side */
-	struct server_state *srv;    /* the server's (lib/server.c): allocated on first use */
+	struct server_state *srv;    /* the server's (lib/server/server.c): allocated on first use */
 	struct link_responder *resp; /* the server's responder state while link_serve() runs */
 	void *poll;                  /* poll engine state (lib/poll/) */
 	/* Destructors of the state above, set by the module that allocates it; df1_free()
@@ -140,7 +140,7 @@ struct df1 {
 	void (*poll_free)(struct df1 *h);
 };
 
-/* Discovery (lib/discover.c): the one probe of a station, shared by df1_discover
+/* Discovery (lib/client/discover.c): the one probe of a station, shared by df1_discover
  * and the poll engine. Half-duplex master: a poll (df1_link_test); with
  * DISCOVER_IDENTIFY a station that answers it is then asked its diagnostic
  * status. Full duplex: a command to the station, the empty 06/00 echo, or with

@@ -9,8 +9,8 @@
  * has one, else catalog ID 0 and a message naming the field and its range.
  */
 #include "df1_int.h"
-#include "link.h"
-#include "link_eip.h"
+#include "link/link.h"
+#include "eip/eip_link.h"
 
 #include <errno.h>
 #include <fcntl.h>

@@ -12,7 +12,7 @@ cd "$(dirname "$0")/.." || exit 2
 python3 - "$B" "$VERBOSE" <<'PY'
 import subprocess, sys, glob, os
 b, verbose = sys.argv[1], sys.argv[2] == "1"
-objs = sorted(o for o in glob.glob(b + "/lib/**/*.o", recursive=True) + glob.glob(b + "/tools/*.o")
+objs = sorted(o for o in glob.glob(b + "/lib/**/*.o", recursive=True) + glob.glob(b + "/tools/**/*.o", recursive=True)
               if os.path.exists(os.path.relpath(o, b)[:-2] + ".c"))  # not stale ones
 if not objs:
     sys.exit("no objects under %s/lib: run make first" % b)
@@ -55,7 +55,7 @@ for s, ds in edges.items():
         if layer(s) != layer(d):
             lg.setdefault(layer(s), set()).add(layer(d))
 import re
-hdrs = {os.path.basename(h): h for h in glob.glob("lib/**/*.h", recursive=True) + glob.glob("tools/*.h")}
+hdrs = {os.path.relpath(h, h.split("/")[0]): h for h in glob.glob("lib/**/*.h", recursive=True) + glob.glob("tools/**/*.h", recursive=True)}
 hg = {}
 for n, h in hdrs.items():
     with open(h) as f:

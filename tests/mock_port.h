@@ -21,7 +21,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
-#include "port.h"
+#include "port/port.h"
 
 extern const struct port_ops mock_port_ops;
 

@@ -26,11 +26,11 @@
 #include <string.h>
 
 #include "df1_int.h"
-#include "frame.h"
-#include "link.h"
+#include "proto/frame.h"
+#include "link/link.h"
 #include "mock_port.h"
-#include "pccc.h"
-#include "value.h"
+#include "proto/pccc.h"
+#include "proto/value.h"
 
 /* ------------------------------------------------------------------------
  * The mock link

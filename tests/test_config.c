@@ -1,5 +1,5 @@
 /*
- * test_config.c - network and mapping CSV files (lib/config_csv.c, config_net.c, config_map.c).
+ * test_config.c - network and mapping CSV files (lib/config/config_csv.c, config_net.c, config_map.c).
  *
  * Expected ranges, defaults, catalog IDs and message texts are those of
  * seeds/004 (network configuration table, catalog 2501-2504 and 2552-2559),

@@ -1,6 +1,6 @@
 /*
  * test_discover.c - station discovery: df1_discover() and the per-station probe
- * it shares with the poll engine (discover_probe, lib/discover.c).
+ * it shares with the poll engine (discover_probe, lib/client/discover.c).
  *
  * Unit tests on the mock port: argument checks, a handle that is not open or a
  * half-duplex slave, the cancel fd readable before the scan (nothing sent), a

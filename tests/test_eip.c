@@ -1,5 +1,5 @@
 /*
- * test_eip.c - the EtherNet/IP / CIP codec (lib/proto/eip.c) against byte
+ * test_eip.c - the EtherNet/IP / CIP codec (lib/eip/eip_codec.c) against byte
  * vectors written by hand from the layouts of df1-eip(7) (ODVA Vol. 2 ch. 2-3
  * encapsulation and CPF, Vol. 1 ch. 3 Connection Manager and appendix C EPATH,
  * Rockwell 1756-PM020 for Execute PCCC), both directions.
@@ -19,8 +19,8 @@
 #include <unistd.h>
 
 #include "df1.h"
-#include "eip.h"
-#include "eip_session.h"
+#include "eip/eip_codec.h"
+#include "eip/eip_session.h"
 
 /* "65 00 04" -> bytes */
 static size_t hex(const char *s, uint8_t *out, size_t cap)
@@ -643,7 +643,7 @@ static void test_eip_pccc_writes_by_command(void **state)
 }
 
 /* ------------------------------------------------------------------------
- * The server (lib/eip_server.c) on real loopback sockets: a request
+ * The server (lib/eip/eip_server.c) on real loopback sockets: a request
  * answered later, a client gone before its answer, the counters
  * ------------------------------------------------------------------------ */
 

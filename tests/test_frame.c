@@ -21,7 +21,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "frame.h"
+#include "proto/frame.h"
 
 /* ------------------------------------------------------------------------
  * Vectors

@@ -1,8 +1,8 @@
 /*
- * test_gw_json.c - df1gw's JSON (tools/gw_json.c) against RFC 8259: what a
+ * test_gw_json.c - df1gw's JSON (tools/df1gw/gw_json.c) against RFC 8259: what a
  * strict parser must take and refuse, string escapes and UTF-8, the writers'
  * escaping; RFC 3339 times against known instants; the broker URL
- * (tools/gw_url.c).
+ * (tools/df1gw/gw_url.c).
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -13,8 +13,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "../tools/gw_json.h"
-#include "../tools/gw_url.h"
+#include "df1gw/gw_json.h"
+#include "df1gw/gw_url.h"
 
 static struct gw_jv *parse(const char *s, char *err, size_t cap)
 {

@@ -1,5 +1,5 @@
 /*
- * test_gw_payload.c - df1gw's payloads (tools/gw_value.c, gw_write.c,
+ * test_gw_payload.c - df1gw's payloads (tools/df1gw/gw_value.c, gw_write.c,
  * gw_state.c): tag JSON by file type as the issue gives it; .../set values
  * checked against the file type's range before anything is sent; the
  * {"value","id"} wrapper; the ring of ids (at most once, bounded); results;
@@ -15,9 +15,9 @@
 #include <string.h>
 
 #include "df1.h"
-#include "../tools/gw_state.h"
-#include "../tools/gw_value.h"
-#include "../tools/gw_write.h"
+#include "df1gw/gw_state.h"
+#include "df1gw/gw_value.h"
+#include "df1gw/gw_write.h"
 
 static struct df1_tag_config tag(const char *addr, int count)
 {

@@ -17,9 +17,9 @@
 #include <time.h>
 
 #include "df1_int.h"
-#include "link.h"
-#include "link_int.h"
-#include "server.h"
+#include "link/link.h"
+#include "link/link_int.h"
+#include "server/server.h"
 #include "mock_port.h"
 
 /* SLC 0F/A2 read N7:0, 20 bytes, to station 1 (TNS filled in by the link) */

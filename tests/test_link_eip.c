@@ -1,10 +1,10 @@
 /*
- * test_link_eip.c - the link over EtherNet/IP (lib/link/eip.c) and
+ * test_link_eip.c - the link over EtherNet/IP (lib/eip/eip_link.c) and
  * df1_eip_list_identity() against a scripted peer on a loopback TCP socket:
  * a thread that accepts, checks each request byte by byte against the layout
  * of df1-eip(7) (Execute PCCC, Unconnected Send, Forward Open/Close, the
  * requester ID) and answers what the test says, errors included. The peer's
- * replies are built with the codec (lib/proto/eip.c, tested on its own
+ * replies are built with the codec (lib/eip/eip_codec.c, tested on its own
  * against hand-written vectors in test_eip.c). Every wait is bounded.
  */
 #include <stdarg.h>
@@ -26,8 +26,8 @@
 #include <unistd.h>
 
 #include "df1_int.h"
-#include "eip.h"
-#include "link_eip.h"
+#include "eip/eip_codec.h"
+#include "eip/eip_link.h"
 
 #define PEER_WAIT_MS 5000
 #define SESSION 0x11223344u

@@ -14,9 +14,9 @@
 #include <stdio.h>
 
 #include "df1.h"
-#include "frame.h"
-#include "pccc.h"
-#include "value.h"
+#include "proto/frame.h"
+#include "proto/pccc.h"
+#include "proto/value.h"
 
 /* "01 00 0F" -> bytes; the expected values are typed in from the spec. */
 static size_t hex(const char *s, uint8_t *out, size_t cap)

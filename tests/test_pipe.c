@@ -13,8 +13,8 @@
 #include <string.h>
 
 #include "df1_int.h"
-#include "link.h"
-#include "link_int.h"
+#include "link/link.h"
+#include "link/link_int.h"
 #include "mock_port.h"
 
 static const uint8_t ACK[2] = { 0x10, 0x06 };

@@ -33,7 +33,7 @@
 #include <unistd.h>
 
 #include "df1_int.h"
-#include "link.h"
+#include "link/link.h"
 
 /* ---- tcsetattr interposition ------------------------------------------ */
 

@@ -21,8 +21,8 @@
 #include <unistd.h>
 
 #include "df1.h"
-#include "plc_limits.h"
-#include "poll_plan.h"
+#include "proto/plc_limits.h"
+#include "client/block_plan.h"
 #include "simproc.h"
 
 /* ------------------------------------------------------------------------

@@ -1,5 +1,5 @@
 /*
- * test_server - the responder's command handling (lib/server.c): command app
+ * test_server - the responder's command handling (lib/server/server.c): command app
  * bytes from spec/vectors.txt (derived SLC/PLC-5 vectors, KE PLC-2 and word
  * range vectors) go through server_handle() with a small in-test data table;
  * replies are checked byte for byte where the spec has them, and the data
@@ -16,9 +16,9 @@
 #include <string.h>
 
 #include "df1_int.h"
-#include "pccc.h"
-#include "server.h"
-#include "value.h"
+#include "proto/pccc.h"
+#include "server/server.h"
+#include "proto/value.h"
 
 /* ------------------------------------------------------------------------
  * The in-test data table, following the contract of server.h

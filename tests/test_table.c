@@ -1,9 +1,9 @@
 /*
- * test_table - the data table (lib/proto/table.c, lib/table_file.c,
- * lib/table_serve.c; df1_table(3)). Expectations come from the documents, not
+ * test_table - the data table (lib/table/table.c, lib/table/table_file.c,
+ * lib/table/table_serve.c; df1_table(3)). Expectations come from the documents, not
  * from the code: initial contents from df1sim(1) DATA TABLE, the wire layout
  * from spec/protocol.md 5 (LE words and floats, ST as LEN + byte-swapped
- * characters), EXT STS codes from M p.8-4 as lib/server.h lists them, the
+ * characters), EXT STS codes from M p.8-4 as lib/server/server.h lists them, the
  * masked write rule of spec 4.6, the diagnostic status layouts of spec 4.9
  * (M p.174 EE form, M p.192-193 EB form), and the spec's SLC vectors for
  * commands served through server_handle().
@@ -24,9 +24,9 @@
 #include <unistd.h>
 
 #include "df1_int.h"
-#include "pccc.h"
-#include "server.h"
-#include "table.h"
+#include "proto/pccc.h"
+#include "server/server.h"
+#include "table/table.h"
 
 static char tmpdir[256];
 
@@ -76,7 +76,7 @@ static struct df1_table *default_table(enum df1_plc plc)
 	return t;
 }
 
-/* Raw bytes through the serving callbacks (the contract of lib/server.h). */
+/* Raw bytes through the serving callbacks (the contract of lib/server/server.h). */
 static int raw_read(struct df1_table *t, const char *addr, uint8_t *buf, size_t n)
 {
 	struct df1_addr a;

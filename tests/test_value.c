@@ -15,7 +15,7 @@
 #include <cmocka.h>
 
 #include "df1.h"
-#include "value.h"
+#include "proto/value.h"
 
 static struct df1_addr mk(enum df1_file_type t, int file, int elem, int sub, int bit)
 {

@@ -18,7 +18,7 @@
  *  - adaptive polling: against a slave with a 150 ms reply delay the master
  *    learns the latency and needs a handful of polls per transaction, not
  *    one every few ms (counted, not timed).
- * And the pure poll timing of lib/proto/repoll.c.
+ * And the pure poll timing of lib/link/half_repoll.c.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -31,7 +31,7 @@
 #include <time.h>
 
 #include "df1.h"
-#include "repoll.h"
+#include "link/half_repoll.h"
 #include "simproc.h"
 
 static uint64_t cnt(df1_t *h, int id)
@@ -62,7 +62,7 @@ static df1_t *open_master(const char *dev, int baud, enum df1_duplex duplex)
 	return h;
 }
 
-/* ---- pure: lib/proto/repoll.c ---- */
+/* ---- pure: lib/link/half_repoll.c ---- */
 
 static void test_repoll_learns_and_times_polls(void **state)
 {

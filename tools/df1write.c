@@ -26,7 +26,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli.h"
+#include "common/cli.h"
 #include "df1.h"
 
 /* the smallest packet of any controller (SLC 5/01, 5/02), from the library's table */

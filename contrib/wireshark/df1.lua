@@ -7,7 +7,7 @@
 -- shown on the record that completes them. Decoding follows libdf1's
 -- spec/protocol.md and prints what `df1mon --read` prints: the decoder below
 -- mirrors lib/proto/frame.c (DLE stuffing, BCC/CRC auto-detection, duplex
--- auto-detection), the message decoding mirrors tools/decode.c.
+-- auto-detection), the message decoding mirrors tools/common/decode.c.
 --
 -- Load it with `tshark -X lua_script:df1.lua`, or copy it into a Lua plugin
 -- folder (~/.local/lib/wireshark/plugins/). Frames cut by the end of a capture,
@@ -21,8 +21,8 @@ local df1 = Proto("df1", "Allen-Bradley DF1")
 local DLE, SOH, STX, ETX, EOT, ENQ, ACK, NAK, NAK_OLD = 0x10, 0x01, 0x02, 0x03, 0x04, 0x05,
 	0x06, 0x15, 0x0F
 local MAX_DATA, MIN_DATA = 264, 6        -- lib/proto/frame.h
-local MAX_VALUES = 160                   -- tools/decode.c
-local DECODE_CMDS = 64                   -- tools/decode.h
+local MAX_VALUES = 160                   -- tools/common/decode.c
+local DECODE_CMDS = 64                   -- tools/common/decode.h
 local RTAC_HDR = 12
 local WTAP_RTAC_SERIAL = wtap_encaps and wtap_encaps.RTAC_SERIAL or 153
 
@@ -311,7 +311,7 @@ local function parse_ascii_addr(text)
 	return a
 end
 
--- The file type a command's values decode as (tools/decode_typedata.c).
+-- The file type a command's values decode as (tools/common/decode_typedata.c).
 local function value_file_type(a)
 	if not a or not a.type then return "N" end
 	if is_tcr(a.type) and (a.sub or a.bit) then return "N" end
@@ -500,7 +500,7 @@ end
 
 -- ---------------------------------------------------------------- message view
 
--- What tools/decode.c shows of a frame's app bytes `s`: a view table.
+-- What tools/common/decode.c shows of a frame's app bytes `s`: a view table.
 -- ctx: the transaction memory (commands by TNS) of this capture or TCP stream.
 local function msg_decode(s)
 	local m = { size = -1 }
@@ -777,7 +777,7 @@ end
 
 -- ---------------------------------------------------------------- transactions
 
--- The command a reply answers (tools/decode.c cmd_find): same TNS and CMD, the
+-- The command a reply answers (tools/common/decode.c cmd_find): same TNS and CMD, the
 -- stations swapped; else the newest with that TNS (a bridge may rewrite SRC).
 local function cmd_find(ctx, m)
 	local best
@@ -1325,7 +1325,7 @@ local function feed(st, b, frame, pos)
 	trim(st, dec:busy() and dec.start or o + 1)
 end
 
--- The end of the capture (tools/mon_stream.c stream_finish): DLE STX fed after
+-- The end of the capture (tools/df1mon/mon_stream.c stream_finish): DLE STX fed after
 -- the last byte settles a frame waiting for its check and ends one under way.
 local function finish(st)
 	local dec, real_end = st.dec, st.off - 1
@@ -1620,7 +1620,7 @@ local f_tcp_stream = Field.new("tcp.stream")
 local f_tcp_retrans = Field.new("tcp.analysis.retransmission")
 local rtacser = Dissector.get("rtacser")
 
--- RTAC serial event types: 01/03 transmit start/end, 02/04 receive (tools/mon_read.c).
+-- RTAC serial event types: 01/03 transmit start/end, 02/04 receive (tools/df1mon/mon_read.c).
 local function rtac_dir(ev) return (ev == 0x01 or ev == 0x03) and "tx" or "rx" end
 
 function df1.init()

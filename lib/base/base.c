@@ -3,7 +3,7 @@
  * 2525-2561) and catalog logging, for every layer above (lib/base/base.h).
  * The public getters (df1_last_error, df1_counter) are lib/handle.c's.
  */
-#include "base.h"
+#include "base/base.h"
 
 #include <errno.h>
 #include <stdarg.h>

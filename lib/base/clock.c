@@ -3,7 +3,7 @@
  * deadlines and in microseconds for trace timestamps, and the wall clock
  * (CLOCK_REALTIME) only to stamp received bytes for the caller (lib/base/base.h).
  */
-#include "base.h"
+#include "base/base.h"
 
 #include <time.h>
 

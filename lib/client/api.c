@@ -3,7 +3,7 @@
  * helpers, bits, raw) and the internal ones of client.h (parsed address, PLC
  * type per call).
  */
-#include "client_int.h"
+#include "client/client_int.h"
 
 /* Parse addr for an API call; records the error on failure. */
 static int client_parse(struct df1 *h, int station, const char *text, struct df1_addr *a)

@@ -107,11 +107,11 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "client.h"
-#include "link.h"
-#include "plc_limits.h"
-#include "pccc.h"
-#include "value.h"
+#include "client/client.h"
+#include "link/link.h"
+#include "proto/plc_limits.h"
+#include "proto/pccc.h"
+#include "proto/value.h"
 
 #define ATEXT_MAX 64
 

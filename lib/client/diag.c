@@ -1,7 +1,7 @@
 /*
  * diag.c - any PCCC command, diagnostic status, echo, link test, change mode.
  */
-#include "client_int.h"
+#include "client/client_int.h"
 
 int df1_command(df1_t *h, int station, uint8_t cmd, const uint8_t *body, size_t body_len,
                 uint8_t *reply, size_t reply_cap)

@@ -2,7 +2,7 @@
  * elements.c - spans of elements dispatched to the PLC type's commands, bit
  * reads and masked bit writes, reads and writes of element values.
  */
-#include "client_int.h"
+#include "client/client_int.h"
 
 static int span_check(struct df1 *h, int station, const char *what, const struct span *s)
 {

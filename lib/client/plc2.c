@@ -2,7 +2,7 @@
  * plc2.c - PLC-2: unprotected reads and writes (01, 08), byte address = 2 * element,
  * or the element itself with DF1_OPT_PLC2_WORD_ADDR (spec 4.7).
  */
-#include "client_int.h"
+#include "client/client_int.h"
 
 /* The command's address of word `element` of the PLC-2 area. */
 static uint16_t plc2_address(const struct df1 *h, size_t element)

@@ -2,7 +2,7 @@
  * plc5.c - PLC-5: typed reads and writes (0F/68, 0F/67) with a logical binary
  * or ASCII address, split into packets.
  */
-#include "client_int.h"
+#include "client/client_int.h"
 
 /* Type/data element type for a span: single words are integers. */
 static unsigned plc5_elem_type(const struct span *s)

@@ -29,9 +29,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "client.h"
-#include "plc_limits.h"
-#include "poll_plan.h"
+#include "client/client.h"
+#include "proto/plc_limits.h"
+#include "client/block_plan.h"
 
 /* How a request's values come out of its block. */
 enum rm_how {

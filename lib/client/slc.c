@@ -2,7 +2,7 @@
  * slc.c - SLC 5/03+, MicroLogix and SLC 5/01-5/02: protected typed logical
  * reads and writes with three address fields (0F/A2, 0F/AA), split into packets.
  */
-#include "client_int.h"
+#include "client/client_int.h"
 
 int slc_type_code(struct df1 *h, int station, const char *what, enum df1_file_type t)
 {

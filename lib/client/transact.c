@@ -3,7 +3,7 @@
  * error recording (client_fail: the detail's address field), one transaction
  * (command out, reply checked), and where element values go and come from.
  */
-#include "client_int.h"
+#include "client/client_int.h"
 
 bool client_is_word_type(enum df1_file_type t)
 {

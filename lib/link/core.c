@@ -64,11 +64,11 @@
  *    (and, in full duplex, the ENQs that follow them) for station `value`, or
  *    for every station and every ENQ with value FAULT_SILENT_ALL (256).
  */
-#include "link.h"
+#include "link/link.h"
 
 #include <string.h>
 
-#include "link_int.h"
+#include "link/link_int.h"
 
 /* ------------------------------------------------------------------------
  * Setup

@@ -4,9 +4,9 @@
  * and the responder (one reply in flight). The decisions it follows are listed
  * in core.c, which holds what it shares with half.c; link.c dispatches here.
  */
-#include "link.h"
+#include "link/link.h"
 
-#include "link_int.h"
+#include "link/link_int.h"
 
 /* ------------------------------------------------------------------------
  * Full duplex: the receiver (spec 1.7)

@@ -24,7 +24,7 @@
  *    (hd_poll_answer_ms, DF1_OPT_POLL_TIMEOUT_MS) counts as an EOT: some
  *    slaves send nothing when they have nothing, and a whole ACK timeout per
  *    poll would exceed Cmd_Timeout before their reply is ready.
- *  - Poll timing (lib/proto/repoll.h): the first poll after the ACK and the
+ *  - Poll timing (lib/link/half_repoll.h): the first poll after the ACK and the
  *    next after each EOT go out when the station's reply is likely ready,
  *    from its learned reply latency; never closer than two characters (at
  *    least 1 ms, so a TCP-attached line is not flooded). Each pause is a
@@ -52,11 +52,11 @@
  *    nak_retries times (2541), then dropped (2542, 2519).
  *  - DLE NAK from the master: global link reset, every queued reply is dropped.
  */
-#include "link.h"
+#include "link/link.h"
 
 #include <string.h>
 
-#include "link_int.h"
+#include "link/link_int.h"
 
 /* polls of a reply overdue by far are at most this far apart (repoll.h) */
 #define HD_REPOLL_MAX_GAP_US 20000

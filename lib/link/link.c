@@ -5,12 +5,12 @@
  * (half-duplex master and slave). Both of those sit on core.c. An eip://
  * target's handle goes to eip.c instead (EtherNet/IP: no duplex, no line).
  */
-#include "link.h"
+#include "link/link.h"
 
 #include <string.h>
 
-#include "link_eip.h"
-#include "link_int.h"
+#include "eip/eip_link.h"
+#include "link/link_int.h"
 
 /* Our SRC and the next TNS in a command (bytes 1, 4-5). */
 static void link_stamp(struct df1 *h, uint8_t *cmd)

@@ -7,7 +7,7 @@
 #define LIBDF1_LINK_INT_H
 
 #include "df1_int.h"
-#include "link.h"
+#include "link/link.h"
 
 /* setup */
 int link_setup(struct df1 *h);

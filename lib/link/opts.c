@@ -4,7 +4,7 @@
  * without pulling in the link layer's code (tests/test_client.c replaces all
  * of link.h but this).
  */
-#include "link.h"
+#include "link/link.h"
 
 unsigned link_decoder_opts(const struct df1 *h)
 {

@@ -27,11 +27,11 @@
  *  - Timers that wait for an answer start when our bytes have left the line
  *    (link_after_tx_ms), as full_transact's.
  */
-#include "link.h"
+#include "link/link.h"
 
 #include <string.h>
 
-#include "link_int.h"
+#include "link/link_int.h"
 
 enum { PIPE_FREE, PIPE_QUEUED, PIPE_TX, PIPE_WAIT, PIPE_DONE };
 

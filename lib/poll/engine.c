@@ -3,7 +3,7 @@
  * the names of qualities, reasons and station states, the settings, the
  * statistics and df1_station_health().
  */
-#include "poll_int.h"
+#include "poll/poll_int.h"
 
 static void poll_free_engine(struct df1 *h);
 

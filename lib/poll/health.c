@@ -3,7 +3,7 @@
  * and qualities after it, and station health: answers, failures, offline,
  * recovery (seed 000).
  */
-#include "poll_int.h"
+#include "poll/poll_int.h"
 
 static bool poll_addr_ext(uint8_t ext)
 {

@@ -1,9 +1,9 @@
 /*
- * plan.c - the scan list planned into block reads (lib/proto/poll_plan.c)
+ * plan.c - the scan list planned into block reads (lib/client/block_plan.c)
  * when tags were added or a bad tag was isolated; a block split in two after
  * an address error. The only place the engine allocates after setup.
  */
-#include "poll_int.h"
+#include "poll/poll_int.h"
 
 int poll_replan(struct df1 *h, struct poll_engine *e)
 {

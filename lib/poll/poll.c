@@ -2,7 +2,7 @@
  * poll.c - df1_poll(): queued writes, one scan of what is due, the wait for
  * due work or a queued write; df1_poll_next_ms(), df1_poll_fd().
  */
-#include "poll_int.h"
+#include "poll/poll_int.h"
 
 static void poll_drain_wake(struct poll_engine *e)
 {

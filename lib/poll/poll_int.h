@@ -6,7 +6,7 @@
  * Files (each calls only files listed before it, never back):
  *   engine.c    the engine's allocation and teardown, names, settings, stats
  *   tags.c      tags, their layout and quality, the mapping CSV
- *   plan.c      the scan list planned into blocks (lib/proto/poll_plan.c), splits
+ *   plan.c      the scan list planned into blocks (lib/client/block_plan.c), splits
  *   health.c    outcomes of a transaction, tag updates, station health
  *   writeq.c    the write queue: df1_tag_write() and its runs between transactions
  *   probe.c     station discovery: probes of addresses without tags, when due
@@ -14,7 +14,7 @@
  *   poll.c      df1_poll(), its wait, df1_poll_next_ms(), df1_poll_fd()
  * The user-facing rules are in df1_poll(3); the decisions behind them:
  *
- * Scan list. Readable tags are planned into block reads (lib/proto/poll_plan.c):
+ * Scan list. Readable tags are planned into block reads (lib/client/block_plan.c):
  * per station, PLC type and file, elements are packed greedily up to the
  * packet limit of the PLC type (lib/plc_limits.h), bridging a gap when its
  * bytes cost no more than one more read transaction (POLL_TX_OVERHEAD_*).
@@ -117,11 +117,11 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "client.h"
-#include "link.h"
-#include "plc_limits.h"
-#include "poll_plan.h"
-#include "value.h"
+#include "client/client.h"
+#include "link/link.h"
+#include "proto/plc_limits.h"
+#include "client/block_plan.h"
+#include "proto/value.h"
 
 #define POLL_WATCHDOG_DEFAULT_MS 10000
 #define POLL_WATCHDOG_MAX_MS 86400000

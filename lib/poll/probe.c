@@ -1,12 +1,12 @@
 /*
  * probe.c - station discovery in the poll engine (seed 002,
  * df1_poll_set_station_range): the addresses of the range without tags are
- * probed with discover_probe(), the probe of df1_discover() (lib/discover.c):
+ * probed with discover_probe(), the probe of df1_discover() (lib/client/discover.c):
  * a link test (half duplex) or an empty echo (full duplex). poll_discover() is
  * the one entry point the scan calls to probe, poll_discover_due() when
  * discovery wants the next scan.
  */
-#include "poll_int.h"
+#include "poll/poll_int.h"
 
 /* A station without tags: discovery's probe, a link test (half duplex) or an
  * empty echo (full duplex). */

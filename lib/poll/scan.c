@@ -3,7 +3,7 @@
  * the scan of one station, when the next scan is due, and one scan of every
  * station in address order.
  */
-#include "poll_int.h"
+#include "poll/poll_int.h"
 
 enum read_result { R_DONE, R_SPLIT, R_FAILED };
 

@@ -3,7 +3,7 @@
  * layout in its file, quality changes and the change callback, the getters,
  * the index of their names, and df1_tag_load_map().
  */
-#include "poll_int.h"
+#include "poll/poll_int.h"
 
 static bool poll_is_tcr(enum df1_file_type t)
 {

@@ -3,10 +3,10 @@
  * df1_poll_submit_pccc() from any thread, and the queue run between two
  * transactions of df1_poll().
  */
-#include "poll_int.h"
+#include "poll/poll_int.h"
 
-#include "link.h"
-#include "pccc.h"
+#include "link/link.h"
+#include "proto/pccc.h"
 
 static int poll_write_one(struct df1 *h, struct poll_engine *e, struct wnode *w)
 {

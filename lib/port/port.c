@@ -11,7 +11,7 @@
  * readable, or the deadline passes. The read/write contracts keep their
  * deadlines in milliseconds (timeouts are configured in ms).
  */
-#include "port.h"
+#include "port/port.h"
 
 #include <errno.h>
 #include <limits.h>

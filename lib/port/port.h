@@ -8,7 +8,7 @@
 
 #include <sys/types.h>
 #include "df1.h"
-#include "base.h"
+#include "base/base.h"
 
 struct df1;
 

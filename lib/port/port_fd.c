@@ -26,7 +26,7 @@
  * SIGPIPE: sockets are written with send(MSG_NOSIGNAL); on a pipe whose reader
  * is gone the application must ignore SIGPIPE to get DF1_E_CLOSED instead.
  */
-#include "port.h"
+#include "port/port.h"
 
 #include <errno.h>
 #include <fcntl.h>

@@ -3,7 +3,7 @@
  * --listen): "tcp://host:port", "tcp://192.168.1.20:2101", "tcp://[::1]:2222";
  * the scheme in any case ("TCP://host:port"), "tcp:host:port" too. The same
  * connection carries EtherNet/IP for an "eip://host[:port]" target (the link's
- * lib/link/eip.c opens it so): there the port may be left out, 44818.
+ * lib/eip/eip_link.c opens it so): there the port may be left out, 44818.
  *
  * The connect is non-blocking and bounded by a deadline of the handle's
  * timeout (at least 1000 ms), trying each address getaddrinfo() returns;
@@ -13,7 +13,7 @@
  * connects the same way, with the same deadline, then shuts down its sending
  * side (shutdown(SHUT_WR)). The backend keeps no state but the descriptor.
  */
-#include "port.h"
+#include "port/port.h"
 
 #include <errno.h>
 #include <netdb.h>

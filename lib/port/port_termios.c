@@ -14,7 +14,7 @@
  * no software flow control; RTS/CTS only when asked; VMIN = VTIME = 0 because
  * every wait is a poll() against a deadline (lib/port/port.c).
  */
-#include "port.h"
+#include "port/port.h"
 
 #include <errno.h>
 #include <fcntl.h>

@@ -3,7 +3,7 @@
  * clock, no allocation, no mutable globals. The decoder rules the spec leaves
  * open are listed in frame.h.
  */
-#include "frame.h"
+#include "proto/frame.h"
 
 #include <string.h>
 

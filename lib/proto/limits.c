@@ -3,10 +3,10 @@
  * (df1_packet_max()) and the elements per packet for each command, derived
  * here once from spec/protocol.md 6. Pure.
  */
-#include "plc_limits.h"
+#include "proto/plc_limits.h"
 
-#include "frame.h"
-#include "pccc.h"
+#include "proto/frame.h"
+#include "proto/pccc.h"
 
 size_t plc_packet_max(enum df1_plc plc, bool write, int max_packet)
 {

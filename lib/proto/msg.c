@@ -24,8 +24,8 @@
 
 #include <string.h>
 
-#include "pccc.h"
-#include "value.h"
+#include "proto/pccc.h"
+#include "proto/value.h"
 
 static int msg_decode_slc(const struct pccc_msg *p, struct df1_msg *m)
 {

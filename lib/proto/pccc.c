@@ -4,12 +4,12 @@
  * command names (spec/protocol.md 3-4); the diagnostic status is in
  * pccc_diag.c. Pure: no I/O, clock or allocation.
  */
-#include "pccc.h"
+#include "proto/pccc.h"
 
 #include <stdio.h>
 #include <string.h>
 
-#include "value.h"
+#include "proto/value.h"
 
 #define PLC5_ASCII_MAX (DF1_ADDR_ASCII_MAX - 1) /* KF2 p.130: up to 51 bytes of specification */
 #define PLC5_LEVELS 4                           /* area, file, element, sub-element */

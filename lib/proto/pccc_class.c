@@ -4,7 +4,7 @@
  * have reached the controller (df1_poll_submit_pccc) and for a bridge that
  * gives data and no control (df1gw --eip-read-only). Pure.
  */
-#include "pccc.h"
+#include "proto/pccc.h"
 
 /* FNC of CMD 06 that read: echo, diagnostic read, diagnostic status. The other
  * FNCs set interface variables, timeouts, retry counts or reset counters. */

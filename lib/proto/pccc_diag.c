@@ -3,12 +3,12 @@
  * it, the encoder a responder answers with; processor type codes and names
  * (spec/protocol.md 4.9). Pure: no I/O, clock or allocation.
  */
-#include "pccc.h"
+#include "proto/pccc.h"
 
 #include <stdio.h>
 #include <string.h>
 
-#include "value.h"
+#include "proto/value.h"
 
 /* ------------------------------------------------------------------------
  * Diagnostic status (spec 4.9) and names

@@ -2,7 +2,7 @@
  * value.c - wire bytes <-> typed values (spec/protocol.md 5). Pure: no I/O,
  * clock or allocation.
  */
-#include "value.h"
+#include "proto/value.h"
 
 #include <string.h>
 

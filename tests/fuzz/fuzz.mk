@@ -15,7 +15,7 @@ FUZZ_MAX_LEN ?= 4096
 FUZZ_FLAGS ?=
 FUZZ_B := build/fuzz
 FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
-FUZZ_CFLAGS = -O1 -g $(FUZZ_SAN) -fsanitize=fuzzer-no-link $(DF1_CFLAGS) -Itests/fuzz -Itests -Itools
+FUZZ_CFLAGS = -O1 -g $(FUZZ_SAN) -fsanitize=fuzzer-no-link $(DF1_CFLAGS) -Itests/fuzz $(TEST_CPPFLAGS)
 
 FUZZ_TARGETS := frame pccc_reply pccc_command addr value net_csv map_csv table_file mon_read link poll
 FUZZ_TARGETS += eip
@@ -24,8 +24,8 @@ FUZZ_LIB_OBJS := $(LIB_SRCS:%.c=$(FUZZ_B)/%.o)
 FUZZ_COMMON_OBJS := $(FUZZ_B)/tests/fuzz/fuzz_file.o
 # df1mon's --read: the pcap/raw reader, its stream and the decoded lines
 # (and the tools' shared cli code: the decoder takes the link options from it)
-FUZZ_MON_OBJS := $(patsubst %.c,$(FUZZ_B)/%.o,tools/mon_read.c tools/mon_stream.c \
-	$(wildcard tools/decode*.c tools/cli_*.c))
+FUZZ_MON_OBJS := $(patsubst %.c,$(FUZZ_B)/%.o,tools/df1mon/mon_read.c tools/df1mon/mon_stream.c \
+	$(TOOL_COMMON_SRCS))
 FUZZ_EXTRA_mon_read := $(FUZZ_MON_OBJS)
 # the link and the poll engine run against the scripted port of the unit tests
 FUZZ_EXTRA_link := $(FUZZ_B)/tests/mock_port.o $(FUZZ_B)/tests/fuzz/fuzz_peer.o
@@ -50,7 +50,7 @@ FUZZ_COMPILE = $(Q)mkdir -p $(dir $@); $(if $(Q),echo "  FUZZCC  $@";) $(FUZZ_CC
 
 $(FUZZ_B)/lib/%.o: lib/%.c $(LIB_HDRS)
 	$(FUZZ_COMPILE) -c -o $@ $<
-$(FUZZ_B)/tools/%.o: tools/%.c $(wildcard include/*.h) $(wildcard tools/*.h)
+$(FUZZ_B)/tools/%.o: tools/%.c $(wildcard include/*.h) $(TOOL_HDRS)
 	$(FUZZ_COMPILE) -c -o $@ $<
 $(FUZZ_B)/tests/%.o: tests/%.c $(LIB_HDRS) $(wildcard tests/*.h) $(wildcard tests/fuzz/*.h)
 	$(FUZZ_COMPILE) -c -o $@ $<

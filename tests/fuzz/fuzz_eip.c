@@ -1,6 +1,6 @@
 /*
  * fuzz_eip - the EtherNet/IP server's parsing and its connection's state
- * machine (lib/proto/eip.c, eip_session.c): encapsulation header, CPF, CIP
+ * machine (lib/eip/eip_codec.c, eip_session.c): encapsulation header, CPF, CIP
  * requests and paths, Execute PCCC, Forward Open / Close, Unconnected Send,
  * sessions and connections across messages.
  * Input: byte 0 options (bit 0: the messages came over UDP; bit 1: answer
@@ -20,8 +20,8 @@
 
 #include <string.h>
 
-#include "eip.h"
-#include "eip_session.h"
+#include "eip/eip_codec.h"
+#include "eip/eip_session.h"
 
 static const struct eip_identity fuzz_id = { 1, 2, 44818, 0x7F000001, 0, 0x0E, 0, 0, 4, 0, 1,
                                              "libdf1 fuzz", 3 };

@@ -14,7 +14,7 @@
 
 #include <string.h>
 
-#include "frame.h"
+#include "proto/frame.h"
 
 #define MAX_SYMS 4096
 

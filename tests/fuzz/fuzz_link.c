@@ -18,7 +18,7 @@
 
 #include <string.h>
 
-#include "pccc.h"
+#include "proto/pccc.h"
 
 #define OPS 20
 

@@ -1,5 +1,5 @@
 /*
- * fuzz_map_csv - the mapping CSV loader (lib/config_map.c, lib/config_csv.c),
+ * fuzz_map_csv - the mapping CSV loader (lib/config/config_map.c, lib/config/config_csv.c),
  * alone and into a handle's poll engine (df1_tag_load_map). Input: byte 0
  * bit 0 strict mode, the rest the file.
  * Properties: every issue has a mapping catalog ID (2501-2504, or 0) and a

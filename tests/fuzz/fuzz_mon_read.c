@@ -1,5 +1,5 @@
 /*
- * fuzz_mon_read - df1mon --read (tools/mon_read.c, mon_stream.c and the
+ * fuzz_mon_read - df1mon --read (tools/df1mon/mon_read.c, mon_stream.c and the
  * decoded lines of tools/decode*.c): a pcap (RTAC serial or another link
  * type) or a raw byte dump, from a regular file (read twice: the direction
  * scan) or from a pipe.
@@ -14,7 +14,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "mon.h"
+#include "df1mon/mon.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv)
 {

@@ -1,5 +1,5 @@
 /*
- * fuzz_net_csv - the network CSV loader (lib/config_net.c, lib/config_csv.c)
+ * fuzz_net_csv - the network CSV loader (lib/config/config_net.c, lib/config/config_csv.c)
  * and applying what it loaded to a handle. Input: the file.
  * Properties: every issue has a network catalog ID (2552-2559, or 0) and a text; a
  * load that reports no issue returns 0 and its settings apply to a handle.

@@ -1,5 +1,5 @@
 /*
- * fuzz_pccc_command - the responder side (lib/server.c): a received command
+ * fuzz_pccc_command - the responder side (lib/server/server.c): a received command
  * decoded and run against a data table (df1_table, as df1sim serves it) for
  * each PLC type, and its reply built.
  * Input: byte 0 picks the PLC type (and bit 3 the PLC-5 float order), the rest
@@ -12,8 +12,8 @@
 #include <string.h>
 
 #include "df1_int.h"
-#include "pccc.h"
-#include "server.h"
+#include "proto/pccc.h"
+#include "server/server.h"
 
 static df1_t *h;
 static struct df1_table *pristine[5];

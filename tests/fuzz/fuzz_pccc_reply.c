@@ -15,7 +15,7 @@
 #include <string.h>
 
 #include "df1.h"
-#include "pccc.h"
+#include "proto/pccc.h"
 
 static void check_addr(const struct df1_addr *a)
 {

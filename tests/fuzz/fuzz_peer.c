@@ -5,8 +5,8 @@
 
 #include <string.h>
 
-#include "frame.h"
-#include "link.h"
+#include "proto/frame.h"
+#include "link/link.h"
 #include "mock_port.h"
 
 static struct {

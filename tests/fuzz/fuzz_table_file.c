@@ -1,6 +1,6 @@
 /*
  * fuzz_table_file - df1sim's data file, the table file loader
- * (lib/table_file.c, df1_table_load). Input: byte 0 picks the PLC type, the
+ * (lib/table/table_file.c, df1_table_load). Input: byte 0 picks the PLC type, the
  * rest is the file.
  * Properties: a failed load leaves the table as it was (all or nothing) and
  * says why; after a good one, save -> load -> save writes the same text

@@ -4,7 +4,7 @@
     eip_probe.py HOST:PORT CHECK [ARGS...]
 
 Builds every message from the layouts of df1-eip(7) (ODVA Vol. 2 ch. 2-3, Vol. 1
-ch. 3, Rockwell 1756-PM020), independently of lib/proto/eip.c, and checks the
+ch. 3, Rockwell 1756-PM020), independently of lib/eip/eip_codec.c, and checks the
 replies. Exit 0 when the check holds; else 1 with what differed on stderr.
 Every wait is bounded by a socket timeout (10 s); nothing sleeps.
 """

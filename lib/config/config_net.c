@@ -1,0 +1,343 @@
+/*
+ * config_net.c - the network configuration file (one row: the line's settings)
+ * and applying it to a handle. The CSV rules are config_csv.c's.
+ *
+ * Network file (seeds/004, "Network Configuration Parameters"): the first data
+ * row is used, later rows are ignored. A file with a header and no data row
+ * (blank and comment rows do not count) is an error naming the file, catalog
+ * ID 0 (none of 2552-2559 fits): the module does not start. Every invalid
+ * value is reported, then the load fails with DF1_E_CONFIG and *c is left
+ * untouched:
+ *   Station      0-254, default 5                     2552 CRT_BAD_STATION_ID
+ *   Mode         Master | Slave | Peer, default Master 2553 CRT_BAD_DRIVER_MODE
+ *                (2554 CRT_UNSUPPORTED_MODE never fires: libdf1 supports all three)
+ *   PLC_Type     PLC2 | PLC5 | SLC | MicroLogix, default PLC5
+ *                                                     2555 CRT_BAD_PLC_TYPE
+ *                also accepted: "PLC-5" and the like ('-', '_', '/', '.' and spaces
+ *                are ignored), SLC500, SLC503-505 (SLC), SLC501/SLC502 ("SLC 5/02":
+ *                82-byte packets), ML, MicroLogix1400, ML1100 ... (MicroLogix).
+ *                PLC3 is recognised but not supported by libdf1: 2555 too.
+ *   Error_Code   BCC | CRC, default CRC                2556 CRT_BAD_ERROR_CODE
+ *   NAK_Retries  0-10, default 3                       2557 CRT_BAD_NAK_RETRIES
+ *   ENQ_Retries  0-10, default 3                       2558 CRT_BAD_ENQ_RETRIES
+ *   Cmd_Timeout  500-5000 ms, default 1000             2559 CRT_BAD_CMD_TIMEOUT
+ *   Com_Port     n (1 -> /dev/ttyS0, n -> /dev/ttyS(n-1), 1-256), COMn (the same),
+ *                an absolute device path, or tcp://host:port; default 1
+ *   Baud         1200 2400 4800 9600 19200 38400 57600 115200, default 9600
+ *   Data_Bits    5-8, default 8;  Stop_Bits 1-2, default 1
+ *   Parity       None | Even | Odd (or N E O), default None
+ *   Timeout      0-360000 ms, default 1000;  TX_Delay 0-65535 ms, default 0
+ *   Handshake    Yes | No (or Y N), default No
+ * The last seven have no catalog ID: they are reported with catalog_id 0 and a
+ * text in the seed's style naming the field and the valid values. Mode Master or
+ * Slave sets duplex_half (half duplex, multidrop), Peer clears it (full duplex).
+ */
+#include "config/config_int.h"
+
+#include <stdio.h>
+#include <string.h>
+
+/* ---- network file ----------------------------------------------------------- */
+
+enum cfg_net_field {
+	NF_STATION, NF_MODE, NF_PLC_TYPE, NF_ERROR_CODE, NF_NAK_RETRIES, NF_ENQ_RETRIES,
+	NF_CMD_TIMEOUT, NF_COM_PORT, NF_BAUD, NF_DATA_BITS, NF_STOP_BITS, NF_PARITY,
+	NF_TIMEOUT, NF_TX_DELAY, NF_HANDSHAKE, NF_COUNT
+};
+
+static const char *const cfg_net_names[NF_COUNT] = {
+	"Station", "Mode", "PLC_Type", "Error_Code", "NAK_Retries", "ENQ_Retries",
+	"Cmd_Timeout", "Com_Port", "Baud", "Data_Bits", "Stop_Bits", "Parity",
+	"Timeout", "TX_Delay", "Handshake",
+};
+
+void df1_net_config_defaults(struct df1_net_config *c)
+{
+	if (!c)
+		return;
+	memset(c, 0, sizeof *c);
+	c->station = 5;
+	c->mode = DF1_MODE_MASTER;
+	c->plc = DF1_PLC_PLC5;
+	c->check = DF1_CHECK_CRC;
+	c->nak_retries = 3;
+	c->enq_retries = 3;
+	c->cmd_timeout_ms = 1000;
+	strcpy(c->port, "/dev/ttyS0");
+	c->baud = 9600;
+	c->data_bits = 8;
+	c->stop_bits = 1;
+	c->parity = 'N';
+	c->timeout_ms = 1000;
+	c->tx_delay_ms = 0;
+	c->handshake = false;
+	c->duplex_half = true;
+}
+
+struct cfg_net_ctx {
+	struct df1_net_config cfg;
+};
+
+/* An integer in [lo, hi] for a field without a catalog ID. */
+static bool cfg_net_range(struct cfg_load *l, int line, const char *label, const char *v, int lo,
+                      int hi, int *out)
+{
+	int x;
+
+	if (cfg_int(v, &x) && x >= lo && x <= hi) {
+		*out = x;
+		return true;
+	}
+	cfg_report(l, 0, l->item, line, "Invalid %s (%.64s) should be in range [%d, %d]", label, v,
+	           lo, hi);
+	return false;
+}
+
+/* Catalog fields "(%d) ... [0, %d]" style: value, then the limits in args. */
+static void cfg_net_bad_int(struct cfg_load *l, int id, int line, const char *v,
+                            const char *fallback, const char *sig, int a1, int a2)
+{
+	int x;
+
+	if (cfg_int(v, &x)) {
+		if (sig[2])
+			cfg_catalog(l, id, l->item, line, fallback, sig, -1, x, a1, a2);
+		else
+			cfg_catalog(l, id, l->item, line, fallback, sig, -1, x, a1);
+	} else {
+		if (sig[2])
+			cfg_catalog(l, id, l->item, line, fallback, sig, 0, v, a1, a2);
+		else
+			cfg_catalog(l, id, l->item, line, fallback, sig, 0, v, a1);
+	}
+}
+
+static bool cfg_net_port(const char *v, char *out, size_t cap)
+{
+	int n;
+
+	if (cfg_all_digits(v) || (cfg_istarts(v, "COM") && cfg_all_digits(v + 3))) {
+		if (!cfg_int(cfg_all_digits(v) ? v : v + 3, &n) || n < 1 || n > COM_PORT_MAX)
+			return false;
+		snprintf(out, cap, "/dev/ttyS%d", n - 1);
+		return true;
+	}
+	if (v[0] == '/') {
+		if (strlen(v) >= cap)
+			return false;
+		strcpy(out, v);
+		return true;
+	}
+	if (cfg_istarts(v, "tcp://")) {
+		const char *host = v + 6, *colon = strrchr(host, ':');
+		int port;
+
+		if (!colon || colon == host || strchr(host, '/') || !cfg_all_digits(colon + 1) ||
+		    !cfg_int(colon + 1, &port) || port < 1 || port > 65535 || strlen(v) >= cap)
+			return false;
+		snprintf(out, cap, "tcp://%s", host);
+		return true;
+	}
+	return false;
+}
+
+static void cfg_net_row(struct cfg_load *l, struct cfg_row *row)
+{
+	struct df1_net_config *c = &((struct cfg_net_ctx *)l->ctx)->cfg;
+	const char *v;
+	int x, line = row->line;
+
+	if (l->item > 1)
+		return; /* the first data row configures the module */
+	cfg_check_cells(l, row, false);
+
+	v = cfg_value(l, row, NF_STATION);
+	if (*v) {
+		if (cfg_int(v, &x) && x >= 0 && x < STATION_LIMIT)
+			c->station = x;
+		else
+			cfg_net_bad_int(l, DF1_ID_CRT_BAD_STATION_ID, line, v,
+			                "Invalid station number (%d) must be less than %d",
+			            "dd", STATION_LIMIT, 0);
+	}
+	v = cfg_value(l, row, NF_MODE);
+	if (*v) {
+		if (cfg_ieq(v, "Master"))
+			c->mode = DF1_MODE_MASTER;
+		else if (cfg_ieq(v, "Slave"))
+			c->mode = DF1_MODE_SLAVE;
+		else if (cfg_ieq(v, "Peer"))
+			c->mode = DF1_MODE_PEER;
+		else
+			cfg_catalog(l, DF1_ID_CRT_BAD_DRIVER_MODE, l->item, line,
+			            "Invalid Driver Mode (%s), should be one of %s, %s, or %s", "ssss", -1,
+			            v, "Master", "Slave", "Peer");
+		c->duplex_half = c->mode != DF1_MODE_PEER;
+	}
+	v = cfg_value(l, row, NF_PLC_TYPE);
+	if (*v && cfg_plc(v, &c->plc) < 0)
+		cfg_catalog(l, DF1_ID_CRT_BAD_PLC_TYPE, l->item, line,
+		            "Invalid or Unsupported PLC Type (%s) should be one of %s, %s, %s, %s",
+		            "sssss", -1, v, PLC_CHOICES);
+	v = cfg_value(l, row, NF_ERROR_CODE);
+	if (*v) {
+		if (cfg_ieq(v, "CRC"))
+			c->check = DF1_CHECK_CRC;
+		else if (cfg_ieq(v, "BCC"))
+			c->check = DF1_CHECK_BCC;
+		else
+			cfg_catalog(l, DF1_ID_CRT_BAD_ERROR_CODE, l->item, line,
+			            "Invalid Error Code (%s), should be either %s, or %s", "sss", -1, v,
+			            "BCC", "CRC");
+	}
+	v = cfg_value(l, row, NF_NAK_RETRIES);
+	if (*v) {
+		if (cfg_int(v, &x) && x >= 0 && x <= RETRIES_MAX)
+			c->nak_retries = x;
+		else
+			cfg_net_bad_int(l, DF1_ID_CRT_BAD_NAK_RETRIES, line, v,
+			                "Invalid NAK Retries (%d) should be in range [0, %d]",
+			            "dd", RETRIES_MAX, 0);
+	}
+	v = cfg_value(l, row, NF_ENQ_RETRIES);
+	if (*v) {
+		if (cfg_int(v, &x) && x >= 0 && x <= RETRIES_MAX)
+			c->enq_retries = x;
+		else
+			cfg_net_bad_int(l, DF1_ID_CRT_BAD_ENQ_RETRIES, line, v,
+			                "Invalid ENQ Retries (%d) should be in range [0, %d]",
+			            "dd", RETRIES_MAX, 0);
+	}
+	v = cfg_value(l, row, NF_CMD_TIMEOUT);
+	if (*v) {
+		if (cfg_int(v, &x) && x >= CMD_TIMEOUT_MIN && x <= CMD_TIMEOUT_MAX)
+			c->cmd_timeout_ms = x;
+		else
+			cfg_net_bad_int(l, DF1_ID_CRT_BAD_CMD_TIMEOUT, line, v,
+			            "Invalid Cmd Timeout (%d) should be in range [%d, %d]", "ddd",
+			            CMD_TIMEOUT_MIN, CMD_TIMEOUT_MAX);
+	}
+	v = cfg_value(l, row, NF_COM_PORT);
+	c->port_given = *v != '\0';
+	if (*v && !cfg_net_port(v, c->port, sizeof c->port))
+		cfg_report(l, 0, l->item, line,
+		           "Invalid Com Port (%.64s) should be a port number [1, %d], COMn, a device "
+		           "path (/dev/...) or tcp://host:port", v, COM_PORT_MAX);
+	v = cfg_value(l, row, NF_BAUD);
+	if (*v) {
+		static const int bauds[] = { 1200, 2400, 4800, 9600, 19200, 38400, 57600, 115200 };
+		size_t i;
+		bool ok = false;
+
+		if (cfg_int(v, &x))
+			for (i = 0; i < sizeof bauds / sizeof bauds[0]; i++)
+				ok = ok || x == bauds[i];
+		if (ok)
+			c->baud = x;
+		else
+			cfg_report(l, 0, l->item, line, "Invalid Baud (%.64s) should be one of 1200, 2400, "
+			           "4800, 9600, 19200, 38400, 57600, or 115200", v);
+	}
+	v = cfg_value(l, row, NF_DATA_BITS);
+	if (*v)
+		cfg_net_range(l, line, "Data Bits", v, 5, 8, &c->data_bits);
+	v = cfg_value(l, row, NF_STOP_BITS);
+	if (*v)
+		cfg_net_range(l, line, "Stop Bits", v, 1, 2, &c->stop_bits);
+	v = cfg_value(l, row, NF_PARITY);
+	if (*v) {
+		if (cfg_ieq(v, "None") || cfg_ieq(v, "N"))
+			c->parity = 'N';
+		else if (cfg_ieq(v, "Even") || cfg_ieq(v, "E"))
+			c->parity = 'E';
+		else if (cfg_ieq(v, "Odd") || cfg_ieq(v, "O"))
+			c->parity = 'O';
+		else
+			cfg_report(l, 0, l->item, line,
+			           "Invalid Parity (%.64s), should be one of Odd, Even, or None", v);
+	}
+	v = cfg_value(l, row, NF_TIMEOUT);
+	if (*v)
+		cfg_net_range(l, line, "Timeout", v, 0, TIMEOUT_MAX, &c->timeout_ms);
+	v = cfg_value(l, row, NF_TX_DELAY);
+	if (*v)
+		cfg_net_range(l, line, "TX Delay", v, 0, TX_DELAY_MAX, &c->tx_delay_ms);
+	v = cfg_value(l, row, NF_HANDSHAKE);
+	if (*v) {
+		if (cfg_ieq(v, "Yes") || cfg_ieq(v, "Y"))
+			c->handshake = true;
+		else if (cfg_ieq(v, "No") || cfg_ieq(v, "N"))
+			c->handshake = false;
+		else
+			cfg_report(l, 0, l->item, line,
+			           "Invalid Handshake (%.64s), should be either Yes, or No", v);
+	}
+}
+
+int df1_net_config_load(const char *path, struct df1_net_config *c, df1_config_issue_fn fn,
+                        void *user)
+{
+	struct cfg_load l;
+	struct cfg_net_ctx ctx;
+	FILE *f;
+	int rc;
+
+	if (!path || !c)
+		return DF1_E_INVAL;
+	df1_net_config_defaults(&ctx.cfg);
+	cfg_init(&l, fn, user, cfg_net_names, NF_COUNT, NULL, 0, cfg_net_row, &ctx);
+	f = cfg_open(&l, path);
+	if (!f)
+		return DF1_E_SYS;
+	rc = cfg_read(&l, f, path);
+	fclose(f);
+	if (rc == 0 && l.stop < 0)
+		rc = l.stop;
+	if (rc == 0 && l.item == 0) {
+		/* a header alone would configure every default (Com_Port 1, /dev/ttyS0)
+		 * without a word; no seed ID names this, so catalog ID 0 */
+		cfg_report(&l, 0, 0, 0, "%.150s: no data row (a network file holds one row of "
+		           "settings under its header)", path);
+		rc = DF1_E_CONFIG;
+	}
+	if (rc == 0 && l.issues > 0)
+		rc = DF1_E_CONFIG;
+	if (rc == 0)
+		*c = ctx.cfg;
+	return rc;
+}
+
+int df1_apply_net_config(df1_t *h, const struct df1_net_config *c)
+{
+	enum df1_duplex duplex;
+	int rc;
+
+	if (!h || !c)
+		return DF1_E_INVAL;
+	if (c->mode == DF1_MODE_PEER || !c->duplex_half)
+		duplex = DF1_FULL_DUPLEX;
+	else if (c->mode == DF1_MODE_SLAVE)
+		duplex = DF1_HALF_DUPLEX_SLAVE;
+	else
+		duplex = DF1_HALF_DUPLEX_MASTER;
+	rc = df1_set_serial(h, c->baud, c->data_bits, c->parity, c->stop_bits);
+	if (rc >= 0)
+		rc = df1_set_handshake(h, c->handshake);
+	if (rc >= 0)
+		rc = df1_set_duplex(h, duplex);
+	if (rc >= 0)
+		rc = df1_set_check(h, c->check);
+	if (rc >= 0)
+		rc = df1_set_station(h, c->station);
+	if (rc >= 0)
+		rc = df1_set_plc(h, c->plc);
+	if (rc >= 0)
+		rc = df1_set_timeout_ms(h, c->timeout_ms);
+	if (rc >= 0)
+		rc = df1_set_cmd_timeout_ms(h, c->cmd_timeout_ms);
+	if (rc >= 0)
+		rc = df1_set_retries(h, c->nak_retries, c->enq_retries);
+	if (rc >= 0)
+		rc = df1_set_tx_delay_ms(h, c->tx_delay_ms);
+	return rc < 0 ? rc : 0;
+}

@@ -1,0 +1,825 @@
+/*
+ * df1gw - a gateway daemon: one DF1 line's tags (a mapping CSV, polled by the
+ * poll engine) kept in an MQTT broker as retained JSON, and writes taken back
+ * from <prefix>/tag/<name>/set (DESIGN.md 11; df1gw(1)).
+ *
+ * One loop, no threads: poll() on the signal self-pipe (stop), a signalfd
+ * (SIGHUP: reload), the broker's socket (gw_mqtt.c) and the poll engine's
+ * wake descriptor, with the timeout of whatever is due next (df1_poll_next_ms,
+ * keepalive, reconnect, reopen, --refresh); due line work runs with
+ * df1_poll(h, 0). The EtherNet/IP side (--eip, gw_eip.c) is one more
+ * descriptor; its requests join the poll engine's queue. With --eip, --map
+ * and --mqtt are optional: without a broker df1gw is a pure bridge.
+ *
+ * The line: a handle configured once from the options (cli_configure) with
+ * the tags loaded; opened, closed when it is lost (tags BAD "line_lost") and
+ * opened again with a backoff, keeping its tags and their last values. A
+ * reload builds a new handle from the new mapping file and replaces the old
+ * one (the public API has no way to remove a tag), so the line is closed and
+ * opened again once; the broker connection stays.
+ */
+#include <errno.h>
+#include <limits.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/signalfd.h>
+#include <unistd.h>
+
+#include "df1gw/gw.h"
+#include "df1gw/gw_url.h"
+
+#define LINE_BACKOFF_MIN 500
+#define LINE_BACKOFF_MAX 30000
+#define ONCE_CONNECT_MS 10000        /* --once: the broker must answer within this */
+#define FLUSH_MS 2000                /* at exit: what is queued for the broker */
+
+enum {
+	OPT_MAP = CLI_KEY_EXTRA, OPT_MQTT, OPT_CAFILE, OPT_CERT, OPT_KEY, OPT_CLIENT_ID, OPT_USERNAME,
+	OPT_PASSWORD_FILE, OPT_PASSWORD, OPT_PREFIX, OPT_QOS, OPT_KEEPALIVE, OPT_REFRESH, OPT_ONCE,
+	OPT_WATCHDOG, OPT_EIP, OPT_EIP_STATION, OPT_EIP_ALLOW, OPT_EIP_READ_ONLY, OPT_COUNTERS,
+};
+
+static const struct cli_extra_opt gw_opts[] = {
+	{ "map", required_argument, OPT_MAP, "FILE.csv", "the tags: a mapping CSV (required)" },
+	{ "mqtt", required_argument, OPT_MQTT, "URL", "broker mqtt://HOST[:PORT] or mqtts://HOST[:PORT] (required)" },
+	{ "cafile", required_argument, OPT_CAFILE, "FILE", "mqtts: CA certificates (default: the system's)" },
+	{ "cert", required_argument, OPT_CERT, "FILE", "mqtts: client certificate (PEM)" },
+	{ "key", required_argument, OPT_KEY, "FILE", "mqtts: client private key (PEM)" },
+	{ "client-id", required_argument, OPT_CLIENT_ID, "ID", "MQTT client id (default df1gw-HOSTNAME-LINE)" },
+	{ "username", required_argument, OPT_USERNAME, "NAME", "broker user name" },
+	{ "password-file", required_argument, OPT_PASSWORD_FILE, "FILE",
+	  "broker password: the file's first line (or env DF1GW_PASSWORD)" },
+	{ "password", optional_argument, OPT_PASSWORD, NULL,
+	  "refused: a command line is visible to every user" },
+	{ "prefix", required_argument, OPT_PREFIX, "TOPIC", "topic prefix (default df1/CLIENT-ID)" },
+	{ "qos", required_argument, OPT_QOS, "0|1", "QoS of publications and subscriptions (default 1)" },
+	{ "keepalive", required_argument, OPT_KEEPALIVE, "S", "MQTT keepalive 5-65535 s (default 60)" },
+	{ "refresh", required_argument, OPT_REFRESH, "S",
+	  "republish every tag every S s (default 0: only on change)" },
+	{ "watchdog", required_argument, OPT_WATCHDOG, "MS",
+	  "station offline after MS ms without an answer (default 10000)" },
+	{ "once", no_argument, OPT_ONCE, NULL, "one scan, publish, exit (cron, tests)" },
+	{ "eip", required_argument, OPT_EIP, "[ADDR:]PORT",
+	  "also an EtherNet/IP bridge (PCCC), on 127.0.0.1 unless ADDR is given (44818 is the standard port)" },
+	{ "eip-station", required_argument, OPT_EIP_STATION, "N",
+	  "--eip: the station of requests without a route path (default 1)" },
+	{ "eip-allow", required_argument, OPT_EIP_ALLOW, "CIDR[,CIDR]", "--eip: only these clients" },
+	{ "eip-read-only", no_argument, OPT_EIP_READ_ONLY, NULL,
+	  "--eip: refuse commands that write or change mode (STS 60h)" },
+	{ "counters", no_argument, OPT_COUNTERS, NULL, "the line's and EtherNet/IP counters on stdout at exit" },
+	{ NULL, 0, 0, NULL, NULL },
+};
+
+static int gw_extra(struct cli *c, int key, const char *arg, void *user)
+{
+	struct gw *g = user;
+
+	switch (key) {
+	case OPT_MAP: g->map_path = arg; break;
+	case OPT_MQTT: g->mqtt_url = arg; break;
+	case OPT_CAFILE: g->cafile = arg; break;
+	case OPT_CERT: g->cert = arg; break;
+	case OPT_KEY: g->keyfile = arg; break;
+	case OPT_CLIENT_ID: g->client_id_opt = arg; break;
+	case OPT_USERNAME: g->username = arg; break;
+	case OPT_PASSWORD_FILE: g->password_file = arg; break;
+	case OPT_PASSWORD:
+		fprintf(stderr, "%s: --password: refused: a password on the command line is visible to every "
+		        "user (ps, /proc); use --password-file FILE or the environment variable DF1GW_PASSWORD\n",
+		        c->name);
+		return CLI_EXIT_USAGE;
+	case OPT_PREFIX: g->prefix_opt = arg; break;
+	case OPT_QOS: return cli_parse_int(c, "--qos", arg, 0, 1, &g->qos);
+	case OPT_KEEPALIVE: return cli_parse_int(c, "--keepalive", arg, 5, 65535, &g->keepalive_s);
+	case OPT_REFRESH: return cli_parse_int(c, "--refresh", arg, 0, 86400, &g->refresh_s);
+	case OPT_WATCHDOG: return cli_parse_int(c, "--watchdog", arg, 0, 86400000, &g->watchdog_ms);
+	case OPT_ONCE: g->once = true; break;
+	case OPT_EIP: g->eip.listen = arg; break;
+	case OPT_EIP_STATION: return cli_parse_int(c, "--eip-station", arg, 0, 254, &g->eip.station);
+	case OPT_EIP_ALLOW: g->eip.allow = arg; break;
+	case OPT_EIP_READ_ONLY: g->eip.read_only = true; break;
+	case OPT_COUNTERS: g->counters = true; break;
+	default: return CLI_EXIT_USAGE;
+	}
+	return CLI_CONTINUE;
+}
+
+static const struct cli_tool gw_tool = {
+	.name = GW_PROG,
+	.synopsis = "-d DEV (--map FILE.csv --mqtt mqtt://HOST[:PORT] | --eip [ADDR:]PORT) [OPTIONS]",
+	.summary = "Keep a DF1 line's tags in an MQTT broker, and take writes back; bridge EtherNet/IP to it.",
+	.accepts = (CLI_ACCEPT_LINK & ~CLI_ACCEPT(CLI_OPT_STATION)) | CLI_ACCEPT(CLI_OPT_VERBOSE) |
+	           CLI_ACCEPT(CLI_OPT_QUIET),
+	.common_help = { [CLI_OPT_VERBOSE] = "what is published and received; -vv link events, -vvv frames" },
+	.extra = gw_opts,
+	.on_extra = gw_extra,
+	.help_tail = "\nTopics: PREFIX/tag/NAME (retained JSON), PREFIX/tag/NAME/set (a write),\n"
+	             "PREFIX/tag/NAME/result, PREFIX/station/N, PREFIX/status (online/offline).\n"
+	             "SIGTERM/SIGINT: offline, line closed, exit 0; SIGHUP: reload the mapping file.\n"
+	             "See df1gw(1).\n",
+	.exit_text = "0 stopped by SIGTERM or SIGINT (--once: published, no tag BAD), 1 the broker refused\n"
+	             "the credentials (--once: no broker, no line, a tag BAD), 2 usage or configuration error.",
+};
+
+/* ---- configuration ---- */
+
+/* A tag name is one topic level: UTF-8 without '/', '+' or '#'. */
+static bool topic_level_ok(const char *s)
+{
+	return *s && !strpbrk(s, "/+#") && gw_utf8_valid(s, strlen(s));
+}
+
+struct map_check {
+	const char *path;
+	int issues;
+};
+
+static void map_issue(void *user, const struct df1_config_issue *is)
+{
+	struct map_check *m = user;
+	const struct df1_catalog_entry *e = is->catalog_id ? df1_catalog_by_id(is->catalog_id) : NULL;
+
+	m->issues++;
+	fprintf(stderr, "%s: %s: ", GW_PROG, m->path);
+	if (is->line > 0)
+		fprintf(stderr, "line %d: ", is->line);
+	if (e)
+		fprintf(stderr, "[%d] %s: %s\n", e->id, e->mnemonic, is->text);
+	else
+		fprintf(stderr, "%s\n", is->text);
+}
+
+/* A configured handle with the mapping file's tags (strict: any bad row is an
+ * error). Returns 0 or the exit status, having said why. */
+static int line_build(struct gw *g, df1_t **out)
+{
+	struct map_check m = { g->map_path, 0 };
+	df1_t *h;
+	int r, n;
+
+	*out = NULL;
+	r = cli_configure(&g->cli, &h);
+	if (r != CLI_EXIT_OK)
+		return r;
+	/* -v is the broker side; -vv adds the link's events, -vvv every frame */
+	if (g->cli.verbose < 2)
+		df1_set_log(h, NULL, NULL);
+	if (g->cli.verbose < 3)
+		df1_set_trace(h, NULL, NULL);
+	if (df1_poll_fd(h) < 0) {       /* the engine, for --eip's requests before any tag */
+		fprintf(stderr, "%s: out of memory\n", GW_PROG);
+		df1_free(h);
+		return CLI_EXIT_FAIL;
+	}
+	if (!g->map_path) {             /* --eip alone: a pure bridge */
+		*out = h;
+		return 0;
+	}
+	n = df1_tag_load_map(h, g->map_path, true, map_issue, &m);
+	if (n < 0) {
+		if (!m.issues) {
+			const struct df1_error_detail *d = df1_last_error(h);
+			char tag[64];
+
+			cli_error_tag(n, df1_error_catalog_id(n), tag, sizeof tag);
+			fprintf(stderr, "%s: %s: %s: %s\n", GW_PROG, g->map_path, tag,
+			        d && d->message[0] ? d->message : df1_strerror(n));
+		}
+		df1_free(h);
+		return CLI_EXIT_USAGE;
+	}
+	if (n == 0) {
+		fprintf(stderr, "%s: %s: no tags\n", GW_PROG, g->map_path);
+		df1_free(h);
+		return CLI_EXIT_USAGE;
+	}
+	for (int id = 0; id < n; id++) {
+		struct df1_tag_state st;
+
+		if (df1_tag_get(h, id, &st) == 0 && !topic_level_ok(st.config->name)) {
+			fprintf(stderr, "%s: %s: tag \"%s\": a name cannot hold '/', '+' or '#' and must be "
+			        "UTF-8 (it is one level of the topic PREFIX/tag/NAME)\n", GW_PROG, g->map_path, st.config->name);
+			df1_free(h);
+			return CLI_EXIT_USAGE;
+		}
+	}
+	if (g->watchdog_ms >= 0 && (r = df1_poll_set_watchdog(h, g->watchdog_ms, 0)) < 0) {
+		fprintf(stderr, "%s: --watchdog: %s\n", GW_PROG, df1_strerror(r));
+		df1_free(h);
+		return CLI_EXIT_USAGE;
+	}
+	*out = h;
+	return 0;
+}
+
+/* Take handle h as the line: tag ids, stations, publication entries (tags no
+ * longer there are cleared from the broker; changed ones published anew). */
+static int line_adopt(struct gw *g, df1_t *h)
+{
+	int n = df1_tag_count(h);
+	unsigned char *dirty = calloc((size_t)n, 1);
+	int *pub_of = calloc((size_t)n, sizeof *pub_of);
+
+	if (!dirty || !pub_of) {
+		free(dirty);
+		free(pub_of);
+		return -1;
+	}
+	for (size_t i = 0; i < g->pubs.n; i++)
+		g->pubs.v[i].live = strncmp(g->pubs.v[i].name, "tag/", 4) != 0;
+	memset(g->stations, 0, sizeof g->stations);
+	for (int id = 0; id < n; id++) {
+		struct df1_tag_state st;
+		struct gw_pub *e;
+		char name[80], conf[256];
+
+		df1_tag_get(h, id, &st);
+		snprintf(name, sizeof name, "tag/%s", st.config->name);
+		gw_tag_config_text(st.config, conf, sizeof conf);
+		e = gw_pubs_get(&g->pubs, name, true);
+		if (!e) {
+			free(dirty);
+			free(pub_of);
+			return -1;
+		}
+		if (e->config && strcmp(e->config, conf) != 0)
+			gw_pub_set(&e->key, NULL);      /* changed: published at its first read */
+		gw_pub_set(&e->config, conf);
+		e->live = true;
+		if (st.config->station >= 0 && st.config->station < 255)
+			g->stations[st.config->station] = true;
+	}
+	/* tags removed: their retained topics go */
+	for (size_t i = 0; i < g->pubs.n;) {
+		if (!g->pubs.v[i].live) {
+			if (g->pubs.v[i].key)
+				gw_publish_clear(g, g->pubs.v[i].name);
+			gw_pubs_remove(&g->pubs, &g->pubs.v[i]);
+			continue;
+		}
+		i++;
+	}
+	for (int id = 0; id < n; id++) {
+		struct df1_tag_state st;
+		char name[80];
+
+		df1_tag_get(h, id, &st);
+		snprintf(name, sizeof name, "tag/%s", st.config->name);
+		pub_of[id] = (int)(gw_pubs_get(&g->pubs, name, false) - g->pubs.v);
+	}
+	free(g->dirty);
+	free(g->pub_of);
+	g->h = h;
+	g->dirty = dirty;
+	g->pub_of = pub_of;
+	g->ntags = n;
+	df1_set_tag_callback(h, gw_on_tag, g);
+	return 0;
+}
+
+/* ---- the line ---- */
+
+static void line_error_set(struct gw *g, int err)
+{
+	char tag[96];
+	const struct df1_error_detail *d = df1_last_error(g->h);
+
+	cli_error_tag(err, df1_error_catalog_id(err), tag, sizeof tag);
+	snprintf(g->line_error, sizeof g->line_error, "%s: %s: %s", g->cli.device, tag,
+	         d && d->code == err && d->message[0] ? d->message : df1_strerror(err));
+}
+
+static int line_open(struct gw *g)
+{
+	int r = df1_open(g->h, g->cli.device);
+
+	if (r < 0) {
+		char before[sizeof g->line_error];
+		bool news;
+
+		/* said once per new reason, not at every try */
+		memcpy(before, g->line_error, sizeof before);
+		line_error_set(g, r);
+		news = strcmp(before, g->line_error) != 0;
+		if (news && !g->cli.quiet)
+			fprintf(stderr, "%s: %s; trying again\n", GW_PROG, g->line_error);
+		g->line_next_try_ms = gw_now_ms() + g->line_backoff_ms;
+		g->line_backoff_ms = g->line_backoff_ms * 2 > LINE_BACKOFF_MAX ? LINE_BACKOFF_MAX
+		                                                              : g->line_backoff_ms * 2;
+		return r;
+	}
+	if (g->line_ever_up && !g->cli.quiet)
+		fprintf(stderr, "%s: %s: open again\n", GW_PROG, g->cli.device);
+	g->line_up = true;
+	g->line_ever_up = true;
+	g->line_opened_ms = gw_now_ms();
+	g->line_error[0] = '\0';
+	g->line_backoff_ms = LINE_BACKOFF_MIN;
+	g->republish = true;
+	gw_eip_identify(&g->eip, g->h);        /* the controller's type in ListIdentity */
+	return 0;
+}
+
+static void line_lost(struct gw *g, int err)
+{
+	line_error_set(g, err);
+	if (!g->cli.quiet)
+		fprintf(stderr, "%s: %s: line lost; reopening\n", GW_PROG, g->line_error);
+	df1_close(g->h);        /* the port's settings restored; tags and writes kept */
+	g->line_up = false;
+	g->line_next_try_ms = gw_now_ms() + g->line_backoff_ms;
+	g->republish = true;
+}
+
+/* A station's last error that means the port itself is gone. */
+static int line_gone(struct gw *g)
+{
+	if (!df1_is_open(g->h))
+		return DF1_E_NOT_OPEN;
+	if (g->eip.line_gone) {
+		int r = g->eip.line_gone;
+
+		g->eip.line_gone = 0;
+		return r;
+	}
+	for (int stn = 0; stn < 255; stn++) {
+		struct df1_station_health sh;
+
+		/* only attempts on this opening: an offline station keeps the old error */
+		if (g->stations[stn] && df1_station_health(g->h, stn, &sh) == 0 &&
+		    (sh.last_error == DF1_E_CLOSED || sh.last_error == DF1_E_NODEV) &&
+		    sh.state != DF1_STATION_OK && sh.last_attempt_ms >= g->line_opened_ms)
+			return sh.last_error;
+	}
+	return 0;
+}
+
+static void line_work(struct gw *g)
+{
+	int r = df1_poll(g->h, 0);
+
+	if (r == DF1_E_INTR)
+		return;         /* a signal: the loop looks at it */
+	if (r < 0) {
+		line_lost(g, r);
+		return;
+	}
+	if ((r = line_gone(g)) != 0)
+		line_lost(g, r);
+}
+
+/* SIGHUP: the mapping file again. A bad file is reported and the old one kept. */
+static void reload(struct gw *g)
+{
+	df1_t *nh, *old = g->h;
+
+	if (!g->map_path) {
+		if (!g->cli.quiet)
+			fprintf(stderr, "%s: SIGHUP: no --map to reload\n", GW_PROG);
+		return;
+	}
+	if (!g->cli.quiet)
+		fprintf(stderr, "%s: SIGHUP: reloading %s\n", GW_PROG, g->map_path);
+	if (line_build(g, &nh) != 0) {
+		if (!g->cli.quiet)
+			fprintf(stderr, "%s: %s: not reloaded, the tags stay as they were\n", GW_PROG, g->map_path);
+		return;
+	}
+	g->h = NULL;
+	df1_free(old);          /* its queued writes end (results published); the port is restored */
+	if (line_adopt(g, nh) < 0) {
+		fprintf(stderr, "%s: out of memory\n", GW_PROG);
+		exit(CLI_EXIT_FAIL);
+	}
+	g->line_up = false;
+	g->line_backoff_ms = LINE_BACKOFF_MIN;
+	line_open(g);
+	g->republish = false;   /* only what changed: kept tags keep their topics */
+	for (int id = 0; id < g->ntags; id++)
+		g->dirty[id] = 1;
+	gw_publish_changes(g, false);
+}
+
+/* ---- setup ---- */
+
+static int read_password(struct gw *g)
+{
+	const char *env = getenv("DF1GW_PASSWORD");
+	char line[1024];
+	FILE *f;
+
+	if (g->password_file) {
+		f = fopen(g->password_file, "r");
+		if (!f) {
+			fprintf(stderr, "%s: --password-file %s: %s\n", GW_PROG, g->password_file, strerror(errno));
+			return CLI_EXIT_USAGE;
+		}
+		if (!fgets(line, sizeof line, f))
+			line[0] = '\0';
+		fclose(f);
+		line[strcspn(line, "\r\n")] = '\0';
+		g->password = strdup(line);
+	} else if (env) {
+		g->password = strdup(env);
+	}
+	if ((g->password_file || env) && !g->password) {
+		fprintf(stderr, "%s: out of memory\n", GW_PROG);
+		return CLI_EXIT_FAIL;
+	}
+	if (g->password && !g->username) {
+		fprintf(stderr, "%s: a password (%s) needs --username\n", GW_PROG,
+		        g->password_file ? "--password-file" : "DF1GW_PASSWORD");
+		return CLI_EXIT_USAGE;
+	}
+	return 0;
+}
+
+/* df1gw-HOSTNAME-LINE: LINE the device's basename, or HOST_PORT for tcp://. */
+static void default_client_id(struct gw *g)
+{
+	char host[128] = "localhost", line[160];
+	const char *d = g->cli.device, *b;
+
+	if (gethostname(host, sizeof host) < 0 || !host[0])
+		snprintf(host, sizeof host, "localhost");
+	host[sizeof host - 1] = '\0';
+	if (strncasecmp(d, "tcp://", 6) == 0) {
+		snprintf(line, sizeof line, "%s", d + 6);
+		for (char *p = line; *p; p++)
+			if (*p == ':' || *p == '/' || *p == '[' || *p == ']')
+				*p = '_';
+	} else {
+		b = strrchr(d, '/');
+		snprintf(line, sizeof line, "%s", b && b[1] ? b + 1 : d);
+	}
+	snprintf(g->client_id, sizeof g->client_id, "df1gw-%s-%s", host, line);
+}
+
+static int check_prefix(struct gw *g)
+{
+	size_t l;
+
+	if (g->prefix_opt)
+		snprintf(g->prefix, sizeof g->prefix, "%s", g->prefix_opt);
+	else
+		snprintf(g->prefix, sizeof g->prefix, "df1/%s", g->client_id);
+	l = strlen(g->prefix);
+	while (l > 1 && g->prefix[l - 1] == '/')
+		g->prefix[--l] = '\0';
+	if (!l || strpbrk(g->prefix, "+#")) {
+		fprintf(stderr, "%s: --prefix '%s': a topic without '+' or '#'%s\n", GW_PROG, g->prefix,
+		        g->prefix_opt ? "" : " (it comes from the client id: give --prefix)");
+		return CLI_EXIT_USAGE;
+	}
+	return 0;
+}
+
+static int setup(struct gw *g, int argc, char **argv)
+{
+	struct gw_url url;
+	char err[256];
+	int r;
+
+	cli_init(&g->cli, &gw_tool);
+	g->qos = 1;
+	g->keepalive_s = 60;
+	g->watchdog_ms = -1;
+	r = cli_parse(&g->cli, argc, argv, g);
+	if (r != CLI_CONTINUE)
+		return r;
+	if (g->cli.argc > 0)
+		return cli_usage_error(&g->cli, "unexpected operand '%s'", g->cli.argv[0]);
+	if (!g->eip.listen && (g->eip.allow || g->eip.read_only || g->eip.station >= 0))
+		return cli_usage_error(&g->cli, "--eip-station, --eip-allow and --eip-read-only go with --eip");
+	if (!g->map_path && !g->eip.listen)
+		return cli_usage_error(&g->cli, "no tags: give --map FILE.csv (or --eip PORT for a bridge)");
+	if (!g->mqtt_url && !g->eip.listen)
+		return cli_usage_error(&g->cli, "no broker: give --mqtt mqtt://HOST[:PORT] (or --eip PORT for a bridge)");
+	if (g->once && !g->mqtt_url)
+		return cli_usage_error(&g->cli, "--once publishes: it needs --mqtt");
+	if (g->eip.station < 0)
+		g->eip.station = 1;     /* -a is not df1gw's: tags name their stations */
+	if (g->mqtt_url && gw_url_parse(g->mqtt_url, &url, err, sizeof err) < 0) {
+		fprintf(stderr, "%s: --mqtt %s: %s\n", GW_PROG, g->mqtt_url, err);
+		return CLI_EXIT_USAGE;
+	}
+	if (!g->mqtt_url && (g->cafile || g->cert || g->keyfile || g->username || g->password_file)) {
+		fprintf(stderr, "%s: --cafile, --cert, --key, --username and --password-file go with --mqtt\n", GW_PROG);
+		return CLI_EXIT_USAGE;
+	}
+	if (g->mqtt_url && !url.tls && (g->cafile || g->cert || g->keyfile)) {
+		fprintf(stderr, "%s: --cafile, --cert and --key are for mqtts:// (TLS)\n", GW_PROG);
+		return CLI_EXIT_USAGE;
+	}
+	if (!g->cert != !g->keyfile) {
+		fprintf(stderr, "%s: --cert and --key go together\n", GW_PROG);
+		return CLI_EXIT_USAGE;
+	}
+	if (!g->cli.device || !*g->cli.device) {
+		fprintf(stderr, "%s: no device: use -d DEV, -N FILE or set DF1_DEVICE\n", GW_PROG);
+		return CLI_EXIT_USAGE;
+	}
+	if ((r = read_password(g)) != 0)
+		return r;
+	if (g->client_id_opt)
+		snprintf(g->client_id, sizeof g->client_id, "%s", g->client_id_opt);
+	else
+		default_client_id(g);
+	if ((r = check_prefix(g)) != 0)
+		return r;
+	if (cli_signals_install() < 0) {
+		fprintf(stderr, "%s: signals: %s\n", GW_PROG, strerror(errno));
+		return CLI_EXIT_FAIL;
+	}
+	{
+		df1_t *h;
+
+		if ((r = line_build(g, &h)) != 0)
+			return r;
+		if (line_adopt(g, h) < 0) {
+			fprintf(stderr, "%s: out of memory\n", GW_PROG);
+			return CLI_EXIT_FAIL;
+		}
+	}
+	if (g->mqtt_url) {
+		static char will[GW_TOPIC_MAX + 8];
+		struct gw_mqtt_config mc = {
+			.prog = GW_PROG, .url = g->mqtt_url, .host = NULL, .port = url.port, .tls = url.tls,
+			.cafile = g->cafile, .cert = g->cert, .key = g->keyfile, .client_id = g->client_id,
+			.username = g->username, .password = g->password, .keepalive = g->keepalive_s,
+			.qos = g->qos, .will_topic = NULL, .verbose = g->cli.verbose, .quiet = g->cli.quiet,
+		};
+		struct gw_mqtt_events ev = { g, gw_on_connected, g->once ? NULL : gw_on_message };
+		static char host[256];
+
+		snprintf(host, sizeof host, "%s", url.host);
+		mc.host = host;
+		if (!g->once) {
+			snprintf(will, sizeof will, "%s/status", g->prefix);
+			mc.will_topic = will;
+		}
+		if (gw_mqtt_init(&g->mq, &mc, &ev, err, sizeof err) < 0) {
+			fprintf(stderr, "%s: --mqtt %s: %s\n", GW_PROG, g->mqtt_url, err);
+			return CLI_EXIT_USAGE;
+		}
+		g->mq_configured = true;
+	}
+	if (g->eip.listen && (r = gw_eip_open(&g->eip, GW_PROG, g->cli.quiet)) != 0)
+		return r;
+	if (gw_ids_init(&g->ids, GW_IDS_DEFAULT) < 0) {
+		fprintf(stderr, "%s: out of memory\n", GW_PROG);
+		return CLI_EXIT_FAIL;
+	}
+	return CLI_CONTINUE;
+}
+
+/* ---- the loop ---- */
+
+/* Any readable tag BAD (--once's exit status). */
+static bool any_bad(const struct gw *g)
+{
+	for (int id = 0; id < g->ntags; id++) {
+		struct df1_tag_state st;
+
+		if (df1_tag_get(g->h, id, &st) == 0 && (st.config->access & DF1_ACCESS_READ) &&
+		    st.quality == DF1_QUALITY_BAD)
+			return true;
+	}
+	return !g->line_up;
+}
+
+static int hup_fd_open(void)
+{
+	sigset_t set;
+
+	sigemptyset(&set);
+	sigaddset(&set, SIGHUP);
+	if (sigprocmask(SIG_BLOCK, &set, NULL) < 0)
+		return -1;
+	return signalfd(-1, &set, SFD_NONBLOCK | SFD_CLOEXEC);
+}
+
+/* Let the broker take what is queued, for at most ms. */
+static void flush_broker(struct gw *g, int ms)
+{
+	int64_t end = gw_now_ms() + ms;
+
+	while (gw_mqtt_up(&g->mq) && !gw_mqtt_idle(&g->mq) && gw_now_ms() < end) {
+		struct pollfd p = { gw_mqtt_fd(&g->mq), gw_mqtt_poll_events(&g->mq), 0 };
+
+		if (p.fd < 0 || poll(&p, 1, 100) < 0)
+			break;
+		gw_mqtt_service(&g->mq, p.revents, gw_now_ms());
+	}
+}
+
+static int run(struct gw *g)
+{
+	int hup = hup_fd_open();
+	int64_t started = gw_now_ms();
+	uint64_t scans_seen = 0;
+	bool once_published = false;
+	int status = CLI_EXIT_OK;
+
+	if (hup < 0 && !g->once)
+		fprintf(stderr, "%s: SIGHUP: %s (no reload)\n", GW_PROG, strerror(errno));
+	g->line_backoff_ms = LINE_BACKOFF_MIN;
+	if (line_open(g) < 0 && g->once) {
+		fprintf(stderr, "%s: %s\n", GW_PROG, g->line_error);
+		return CLI_EXIT_FAIL;
+	}
+	if (!g->cli.quiet && g->cli.verbose && g->mq_configured)
+		fprintf(stderr, "%s: %s: %d tags; broker %s, topics %s/...\n", GW_PROG, g->cli.device, g->ntags,
+		        g->mqtt_url, g->prefix);
+	if (g->mq_configured)
+		gw_mqtt_service(&g->mq, 0, gw_now_ms());        /* the first connect */
+	if (g->refresh_s > 0)
+		g->next_refresh_ms = gw_now_ms() + (int64_t)g->refresh_s * 1000;
+	while (!cli_stop) {
+		struct pollfd p[5];
+		int np = 0, i_sig, i_hup = -1, i_mq = -1, i_line = -1, i_eip = -1, timeout = 1000, t, r;
+		int64_t now = gw_now_ms();
+
+		p[np] = (struct pollfd){ cli_signal_fd(), POLLIN, 0 };
+		i_sig = np++;
+		if (hup >= 0) {
+			p[np] = (struct pollfd){ hup, POLLIN, 0 };
+			i_hup = np++;
+		}
+		if (gw_mqtt_fd(&g->mq) >= 0) {
+			p[np] = (struct pollfd){ gw_mqtt_fd(&g->mq), gw_mqtt_poll_events(&g->mq), 0 };
+			i_mq = np++;
+		}
+		if (g->line_up && (r = df1_poll_fd(g->h)) >= 0) {
+			p[np] = (struct pollfd){ r, POLLIN, 0 };
+			i_line = np++;
+		}
+		if (gw_eip_fd(&g->eip) >= 0) {
+			p[np] = (struct pollfd){ gw_eip_fd(&g->eip), POLLIN, 0 };
+			i_eip = np++;
+		}
+		t = g->mq_configured ? gw_mqtt_wait_ms(&g->mq, now) : timeout;
+		if (t < timeout)
+			timeout = t;
+		if (g->line_up) {
+			t = df1_poll_next_ms(g->h);
+			if (t >= 0 && t < timeout)
+				timeout = t;
+		} else {
+			int64_t d = g->line_next_try_ms - now;
+			if (d < timeout)
+				timeout = d < 0 ? 0 : (int)d;
+		}
+		if (g->refresh_s > 0 && g->next_refresh_ms - now < timeout)
+			timeout = g->next_refresh_ms - now < 0 ? 0 : (int)(g->next_refresh_ms - now);
+		if (poll(p, (nfds_t)np, timeout) < 0 && errno != EINTR) {
+			fprintf(stderr, "%s: poll: %s\n", GW_PROG, strerror(errno));
+			status = CLI_EXIT_FAIL;
+			break;
+		}
+		if (cli_stop)
+			break;
+		if (p[i_sig].revents)
+			cli_signal_drain();
+		now = gw_now_ms();
+		if (g->mq_configured)
+			gw_mqtt_service(&g->mq, i_mq >= 0 ? p[i_mq].revents : 0, now);
+		if (g->mq.refused && (!g->mq.ever_up || g->once)) {
+			fprintf(stderr, "%s: broker %s: refused the connection: %s\n", GW_PROG, g->mqtt_url,
+			        g->mq.refused_text);
+			status = CLI_EXIT_FAIL;
+			break;
+		}
+		if (g->once && !gw_mqtt_up(&g->mq) &&
+		    (g->mq.next_try_ms > 0 || now - started > ONCE_CONNECT_MS)) {
+			fprintf(stderr, "%s: broker %s: cannot connect\n", GW_PROG, g->mqtt_url);
+			status = CLI_EXIT_FAIL;
+			break;
+		}
+		if (i_hup >= 0 && p[i_hup].revents) {
+			struct signalfd_siginfo si;
+
+			while (read(hup, &si, sizeof si) == (ssize_t)sizeof si)
+				;
+			if (!g->once)
+				reload(g);
+		}
+		g->eip.h = g->h;
+		g->eip.line_up = g->line_up;
+		if (i_eip >= 0 && p[i_eip].revents)
+			gw_eip_process(&g->eip);       /* requests join the line's queue */
+		if (g->line_up && (df1_poll_next_ms(g->h) == 0 || (i_line >= 0 && p[i_line].revents)))
+			line_work(g);
+		else if (!g->line_up && now >= g->line_next_try_ms)
+			line_open(g);
+		if (g->refresh_s > 0 && now >= g->next_refresh_ms) {
+			g->republish = true;
+			g->next_refresh_ms = now + (int64_t)g->refresh_s * 1000;
+		}
+		gw_publish_changes(g, false);
+		if (g->once && g->line_up && gw_mqtt_up(&g->mq)) {
+			struct df1_poll_stats ps;
+
+			df1_poll_stats(g->h, &ps);
+			if (!once_published && ps.scans > scans_seen) {
+				gw_publish_changes(g, true);
+				once_published = true;
+			}
+			if (once_published && gw_mqtt_idle(&g->mq))
+				break;
+		} else if (g->once && !g->line_up) {
+			fprintf(stderr, "%s: %s\n", GW_PROG, g->line_error);
+			status = CLI_EXIT_FAIL;
+			break;
+		}
+	}
+	if (g->once && status == CLI_EXIT_OK && (!once_published || any_bad(g)))
+		status = CLI_EXIT_FAIL;
+	if (hup >= 0)
+		close(hup);
+	return status;
+}
+
+/* --counters: the poll engine's figures, EtherNet/IP's, the line's catalog counters. */
+static void print_counters(const struct gw *g)
+{
+	struct df1_poll_stats ps;
+
+	if (!g->h)
+		return;
+	df1_poll_stats(g->h, &ps);
+	printf("scans %llu, %llu transactions (%llu reads, %llu failed, %llu writes, %llu failed, "
+	       "%llu retries)\n", (unsigned long long)ps.scans, (unsigned long long)ps.transactions,
+	       (unsigned long long)ps.reads, (unsigned long long)ps.read_failures,
+	       (unsigned long long)ps.writes, (unsigned long long)ps.write_failures,
+	       (unsigned long long)ps.retries);
+	gw_eip_counters(&g->eip, stdout);
+	for (size_t i = 0;; i++) {
+		const struct df1_catalog_entry *e = df1_catalog_at(i);
+		uint64_t v = 0;
+
+		if (!e)
+			break;
+		if (e->severity == DF1_SEV_COUNTER && df1_counter(g->h, e->id, &v) == 0)
+			printf("%d %s %llu\n", e->id, e->mnemonic, (unsigned long long)v);
+	}
+	fflush(stdout);
+}
+
+static void shutdown_gw(struct gw *g)
+{
+	char topic[GW_TOPIC_MAX];
+
+	if (g->counters)
+		print_counters(g);
+	/* queued writes and EtherNet/IP requests end first (their results go
+	 * out), then the line closes, then the EtherNet/IP server */
+	df1_free(g->h);
+	g->h = NULL;
+	g->eip.h = NULL;
+	gw_eip_close(&g->eip);
+	if (g->mq_configured) {
+		if (!g->once && gw_mqtt_up(&g->mq)) {
+			snprintf(topic, sizeof topic, "%s/status", g->prefix);
+			gw_mqtt_publish(&g->mq, topic, "offline", 7, true);
+		}
+		flush_broker(g, FLUSH_MS);
+		gw_mqtt_close(&g->mq);
+	}
+	gw_pubs_free(&g->pubs);
+	gw_ids_free(&g->ids);
+	gw_buf_free(&g->buf);
+	gw_buf_free(&g->key);
+	free(g->dirty);
+	free(g->pub_of);
+	if (g->password) {
+		memset(g->password, 0, strlen(g->password));
+		free(g->password);
+	}
+	cli_cleanup(&g->cli);
+}
+
+int main(int argc, char **argv)
+{
+	static struct gw g;
+	int r;
+
+	g.eip.station = -1;
+	gw_pubs_init(&g.pubs);
+	gw_buf_init(&g.buf);
+	gw_buf_init(&g.key);
+	r = setup(&g, argc, argv);
+	if (r != CLI_CONTINUE) {
+		shutdown_gw(&g);
+		return r;
+	}
+	r = run(&g);
+	if (cli_stop && !g.cli.quiet && g.cli.verbose)
+		fprintf(stderr, "%s: %s: stopping\n", GW_PROG, cli_signal_name(cli_stop_signal()));
+	shutdown_gw(&g);
+	return r;
+}

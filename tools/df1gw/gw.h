@@ -1,0 +1,85 @@
+/*
+ * gw - what df1gw's files share: the daemon's state (struct gw), and the
+ * northbound work of gw_pub.c (publishing tags and stations, taking writes
+ * from .../set). df1gw.c owns the loop, the options, the line and the reload;
+ * gw_pub.c never calls back into it.
+ */
+#ifndef DF1_TOOLS_GW_H
+#define DF1_TOOLS_GW_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "common/cli.h"
+#include "df1gw/gw_eip.h"
+#include "df1gw/gw_json.h"
+#include "df1gw/gw_mqtt.h"
+#include "df1gw/gw_state.h"
+#include "df1gw/gw_write.h"
+
+#define GW_PROG "df1gw"
+#define GW_TOPIC_MAX 512
+
+struct gw {
+	struct cli cli;
+
+	/* options */
+	const char *map_path;
+	const char *mqtt_url;
+	const char *cafile, *cert, *keyfile;
+	const char *client_id_opt, *username, *password_file, *prefix_opt;
+	int qos;
+	int keepalive_s;
+	int refresh_s;
+	int watchdog_ms;
+	bool once;
+	bool counters;               /* --counters */
+	struct gw_eip eip;           /* --eip (listen NULL: off) */
+
+	char client_id[320];
+	char prefix[400];
+	char *password;
+
+	/* the line: h is configured (cli_configure) with the tags loaded; open
+	 * or not. While it is closed its tags are published BAD, line_error. */
+	df1_t *h;
+	bool line_up;
+	bool line_ever_up;
+	char line_error[640];
+	int line_backoff_ms;
+	int64_t line_next_try_ms;
+	int64_t line_opened_ms;      /* monotonic ms of the last df1_open */
+	bool stations[255];          /* stations that have tags */
+	unsigned char *dirty;        /* per tag id: changed since published */
+	int ntags;
+	int *pub_of;                 /* per tag id: index in pubs */
+
+	struct gw_mqtt mq;
+	bool mq_configured;
+	struct gw_pubs pubs;         /* tag/<name> and station/<n> */
+	struct gw_ids ids;
+	struct gw_buf buf, key;
+	bool republish;              /* everything, at the next chance (connected, line change) */
+	int64_t next_refresh_ms;
+	unsigned writes_pending;
+};
+
+/* Monotonic and wall-clock milliseconds. */
+int64_t gw_now_ms(void);
+int64_t gw_wall_ms(void);
+
+/* Publish what changed: dirty tags, station health; all when force (or
+ * g->republish). Nothing while the broker is down. */
+void gw_publish_changes(struct gw *g, bool force);
+/* Clear a retained topic (a removed tag): an empty retained payload. */
+void gw_publish_clear(struct gw *g, const char *name);
+/* The tag callback of df1_set_tag_callback: marks the tag dirty. */
+void gw_on_tag(void *user, int id, const struct df1_tag_state *st);
+/* A message on <prefix>/tag/+/set (gw_mqtt_events.message). */
+void gw_on_message(void *user, const char *topic, const void *payload, int len, bool retain);
+/* Connected (again): status online, subscribe, republish everything. */
+void gw_on_connected(void *user);
+/* A tag's configuration as one line of text (a reload compares them). */
+void gw_tag_config_text(const struct df1_tag_config *c, char *out, size_t cap);
+
+#endif

@@ -1,0 +1,190 @@
+/*
+ * gw_eip.c - df1gw --eip: Execute PCCC requests of EtherNet/IP clients
+ * forwarded over the DF1 line (gw_eip.h).
+ *
+ * A request names its station through the route path (df1-eip(7)) or gets
+ * --eip-station. It joins the poll engine's queue with the tag writes of the
+ * MQTT side (one FIFO: clients are served in turn); its completion answers
+ * the client: the controller's reply with the client's TNS, error replies as
+ * they are, or, when the controller gave no reply, the PCCC reply a NET-ENI
+ * generates for a node that is not there (STS 30h). A write is never sent
+ * twice by the engine (df1_poll_submit_pccc). --eip-read-only is the server's
+ * refusal (STS 60h) before anything reaches the line.
+ */
+#include "df1gw/gw_eip.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/cli.h"
+
+/* What a completion needs to answer; one per request in flight. */
+struct gw_eip_req {
+	struct gw_eip *e;
+	uint32_t request;
+	uint8_t cmd, tns[2];
+};
+
+static const struct df1_eip_identity gw_identity = {
+	.vendor_id = 0,              /* vendor 1 is Rockwell's: none is ours to claim */
+	.device_type = 0x0C,         /* communications adapter (ODVA Vol. 1 table 5-1.1) */
+	.product_code = 0,
+	.rev_major = 0,
+	.rev_minor = 4,
+	.status = 0,
+	.serial = 0x0DF10002,
+	.product_name = "libdf1 DF1 bridge",
+};
+
+/* CMD|40 30 TNS: no controller behind the bridge answered. */
+static void gw_eip_no_answer(struct gw_eip *e, uint32_t request, uint8_t cmd, const uint8_t *tns)
+{
+	uint8_t r[4] = { (uint8_t)(cmd | 0x40), GW_EIP_STS_NO_ANSWER, tns[0], tns[1] };
+
+	e->no_answer++;
+	df1_eip_server_reply(e->s, request, r, sizeof r);   /* DF1_E_CLOSED: the client left */
+}
+
+static void gw_eip_done(void *user, int result, const uint8_t *reply, size_t n)
+{
+	struct gw_eip_req *q = user;
+	struct gw_eip *e = q->e;
+
+	if (result == 0) {
+		e->answered++;
+		df1_eip_server_reply(e->s, q->request, reply, n);
+	} else {
+		if (result == DF1_E_CLOSED || result == DF1_E_NODEV)
+			e->line_gone = result;
+		gw_eip_no_answer(e, q->request, q->cmd, q->tns);
+	}
+	free(q);
+}
+
+static void gw_eip_pccc(void *user, df1_eip_server_t *s, uint32_t request, int station,
+                        const uint8_t *pccc, size_t n)
+{
+	struct gw_eip *e = user;
+	struct gw_eip_req *q;
+	int r;
+
+	(void)s;
+	if (n < 4) {
+		df1_eip_server_fail(e->s, request, 0x13);   /* not enough data (the server checks too) */
+		return;
+	}
+	if (!e->h || !e->line_up) {
+		gw_eip_no_answer(e, request, pccc[0], pccc + 2);
+		return;
+	}
+	q = malloc(sizeof *q);
+	if (!q) {
+		df1_eip_server_fail(e->s, request, GW_EIP_CIP_BUSY);
+		return;
+	}
+	q->e = e;
+	q->request = request;
+	q->cmd = pccc[0];
+	memcpy(q->tns, pccc + 2, 2);
+	r = df1_poll_submit_pccc(e->h, station >= 0 ? station : e->station, pccc, n, gw_eip_done, q);
+	if (r == 0) {
+		e->forwarded++;
+		return;
+	}
+	free(q);
+	if (r == DF1_E_BUSY) {
+		e->busy++;
+		df1_eip_server_fail(e->s, request, GW_EIP_CIP_BUSY);
+	} else {
+		gw_eip_no_answer(e, request, pccc[0], pccc + 2);
+	}
+}
+
+void gw_eip_identify(struct gw_eip *e, df1_t *h)
+{
+	struct df1_eip_identity id = gw_identity;
+	struct df1_diag_status ds;
+
+	if (!e->s || !h)
+		return;
+	if (df1_diag_status(h, e->station, &ds) == 0 && ds.name[0]) {
+		/* 32 characters at most: a long name loses "libdf1 " first */
+		const char *base = gw_identity.product_name;
+		size_t n = strnlen(ds.name, sizeof ds.name), room = sizeof id.product_name - 1;
+
+		if (strlen(base) + 1 + n > room)
+			base = "DF1 bridge";
+		if (strlen(base) + 1 + n > room)
+			n = room - strlen(base) - 1;
+		memset(id.product_name, 0, sizeof id.product_name);
+		memcpy(id.product_name, base, strlen(base));
+		id.product_name[strlen(base)] = ' ';
+		memcpy(id.product_name + strlen(base) + 1, ds.name, n);
+		id.product_code = ds.type_code;
+	}
+	df1_eip_server_set_identity(e->s, &id);
+}
+
+static bool gw_eip_loopback(const char *a)
+{
+	return strncmp(a, "127.", 4) == 0 || strncmp(a, "[::1]", 5) == 0 ||
+	       strncmp(a, "localhost", 9) == 0;
+}
+
+int gw_eip_open(struct gw_eip *e, const char *prog, bool quiet)
+{
+	struct df1_eip_server_config c;
+	const char *a;
+	int r;
+
+	memset(&c, 0, sizeof c);
+	c.listen = strncmp(e->listen, "tcp://", 6) == 0 ? e->listen + 6 : e->listen;
+	c.allow = e->allow;
+	c.read_only = e->read_only;
+	c.identity = gw_identity;
+	r = df1_eip_server_new(&e->s, &c, gw_eip_pccc, e);
+	if (r < 0) {
+		fprintf(stderr, "%s: --eip %s: %s\n", prog, e->listen, df1_eip_server_error(NULL));
+		return r == DF1_E_INVAL ? CLI_EXIT_USAGE : CLI_EXIT_FAIL;
+	}
+	a = df1_eip_server_address(e->s);
+	if (!gw_eip_loopback(a))
+		fprintf(stderr, "%s: EtherNet/IP on %s: listening on a network, reachable from other "
+		        "hosts (no authentication: see --eip-allow, --eip-read-only)\n", prog, a);
+	else if (!quiet)
+		fprintf(stderr, "%s: EtherNet/IP on %s\n", prog, a);
+	return 0;
+}
+
+int gw_eip_fd(const struct gw_eip *e)
+{
+	return e->s ? df1_eip_server_fd(e->s) : -1;
+}
+
+void gw_eip_process(struct gw_eip *e)
+{
+	if (e->s)
+		df1_eip_server_process(e->s);
+}
+
+void gw_eip_counters(const struct gw_eip *e, FILE *f)
+{
+	struct df1_eip_server_stats st;
+
+	if (!e->s)
+		return;
+	df1_eip_server_stats(e->s, &st);
+	fprintf(f, "eip sessions %llu, open %llu, requests %llu, errors %llu, refused clients %llu, "
+	        "read-only refusals %llu, forwarded %llu, answered %llu, no answer %llu, busy %llu\n",
+	        (unsigned long long)st.sessions, (unsigned long long)st.sessions_open,
+	        (unsigned long long)st.requests, (unsigned long long)st.errors,
+	        (unsigned long long)st.refused_clients, (unsigned long long)st.read_only_refusals,
+	        (unsigned long long)e->forwarded, (unsigned long long)e->answered,
+	        (unsigned long long)e->no_answer, (unsigned long long)e->busy);
+}
+
+void gw_eip_close(struct gw_eip *e)
+{
+	df1_eip_server_free(e->s);
+	e->s = NULL;
+}

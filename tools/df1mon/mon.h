@@ -1,0 +1,160 @@
+/*
+ * mon - what the files of df1mon share: the modes, the state of a run
+ * (struct mon), the byte streams the decoding modes feed, and each file's
+ * entry points. df1mon.c holds main, the option table and --sniff; the other
+ * modes have a file each:
+ *
+ *   mon_stream.c    one byte stream through a decoder, symbols printed
+ *   mon_decode.c    --decode: hex arguments or stdin lines
+ *   mon_read.c      --read: a pcap (RTAC serial) or a raw byte dump
+ *   mon_live.c      clocks, waits and stop reasons of the live modes
+ *   mon_counters.c  the counter table, --counters alone
+ *   mon_ping.c      --ping
+ *   mon_who.c       --who, on df1_discover()
+ *   mon_map.c       --map's live table (its own interface: mon_map.h)
+ *
+ * Every mode's run function returns CLI_CONTINUE (the exit status then comes
+ * from the decoding tallies) or an exit status.
+ */
+#ifndef DF1_TOOLS_MON_H
+#define DF1_TOOLS_MON_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "common/cli.h"
+#include "common/decode.h"
+#include "df1.h"
+
+enum mon_mode {
+	MODE_NONE = 0,
+	MODE_DECODE,
+	MODE_READ,
+	MODE_SNIFF,
+	MODE_PING,
+	MODE_WHO,
+	MODE_MAP,
+	MODE_COUNTERS,   /* --counters alone */
+	MODE_COUNT_
+};
+
+enum {
+	KEY_DECODE = CLI_KEY_EXTRA,
+	KEY_SNIFF,
+	KEY_SNIFF_B,
+	KEY_PING,
+	KEY_WHO,
+	KEY_MAP,
+	KEY_COUNTERS,
+	KEY_DURATION,
+};
+
+/* Options given, for the checks of what goes with which mode. */
+enum {
+	GIVEN_COUNT = 1 << 0,
+	GIVEN_INTERVAL = 1 << 1,
+	GIVEN_DURATION = 1 << 2,
+	GIVEN_WRITE = 1 << 3,
+	GIVEN_SNIFF_B = 1 << 4,
+	GIVEN_ONCE = 1 << 5,
+	GIVEN_COUNTERS = 1 << 6,
+};
+
+struct mon {
+	struct cli cli;
+	enum mon_mode mode;
+	const char *read_file;
+	struct decode_ctx dx;
+	FILE *out;                 /* where symbol lines go (stdout, or /dev/null with -w -) */
+	unsigned long index;       /* symbols printed */
+	unsigned long long fed;    /* bytes fed to decoders */
+	unsigned long long used;   /* bytes that belonged to a symbol */
+	unsigned long frame_limit; /* --sniff -c N: stop after N frames (0: no limit) */
+
+	/* live options */
+	unsigned given;            /* GIVEN_* */
+	bool counters;             /* --counters */
+	long count;                /* -c */
+	double interval_s;         /* -i */
+	double duration_s;         /* --duration */
+	bool once;                 /* -1 */
+	const char *sniff_b;       /* --sniff-b DEV2 */
+	const char *pcap_path;     /* -w FILE */
+	const char *map_file;      /* --map FILE */
+	const char *who_range;     /* --who=LO-HI or the operand */
+	int who_lo, who_hi;
+	df1_t *h;                  /* the handle of a talking mode */
+	int64_t t0_us;             /* monotonic start of a live mode */
+	unsigned counter_prints;   /* counter tables printed */
+};
+
+/* pcap link type 250 (RTAC serial) and its 12-byte header before the bytes */
+#define LINKTYPE_RTAC_SERIAL 250
+#define RTAC_HDR 12
+
+/* ---- mon_stream.c: one byte stream (one direction of a capture, or one --decode chunk) ---- */
+
+#define RING 256   /* records whose start and time a stream remembers */
+
+struct stream {
+	struct df1_decoder *dec;
+	const char *dir;            /* "tx"/"rx" when a capture has both, else NULL */
+	unsigned long long off;     /* bytes fed so far */
+	/* where each recent record began in the stream, and its time */
+	struct {
+		unsigned long long off;
+		int64_t sec;
+		int32_t usec;
+	} ring[RING];
+	unsigned nring, head;
+	bool timed;
+	bool duplex_auto;           /* the decoder reads DLE ENQ by its shape */
+	uint8_t tail[4];            /* the last bytes consumed, newest last */
+};
+
+/* Time base of a capture: the first record's time. */
+struct timebase {
+	bool set;
+	int64_t sec;
+	int32_t usec;
+};
+
+int stream_init(struct mon *m, struct stream *s, const char *dir);
+void stream_free(struct stream *s);
+void stream_mark(struct stream *s, int64_t sec, int32_t usec);
+void stream_feed(struct mon *m, struct stream *s, const struct timebase *tb,
+                 const uint8_t *p, size_t n);
+/* End of the input: a symbol still under way is reported (cut: only a verdict on
+ * the bytes that were there; a sniff stopped by a signal, -c or --duration). */
+void stream_finish_cut(struct mon *m, struct stream *s, const struct timebase *tb, bool cut);
+void stream_finish(struct mon *m, struct stream *s, const struct timebase *tb);
+
+/* ---- the modes ---- */
+
+int run_decode(struct mon *m);      /* mon_decode.c */
+int run_read(struct mon *m);        /* mon_read.c */
+int run_counters(struct mon *m);    /* mon_counters.c */
+int run_ping(struct mon *m);        /* mon_ping.c */
+int run_who(struct mon *m);         /* mon_who.c */
+bool who_is_eip(const struct mon *m);  /* mon_who.c: an eip:// device */
+/* --who's operand "N" or "LO-HI" (0..254) into m->who_lo, who_hi; exit 2 if bad. */
+int parse_range(struct mon *m, const char *arg);
+/* Every counter of the seed table in ID order, in the -f format; final: the one at exit. */
+void print_counters(struct mon *m, bool final);
+
+/* ---- mon_live.c: clocks, waits, stop reasons ---- */
+
+int64_t mono_us(void);                       /* CLOCK_MONOTONIC, microseconds */
+void wall_now(int64_t *sec, int32_t *usec);  /* CLOCK_REALTIME */
+/* stdout cannot take more (a closed pipe): end the loop; main reports it, exit 1. */
+bool out_broken(void);
+double mon_elapsed(const struct mon *m);     /* seconds since the live mode started */
+/* Wait ms milliseconds, or until a signal (or --duration) stops us: false then. */
+bool mon_sleep(long ms);
+const char *signal_name(int sig);            /* "--duration" for SIGALRM */
+bool interrupted(void);                      /* stopped by a signal, not by --duration */
+long ms_of(double seconds);
+
+#endif

@@ -1,0 +1,867 @@
+/*
+ * df1sim - a simulated PLC: a DF1 half-duplex slave or full-duplex peer with a
+ * data table and fault injection, served on a pseudo-terminal, a serial port
+ * or TCP (DESIGN.md 8, man/man1/df1sim.1). Options and transport set-up on
+ * the library's data table (df1_table(3): files, --data, the processor of the
+ * diagnostic status, the serving callbacks) and df1_serve(); the shared code
+ * is tools/common/cli.h (cli_parse: the line options, df1sim's own as extra options;
+ * signals) and tools/df1sim/sim_io.h (pty and TCP, --log, fault probabilities).
+ *
+ * With --eip it also answers PCCC over EtherNet/IP (df1_eip_server(3)) from
+ * the same data table, on the same thread: the server's descriptor is watched
+ * with the signal pipe through one epoll set, the link's cancel descriptor, so
+ * an EtherNet/IP request cuts a link wait short and the link resumes after it.
+ *
+ * stdout: the device served, one line, once ready (then the EtherNet/IP
+ * address as eip://ADDR:PORT; that line alone with --eip only). stderr: messages.
+ * SIGUSR1 silences every station (no ACK, no reply, no answer to polls or
+ * ENQs), SIGUSR2 makes them answer again (--silent still applies).
+ * Exit status: 0 (stopped by SIGINT/SIGTERM), 1 (communication / system error),
+ * 2 (usage or configuration error).
+ */
+#include <errno.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <poll.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/epoll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include "df1.h"
+#include "common/cli.h"
+#include "df1sim/sim_io.h"
+
+#define PROG "df1sim"
+
+static void msg(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+static void msg(const char *fmt, ...)
+{
+	va_list ap;
+
+	fprintf(stderr, "%s: ", PROG);
+	va_start(ap, fmt);
+	vfprintf(stderr, fmt, ap);
+	va_end(ap);
+	fputc('\n', stderr);
+}
+
+/* ------------------------------------------------------------------------
+ * The simulator
+ * ------------------------------------------------------------------------ */
+
+struct sim {
+	struct df1_table *tables[256];  /* per served station */
+	int stations[256];
+	int nstations;
+	enum df1_plc plc;
+	bool half;
+	int verbose;
+	struct sim_cmdlog log;          /* --log */
+	int silent_pm, silent_station;  /* --silent, put back by SIGUSR2 (0: none) */
+	bool muted;                     /* SIGUSR1 applied: every station silent */
+	df1_t *h;                       /* for df1_serve_pccc (PLC type, options) */
+	df1_eip_server_t *eip;          /* --eip */
+	int wait_fd;                    /* epoll of the signal pipe and the server, or -1 */
+};
+
+static struct df1_table *sim_table_for(struct sim *s, int station)
+{
+	if (station >= 0 && station < 256 && s->tables[station])
+		return s->tables[station];
+	return s->tables[s->stations[0]];       /* full duplex: DST is not checked */
+}
+
+/* Each station its own table, served by the data table's own callbacks. */
+static int sim_read(void *user, int station, const struct df1_addr *a, uint8_t *buf, size_t nbytes)
+{
+	struct df1_table *t = sim_table_for(user, station);
+
+	return df1_table_server_ops(t)->read(t, station, a, buf, nbytes);
+}
+
+static int sim_write(void *user, int station, const struct df1_addr *a, const uint8_t *buf,
+                     const uint8_t *mask, size_t nbytes)
+{
+	struct df1_table *t = sim_table_for(user, station);
+
+	return df1_table_server_ops(t)->write(t, station, a, buf, mask, nbytes);
+}
+
+static int sim_change_mode(void *user, int station, int mode)
+{
+	struct df1_table *t = sim_table_for(user, station);
+
+	return df1_table_server_ops(t)->change_mode(t, station, mode);
+}
+
+static int sim_diag_status(void *user, int station, uint8_t *buf, size_t cap)
+{
+	struct df1_table *t = sim_table_for(user, station);
+
+	return df1_table_server_ops(t)->diag_status(t, station, buf, cap);
+}
+
+static const struct df1_server_ops sim_ops = {
+	.read = sim_read,
+	.write = sim_write,
+	.diag_status = sim_diag_status,
+	.change_mode = sim_change_mode,
+};
+
+/* ------------------------------------------------------------------------
+ * EtherNet/IP (--eip): PCCC answered from the same tables
+ * ------------------------------------------------------------------------ */
+
+/* A simulated MicroLogix 1400 that says what it is: no vendor ID is ours to
+ * claim (vendor 1 is Rockwell's), so 0; device type 0x0E, programmable
+ * logic controller (ODVA Vol. 1 table 5-1.1); revision = libdf1's 0.4. */
+static const struct df1_eip_identity sim_identity = {
+	.vendor_id = 0,
+	.device_type = 0x0E,
+	.product_code = 0,
+	.rev_major = 0,
+	.rev_minor = 4,
+	.status = 0,
+	.serial = 0x0DF10001,
+	.product_name = "libdf1 df1sim MicroLogix 1400",
+};
+
+/* CIP status of a station that does not answer: connection failure,
+ * unconnected request timed out (what a bridge reports for a silent node). */
+#define SIM_EIP_NO_ANSWER (0x01 | 0x0204 << 8)
+
+static void sim_eip_pccc(void *user, df1_eip_server_t *srv, uint32_t request, int station,
+                         const uint8_t *pccc, size_t n)
+{
+	struct sim *s = user;
+	uint8_t reply[300], app[300];
+	int r;
+
+	if (station < 0)
+		station = s->stations[0];
+	if (s->muted || (station != s->stations[0] && !s->tables[station]) ||
+	    (s->silent_pm && (s->silent_station == station || s->silent_station == DF1_SILENT_ALL))) {
+		(void)df1_eip_server_fail(srv, request, SIM_EIP_NO_ANSWER);
+		return;
+	}
+	r = df1_serve_pccc(s->h, &sim_ops, s, station, pccc, n, reply, sizeof reply);
+	if (r > 0) {
+		if (n + 2 <= sizeof app) {
+			app[0] = (uint8_t)station;
+			app[1] = (uint8_t)station;
+			memcpy(app + 2, pccc, n);
+			sim_cmdlog_command(&s->log, station, app, n + 2);
+		}
+		if (s->verbose)
+			msg("eip: station %d: CMD %02X TNS %04X answered, STS %02X", station, pccc[0],
+			    pccc[2] | pccc[3] << 8, reply[1]);
+		(void)df1_eip_server_reply(srv, request, reply, (size_t)r);
+	} else {
+		(void)df1_eip_server_fail(srv, request, 0x03);     /* a reply, not a command */
+	}
+}
+
+static void sim_eip_process(struct sim *s)
+{
+	if (s->eip)
+		(void)df1_eip_server_process(s->eip);
+}
+
+static void hexdump(enum df1_dir dir, const uint8_t *b, size_t n)
+{
+	fprintf(stderr, "%s: %s", PROG, dir == DF1_DIR_TX ? "TX" : "RX");
+	for (size_t i = 0; i < n; i++)
+		fprintf(stderr, " %02X", b[i]);
+	fputc('\n', stderr);
+}
+
+static void on_trace(void *user, enum df1_dir dir, const uint8_t *bytes, size_t n, uint64_t t_us)
+{
+	struct sim *s = user;
+
+	(void)t_us;
+	if (s->verbose >= 2)
+		hexdump(dir, bytes, n);
+	sim_cmdlog_feed(&s->log, dir, bytes, n);
+}
+
+static void on_log(void *user, int catalog_id, enum df1_severity sev, const char *text)
+{
+	const struct df1_catalog_entry *e = df1_catalog_by_id(catalog_id);
+
+	(void)user;
+	(void)sev;
+	if (e)
+		fprintf(stderr, "%s: [%d] %s: %s\n", PROG, catalog_id, e->mnemonic, text);
+	else
+		fprintf(stderr, "%s: %s\n", PROG, text);
+}
+
+/* ------------------------------------------------------------------------
+ * Options: the shared parser (tools/common/cli.h) with the line options that mean
+ * the same for a responder, and df1sim's own
+ * ------------------------------------------------------------------------ */
+
+struct fault_opt {
+	enum df1_fault kind;
+	int per_mille;
+	int value;
+	bool given;
+};
+
+struct opts {
+	struct cli cli;                 /* --parity, --stop-bits, --duplex, --check, --plc, -v */
+	const char *pty, *device, *listen;
+	int where;                      /* how many of --pty, -d, --listen */
+	int stations[256];
+	int nstations;
+	const char *processor;
+	const char *data;
+	struct fault_opt faults[8];     /* by enum df1_fault */
+	uint64_t seed;
+	int line_baud;
+	int scan_time;                  /* --scan-time MS: replies at the end of the scan */
+	bool no_eot;                    /* --no-eot: half duplex, silence instead of DLE EOT */
+	int max_queue;                  /* full duplex: commands held before NAK */
+	const char *log;
+	int baud, data_bits;            /* -d only; the library checks them when it opens DEV */
+	const char *eip;                /* --eip ADDR */
+	const char *eip_allow;          /* --eip-allow CIDR[,CIDR] */
+	bool eip_read_only;             /* --eip-read-only */
+};
+
+enum {
+	OPT_PTY = CLI_KEY_EXTRA, OPT_LISTEN, OPT_STATION, OPT_DATA_BITS, OPT_LINE_BAUD, OPT_PROCESSOR,
+	OPT_PLC5_FLOAT_SWAPPED, OPT_DATA, OPT_DROP_ACK, OPT_CORRUPT, OPT_NAK, OPT_DELAY, OPT_SILENT,
+	OPT_STALE, OPT_NOISE, OPT_SEED, OPT_LOG, OPT_SCAN_TIME, OPT_NO_EOT,
+	OPT_MAX_QUEUE, OPT_EIP, OPT_EIP_ALLOW, OPT_EIP_READ_ONLY,
+};
+
+/* -d, --station and -b are df1sim's own: -d is the device served (never
+ * DF1_DEVICE), --station the list of stations served, -b and --data-bits go
+ * to the port as given (any rate, 5-8 bits) and are ignored without -d. */
+static const struct cli_extra_opt sim_opts[] = {
+	{ "pty", required_argument, OPT_PTY, "PATH", "create a pseudo-terminal, symlink PATH to it" },
+	{ "device", required_argument, 'd', "DEV", "serve a serial port (or tcp://HOST:PORT as a client)" },
+	{ "listen", required_argument, OPT_LISTEN, "ADDR", "serve TCP clients one after another on ADDR" },
+	{ "eip", required_argument, OPT_EIP, "ADDR", "also serve PCCC over EtherNet/IP on ADDR (TCP and UDP)" },
+	{ "eip-allow", required_argument, OPT_EIP_ALLOW, "CIDR[,CIDR]", "--eip: only these clients (default any)" },
+	{ "eip-read-only", no_argument, OPT_EIP_READ_ONLY, NULL, "--eip: refuse commands that write (STS 60)" },
+	{ "station", required_argument, OPT_STATION, "N[,N...]",
+	  "stations served 0-254, ranges A-B allowed (default 1)" },
+	{ "baud", required_argument, 'b', "N", "-d only: baud rate (default 19200)" },
+	{ "data-bits", required_argument, OPT_DATA_BITS, "N", "-d only: data bits 5-8 (default 8)" },
+	{ "line-baud", required_argument, OPT_LINE_BAUD, "N",
+	  "pace the bytes sent and received as a line at N baud (default 0: off)" },
+	{ "scan-time", required_argument, OPT_SCAN_TIME, "MS",
+	  "answer at the end of a program scan of MS ms, as a controller does (default 0: at once)" },
+	{ "no-eot", no_argument, OPT_NO_EOT, NULL,
+	  "half duplex: answer a poll with nothing, not DLE EOT, when no reply is ready" },
+	{ "processor", required_argument, OPT_PROCESSOR, "NAME",
+	  "the processor of the diagnostic status (default per --plc)" },
+	{ "plc5-float-swapped", no_argument, OPT_PLC5_FLOAT_SWAPPED, NULL,
+	  "the same as --plc5-float swapped" },
+	{ "data", required_argument, OPT_DATA, "FILE", "initial values: ADDRESS=VALUE[,VALUE...] per line" },
+	{ "drop-ack", required_argument, OPT_DROP_ACK, "P", "fault: do not ACK a received command" },
+	{ "corrupt", required_argument, OPT_CORRUPT, "P", "fault: send a reply with a wrong BCC/CRC" },
+	{ "nak", required_argument, OPT_NAK, "P", "fault: answer a good command with NAK" },
+	{ "delay", required_argument, OPT_DELAY, "MS[:P]", "fault: delay replies by MS ms (P default 100)" },
+	{ "silent", required_argument, OPT_SILENT, "STATION", "fault: never answer this station" },
+	{ "stale", required_argument, OPT_STALE, "P", "fault: send a reply with an old TNS first" },
+	{ "noise", required_argument, OPT_NOISE, "P", "fault: send garbage bytes between frames" },
+	{ "seed", required_argument, OPT_SEED, "N", "random seed of the faults (default 1)" },
+	{ "max-queue", required_argument, OPT_MAX_QUEUE, "N",
+	  "full duplex: commands held unanswered before NAK 0-8 (default 8; 0: one)" },
+	{ "log", required_argument, OPT_LOG, "FILE", "one line per command answered" },
+	{ NULL, 0, 0, NULL, NULL },
+};
+
+/* The fault options, OPT_DROP_ACK.. in order. */
+static const struct {
+	enum df1_fault kind;
+	const char *opt;
+} fault_opts[] = {
+	{ DF1_FAULT_DROP_ACK, "--drop-ack" },     { DF1_FAULT_CORRUPT_REPLY, "--corrupt" },
+	{ DF1_FAULT_NAK_COMMAND, "--nak" },       { DF1_FAULT_DELAY_REPLY, "--delay" },
+	{ DF1_FAULT_SILENT_STATION, "--silent" }, { DF1_FAULT_STALE_REPLY, "--stale" },
+	{ DF1_FAULT_NOISE, "--noise" },
+};
+
+static bool parse_stations(const char *s, struct opts *o)
+{
+	char buf[1024], *tok, *save = NULL;
+	bool seen[256] = { false };
+
+	if (strlen(s) >= sizeof buf)
+		return false;
+	strcpy(buf, s);
+	o->nstations = 0;
+	for (tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+		char *dash = strchr(tok + 1, '-');
+		long lo, hi;
+
+		if (dash) {
+			*dash = '\0';
+			if (!cli_long_in(tok, 0, 254, &lo) || !cli_long_in(dash + 1, 0, 254, &hi) || hi < lo)
+				return false;
+		} else {
+			if (!cli_long_in(tok, 0, 254, &lo))
+				return false;
+			hi = lo;
+		}
+		for (long v = lo; v <= hi; v++) {
+			if (!seen[v])
+				o->stations[o->nstations++] = (int)v;
+			seen[v] = true;
+		}
+	}
+	return o->nstations > 0;
+}
+
+static int set_fault(struct opts *o, int i, const char *arg)
+{
+	struct fault_opt *f = &o->faults[fault_opts[i].kind];
+	const char *opt = fault_opts[i].opt;
+	char buf[64], *colon;
+	long ms;
+
+	f->kind = fault_opts[i].kind;
+	f->given = true;
+	f->value = 0;
+	f->per_mille = 1000;
+	switch (f->kind) {
+	case DF1_FAULT_SILENT_STATION:
+		return cli_parse_int(&o->cli, opt, arg, 0, 254, &f->value);
+	case DF1_FAULT_DELAY_REPLY:
+		if (strlen(arg) >= sizeof buf)
+			return cli_bad_value(&o->cli, opt, arg, "MS[:P]");
+		strcpy(buf, arg);
+		colon = strchr(buf, ':');
+		if (colon)
+			*colon++ = '\0';
+		if (!cli_long_in(buf, 0, 60000, &ms) || (colon && !sim_parse_percent(colon, &f->per_mille)))
+			return cli_bad_value(&o->cli, opt, arg, "MS[:P], MS 0-60000, P 0-100 percent");
+		f->value = (int)ms;
+		return CLI_CONTINUE;
+	default:
+		if (!sim_parse_percent(arg, &f->per_mille))
+			return cli_bad_value(&o->cli, opt, arg, "0-100 percent");
+		return CLI_CONTINUE;
+	}
+}
+
+static int on_option(struct cli *c, int key, const char *arg, void *user)
+{
+	struct opts *o = user;
+	unsigned long long u;
+	char *end;
+
+	switch (key) {
+	case OPT_PTY: o->pty = arg; o->where++; break;
+	case 'd': o->device = arg; o->where++; break;
+	case OPT_LISTEN: o->listen = arg; o->where++; break;
+	case OPT_STATION:
+		if (!parse_stations(arg, o))
+			return cli_bad_value(c, "--station", arg, "N[,N...] or A-B within 0-254");
+		break;
+	case 'b': return cli_parse_int(c, "--baud", arg, 50, 4000000, &o->baud);
+	case OPT_DATA_BITS: return cli_parse_int(c, "--data-bits", arg, 5, 8, &o->data_bits);
+	case OPT_LINE_BAUD: return cli_parse_int(c, "--line-baud", arg, 0, 4000000, &o->line_baud);
+	case OPT_SCAN_TIME: return cli_parse_int(c, "--scan-time", arg, 0, 10000, &o->scan_time);
+	case OPT_NO_EOT: o->no_eot = true; break;
+	case OPT_PROCESSOR: o->processor = arg; break;
+	case OPT_PLC5_FLOAT_SWAPPED:
+		c->lib_value[CLI_OPT_PLC5_FLOAT] = 1;
+		c->lib_set |= CLI_ACCEPT(CLI_OPT_PLC5_FLOAT);
+		break;
+	case OPT_DATA: o->data = arg; break;
+	case OPT_SEED:
+		errno = 0;
+		u = strtoull(arg, &end, cli_number_base(arg));
+		if (errno || !*arg || *end || arg[0] == '-')
+			return cli_bad_value(c, "--seed", arg, "an integer 0 or more");
+		o->seed = u;
+		break;
+	case OPT_LOG: o->log = arg; break;
+	case OPT_MAX_QUEUE: return cli_parse_int(c, "--max-queue", arg, 0, 8, &o->max_queue);
+	case OPT_EIP: o->eip = arg; break;
+	case OPT_EIP_ALLOW: o->eip_allow = arg; break;
+	case OPT_EIP_READ_ONLY: o->eip_read_only = true; break;
+	default:
+		if (key >= OPT_DROP_ACK && key <= OPT_NOISE)
+			return set_fault(o, key - OPT_DROP_ACK, arg);
+		return cli_usage_error(c, "unknown option");
+	}
+	return CLI_CONTINUE;
+}
+
+static const struct cli_tool sim_tool = {
+	.name = PROG,
+	.synopsis = "(--pty PATH | -d DEV | --listen [tcp://][HOST:]PORT) [--eip ADDR] [OPTIONS] | --eip ADDR [OPTIONS]",
+	.summary = "A simulated PLC (DF1 half-duplex slave or full-duplex peer) with a data table\n"
+	           "and fault injection. Prints the device it serves on stdout once ready.",
+	.accepts = CLI_ACCEPT(CLI_OPT_PARITY) | CLI_ACCEPT(CLI_OPT_STOP_BITS) | CLI_ACCEPT(CLI_OPT_DUPLEX) |
+	           CLI_ACCEPT(CLI_OPT_CHECK) | CLI_ACCEPT(CLI_OPT_PLC) | CLI_ACCEPT(CLI_OPT_VERBOSE) |
+	           /* the link and PLC options a responder has a use for */
+	           CLI_ACCEPT(CLI_OPT_HD_BCC) | CLI_ACCEPT(CLI_OPT_PLC5_FLOAT) |
+	           CLI_ACCEPT(CLI_OPT_PLC5_TIMER_WORDS) | CLI_ACCEPT(CLI_OPT_PLC2_ADDR) |
+	           CLI_ACCEPT(CLI_OPT_DUP_DETECT) | CLI_ACCEPT(CLI_OPT_EMBEDDED) | CLI_ACCEPT(CLI_OPT_NAK_0F) |
+	           CLI_ACCEPT(CLI_OPT_ECHO_DISCARD),
+	.plcs = CLI_PLC_BIT(DF1_PLC_SLC) | CLI_PLC_BIT(DF1_PLC_MICROLOGIX) | CLI_PLC_BIT(DF1_PLC_SLC502) |
+	        CLI_PLC_BIT(DF1_PLC_PLC5),
+	.common_help = {
+		[CLI_OPT_PARITY] = "-d only: parity (default none)",
+		[CLI_OPT_STOP_BITS] = "-d only: stop bits (default 1)",
+		[CLI_OPT_DUPLEX] = "full-duplex peer or half-duplex slave (default full)",
+		[CLI_OPT_VERBOSE] = "link events on stderr; -vv also every byte",
+		[CLI_OPT_HD_BCC] = "master message BCC: STN+data or +STX (default stn)",
+		[CLI_OPT_PLC5_TIMER_WORDS] = "plc5: typed-read timers of 3 or 5 words (default 5)",
+		[CLI_OPT_PLC2_ADDR] = "PLC-2 command addresses (default bytes)",
+		[CLI_OPT_DUP_DETECT] = "ACK and drop a repeated command (default yes)",
+	},
+	.extra = sim_opts,
+	.on_extra = on_option,
+	.exit_text = "0 stopped by SIGINT/SIGTERM, 1 communication error, 2 usage.",
+	.help_tail = "\nADDR: [tcp://][HOST:]PORT, loopback unless HOST is given; port 0 picks a free port.\n"
+	             "NAME: e.g. slc5/04, ml1400, plc5/40, or a type code such as 0x5B.\n"
+	             "P: a probability in percent, 0-100, steps of 0.1.\n"
+	             "Signals: SIGUSR1 silences every station, SIGUSR2 makes them answer again.\n"
+	             "See df1sim(1).\n",
+};
+
+/* CLI_CONTINUE to go on, else an exit status. */
+static int parse_args(int argc, char **argv, struct opts *o)
+{
+	int r;
+
+	memset(o, 0, sizeof *o);
+	cli_init(&o->cli, &sim_tool);
+	o->stations[0] = 1;
+	o->nstations = 1;
+	o->seed = 1;
+	o->max_queue = 8;
+	o->baud = 19200;
+	o->data_bits = 8;
+	r = cli_parse(&o->cli, argc, argv, o);
+	if (r != CLI_CONTINUE)
+		return r;
+	if (o->cli.argc > 0)
+		return cli_usage_error(&o->cli, "unexpected argument '%s'", o->cli.argv[0]);
+	if (o->where > 1 || (o->where == 0 && !o->eip))
+		return cli_usage_error(&o->cli, o->where ? "give only one of --pty, -d and --listen"
+		                                         : "one of --pty PATH, -d DEV, --listen ADDR or --eip ADDR is required");
+	if ((o->eip_allow || o->eip_read_only) && !o->eip)
+		return cli_usage_error(&o->cli, "--eip-allow and --eip-read-only go with --eip");
+	if (cli_lib_option_set(&o->cli, CLI_OPT_PLC5_FLOAT) && o->cli.lib_value[CLI_OPT_PLC5_FLOAT] &&
+	    o->cli.plc != DF1_PLC_PLC5)
+		return cli_usage_error(&o->cli, "--plc5-float swapped goes with --plc plc5 only");
+	if ((o->cli.given & CLI_ACCEPT(CLI_OPT_PLC5_TIMER_WORDS)) && o->cli.plc != DF1_PLC_PLC5)
+		return cli_usage_error(&o->cli, "--plc5-timer-words goes with --plc plc5 only");
+	/* a PLC-5 answers typed reads of timers with 5 words, as KF2 p.130 and VME
+	 * p.81 describe it (spec 4.3); --plc5-timer-words 3 for the data-table form */
+	if (o->cli.plc == DF1_PLC_PLC5 && !(o->cli.given & CLI_ACCEPT(CLI_OPT_PLC5_TIMER_WORDS))) {
+		o->cli.lib_value[CLI_OPT_PLC5_TIMER_WORDS] = 5;
+		o->cli.lib_set |= CLI_ACCEPT(CLI_OPT_PLC5_TIMER_WORDS);
+	}
+	return CLI_CONTINUE;
+}
+
+/* ------------------------------------------------------------------------
+ * Serving
+ * ------------------------------------------------------------------------ */
+
+static int report(df1_t *h, const char *where, int err)
+{
+	const struct df1_error_detail *d = df1_last_error(h);
+	int id = df1_error_catalog_id(err);
+
+	if (id)
+		msg("%s: [%d] %s: %s", where, id, df1_catalog_by_id(id) ? df1_catalog_by_id(id)->mnemonic : "",
+		    d && d->message[0] ? d->message : df1_strerror(err));
+	else
+		msg("%s: %s: %s", where, df1_errname(err), d && d->message[0] ? d->message : df1_strerror(err));
+	return CLI_EXIT_FAIL;
+}
+
+/* Empty the self-pipe and apply SIGUSR1 / SIGUSR2 if one came. A wait that a
+ * mute signal cut short is simply resumed by the next df1_serve(): the link
+ * keeps its state (with --line-baud a frame being paced out may be cut, which
+ * the master sees as a broken frame and recovers from). */
+static void sim_wakeup(df1_t *h, struct sim *s)
+{
+	bool mute;
+
+	cli_signal_drain();
+	mute = cli_mute != 0;
+	if (mute == s->muted)
+		return;
+	if (mute)
+		(void)df1_server_set_fault(h, DF1_FAULT_SILENT_STATION, 1000, DF1_SILENT_ALL);
+	else
+		(void)df1_server_set_fault(h, DF1_FAULT_SILENT_STATION, s->silent_pm,
+		                           s->silent_pm ? s->silent_station : -1);
+	s->muted = mute;
+	if (s->verbose)
+		msg(mute ? "SIGUSR1: every station silent" : "SIGUSR2: stations answer again");
+}
+
+/* Serve an open handle until a signal (0), the peer leaves (DF1_E_CLOSED) or an error. */
+static int serve_open(df1_t *h, struct sim *s)
+{
+	int r;
+
+	while (!cli_stop && !s->log.error) {
+		sim_wakeup(h, s);
+		sim_eip_process(s);
+		r = df1_serve(h, &sim_ops, s, 1000);
+		if (r >= 0 || (r == DF1_E_INTR && !cli_stop))
+			continue;
+		if (r == DF1_E_INTR || cli_stop)
+			return 0;
+		return r;
+	}
+	return 0;
+}
+
+static int serve_tcp(df1_t *h, struct sim *s, int lfd, const char *shown)
+{
+	for (;;) {
+		struct pollfd pfd[3] = { { lfd, POLLIN, 0 }, { cli_signal_fd(), POLLIN, 0 },
+		                         { s->eip ? df1_eip_server_fd(s->eip) : -1, POLLIN, 0 } };
+		int cfd, r, one = 1;
+
+		if (cli_stop || s->log.error)
+			return 0;
+		r = poll(pfd, 3, -1);
+		if (r < 0) {
+			if (errno == EINTR)
+				continue;
+			msg("%s: poll: %s", shown, strerror(errno));
+			return CLI_EXIT_FAIL;
+		}
+		if (cli_stop)
+			return 0;
+		if (pfd[2].revents)
+			sim_eip_process(s);
+		if (pfd[1].revents) {
+			sim_wakeup(h, s);       /* SIGUSR1 / SIGUSR2 */
+			continue;
+		}
+		if (!(pfd[0].revents & POLLIN))
+			continue;
+		cfd = accept4(lfd, NULL, NULL, SOCK_CLOEXEC);
+		if (cfd < 0) {
+			if (errno == EINTR || errno == ECONNABORTED || errno == EAGAIN)
+				continue;
+			msg("%s: accept: %s", shown, strerror(errno));
+			return CLI_EXIT_FAIL;
+		}
+		setsockopt(cfd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+		if (s->verbose)
+			msg("%s: client connected", shown);
+		r = df1_open_fd(h, cfd, true);
+		if (r < 0) {
+			close(cfd);
+			return report(h, shown, r);
+		}
+		r = serve_open(h, s);
+		df1_close(h);
+		if (r == DF1_E_CLOSED || (r < 0 && r != DF1_E_INTR)) {
+			/* the client went away (or broke the connection): wait for the next */
+			if (s->verbose)
+				msg("%s: client disconnected (%s)", shown, df1_strerror(r));
+			continue;
+		}
+		return 0;
+	}
+}
+
+/* --eip only: the server and the signals until a stop signal. */
+static int serve_eip_only(df1_t *h, struct sim *s)
+{
+	while (!cli_stop && !s->log.error) {
+		struct pollfd pfd[2] = { { df1_eip_server_fd(s->eip), POLLIN, 0 }, { cli_signal_fd(), POLLIN, 0 } };
+
+		if (poll(pfd, 2, -1) < 0 && errno != EINTR) {
+			msg("poll: %s", strerror(errno));
+			return CLI_EXIT_FAIL;
+		}
+		if (pfd[1].revents)
+			sim_wakeup(h, s);
+		if (pfd[0].revents)
+			sim_eip_process(s);
+	}
+	return 0;
+}
+
+/* The EtherNet/IP server of --eip [tcp://]ADDR, and the one descriptor the
+ * link waits on: the signal pipe and the server's. Prints nothing yet. */
+static int sim_eip_open(struct sim *s, const struct opts *o, df1_t *h)
+{
+	struct df1_eip_server_config c;
+	struct epoll_event ev;
+	const char *a;
+	int r;
+
+	const char *spec = o->eip;
+
+	memset(&c, 0, sizeof c);
+	c.listen = strncmp(spec, "tcp://", 6) == 0 ? spec + 6 : spec;
+	c.allow = o->eip_allow;
+	c.read_only = o->eip_read_only;
+	c.identity = sim_identity;
+	r = df1_eip_server_new(&s->eip, &c, sim_eip_pccc, s);
+	if (r < 0) {
+		msg("--eip %s: %s", spec, df1_eip_server_error(NULL));
+		return r == DF1_E_INVAL ? CLI_EXIT_USAGE : CLI_EXIT_FAIL;
+	}
+	a = df1_eip_server_address(s->eip);
+	if (strncmp(a, "0.0.0.0:", 8) == 0 || strncmp(a, "[::]:", 5) == 0)
+		msg("EtherNet/IP on %s: every interface, reachable from other hosts", a);
+	else if (strncmp(a, "127.", 4) != 0 && strncmp(a, "[::1]:", 6) != 0)
+		msg("EtherNet/IP on %s: not loopback, reachable from other hosts", a);
+	s->wait_fd = epoll_create1(EPOLL_CLOEXEC);
+	if (s->wait_fd < 0) {
+		msg("epoll: %s", strerror(errno));
+		return CLI_EXIT_FAIL;
+	}
+	memset(&ev, 0, sizeof ev);
+	ev.events = EPOLLIN;
+	if (epoll_ctl(s->wait_fd, EPOLL_CTL_ADD, cli_signal_fd(), &ev) != 0 ||
+	    epoll_ctl(s->wait_fd, EPOLL_CTL_ADD, df1_eip_server_fd(s->eip), &ev) != 0) {
+		msg("epoll: %s", strerror(errno));
+		return CLI_EXIT_FAIL;
+	}
+	df1_set_cancel_fd(h, s->wait_fd);
+	return 0;
+}
+
+static int setup_handle(df1_t *h, const struct opts *o, struct sim *s)
+{
+	int r = 0;
+
+	r = r < 0 ? r : df1_set_duplex(h, o->cli.half_duplex ? DF1_HALF_DUPLEX_SLAVE : DF1_FULL_DUPLEX);
+	r = r < 0 ? r : df1_set_check(h, o->cli.check);
+	r = r < 0 ? r : df1_set_plc(h, o->cli.plc);
+	r = r < 0 ? r : df1_set_station(h, o->stations[0]);
+	for (int i = 0; r >= 0 && i < o->nstations; i++)
+		r = df1_server_add_station(h, o->stations[i]);
+	if (r >= 0 && o->device)
+		r = df1_set_serial(h, o->baud, o->data_bits, o->cli.parity, o->cli.stop_bits);
+	for (int k = 0; r >= 0 && k < 8; k++)
+		if (o->faults[k].given)
+			r = df1_server_set_fault(h, o->faults[k].kind, o->faults[k].per_mille, o->faults[k].value);
+	if (r >= 0 && o->line_baud)
+		r = df1_set_line_baud(h, o->line_baud);
+	if (r >= 0 && o->scan_time)
+		r = df1_set_option(h, DF1_OPT_SCAN_TIME_MS, o->scan_time);
+	if (r >= 0 && o->no_eot)
+		r = df1_set_option(h, DF1_OPT_NO_EOT, 1);
+	if (r >= 0)
+		r = df1_server_set_max_queue(h, o->max_queue);
+	if (r < 0) {
+		const struct df1_error_detail *d = df1_last_error(h);
+
+		msg("invalid setting: %s", d && d->message[0] ? d->message : df1_strerror(r));
+		return CLI_EXIT_USAGE;
+	}
+	if (cli_apply_lib_options(&o->cli, h) != 0)
+		return CLI_EXIT_USAGE;
+	df1_server_set_seed(h, o->seed);
+	if (o->cli.verbose)
+		df1_set_log(h, on_log, s);
+	if (o->cli.verbose >= 2 || s->log.fp)
+		df1_set_trace(h, on_trace, s);
+	return 0;
+}
+
+static void sim_free(struct sim *s)
+{
+	df1_eip_server_free(s->eip);
+	if (s->wait_fd >= 0)
+		close(s->wait_fd);
+	for (int i = 0; i < 256; i++)
+		df1_table_free(s->tables[i]);
+	sim_cmdlog_close(&s->log);
+}
+
+static int sim_build(struct sim *s, const struct opts *o)
+{
+	struct df1_table *tmpl = NULL;
+	int r;
+
+	memset(s, 0, sizeof *s);
+	s->wait_fd = -1;
+	s->plc = o->cli.plc;
+	s->half = o->cli.half_duplex;
+	s->verbose = o->cli.verbose;
+	s->nstations = o->nstations;
+	memcpy(s->stations, o->stations, sizeof s->stations);
+	if (o->faults[DF1_FAULT_SILENT_STATION].given) {
+		s->silent_pm = o->faults[DF1_FAULT_SILENT_STATION].per_mille;
+		s->silent_station = o->faults[DF1_FAULT_SILENT_STATION].value;
+	}
+	if (df1_table_new(&tmpl, o->cli.plc) < 0 || df1_table_add_default_files(tmpl) < 0) {
+		df1_table_free(tmpl);
+		msg("out of memory");
+		return CLI_EXIT_FAIL;
+	}
+	s->tables[s->stations[0]] = tmpl;       /* sim_free() frees it from here on */
+	/* --eip simulates a MicroLogix 1400 (its identity): its diagnostic status
+	 * too, unless --processor or a --plc other than the default says otherwise */
+	if (o->eip && !o->processor && o->cli.plc == DF1_PLC_SLC &&
+	    df1_table_set_processor(tmpl, "ml1400") < 0) {
+		msg("out of memory");
+		return CLI_EXIT_FAIL;
+	}
+	if (o->processor && df1_table_set_processor(tmpl, o->processor) < 0) {
+		cli_usage_error(&o->cli, "--processor: unknown processor '%s' (e.g. slc5/04, ml1400, plc5/40, 0x5B)",
+		            o->processor);
+		return CLI_EXIT_USAGE;
+	}
+	if (o->data && df1_table_load(tmpl, o->data) < 0) {
+		msg("%s", df1_table_error_text(tmpl));
+		return CLI_EXIT_USAGE;
+	}
+	for (int i = 1; i < s->nstations; i++) {
+		if (df1_table_clone(&s->tables[s->stations[i]], tmpl) < 0) {
+			msg("out of memory");
+			return CLI_EXIT_FAIL;
+		}
+	}
+	if (o->log) {
+		r = sim_cmdlog_open(&s->log, o->log, o->cli.check, o->cli.half_duplex, s->tables, s->stations[0]);
+		if (r == -1) {
+			msg("--log %s: %s", o->log, strerror(errno));
+			return CLI_EXIT_USAGE;
+		}
+		if (r < 0) {
+			msg("out of memory");
+			return CLI_EXIT_FAIL;
+		}
+		/* the log reads the frames as the responder does (--hd-bcc stx ...) */
+		cli_decoder_options(&o->cli, s->log.dec[0]);
+		cli_decoder_options(&o->cli, s->log.dec[1]);
+	}
+	return 0;
+}
+
+int main(int argc, char **argv)
+{
+	static struct sim sim;
+	struct opts o;
+	struct sim_pty pty = { -1, -1, "", NULL, false };
+	char shown[300], err[600];
+	df1_t *h = NULL;
+	int status, r, lfd = -1;
+
+	status = parse_args(argc, argv, &o);
+	if (status != CLI_CONTINUE)
+		return status;
+	/* a closed stdout: the device line could not be printed, and the next file
+	 * opened (the pty, a data file) would become descriptor 1 */
+	if (fcntl(STDOUT_FILENO, F_GETFD) < 0) {
+		msg("stdout is closed: df1sim prints the device it serves there");
+		return CLI_EXIT_FAIL;
+	}
+	status = sim_build(&sim, &o);
+	if (status)
+		goto out;
+	r = df1_new(&h);
+	if (r < 0) {
+		msg("%s", df1_strerror(r));
+		status = CLI_EXIT_FAIL;
+		goto out;
+	}
+	status = setup_handle(h, &o, &sim);
+	if (status)
+		goto out;
+	if (cli_signals_install_mute() < 0) {
+		msg("pipe: %s", strerror(errno));
+		status = CLI_EXIT_FAIL;
+		goto out;
+	}
+	df1_set_cancel_fd(h, cli_signal_fd());
+	sim.h = h;
+	if (o.eip) {
+		status = sim_eip_open(&sim, &o, h);
+		if (status)
+			goto out;
+	}
+
+	if (o.pty) {
+		status = sim_pty_create(&pty, o.pty, err, sizeof err);
+		if (status) {
+			msg("%s", err);
+			goto out;
+		}
+		r = df1_open_fd(h, pty.master, true);
+		if (r < 0) {
+			status = report(h, o.pty, r);
+			goto out;
+		}
+		pty.master = -1;        /* the handle owns it now */
+		snprintf(shown, sizeof shown, "%s", o.pty);
+	} else if (o.device) {
+		r = df1_open(h, o.device);
+		if (r < 0) {
+			status = report(h, o.device, r);
+			goto out;
+		}
+		snprintf(shown, sizeof shown, "%s", o.device);
+	} else if (o.listen) {
+		enum sim_listen_scope scope;
+
+		lfd = sim_listen_open(o.listen, shown, sizeof shown, &scope, err, sizeof err);
+		if (lfd < 0) {
+			msg("%s", err);
+			status = -lfd;
+			goto out;
+		}
+		/* a listener other hosts can reach is what the user asked for: say so */
+		if (scope == SIM_LISTEN_ALL)
+			msg("listening on %s: every interface, reachable from other hosts", shown);
+		else if (scope == SIM_LISTEN_OTHER)
+			msg("listening on %s: not loopback, reachable from other hosts", shown);
+	}
+	/* the ready line a script waits for: one that cannot be written is an error */
+	errno = 0;
+	if ((o.where && printf("%s\n", shown) < 0) ||
+	    (sim.eip && printf("eip://%s\n", df1_eip_server_address(sim.eip)) < 0) || fflush(stdout) != 0) {
+		msg("stdout: the device line could not be written: %s", strerror(errno ? errno : EIO));
+		status = CLI_EXIT_FAIL;
+		goto out;
+	}
+
+	if (lfd >= 0) {
+		status = serve_tcp(h, &sim, lfd, shown);
+	} else if (!o.where) {
+		status = serve_eip_only(h, &sim);
+	} else {
+		r = serve_open(h, &sim);
+		status = r < 0 ? report(h, shown, r) : 0;
+	}
+	if (sim.log.error) {
+		msg("--log %s: a command could not be logged: %s", o.log, strerror(sim.log.error));
+		status = CLI_EXIT_FAIL;
+	} else if (status == 0 && cli_stop && o.cli.verbose) {
+		msg("stopped by signal");
+	}
+out:
+	if (h) {
+		df1_close(h);
+		df1_free(h);
+	}
+	if (lfd >= 0)
+		close(lfd);
+	if (pty.master >= 0)
+		close(pty.master);
+	sim_pty_destroy(&pty);
+	sim_free(&sim);
+	return status;
+}
