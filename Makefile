@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MPL-2.0
 # libdf1 - GNU Makefile (no autotools). See README.
 VERSION := $(shell sed -n 's/^\#define DF1_VERSION_STRING "\(.*\)"/\1/p' include/df1.h)
 MAJOR := $(word 1,$(subst ., ,$(VERSION)))

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * bench_gw - df1gw's end-to-end latency (bench/bench_gw.sh starts mosquitto,
  * df1sim and df1gw): a write through PREFIX/tag/Speed/set changes N7:0 in

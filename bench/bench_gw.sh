@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # bench/bench_gw.sh BUILDDIR - df1gw against mosquitto and df1sim on a pty
 # (run by bench/run.sh, `make bench`; never by make check):
 #  - latency: a change in df1sim (a write through .../set) to the MQTT message

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * bench_load.c - configuration loading on big input (make bench; never make check):
  *   - df1_tag_load_map() of a mapping file of N tags (default 40 000): the

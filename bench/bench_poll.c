@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * bench_poll - the poll engine on a simulated 19200-baud line with five
  * stations (bench/run.sh starts df1sim --line-baud 19200 for each case): 200

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # bench/run.sh BUILDDIR - benchmarks (make bench; never run by make check).
 # bench_poll: 200 tags over 5 stations on a simulated 19200-baud line (df1sim
 # --line-baud 19200, both ends paced), four cases: half duplex, full duplex,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * read_n7.c - read N7:0..9 from a PLC with libdf1 and print them.
  *

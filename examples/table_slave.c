@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * table_slave.c - a simulated SLC 5/04 with libdf1's data table: the files
  * O0 I1 S2 B3 T4 C5 R6 N7 F8 ST9 L10 A11 of 256 elements (N7:n = n ...),

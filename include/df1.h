@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * df1.h - libdf1: the Allen-Bradley DF1 serial protocol (PCCC over RS-232/RS-485
  * or raw DF1 over TCP) for PLC-5, SLC 500 and MicroLogix controllers.

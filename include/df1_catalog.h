@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * df1_catalog.h - libdf1's message catalog as one X-macro table.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * df1_eip.h - libdf1's EtherNet/IP server: PCCC over CIP for SCADA and HMI
  * clients (df1_eip_server(3), df1-eip(7)), and the client's discovery

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * df1_int.h - the handle (struct df1) and internal prototypes shared by the
  * non-pure layers (port, link, client, server, poll). Not installed.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * handle.c - the df1_t handle: allocation and defaults, settings with range
  * checks (seeds/004 network configuration table), open/close over the port

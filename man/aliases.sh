@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # Creates the alias pages of section 3. Every function named in the NAME
 # section of a group page (man3/df1_read.3: "df1_read, df1_read_addr, ... \-")
 # gets man3/<function>.3 as a symbolic link to its group page, so that

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MPL-2.0
 """Single-word reads per second from Python, next to the C figure for the same df1sim.
 
     python3 python/bench.py [--reads N] [--line-baud BAUD]

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * bench_read - the C side of python/bench.py: single-word reads per second
  * (df1_read_int16 of N7:0, one at a time) against the df1sim bench.py started.

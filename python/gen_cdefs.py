@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MPL-2.0
 """Generate libdf1/_cdefs.h, the cffi declarations, from include/df1.h.
 
     python3 python/gen_cdefs.py            rewrite python/libdf1/_cdefs.h
@@ -23,6 +24,7 @@ DEFAULT_HEADER = os.path.join(HERE, "..", "include", "df1.h")
 DEFAULT_OUT = os.path.join(HERE, "libdf1", "_cdefs.h")
 
 BANNER = """\
+/* SPDX-License-Identifier: MPL-2.0 */
 /* Generated from include/df1.h by python/gen_cdefs.py: do not edit.
  * Regenerate after every change to df1.h (a test compares the two). */
 """

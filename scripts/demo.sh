@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # libdf1 demo: run by `make demo` as `sh scripts/demo.sh BUILDDIR` after the build.
 # Starts df1sim (a simulated SLC 5/04) on a pseudo-terminal in a temporary
 # directory and shows the tools against it, each command printed before it

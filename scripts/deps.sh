@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # Checks the build dependencies; installs the missing Debian packages with
 # apt-get when it can (root, or sudo without a password), else prints the
 # exact command and fails.

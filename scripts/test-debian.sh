@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # scripts/test-debian.sh - the Debian packages (debian/), built and tried:
 #   1. debian/changelog's version is include/df1.h's DF1_VERSION_STRING;
 #   2. debian/libdf1-0.symbols lists exactly the symbols libdf1.so exports

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # it_df1gw.sh - df1gw against real parts: Debian's mosquitto broker on a free
 # loopback port, df1sim on a pseudo-terminal, mosquitto_sub / mosquitto_pub as
 # the plant's clients, df1sim's --log as the record of what reached the PLC.

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # it_df1gw_eip.sh - df1gw --eip, the EtherNet/IP bridge, end to end with real
 # processes: EtherNet/IP clients (tests/tools/eipgw_probe.py and eip_probe.py,
 # raw sockets, messages built from df1-eip(7); pycomm3's SLCDriver when it is

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # df1mon offline modes: --read (pcap, raw dump) and --decode (arguments, stdin).
 # Run from the repository root; DF1_BIN is the directory of the built tools.
 # Data: tests/data/serial-tap-*.pcap (copies of the shared captures) and

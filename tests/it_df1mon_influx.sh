@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # it_df1mon_influx - df1mon --map -f influx against df1sim on a pseudo-terminal:
 # every readable tag one InfluxDB line per scan, read back with an independent
 # line-protocol parser (tests/tools/influx_parse.py) and compared with the

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # it_df1mon_live - df1mon's live modes against df1sim on pseudo-terminals:
 # --counters (alone, with -i/-c, after a transaction, csv/json, Ctrl-C),
 # --ping (answered, silent station), --who (half duplex stations, full duplex

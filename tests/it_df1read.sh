@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # df1read against df1sim, over pseudo-terminals and TCP: every output format,
 # every value type, exit statuses 0/1/2, bad input, half and full duplex, BCC
 # and CRC, several stations, elements above 254, reads split across packets and

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # it_df1sim - df1sim as a process: it announces the device it serves on stdout,
 # creates and removes its pty symlink, stops cleanly on SIGTERM / SIGINT (exit 0),
 # listens on TCP, goes silent on SIGUSR1 and answers again on SIGUSR2, and

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # df1write against df1sim, over pseudo-terminals and TCP: write-then-read-back of
 # every type, bit writes that leave the other bits alone, values checked before
 # anything is sent (exit 2, nothing in df1sim's --log), the progress report of a

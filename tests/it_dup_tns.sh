@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # A run of df1write that starts on the TNS the previous run ended with, against
 # one df1sim (duplicate detection on, its default), full and half duplex. Run 1's
 # write is accepted (ACKed) but its reply is held back (--delay), and run 1 is

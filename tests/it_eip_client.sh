@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # The eip:// client against df1sim --eip (a simulated MicroLogix 1400 over
 # EtherNet/IP on loopback TCP): df1read and df1write on every file type, reads
 # and writes split over packets, errors (an address out of range -> the PLC's

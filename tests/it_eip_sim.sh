@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # it_eip_sim - df1sim --eip: PCCC over EtherNet/IP from its data table, checked
 # by two clients that are not libdf1's: tests/tools/eip_probe.py (raw sockets,
 # every message built from the layouts of df1-eip(7)) and pycomm3's SLCDriver

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # make install into a staging directory (DESTDIR, PREFIX=/usr), from a private
 # build directory so that PREFIX is really the one built into libdf1.pc; then the
 # installed tools run (--version, a read and a write against the installed

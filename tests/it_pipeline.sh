@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # it_pipeline - full-duplex pipelining from the tools (--outstanding N, df1sim
 # --max-queue N): df1mon --map with --outstanding 4 reads what it reads with 1;
 # on a paced line (df1sim --line-baud) the next command goes out before the

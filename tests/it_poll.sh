@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # it_poll - df1mon --map (the poll engine's live table, tools/df1mon/mon_map.c) against
 # df1sim: one-shot scans in plain, csv and json; exit status 0 when every
 # readable tag is GOOD, 1 when one is BAD (a missing file, a silent station),

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # The Python binding's tests (python/tests, pytest) against this build: the
 # library of $B (LIBDF1_PATH) and the tools of $DF1_BIN (df1sim). Prints
 # pytest's own summary line. Skips (exit 0, a SKIP line) only when python3,

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # The link and PLC settings where the spec leaves a doubt (spec 8), end to end:
 # df1read/df1write against df1sim over pseudo-terminals, each side set to either
 # reading. Both readings work when the two sides agree; when they do not, the

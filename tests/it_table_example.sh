@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # it_table_example - examples/table_slave.c, the simulated slave of libdf1(7)
 # and df1_table(3) built on the data table, as a process: it prints its pty,
 # df1read reads the documented initial contents, df1write writes words and a

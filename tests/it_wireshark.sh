@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # it_wireshark - the DF1 dissector (contrib/wireshark/df1.lua) under tshark.
 #
 # Independent expectations: df1mon --read of the same file (field by field, by

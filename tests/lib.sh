@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MPL-2.0
 # tests/lib.sh - shared helpers for the integration tests (POSIX sh).
 #
 #   . tests/lib.sh          (from the repository root; DF1_BIN = the built tools)

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MPL-2.0
 """lint-ids: no bare message-catalog ID (2501-2561) in C code outside the
 catalog table of include/df1.h. Comments and strings may cite IDs; code says
 DF1_ID_<MNEMONIC>. With --fix, rewrites each bare ID to its name.

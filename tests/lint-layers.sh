@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # lint-layers.sh - which lib/ or tools/ source calls (or references) what
 # another source defines, read from the objects' symbol tables (nm), and
 # whether any files or layer folders call each other in a loop, or any lib/ or

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # Lints every man page (mandoc -Tlint, or groff -ww) and fails when a public
 # function of include/df1.h has no section 3 page (a page or a .so alias).
 status=0

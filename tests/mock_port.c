@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * mock_port - a scripted struct port_ops for link-level tests (see mock_port.h).
  */

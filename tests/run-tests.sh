@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
 # Runs every cmocka test binary and every tests/it_*.sh integration script.
 # Last line: "N passed, N failed"; exit status non-zero if anything failed.
 B=${B:-build}

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * simproc - df1sim as a separate process (see simproc.h).
  */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * simproc - df1sim as a separate process for integration tests: fork/exec of
  * $DF1_BIN/df1sim (default build/bin), its ready line read from a pipe with a

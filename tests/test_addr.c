@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_addr.c - addresses: parse, format, round trips, file type tables.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_client - lib/client/: the command bytes the client builds, packet
  * splitting, reply checks and value decoding, without the real link.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_config.c - network and mapping CSV files (lib/config/config_csv.c, config_net.c, config_map.c).
  *

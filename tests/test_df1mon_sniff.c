@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_df1mon_sniff - df1mon --sniff as a process on real pseudo-terminals.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_discover.c - station discovery: df1_discover() and the per-station probe
  * it shares with the poll engine (discover_probe, lib/client/discover.c).

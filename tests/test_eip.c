@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_eip.c - the EtherNet/IP / CIP codec (lib/eip/eip_codec.c) against byte
  * vectors written by hand from the layouts of df1-eip(7) (ODVA Vol. 2 ch. 2-3

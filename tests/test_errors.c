@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_errors - error codes, the seeds/004 message catalog, STS / EXT STS texts.
  * The expected catalog below was written from seeds/004's tables (IDs,

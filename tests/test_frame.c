@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_frame - the pure frame module and the public decoder wrapper.
  * Expectations come from tests/data/vectors.txt (frames from the manuals, the

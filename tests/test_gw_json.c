@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_gw_json.c - df1gw's JSON (tools/df1gw/gw_json.c) against RFC 8259: what a
  * strict parser must take and refuse, string escapes and UTF-8, the writers'

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_gw_payload.c - df1gw's payloads (tools/df1gw/gw_value.c, gw_write.c,
  * gw_state.c): tag JSON by file type as the issue gives it; .../set values

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_handle.c - the df1_t handle: defaults, every setter's valid and invalid
  * values (DF1_E_CONFIG with the seed's critical IDs 2552-2559 where it has

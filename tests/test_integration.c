@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_integration - the public API against df1sim running as a separate
  * process (tests/simproc.c), over real pseudo-terminals (df1_open on the pty

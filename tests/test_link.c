@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_link - the link layer (lib/link/: core.c, full.c, half.c) against a scripted
  * port (tests/mock_port.c): full-duplex master and responder, half-duplex

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_link_eip.c - the link over EtherNet/IP (lib/eip/eip_link.c) and
  * df1_eip_list_identity() against a scripted peer on a loopback TCP socket:

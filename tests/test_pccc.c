@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_pccc.c - PCCC encoders/decoders and df1_msg_decode against the byte
  * vectors of spec/protocol.md 7 and spec/vectors.txt (app bytes between DLE STX

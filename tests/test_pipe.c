@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_pipe - the full-duplex master's pipeline (lib/link/pipe.c) on the mock
  * port: several commands on the line, each reply matched to its slot by SRC

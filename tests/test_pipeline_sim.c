@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_pipeline_sim - the poll engine pipelined (DF1_OPT_MAX_OUTSTANDING 4)
  * against df1sim as a separate process on a real pty (tests/simproc.c), full

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_poll - the poll engine (lib/poll/): the pure block planner, the API
  * without I/O, and the engine against df1sim as a separate process

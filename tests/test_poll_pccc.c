@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_poll_pccc - df1_pccc_is_write() over the command list of
  * spec/protocol.md 4, and df1_poll_submit_pccc() against df1sim as a separate

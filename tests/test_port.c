@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_port.c - the port layer on real descriptors: pseudo-terminals through
  * the termios backend, loopback TCP, socketpairs/pipes/pty masters through

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_read_multi - df1_read_multi(): the planner's fewest-transactions rule
  * (pure), the argument checks, and reads against df1sim as a separate process

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_server - the responder's command handling (lib/server/server.c): command app
  * bytes from spec/vectors.txt (derived SLC/PLC-5 vectors, KE PLC-2 and word

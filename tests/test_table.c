@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_table - the data table (lib/table/table.c, lib/table/table_file.c,
  * lib/table/table_serve.c; df1_table(3)). Expectations come from the documents, not

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_value.c - wire encodings of values (spec/protocol.md 5) and the public
  * text helpers: df1_value_format, df1_value_parse, df1_tcr_bit,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_version.c - df1_version(): the runtime version agrees with the
  * DF1_VERSION_* macros the library was built with, and is static storage.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_wire_timing - timers that match a real UART, and half-duplex polling of
  * slaves that take their time (issue: wire speed), against df1sim as a

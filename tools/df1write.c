@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * df1write - write data-table values to a DF1 controller, for shell scripts
  * (DESIGN.md 8, df1write(1)).

@@ -1,3 +1,4 @@
+-- SPDX-License-Identifier: MPL-2.0
 -- df1.lua - Allen-Bradley DF1 / PCCC dissector for Wireshark and tshark 4.x (Lua 5.2).
 --
 -- Dissects DF1 in RTAC-serial records (pcap link type 250, as serial taps and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * base.c - the handle's last-error detail, its counters (seeds/004 IDs
  * 2525-2561) and catalog logging, for every layer above (lib/base/base.h).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * base - what every non-pure layer above it shares and none of them owns: the
  * monotonic clock (clock.c), and the handle's last-error detail, counters and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * clock.c - the library's clocks: CLOCK_MONOTONIC, in milliseconds for
  * deadlines and in microseconds for trace timestamps, and the wall clock

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * decoder - the public incremental decoder (df1mon, tests): a heap-allocated
  * wrapper around the pure frame decoder. Allocation happens only in new.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * version.c - df1_version(): the version of the library that runs, taken from
  * the DF1_VERSION_* macros when the library itself was built.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * api.c - the public read and write calls (df1_read, df1_read_addr, the typed
  * helpers, bits, raw) and the internal ones of client.h (parsed address, PLC

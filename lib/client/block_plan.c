@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * poll_plan.c - the block planner (poll_plan.h): the poll engine's scan list
  * and df1_read_multi() plan their reads with it. Pure: no I/O, no clock, no

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * poll_plan.h - the block planner (lib/client/block_plan.c) of the poll engine
  * and of df1_read_multi(), exposed for unit tests. Pure: no I/O, no clock, no

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * client.h - the client's internal calls for the rest of the library (the
  * poll engine, df1_read_multi): reads and writes of a parsed address with the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * client_int.h - the client's internals, shared by the files of lib/client
  * (DESIGN.md 3): the master side, df1_read / df1_write and friends.

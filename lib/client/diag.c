@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * diag.c - any PCCC command, diagnostic status, echo, link test, change mode.
  */

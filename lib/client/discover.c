@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * discover.c - station discovery: df1_discover() and the per-station probe it
  * shares with the poll engine (discover_probe, df1_int.h).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * elements.c - spans of elements dispatched to the PLC type's commands, bit
  * reads and masked bit writes, reads and writes of element values.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * plc2.c - PLC-2: unprotected reads and writes (01, 08), byte address = 2 * element,
  * or the element itself with DF1_OPT_PLC2_WORD_ADDR (spec 4.7).

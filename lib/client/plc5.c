@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * plc5.c - PLC-5: typed reads and writes (0F/68, 0F/67) with a logical binary
  * or ASCII address, split into packets.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * read_multi.c - df1_read_multi(): many addresses of one station in the fewest
  * transactions (df1_read_multi(3)).

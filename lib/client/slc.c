@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * slc.c - SLC 5/03+, MicroLogix and SLC 5/01-5/02: protected typed logical
  * reads and writes with three address fields (0F/A2, 0F/AA), split into packets.

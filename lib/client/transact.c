@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * transact.c - the client's common ground: file type classes, address text,
  * error recording (client_fail: the detail's address field), one transaction

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * config_csv.c - what both configuration loaders (config_net.c, config_map.c)
  * stand on: reading the CSV file with libcsv, the header row and its columns,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * config_int.h - what the configuration loaders share (lib/config/config_csv.c: the
  * CSV reader, issue reporting and cell parsers; lib/config/config_net.c: the network

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * config_map.c - the mapping file (one row per tag). The CSV rules are
  * config_csv.c's.

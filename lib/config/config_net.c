@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * config_net.c - the network configuration file (one row: the line's settings)
  * and applying it to a handle. The CSV rules are config_csv.c's.

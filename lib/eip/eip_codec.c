@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * eip.c - EtherNet/IP encapsulation, CPF and CIP codec (see eip.h; the layouts
  * and their sources are in df1-eip(7)). Pure: no I/O, clock or allocation.

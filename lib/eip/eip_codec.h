@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * eip - EtherNet/IP encapsulation, common packet format (CPF) and the CIP
  * messages libdf1 needs to carry PCCC (pure: no I/O, no clock, no allocation).

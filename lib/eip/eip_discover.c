@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * eip_list.c - df1_eip_list_identity(): who is there at an eip:// target
  * (df1mon --who). ListIdentity (encapsulation command 63h) needs no session:

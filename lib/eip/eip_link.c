@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * eip.c - the link over EtherNet/IP, for an "eip://HOST[:PORT][/2]" target
  * (libdf1(7), df1-eip(7)): each PCCC command goes in a CIP Execute PCCC

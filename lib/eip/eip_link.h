@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * link_eip.h - the link over EtherNet/IP (lib/eip/eip_link.c): an eip:// target's
  * session, opened by df1_open() and used by the link's dispatcher (link.c).

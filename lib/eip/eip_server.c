@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * eip_server - the EtherNet/IP server of df1_eip_server(3): a TCP listener and
  * a UDP socket (ListIdentity) on one port, its clients, the allow list and

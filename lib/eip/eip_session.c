@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * eip_session.c - an EtherNet/IP server connection's state machine (see
  * eip_session.h). Pure: no I/O, clock or allocation.

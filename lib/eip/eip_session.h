@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * eip_session - one EtherNet/IP client connection of a server, as a state
  * machine (pure: no I/O, no clock, no allocation): a whole encapsulation

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * core.c - what every DF1 link mode shares (spec/protocol.md 1-2, DESIGN.md 4,
  * seeds/004): setup, transmission with TX_Delay, line pacing, trace, echo

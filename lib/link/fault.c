@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * fault.c - the fault dice of the serving side (the faults are set with
  * df1_server_set_fault and df1_server_set_seed, lib/server/server.c, into the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * full.c - the DF1 full-duplex peer (spec/protocol.md 1, DESIGN.md 4): the
  * receiver rules, the master's transaction (ACK timer, ENQ and NAK retries)

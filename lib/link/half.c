@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * half.c - DF1 half duplex (spec/protocol.md 2, seeds/004 "Network Reads"
  * and "Active Station List"): the master's transaction (master message, ACK,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /* repoll.c - the half-duplex master's poll timing (lib/link/half_repoll.h). */
 #include "link/half_repoll.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * repoll - when a half-duplex master polls a slave again (pure: times in,
  * times out, no clock). A slave answers a command at the end of its program

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * link.c - the link layer's entry points (lib/link/link.h): check the handle,
  * bring the decoder in line with the settings (link_setup), assign SRC and TNS,

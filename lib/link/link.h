@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * link - the DF1 link layer over a port: full-duplex peer, half-duplex master,
  * half-duplex slave (spec/protocol.md 1-2, DESIGN.md 4, seeds/004).

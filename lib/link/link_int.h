@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * link_int.h - inside the link module: what core.c gives full.c and half.c,
  * and the modes' entry points that link.c dispatches to. Not used outside

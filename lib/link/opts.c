@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * opts.c - the frame decoder options (FRAME_OPT_*) that the link settings
  * imply. Its own file: the handle sets up its decoder with it at df1_new()

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * pipe.c - the full-duplex master's pipeline (DF1_OPT_MAX_OUTSTANDING; spec
  * 1.6 rule 6): commands are submitted into slots (h->pipe) and sent one after

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * engine.c - the poll engine's allocation (on first use) and teardown (df1_free),
  * the names of qualities, reasons and station states, the settings, the

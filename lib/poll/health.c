@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * health.c - what a transaction's result means (outcome), the tags' values
  * and qualities after it, and station health: answers, failures, offline,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * plan.c - the scan list planned into block reads (lib/client/block_plan.c)
  * when tags were added or a bad tag was isolated; a block split in two after

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * poll.c - df1_poll(): queued writes, one scan of what is due, the wait for
  * due work or a queued write; df1_poll_next_ms(), df1_poll_fd().

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * poll_int.h - the poll engine's state and internal calls, shared by the files
  * of lib/poll (DESIGN.md 9; seeds 000, 002, 004): a scan list of tags, block

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * probe.c - station discovery in the poll engine (seed 002,
  * df1_poll_set_station_range): the addresses of the range without tags are

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * scan.c - block reads and their errors (split, isolate, station failure),
  * the scan of one station, when the next scan is due, and one scan of every

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * tags.c - the poll engine's tags: df1_tag_add() and its checks, each tag's
  * layout in its file, quality changes and the change callback, the getters,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * writeq.c - queued writes and raw PCCC commands: df1_tag_write() and
  * df1_poll_submit_pccc() from any thread, and the queue run between two

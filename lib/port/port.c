@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * port.c - what every transport shares: the deadline wait (port descriptor +
  * the handle's cancel descriptor; the clock is lib/base/clock.c), and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * port - the byte transport under the link layer: termios serial, TCP client,
  * pseudo-terminal / any fd. One small vtable; waits are poll() against an

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * port_fd.c - a descriptor the application opened (df1_open_fd): a pty master
  * (df1sim --pty), a connected socket (df1sim --listen), a pipe, a tty set up

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * raw.c - the port's bytes as they are, for listen-only taps and monitors
  * (DF1_OPT_LISTEN_ONLY, df1mon --sniff): df1_recv_raw() reads through the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * port_tcp.c - raw DF1 over a TCP connection (a serial device server, df1sim
  * --listen): "tcp://host:port", "tcp://192.168.1.20:2101", "tcp://[::1]:2222";

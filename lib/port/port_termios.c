@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * port_termios.c - serial ports through POSIX termios (Linux).
  *

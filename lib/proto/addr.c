@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * addr.c - data-table addresses: text <-> struct df1_addr (pure: no I/O,
  * no clock, no allocation, no global mutable state).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * errors - the one home of every table of texts: library error codes (the
  * DF1_ERROR_TABLE X-macro of df1.h), the message catalog of seeds/004

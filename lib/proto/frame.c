@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * frame - DF1 link-layer framing (spec/protocol.md 1-2). Pure: no I/O, no
  * clock, no allocation, no mutable globals. The decoder rules the spec leaves

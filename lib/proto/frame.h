@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * frame - DF1 link-layer framing (pure: no I/O, no clock, no allocation).
  * DLE stuffing, BCC, CRC-16/ARC, encoders for every frame kind, and an

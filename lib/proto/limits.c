@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * limits.c - the packet-limit table (plc_limits.h): the bytes per PLC type
  * (df1_packet_max()) and the elements per packet for each command, derived

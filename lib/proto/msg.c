@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * msg.c - application messages decoded for display: df1_msg_decode and
  * df1_values_decode (public, df1.h). df1mon and the tools' -v output use them.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * pccc.c - PCCC application layer: command encoders, header/reply decoding,
  * SLC address fields, PLC-5 system addresses, typed-data descriptors and

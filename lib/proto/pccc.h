@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * pccc - PCCC application layer (pure: no I/O, no clock, no allocation).
  * Command encoders for every supported CMD/FNC with the exact layouts of

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * pccc_class.c - which PCCC commands only read (spec/protocol.md 4, the
  * command list): the rule for a command that is never sent twice once it may

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * pccc_diag.c - the diagnostic status (06/03) reply: its decoder and, beside
  * it, the encoder a responder answers with; processor type codes and names

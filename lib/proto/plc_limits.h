@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * plc_limits.h - data per packet by PLC type and command (spec/protocol.md 6),
  * one table for every layer that plans or checks packets: the client splits

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * value.c - wire bytes <-> typed values (spec/protocol.md 5). Pure: no I/O,
  * clock or allocation.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * value - wire bytes <-> typed values (pure). Integers are little-endian;
  * SLC floats little-endian, PLC-5 word-range floats word-swapped (spec 5);

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * valuefmt.c - values as text for people and scripts: df1_value_format,
  * df1_value_parse, df1_tcr_bit, df1_addr_value_kind (public, df1.h).

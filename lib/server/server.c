@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * server - the responder: decoded PCCC command -> data-table callbacks ->
  * reply. See server.h for the data-table contract.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * server - the responder (slave / peer side): a received PCCC command ->
  * data-table callbacks (struct df1_server_ops) -> reply (DESIGN.md 2, 3;

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * server_api.c - the responder's public calls (df1_serve(3)): faults, the
  * command queue, the stations served, df1_serve() on the link layer and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * table.c - the data table (df1_table(3)): files, initial contents, address
  * stepping, element values, the processor table and the diagnostic status.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * table - the data table of a slave (struct df1_table, df1_table(3)): files of
  * elements in the SLC wire layout (lib/server/server.h's data-table contract), their

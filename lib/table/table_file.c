@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * table_file.c - df1_table_load() and df1_table_save(): a data table as text,
  * the format of df1sim's --data (df1sim(1) DATA TABLE, df1_table(3)):

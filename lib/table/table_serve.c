@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * table_serve.c - df1_table_server_ops(): the struct df1_server_ops that serve
  * a data table through df1_serve() (df1_table(3); the contract of lib/server/server.h).

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MPL-2.0
 """libdf1: the Allen-Bradley DF1 protocol (PLC-5, SLC 500, MicroLogix) from Python.
 
 A thin binding (cffi, ABI mode) over the C library libdf1.so.0:

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /* Generated from include/df1.h by python/gen_cdefs.py: do not edit.
  * Regenerate after every change to df1.h (a test compares the two). */
 #define DF1_ADDR_ASCII_MAX 52

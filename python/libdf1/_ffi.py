@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MPL-2.0
 """The C library, loaded with cffi in ABI mode (no compiler needed).
 
 libdf1.so.0 is found, in this order: the LIBDF1_PATH environment variable (a

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MPL-2.0
 """Exceptions carrying the C library's error (df1_last_error(3), df1_strerror(3)).
 
 Families a script catches:

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MPL-2.0
 """The handle: open, read, write, diagnostics (df1_new(3) ... df1_free(3)).
 
 Thread rule (libdf1(7)): a handle is used by one thread at a time. A Plc keeps

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MPL-2.0
 """The poll engine (df1_poll(3)): a scan list, block reads, quality, station health, queued writes.
 
 Thread rule: the thread that iterates changes() (or calls poll()) owns the

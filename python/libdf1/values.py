@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MPL-2.0
 """Values: struct df1_value <-> Python, and the timer, counter and control elements.
 
 Integer words (N, B, S, I, O, A and T/C/R words) are signed 16-bit ints, L files

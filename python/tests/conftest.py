@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MPL-2.0
 """Test fixtures: df1sim as a separate process, as tests/simproc.c and tests/lib.sh start it.
 
 DF1_BIN names the directory of the tools (default: the tree's build/bin);

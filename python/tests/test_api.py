@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MPL-2.0
 """The binding's pure parts against the C library's own tables: error families,
 names and catalog IDs, quality and reason names, T/C/R bits, open()'s options."""
 import pytest

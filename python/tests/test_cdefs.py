@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MPL-2.0
 """The cdefs are df1.h's: regenerated they equal the checked-in file, and cffi's
 layout of every struct is the C compiler's."""
 import os

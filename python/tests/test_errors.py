@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MPL-2.0
 """Errors from a real line map to the right exception and catalog ID (seeds/004):
 no ACK after the ENQ retries 2520, no ACK in half duplex 2519 then the inactive
 station 2509, no reply in time 2508, a PLC's error status with its EXT STS, bad

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MPL-2.0
 """The poll engine from Python: changes with value, quality, reason and time; a
 silenced station goes UNCERTAIN, then BAD when offline (seed 000), and comes
 back GOOD; a write queued from another thread executes exactly once (df1sim's

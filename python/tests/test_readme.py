@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MPL-2.0
 """python/README.md's examples (read, write, poll, handle errors) run as written,
 against df1sim standing in for the device they name."""
 import contextlib

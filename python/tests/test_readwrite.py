@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MPL-2.0
 """Reads and writes of every file type against df1sim, on a pty and over TCP, both
 duplex modes, BCC and CRC. Expected values are df1sim(1)'s documented initial
 table (N7:n = n, F8:n = n + 0.5, L10:n = n * 65536 + n, T/C PRE 100, ST "STRING n",

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MPL-2.0
 """The GIL is released while C waits on the line: two lines in two threads
 progress at once. Line A's df1sim is silenced, so A's read waits in C (ENQ
 after ENQ); thread B meanwhile reads line B, and only after B's reads, done

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * fuzz.h - what the libFuzzer targets of tests/fuzz share: a cursor over the
  * fuzz input, a file holding bytes (for the loaders, which take a path), and

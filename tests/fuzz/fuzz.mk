@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MPL-2.0
 # tests/fuzz/fuzz.mk - libFuzzer targets (make fuzz; tests/fuzz/README).
 # Built with clang into build/fuzz from their own objects of lib/ (and of the
 # tools/ and tests/ files a target needs), so the normal build is untouched.

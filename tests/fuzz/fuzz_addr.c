@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * fuzz_addr - address parsing (lib/proto/addr.c) with the round-trip property
  * of DESIGN.md 7: an address that parses formats, its text parses again to the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * fuzz_eip - the EtherNet/IP server's parsing and its connection's state
  * machine (lib/eip/eip_codec.c, eip_session.c): encapsulation header, CPF, CIP

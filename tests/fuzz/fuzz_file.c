@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * fuzz_file - one in-memory file per fuzzer process for the loaders' input
  * (fuzz.h): no disk writes, and a regular file, so that a loader may seek;

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * fuzz_frame - the byte-fed frame/symbol decoder (lib/proto/frame.c) in every
  * mode (full duplex, half duplex as master or slave sees it, auto duplex) and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * fuzz_link - the link layer as master (lib/link: full duplex, half-duplex
  * master) and the client above it (lib/client: every PLC type's commands and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * fuzz_map_csv - the mapping CSV loader (lib/config/config_map.c, lib/config/config_csv.c),
  * alone and into a handle's poll engine (df1_tag_load_map). Input: byte 0

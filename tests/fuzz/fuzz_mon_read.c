@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * fuzz_mon_read - df1mon --read (tools/df1mon/mon_read.c, mon_stream.c and the
  * decoded lines of tools/decode*.c): a pcap (RTAC serial or another link

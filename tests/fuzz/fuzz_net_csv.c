@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * fuzz_net_csv - the network CSV loader (lib/config/config_net.c, lib/config/config_csv.c)
  * and applying what it loaded to a handle. Input: the file.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * fuzz_pccc_command - the responder side (lib/server/server.c): a received command
  * decoded and run against a data table (df1_table, as df1sim serves it) for

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * fuzz_pccc_reply - the pure PCCC decoders a master (and df1mon) runs on what
  * comes back from the line (lib/proto/pccc.c, pccc_diag.c, msg.c): the

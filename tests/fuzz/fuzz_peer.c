@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * fuzz_peer - the hostile responder of the link and poll targets (fuzz_peer.h).
  */

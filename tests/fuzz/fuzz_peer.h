@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * fuzz_peer - a hostile responder on the scripted port of the unit tests
  * (tests/mock_port.c) for the link and poll targets: after each transmission

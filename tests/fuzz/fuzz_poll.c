@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * fuzz_poll - the poll engine (lib/poll: scan plan, block reads, station
  * health, write queue) against a hostile responder on the mock port

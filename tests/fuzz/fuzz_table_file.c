@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * fuzz_table_file - df1sim's data file, the table file loader
  * (lib/table/table_file.c, df1_table_load). Input: byte 0 picks the PLC type, the

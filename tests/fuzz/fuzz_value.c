@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * fuzz_value - value parsing (lib/proto/value.c, valuefmt.c) with the
  * round-trip property: text that parses for an address formats, that text

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MPL-2.0
 """Seed corpora of the fuzz targets (tests/fuzz/README), written to OUTDIR/TARGET/.
 
 Built from what the tree already holds: the spec vectors (tests/data/vectors.txt,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * lane.c - one link setting of the soak (soak.h): a df1sim on a pty with every
  * fault at about 1 %, a handle on it, and a mix of operations whose results

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * ledger.c - every command the soak's handle sends, by TNS, and how often
  * df1sim's --log says it ran (soak.h).

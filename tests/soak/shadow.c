@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * shadow.c - the values a data-table element may hold (soak.h). A write whose
  * result is unknown (it failed: timed out, NAK limit ...) may have run or not;

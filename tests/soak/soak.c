@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * soak.c - `make soak`: transactions through df1sim with every fault it
  * offers, in lanes at once (full and half duplex, CRC and BCC), each on its

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * soak - transactions through df1sim (a real process on a pty) with every
  * fault it offers, full and half duplex, BCC and CRC, checked against a

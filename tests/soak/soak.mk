@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MPL-2.0
 # tests/soak/soak.mk - `make soak` (README "Soak"), included by the Makefile.
 # Not part of `make check`: it runs for minutes.
 #   make soak                          200000 transactions, a few minutes

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MPL-2.0
 """Parse InfluxDB line protocol (as the InfluxDB reference describes it) into
 JSON, one object per line: {"measurement", "tags": {}, "fields": {}, "ts"}.
 Field values keep their type: 12i -> int, 1.5 -> float, true -> bool,

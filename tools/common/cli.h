@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * cli - the command-line code shared by df1read, df1write, df1mon and df1sim
  * (DESIGN.md 8, STYLE.md 7.9): the common options, parsed with getopt_long

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * cli_addr - operand addresses: value i of an operand, address errors (see cli.h).
  */

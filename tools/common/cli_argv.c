@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * cli_argv - cli_parse(): argv through getopt_long, built from the common
  * options the tool accepts and its own; --help, --version (see cli.h).

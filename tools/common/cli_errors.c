@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * cli_errors - exit status and error reports in the catalog format
  * ("[2508] ERR_COMMAND_TIMEOUT: text", see cli.h).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * cli_handle - the handle of a tool: built from the options, opened, closed;
  * -v logging and the -vv frame trace (see cli.h).

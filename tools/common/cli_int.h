@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * cli_int - what the cli_*.c files share and the tools do not see: the table
  * of common options, and helpers one cli file defines for another.

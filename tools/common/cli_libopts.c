@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * cli_libopts - the common options that set df1_set_option(3)'s link and PLC
  * options (see cli.h): their values, words and defaults, applied to a handle

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * cli_net - -N FILE: the network configuration CSV, its issues reported in
  * the catalog format, its values taken for options not given (see cli.h).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * cli_opts - the common options of the tools: their table, defaults, --help,
  * and the parsing of each one (see cli.h).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * cli_signals - every signal that would end a tool, through a self-pipe, so
  * that it ends as SIGINT does (port restored, lock released, the report of what

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * cli_text - JSON and CSV quoting, hex dumps and hex parsing (see cli_text.h).
  * Below both cli and decode: it includes neither.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * cli_text - output text helpers shared by cli and decode (and every tool
  * through cli.h): the output formats, JSON and CSV quoting, hex dumps and hex

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * decode - one decoded DF1 symbol as one line of text (see decode.h).
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * decode - one decoded DF1 symbol as one line of text (plain or JSON), shared by
  * df1mon (--decode, --read, --sniff) and the -vv frame trace of every tool.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * decode_int - what decode.c takes from decode_typedata.c. Not for the tools.
  */

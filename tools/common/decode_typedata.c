@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * decode_typedata - the parts of a command's bytes that say what its data is:
  * the type/data parameter (spec 4.3) of typed commands, PLC-5 system addresses

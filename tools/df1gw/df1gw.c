@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * df1gw - a gateway daemon: one DF1 line's tags (a mapping CSV, polled by the
  * poll engine) kept in an MQTT broker as retained JSON, and writes taken back

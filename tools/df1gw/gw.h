@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw - what df1gw's files share: the daemon's state (struct gw), and the
  * northbound work of gw_pub.c (publishing tags and stations, taking writes

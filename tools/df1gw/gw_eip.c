@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw_eip.c - df1gw --eip: Execute PCCC requests of EtherNet/IP clients
  * forwarded over the DF1 line (gw_eip.h).

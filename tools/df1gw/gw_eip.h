@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw_eip - df1gw's EtherNet/IP side (--eip): the server of the library
  * (df1_eip_server_*) on df1gw's one loop, each Execute PCCC request forwarded

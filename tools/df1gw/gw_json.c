@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw_json - JSON text out and a strict parser in, for df1gw (see gw_json.h).
  */

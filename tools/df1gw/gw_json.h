@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw_json - df1gw's JSON (RFC 8259): a growing text buffer with the writers
  * the payloads need, and a strict small parser for what arrives on

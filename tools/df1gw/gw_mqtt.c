@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw_mqtt - the broker side of df1gw on libmosquitto (see gw_mqtt.h).
  */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw_mqtt - df1gw's broker side on libmosquitto, driven by the daemon's own
  * poll() loop (no libmosquitto thread): the socket and the events it waits

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw_pub - df1gw's northbound work (see gw.h): the retained tag and station
  * topics, published when their content changes; the status topic; writes

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw_state - the last publication of each retained topic (see gw_state.h).
  */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw_state - what df1gw last published on each retained topic (a tag's or a
  * station's), kept by name across reopened lines and reloaded mapping files,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw_url - the broker URL (see gw_url.h).
  */

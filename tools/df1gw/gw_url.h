@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw_url - df1gw's broker URL: mqtt://HOST[:PORT] (1883) or mqtts://HOST[:PORT]
  * (8883, TLS); an IPv6 address in brackets. Pure.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw_value - tag payloads out and .../set values in (see gw_value.h).
  */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw_value - df1gw's payloads of a tag: its state as the JSON of
  * <prefix>/tag/<name>, and the JSON of a .../set message as the values of a

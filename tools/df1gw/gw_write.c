@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw_write - .../set payloads, remembered ids, results (see gw_write.h).
  */

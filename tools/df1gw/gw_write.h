@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw_write - the write side of df1gw, pure parts: a .../set payload taken
  * apart (a bare JSON value, or {"value": ..., "id": ...}), the ring of write

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * df1mon - DF1 diagnostics (DESIGN.md 8).
  *

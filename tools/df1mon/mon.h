@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * mon - what the files of df1mon share: the modes, the state of a run
  * (struct mon), the byte streams the decoding modes feed, and each file's

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * mon_counters - df1mon: the counter table (ID MNEMONIC VALUE) and --counters
  * alone.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * mon_decode - df1mon --decode: frames given as hex, each argument (or each
  * stdin line) decoded on its own, with a fresh decoder.

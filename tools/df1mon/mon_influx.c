@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * mon_influx.c - df1mon --map -f influx: InfluxDB line protocol (see mon_map.h).
  *

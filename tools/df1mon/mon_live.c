@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * mon_live - df1mon: the clocks, waits and stop reasons of the live modes.
  */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * mon_map.c - df1mon --map: the poll engine's live table (see mon_map.h).
  * stdout: data only; stderr: "df1mon: ..." messages.

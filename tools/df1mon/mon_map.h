@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * mon_map - df1mon --map: poll the tags of a mapping CSV with the poll engine
  * and show them (tools/df1mon/mon_map.c). Uses only include/df1.h.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * mon_ping - df1mon --ping: link test and 06/00 echo per probe, round-trip
  * times, a summary.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * mon_read - df1mon --read FILE: a pcap (link type 250, RTAC serial, or any
  * other taken as serial bytes) or a raw byte dump.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * mon_stream - df1mon: one byte stream through a decoder (one direction of a
  * capture, or one --decode chunk); each symbol printed with its time (see mon.h).

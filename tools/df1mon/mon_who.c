@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * mon_who - df1mon --who: station discovery with processor type; with an
  * eip:// device, what EtherNet/IP ListIdentity reports.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * df1sim - a simulated PLC: a DF1 half-duplex slave or full-duplex peer with a
  * data table and fault injection, served on a pseudo-terminal, a serial port

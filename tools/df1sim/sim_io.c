@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * cli_sim.c - the code of a tool that serves (tools/df1sim/sim_io.h): the
  * pseudo-terminal and TCP transports of a simulator, the --log command log,

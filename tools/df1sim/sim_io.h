@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MPL-2.0 */
 /*
  * cli_sim - the code of a tool that serves, beside tools/common/cli.h (df1sim, and
  * any later responder such as a gateway; its signals are cli.h's
