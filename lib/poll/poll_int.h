@@ -59,9 +59,10 @@
  *    answer (since the first attempt if it never answered), checked at each
  *    failed attempt. Every tag of the station becomes BAD (STATION_OFFLINE).
  *    An offline station gets one attempt (its first block, or its probe) every
- *    watchdog_ms / 2. Seed 000 resets its watchdog on every character; here an
- *    answer is a whole transaction (the link layer owns the characters), which
- *    only matters for a station that keeps sending garbage.
+ *    watchdog_ms / 2. The interface of doc/REQUIREMENTS.md 000 resets its
+ *    watchdog on every character; here an answer is a whole transaction (the
+ *    link layer owns the characters), which only matters for a station that
+ *    keeps sending garbage.
  *  - Recovery (the first answer after FAILING or OFFLINE): each tag gets back
  *    the quality it had before the failure, and every block of the station is
  *    read at once, in this scan (doc/REQUIREMENTS.md 000's one-time poll of every point).
