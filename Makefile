@@ -181,7 +181,7 @@ check-exports: $(SHARED)
 lint-man:
 	@sh tests/lint-man.sh
 
-# The layers of DESIGN.md 2 kept: no two files or layers that call each other,
+# The layers of doc/ARCHITECTURE.md 2 kept: no two files or layers that call each other,
 # no bare catalog ID in code (DF1_ID_* names), no source file over 1000 lines.
 CODE_SRCS = $(wildcard include/*.h) $(wildcard lib/*.[ch] lib/*/*.[ch] tools/*.[ch] tools/*/*.[ch])
 lint-code: all

@@ -129,7 +129,7 @@ DF1_API const char *df1_ext_sts_text(uint8_t ext);
 DF1_API const char *df1_ext_sts_text_dh485(uint8_t ext);
 
 /* ------------------------------------------------------------------------
- * Message catalog (seeds/004): IDs, mnemonics, severities, formats.
+ * Message catalog (doc/REQUIREMENTS.md 004): IDs, mnemonics, severities, formats.
  * ------------------------------------------------------------------------ */
 enum df1_severity {
 	DF1_SEV_CRITICAL = 0, /* 2552-2559: configuration, the program does not start */
@@ -264,25 +264,25 @@ enum df1_plc {
 enum df1_option {
 	DF1_OPT_DUPLICATE_DETECT = 1,   /* bool, default 1: drop duplicate messages (SRC, CMD, TNS) */
 	DF1_OPT_EMBEDDED_RESPONSES,     /* bool, default 1: accept DLE ACK/NAK inside a frame */
-	DF1_OPT_HD_BCC_INCLUDES_STX,    /* bool, default 0: half-duplex master BCC also sums STX (spec 2.2) */
-	DF1_OPT_ACCEPT_NAK_0F,          /* bool, default 1: also take DLE 0F as NAK (spec 1.1) */
+	DF1_OPT_HD_BCC_INCLUDES_STX,    /* bool, default 0: half-duplex master BCC also sums STX (doc/PROTOCOL.md 2.2) */
+	DF1_OPT_ACCEPT_NAK_0F,          /* bool, default 1: also take DLE 0F as NAK (doc/PROTOCOL.md 1.1) */
 	DF1_OPT_RS485,                  /* bool, default 0: kernel RS-485 (TIOCSRS485) */
 	DF1_OPT_ECHO_DISCARD,           /* bool, default 0: 2-wire line, drop the echo of our own bytes */
 	DF1_OPT_MAX_PACKET,             /* bytes of data per read/write packet, 0 = per PLC type */
 	DF1_OPT_EOT_WITH_BCC,           /* bool, default 0: tolerate one byte after DLE EOT */
 	DF1_OPT_LOCAL_TCP,              /* bool, df1sim: listen on loopback only (default 1) */
 	/* bool, default 0: PLC-5 typed read/write (0F/68, 0F/67) floats word-swapped, bytes
-	 * [2,3,0,1] as word range 0F/00/01 has them, instead of plain LE (spec 5, 8 item 7) */
+	 * [2,3,0,1] as word range 0F/00/01 has them, instead of plain LE (doc/PROTOCOL.md 5, 8 item 7) */
 	DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED,
 	/* bool, default 0: SLC commands name O/I files by type code 82h/83h (F2E) instead of
-	 * 8Bh/8Ch (spec 4.11, 8 item 10); the responder takes both either way */
+	 * 8Bh/8Ch (doc/PROTOCOL.md 4.11, 8 item 10); the responder takes both either way */
 	DF1_OPT_SLC_IO_CODES_82,
 	/* bool, default 0: listen only (a tap, df1mon --sniff): df1_open() opens the device
 	 * read only (O_RDONLY) and a TCP connection shut for sending (SHUT_WR); nothing is
 	 * ever transmitted (every send is DF1_E_NOTSUP). Set it before df1_open(). @since 0.2 */
 	DF1_OPT_LISTEN_ONLY,
 	/* 3 or 5, default 3: the words of a PLC-5 timer in typed reads (0F/68; KF2 p.130 and
-	 * VME p.81 give 5, the data table holds 3; spec 4.3, 8 item 8). A responder serving a
+	 * VME p.81 give 5, the data table holds 3; doc/PROTOCOL.md 4.3, 8 item 8). A responder serving a
 	 * PLC-5 sends its timers so (5: type/data 59 0A, words 3-4 zero). A client decodes
 	 * T/C/R replies of 3 and of 5 words whatever this says, by their type/data
 	 * descriptor; with 5 it asks for no more timers in a packet than 5-word ones fit.
@@ -290,7 +290,7 @@ enum df1_option {
 	DF1_OPT_PLC5_TIMER_WORDS,
 	/* bool, default 0: PLC-2 commands (01, 08, 05) carry the word offset (the element)
 	 * instead of the byte address 2 * element: the common interface file of an SLC or
-	 * MicroLogix with S:2/8 = 0 (spec 4.7). Client and responder. @since 0.3 */
+	 * MicroLogix with S:2/8 = 0 (doc/PROTOCOL.md 4.7). Client and responder. @since 0.3 */
 	DF1_OPT_PLC2_WORD_ADDR,
 	/* ms, 0..60000, default 0 = automatic: a half-duplex master that gets no first byte
 	 * in answer to a poll within this time polls again (until Cmd_Timeout) instead of
@@ -309,7 +309,7 @@ enum df1_option {
 	 * EOT). @since 0.4 */
 	DF1_OPT_NO_EOT,
 	/* 1..16, default 1: full duplex, the commands that may be outstanding on the line (sent
-	 * and ACKed, their reply not yet in; spec 1.6 rule 6). 1 waits for each reply before
+	 * and ACKed, their reply not yet in; doc/PROTOCOL.md 1.6 rule 6). 1 waits for each reply before
 	 * the next command, as before 0.4; more lets the poll engine send a scan's block reads
 	 * back to back and match the replies by SRC and TNS as they come (df1_poll(3),
 	 * libdf1(7)). Half duplex ignores it (one message per poll). @since 0.4 */
@@ -471,7 +471,7 @@ DF1_API int df1_link_test(df1_t *h, int station);
 /* 0F/80 change mode (SLC 5/03+, MicroLogix): 1 program, 6 run. */
 DF1_API int df1_change_mode(df1_t *h, int station, int mode);
 
-/* Counters of seeds/004 by catalog ID (2525-2551, 2560, 2561). */
+/* Counters of doc/REQUIREMENTS.md 004 by catalog ID (2525-2551, 2560, 2561). */
 DF1_API int df1_counter(const df1_t *h, int id, uint64_t *value);
 DF1_API void df1_counters_reset(df1_t *h);
 /* Active station list: 1 active, 0 inactive. */
@@ -596,7 +596,7 @@ DF1_API int df1_server_set_fault(df1_t *h, enum df1_fault f, int per_mille, int 
 DF1_API void df1_server_set_seed(df1_t *h, uint64_t seed);
 /* Full duplex: the commands the responder accepts and has not answered yet (reply
  * queued or waiting for its ACK), answered in order; a new one beyond that is NAKed,
- * as a controller with full buffers does (spec 1.7). 0 (the default): one reply in
+ * as a controller with full buffers does (doc/PROTOCOL.md 1.7). 0 (the default): one reply in
  * flight, a new command supersedes it. 0..8. @since 0.4 */
 DF1_API int df1_server_set_max_queue(df1_t *h, int max_queue);
 /* Pace transmitted bytes as a line at this baud rate (0 = off). */
@@ -765,7 +765,7 @@ DF1_API int df1_map_load(const char *path, bool strict, df1_tag_row_fn row_fn,
  * the free slots between its transactions) and returns. Per station and file,
  * tags are coalesced into block reads up to the controller's packet limit; a
  * block that fails with an address error is split until the bad tag is alone.
- * Station health follows seeds 000/002/004 (retries, watchdog, offline, slow
+ * Station health follows doc/REQUIREMENTS.md 000/002/004 (retries, watchdog, offline, slow
  * retry, one-time poll on recovery); see df1_poll(3) for the exact rules.
  * Thread rule: df1_tag_write() may be called from any thread; everything else
  * belongs to the thread that runs df1_poll().
@@ -870,13 +870,13 @@ typedef void (*df1_pccc_done_fn)(void *user, int result, const uint8_t *reply, s
 DF1_API int df1_poll_submit_pccc(df1_t *h, int station, const uint8_t *pccc, size_t n,
                                  df1_pccc_done_fn done, void *user);
 
-/* Station health (seed 000): a station goes offline when absolute_retries > 0
+/* Station health (doc/REQUIREMENTS.md 000): a station goes offline when absolute_retries > 0
  * and more than that many attempts in a row failed, or else when watchdog_ms
  * passed since its last answer (at a failed attempt). Offline stations are
  * retried once every watchdog_ms / 2. Defaults 10000 ms, 0.
  * watchdog_ms 0..86400000, absolute_retries 0..1000. */
 DF1_API int df1_poll_set_watchdog(df1_t *h, int watchdog_ms, int absolute_retries);
-/* Station discovery (seed 002): every address lo..hi without tags is polled
+/* Station discovery (doc/REQUIREMENTS.md 002): every address lo..hi without tags is polled
  * too (a link test in half duplex, an empty echo in full duplex): stations that
  * answer are probed once per second, absent ones one address per second in
  * turn. lo = -1 turns it off (default). */
@@ -891,7 +891,7 @@ struct df1_poll_stats {
 	uint64_t reads, read_failures;  /* block reads (retries included) */
 	uint64_t probes, probe_failures;
 	uint64_t writes, write_failures;
-	uint64_t retries;               /* seed 002 retries of a station that answered */
+	uint64_t retries;               /* doc/REQUIREMENTS.md 002 retries of a station that answered */
 	uint64_t splits;                /* blocks split after an address error */
 	unsigned tags, blocks;          /* scan list: tags, block reads per full scan */
 	unsigned stations_offline;
@@ -938,7 +938,7 @@ struct df1_read_req {
 /* Read n addresses of one station in the fewest transactions, without the
  * poll engine: ranges of one file that overlap or touch are one block read, a
  * gap is read through when that saves packets (the packet limits of the
- * handle's PLC type, spec 6; not on a PLC-5, whose packet overhead varies);
+ * handle's PLC type, doc/PROTOCOL.md 6; not on a PLC-5, whose packet overhead varies);
  * bits, T/C/R words and T/C/R bits come out of the elements read; I/O, PLC-5
  * "$" addresses and other sub-elements are read on their own. A block the PLC
  * refuses is read again address by address, so one bad address does not hide
@@ -954,7 +954,7 @@ struct df1_read_req {
 DF1_API int df1_read_multi(df1_t *h, int station, struct df1_read_req *reqs, size_t n,
                            unsigned flags, unsigned *reads);
 /* Data bytes one read or write packet carries for a PLC type, from the
- * library's one packet-limit table (spec 6): SLC 5/03+ and MicroLogix read
+ * library's one packet-limit table (doc/PROTOCOL.md 6): SLC 5/03+ and MicroLogix read
  * 236, write 234; SLC 5/01-5/02 82; PLC-2 244; PLC-5 240 for the whole typed
  * packet, address and type/data included (116 integers after N7:0's address). DF1_OPT_MAX_PACKET does not apply
  * (no handle). Returns the bytes, or DF1_E_INVAL for an unknown type. Pure,

@@ -3,7 +3,7 @@
  * df1_catalog.h - libdf1's message catalog as one X-macro table.
  *
  * Installed next to df1.h, which includes it: include <df1.h>, not this file.
- * Kept apart because it is data (61 rows from seeds/004), not interface.
+ * Kept apart because it is data (61 rows from doc/REQUIREMENTS.md 004), not interface.
  */
 #ifndef LIBDF1_DF1_CATALOG_H
 #define LIBDF1_DF1_CATALOG_H

@@ -14,7 +14,7 @@
 
 #define DF1_LOCAL __attribute__((visibility("hidden")))
 
-/* Counters of seeds/004, indexed by ID - CNT_BASE: the catalog's IDs from
+/* Counters of doc/REQUIREMENTS.md 004, indexed by ID - CNT_BASE: the catalog's IDs from
  * the first counter to the last (2525..2561; 2552-2559 inside that range are
  * configuration messages and never counted). */
 #define CNT_BASE DF1_ID_CNT_MSG_PACKETS_SENT
@@ -33,11 +33,11 @@ struct df1_config {
 	int nak_retries, enq_retries;
 	int tx_delay_ms;
 	bool dup_detect, embedded, hd_bcc_stx, nak_0f, rs485, echo_discard, eot_bcc, local_tcp;
-	bool plc5_float_swapped;     /* PLC-5 typed 0F/68 67 floats word-swapped (spec 5) */
-	bool slc_io_82;              /* SLC O/I file type codes 82/83, not 8B/8C (spec 4.11) */
+	bool plc5_float_swapped;     /* PLC-5 typed 0F/68 67 floats word-swapped (doc/PROTOCOL.md 5) */
+	bool slc_io_82;              /* SLC O/I file type codes 82/83, not 8B/8C (doc/PROTOCOL.md 4.11) */
 	int max_packet;              /* 0 = per PLC type */
 	int plc5_timer_words;        /* 3 or 5: PLC-5 typed-read timers (DF1_OPT_PLC5_TIMER_WORDS) */
-	bool plc2_word_addr;         /* PLC-2 commands address words, not bytes (spec 4.7) */
+	bool plc2_word_addr;         /* PLC-2 commands address words, not bytes (doc/PROTOCOL.md 4.7) */
 	bool listen_only;            /* DF1_OPT_LISTEN_ONLY: open read only, never transmit */
 	bool eip_connected;          /* DF1_OPT_EIP_CONNECTED: eip:// over a Forward Open connection */
 	int line_baud;               /* pace transmitted bytes (simulator); 0 = off */
@@ -77,7 +77,7 @@ struct link_pipe {
 
 /* Last message accepted from a station: duplicate and stale detection. */
 struct station_state {
-	bool active;                 /* active station list (seeds/004); all start active */
+	bool active;                 /* active station list (doc/REQUIREMENTS.md 004); all start active */
 	struct repoll_est reply_latency; /* half-duplex master: when to poll it (repoll.h) */
 	bool have_last;
 	uint8_t last_hdr[6];         /* DST SRC CMD STS TNS TNS of the last accepted message */

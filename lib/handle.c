@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * handle.c - the df1_t handle: allocation and defaults, settings with range
- * checks (seeds/004 network configuration table), open/close over the port
+ * checks (doc/REQUIREMENTS.md 004 network configuration table), open/close over the port
  * backends, last-error detail, counters and the active station list. The
  * internal error, counter and logging helpers are lib/base/base.c's.
  *

@@ -124,7 +124,7 @@ SRC="$T/libdf1-$VERSION"
 mkdir -p "$SRC"
 git ls-files -z --cached --others --exclude-standard | (cd "$SRC" && xargs -0 -I{} sh -c 'mkdir -p "$(dirname "{}")"' ) 2>/dev/null
 git ls-files -z --cached --others --exclude-standard | xargs -0 sh -c 'for f; do [ -e "$f" ] || [ -L "$f" ] && cp -P "$f" "'"$SRC"'/$f"; done' sh
-# ../shared (the spec vectors and captures) sits beside the tree for the tests
+# ../shared (the serial-tap captures) sits beside the tree for the tests
 [ -d ../shared ] && ln -s "$(cd ../shared && pwd)" "$T/shared"
 echo "test-debian: dpkg-buildpackage -us -uc -b (DEB_BUILD_OPTIONS=${DEB_BUILD_OPTIONS:-})"
 start=$(date +%s)

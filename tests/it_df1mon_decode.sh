@@ -3,7 +3,7 @@
 # df1mon offline modes: --read (pcap, raw dump) and --decode (arguments, stdin).
 # Run from the repository root; DF1_BIN is the directory of the built tools.
 # Data: tests/data/serial-tap-*.pcap (copies of the shared captures) and
-# tests/data/vectors.txt (a copy of spec/vectors.txt).
+# tests/data/vectors.txt (doc/PROTOCOL.md 7).
 . tests/lib.sh
 
 MON="$BIN/df1mon"
@@ -191,7 +191,7 @@ while IFS='|' read -r name chk hex desc; do
 		hex2bin "$hex" > "$T/raw.bin"
 		expect 0 "vector $name raw dump" -- "$MON" -q --check "$chk" --read "$T/raw.bin"
 	else
-		# without --duplex the shape tells a poll or a master message (spec 2)
+		# without --duplex the shape tells a poll or a master message (doc/PROTOCOL.md 2)
 		expect 0 "vector $name (auto duplex)" -- "$MON" -q --check "$chk" --decode "$hex"
 		check "vector $name (auto duplex): one symbol" '[ "$(wc -l < "$T/out")" -eq 1 ]'
 		case $name in
@@ -203,8 +203,8 @@ done < "$T/vectors"
 check "all vectors seen" '[ "$nvec" -ge 50 ]'
 
 # ---- the duplex reading without --duplex (auto): a poll or a master message by
-# its shape (spec 2.1: DLE ENQ STN BCC, BCC the two's complement of STN, the STN
-# stuffed; 2.2: DLE SOH STN DLE STX), else the full-duplex DLE ENQ (spec 1.3) ----
+# its shape (doc/PROTOCOL.md 2.1: DLE ENQ STN BCC, BCC the two's complement of STN, the STN
+# stuffed; 2.2: DLE SOH STN DLE STX), else the full-duplex DLE ENQ (doc/PROTOCOL.md 1.3) ----
 expect 0 "auto: poll of station 16, STN stuffed" -- "$MON" --decode "10 05 10 10 F0"
 out_is "auto: poll of station 16" "    1  POLL   BCC ok  stn  16"
 check "auto: poll 16: no noise" 'grep -q "^df1mon: frames 0 (good 0, bad 0), link symbols 1$" "$T/err"'
@@ -276,7 +276,7 @@ expect 0 "error reply" -- "$MON" -f json --decode "10 02 00 01 4F F0 05 00 06 10
 check "error reply texts" 'grep -q "\"sts\":\"F0\",.*\"ext_sts\":\"06\",\"ext_sts_text\":\"address doesn.t point to something usable\"" "$T/out"'
 check "error reply json" 'json_ok "$T/out"'
 
-# PLC-5 word range floats are word-swapped (spec 5: 1.5 is C0 3F 00 00); typed
+# PLC-5 word range floats are word-swapped (doc/PROTOCOL.md 5: 1.5 is C0 3F 00 00); typed
 # write takes the type from its type/data parameter (94 08 = float, 4 bytes)
 expect 0 "word range read \$F8:0 and reply" -- "$MON" --decode \
 	"10 02 01 00 0F 00 09 00 01 00 00 02 00 00 24 46 38 3A 30 00 04 10 03 D4" \
@@ -298,7 +298,7 @@ expect 0 "AB T4:3/DN := 0 and 26 bit 3 := 1" -- "$MON" -f json --decode \
 check "AB: T4:3/DN = 0" 'sed -n 1p "$T/out" | grep -q "\"address\":\"T4:3/DN\",\"size\":2,\"values\":\[0\]"'
 check "26: file 7:0/3 = 1" 'sed -n 2p "$T/out" | grep -q "\"address\":\"file 7:0/3\",\"values\":\[1\]"'
 
-# DH-485 EXT STS 1A/1B: the owner's node follows (spec 3.4)
+# DH-485 EXT STS 1A/1B: the owner's node follows (doc/PROTOCOL.md 3.4)
 expect 0 "EXT STS 1A with owner" -- "$MON" --decode "10 02 00 01 4B F0 05 00 1A 07 10 03 9E"
 check "owner shown" 'grep -q "sts F0 ext 1A owner 7  error: .*EXT STS 1A: file open by another node (owner: node 7)$" "$T/out"'
 expect 0 "EXT STS 1B with owner, json" -- "$MON" -f json --decode "10 02 00 01 4B F0 05 00 1B 03 10 03 A1"

@@ -207,7 +207,7 @@ EN=1 TT=0 DN=1 PRE=500 ACC=42
 	same "$tr: wide gap: 2 commands" "$(sent)" 2
 
 	# 30 scattered words N7:0 N7:8 ... N7:232 span 233 words = 466 bytes: two
-	# 236-byte packets (spec 6), where one read per address would be 30
+	# 236-byte packets (doc/PROTOCOL.md 6), where one read per address would be 30
 	scat=$(i=0; while [ $i -lt 30 ]; do printf 'N7:%d ' $((i * 8)); i=$((i + 1)); done)
 	before=$(logged "$L")
 	expect 0 "$tr: 30 scattered" -- "$R" -d "$D" -v $scat
@@ -360,7 +360,7 @@ fi
 sim_stop
 
 # ---- PLC-2 commands (01 read, 08 write, 05 bit write): word offsets into the
-# SLC's common interface file N9 (spec 4.7), which --data creates ----
+# SLC's common interface file N9 (doc/PROTOCOL.md 4.7), which --data creates ----
 printf 'N9:0=10,-20,30,0x0101\n' > "$T/n9.data"
 sim_start plc2 --data "$T/n9.data"
 expect 0 "plc2: read N9 words through 01" -- "$R" -d "$SIM_DEV" --plc plc2 N7:0,4

@@ -4,7 +4,7 @@
 # one df1sim (duplicate detection on, its default), full and half duplex. Run 1's
 # write is accepted (ACKed) but its reply is held back (--delay), and run 1 is
 # stopped before the reply comes. Run 2's first command, another write, has the
-# same SRC, CMD and TNS: df1sim ACKs and discards it as a duplicate (spec 1.7,
+# same SRC, CMD and TNS: df1sim ACKs and discards it as a duplicate (doc/PROTOCOL.md 1.7,
 # KA p.117/118). The reply df1sim still holds is run 1's: sent to run 2, it made
 # run 2 report a write that never ran (exit 0). Run 2 must time out (exit 1,
 # unconfirmed), and the table must show run 1's write and not run 2's.

@@ -1,6 +1,6 @@
 #!/bin/sh
 # SPDX-License-Identifier: MPL-2.0
-# The link and PLC settings where the spec leaves a doubt (spec 8), end to end:
+# The link and PLC settings where the spec leaves a doubt (doc/PROTOCOL.md 8), end to end:
 # df1read/df1write against df1sim over pseudo-terminals, each side set to either
 # reading. Both readings work when the two sides agree; when they do not, the
 # user sees what the man pages say: a BCC error (df1sim's [2507]) and no data for
@@ -86,7 +86,7 @@ if sim_start tdef --plc plc5 --data "$T/data"; then
 	sim_stop
 fi
 
-# ---- the half-duplex master BCC: STN + data (spec 2.2's reading), or STX too ----
+# ---- the half-duplex master BCC: STN + data (doc/PROTOCOL.md 2.2's reading), or STX too ----
 for bcc in stn stx; do
 	sim_start "hd$bcc" --duplex half --check bcc --hd-bcc "$bcc" --data "$T/data" -v || continue
 	expect 0 "--hd-bcc $bcc: read" -- "$R" -d "$SIM_DEV" --duplex half --check bcc --hd-bcc "$bcc" N7:5
@@ -105,7 +105,7 @@ for bcc in stn stx; do
 		grep -q '\[2507\] ERR_BAD_BCC' "$T/hd$bcc.err"
 	sim_stop
 done
-# the spec 7.3 master message: A8 is STN + data, A6 would include STX
+# the doc/PROTOCOL.md 7.3 master message: A8 is STN + data, A6 would include STX
 FR="10 01 01 10 02 01 00 0F 00 01 00 A2 14 07 89 00 00 10 03"
 expect 0 "decode A8 as stn" -- "$M" --decode --check bcc "$FR A8"
 check "decode A8 as stn: BCC ok" "grep -q 'BCC ok' '$T/out'"
@@ -119,7 +119,7 @@ check "DLE 0F is NAK: shown" "grep -q ' NAK' '$T/out'"
 expect 1 "--nak-0f no" -- "$M" --decode --nak-0f no "10 0F"
 check "--nak-0f no: 2514" "grep -q '2514' '$T/out'"
 
-# ---- PLC-5 typed floats: plain (spec 5's recommendation) or word-swapped ----
+# ---- PLC-5 typed floats: plain (doc/PROTOCOL.md 5's recommendation) or word-swapped ----
 if sim_start fsw --plc plc5 --plc5-float swapped --data "$T/data"; then
 	expect 0 "swapped PLC, plain reader" -- "$R" -d "$SIM_DEV" --plc plc5 F8:3
 	out_is "swapped PLC, plain reader: what the user sees" "2.2421e-41"
@@ -149,7 +149,7 @@ if sim_start fpl --plc plc5 --data "$T/data"; then
 fi
 
 # ---- PLC-2 addresses: bytes (2 x element) or words (the element) ----
-# MicroLogix: the common interface file is N7 (spec 4.7)
+# MicroLogix: the common interface file is N7 (doc/PROTOCOL.md 4.7)
 for unit in bytes words; do
 	sim_start "p2$unit" --plc micrologix --plc2-addr "$unit" --data "$T/data" --log "$T/p2$unit.log" || continue
 	D=$SIM_DEV

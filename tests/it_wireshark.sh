@@ -4,8 +4,8 @@
 #
 # Independent expectations: df1mon --read of the same file (field by field, by
 # tests/wireshark_helper.py compare), the spec's vectors (frames built by the
-# helper from spec/vectors.txt and from the CRC/BCC rules of spec 1.4/1.5), and
-# the facts of the shared captures' README. Files:
+# helper from tests/data/vectors.txt and from the CRC/BCC rules of doc/PROTOCOL.md 1.4/1.5), and
+# the facts of the captures (doc/PROTOCOL.md 7.2). Files:
 #   - both captures in $DF1_SHARED/captures;
 #   - the spec's vectors as RTAC-serial records (BCC, CRC, half duplex);
 #   - a built capture: a frame split over three records (inside its DLE
@@ -92,7 +92,7 @@ if [ -f "$C1" ] && [ -f "$C0" ]; then
 	same "402 ENQ" "$(grep -c '^ENQ$' "$T/sym")" 402
 	fields "$C1" df1.check df1.check_ok -- -Y "df1.symbol == \"FRAME\"" > "$T/chk"
 	same "every frame BCC, good" "$(sort -u "$T/chk")" "$(printf 'BCC\t1')"
-	# spec 7.2 vectors 14 and 17: the first and the last frame of the file
+	# doc/PROTOCOL.md 7.2 vectors 14 and 17: the first and the last frame of the file
 	fields "$C1" df1.tns df1.cmd df1.fnc df1.addr df1.value -- -Y 'df1.symbol == "FRAME"' > "$T/fr"
 	same "first frame: AA write N7:5 = 0x3449" "$(head -1 "$T/fr")" "$(printf '0x3901\t0x0f\t0xaa\tN7:5\t13385')"
 	same "last frame: A2 read N7:1" "$(tail -1 "$T/fr")" "$(printf '0x41d5\t0x0f\t0xa2\tN7:1\t')"
@@ -115,7 +115,7 @@ else
 fi
 
 # ---------------------------------------------------------------- the spec's vectors
-V="$SHARED/spec/vectors.txt"
+V=tests/data/vectors.txt
 grep -v '^#' "$V" | awk -F' [|] ' '$2 == "bcc" && $3 !~ /^10 0[15]/ { print "rx:" $3 }' \
 	| python3 $H pcap "$T/vbcc.pcap" -
 grep -v '^#' "$V" | awk -F' [|] ' '$2 == "crc" && $3 !~ /^10 01/ { print "tx:" $3 }' \
@@ -126,7 +126,7 @@ same_as_df1mon "BCC vectors" "$T/vbcc.pcap"
 same_as_df1mon "CRC vectors" "$T/vcrc.pcap"
 same_as_df1mon "half-duplex vectors" "$T/vhd.pcap"
 fields "$T/vcrc.pcap" df1.tns df1.addr df1.size df1.value -- -Y 'df1.tns == 0x0004' > "$T/f8"
-same "F8:0 read and its reply = 1.5 (spec 7.3)" "$(cat "$T/f8")" "$(printf '0x0004\tF8:0\t4\t\n0x0004\tF8:0\t4\t1.5')"
+same "F8:0 read and its reply = 1.5 (doc/PROTOCOL.md 7.3)" "$(cat "$T/f8")" "$(printf '0x0004\tF8:0\t4\t\n0x0004\tF8:0\t4\t1.5')"
 fields "$T/vcrc.pcap" df1.addr df1.value -- -Y 'df1.tns == 0x0006 && df1.reply == 1' > "$T/p5"
 same "PLC-5 typed read reply 0..9" "$(cat "$T/p5")" "$(printf 'file 7:0\t0,1,2,3,4,5,6,7,8,9')"
 fields "$T/vcrc.pcap" df1.addr -- -Y 'df1.tns == 0x0007' > "$T/asc"
@@ -144,7 +144,7 @@ check "master messages with STN" 'grep -q "^FRAME	1	1\$" "$T/hd" && grep -q "^FR
 
 # ---------------------------------------------------------------- a built capture
 # Records (r: the PLC's side, t: the host's). The CRC frames come from the
-# helper's own CRC (spec 1.5); the split one is spec 7.3's DLE-stuffing vector.
+# helper's own CRC (doc/PROTOCOL.md 1.5); the split one is doc/PROTOCOL.md 7.3's DLE-stuffing vector.
 python3 $H pcap "$T/built.pcap" \
 	"tx:10 02 01 00 0F 00 10" "tx:10 10 10 A2 02 07 89 10" "tx:10 00 10 03 A2 29" \
 	"rx:10 06" \

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
- * mock_port - a scripted struct port_ops for link-level tests (STYLE.md 7.10:
+ * mock_port - a scripted struct port_ops for link-level tests (doc/HACKING.md 7.10:
  * the link is mocked at the transport vtable, never at read(2)).
  *
  * Reads come from a queue of scripted entries:

@@ -3,8 +3,8 @@
  * test_addr.c - addresses: parse, format, round trips, file type tables.
  *
  * Expected fields come from the controllers' notation (SLC / MicroLogix / PLC-5
- * programming manuals as summarised in spec/protocol.md 4.11 and 5) and the
- * address rules of seeds/004, written out by hand, not computed by the module.
+ * programming manuals as summarised in doc/PROTOCOL.md 4.11 and 5) and the
+ * address rules of doc/REQUIREMENTS.md 004, written out by hand, not computed by the module.
  * Random tests: DF1_TEST_SEED=<n> replays a run; the seed is printed on failure.
  */
 #include <setjmp.h>
@@ -130,7 +130,7 @@ static const struct valid_case valid_cases[] = {
 
 struct invalid_case {
 	const char *text;
-	int id;         /* the seed catalog ID the rejection reports (seeds/004) */
+	int id;         /* the seed catalog ID the rejection reports (doc/REQUIREMENTS.md 004) */
 };
 
 #define SYN 2503        /* ERR_ADDRESS_SYNTAX */
@@ -153,7 +153,7 @@ static const struct invalid_case invalid_cases[] = {
 	{ " N7:0", SYN },
 	{ "N7:0 ", SYN },
 	{ "N 7:0", SYN },
-	{ "N7;0", SYN },  /* seeds/004 prints ';' but the controllers use ':' */
+	{ "N7;0", SYN },  /* doc/REQUIREMENTS.md 004 prints ';' but the controllers use ':' */
 	{ "X7:0", SYN },
 	{ "NN7:0", SYN },
 	{ "D9:0", SYN },  /* BCD: not a libdf1 file type */
@@ -291,7 +291,7 @@ static void test_addr_parse_invalid_table_gives_code(void **state)
 static void test_addr_error_codes_map_to_catalog(void **state)
 {
 	(void)state;
-	/* 2503 ERR_ADDRESS_SYNTAX, 2504 ERR_ADDRESS_RANGE (seeds/004) */
+	/* 2503 ERR_ADDRESS_SYNTAX, 2504 ERR_ADDRESS_RANGE (doc/REQUIREMENTS.md 004) */
 	assert_int_equal(df1_error_catalog_id(DF1_E_ADDR_SYNTAX), 2503);
 	assert_int_equal(df1_error_catalog_id(DF1_E_ADDR_RANGE), 2504);
 }
@@ -364,7 +364,7 @@ static void test_addr_file_type_tables_match_spec(void **state)
 		int size;
 		int slc;
 	} want[] = {
-		/* element bytes and SLC codes: spec/protocol.md 4.11 (O 8B, I 8C recommended) */
+		/* element bytes and SLC codes: doc/PROTOCOL.md 4.11 (O 8B, I 8C recommended) */
 		{ DF1_FT_O, "O", 2, 0x8B }, { DF1_FT_I, "I", 2, 0x8C }, { DF1_FT_S, "S", 2, 0x84 },
 		{ DF1_FT_B, "B", 2, 0x85 }, { DF1_FT_T, "T", 6, 0x86 }, { DF1_FT_C, "C", 6, 0x87 },
 		{ DF1_FT_R, "R", 6, 0x88 }, { DF1_FT_N, "N", 2, 0x89 }, { DF1_FT_F, "F", 4, 0x8A },

@@ -14,7 +14,7 @@
  * link errors) or from a small simulated data table (SLC A2/AA/AB, PLC-5
  * 68/67/26, PLC-2 01/08/05, echo, change mode).
  *
- * Frames are compared with spec/vectors.txt: the recorded app bytes are framed
+ * Frames are compared with tests/data/vectors.txt: the recorded app bytes are framed
  * with frame_encode_full() and must equal the vector's wire bytes exactly (the
  * test sets h->next_tns to the vector's TNS).
  */
@@ -451,7 +451,7 @@ static void assert_cmd(size_t i, const char *hex)
 	assert_memory_equal(cmds[i].b, want, n);
 }
 
-/* Command i framed with check must be exactly the wire frame of a spec/vectors.txt line. */
+/* Command i framed with check must be exactly the wire frame of a tests/data/vectors.txt line. */
 static void assert_wire(size_t i, enum df1_check check, const char *hex)
 {
 	uint8_t want[FRAME_MAX_WIRE], got[FRAME_MAX_WIRE];
@@ -476,7 +476,7 @@ static void fill_words(unsigned file, size_t n)
 }
 
 /* ------------------------------------------------------------------------
- * SLC: exact commands (spec 7.3 vectors)
+ * SLC: exact commands (doc/PROTOCOL.md 7.3 vectors)
  * ------------------------------------------------------------------------ */
 
 static void test_client_slc_read_n7_vector(void **state)
@@ -910,9 +910,9 @@ static void test_client_raw(void **state)
 	assert_int_equal(df1_read_raw(h, 1, "N7:2", r, 3), DF1_E_INVAL);
 }
 
-/* O and I files: type codes 8B/8C (spec 4.11 recommendation), 82/83 with
+/* O and I files: type codes 8B/8C (doc/PROTOCOL.md 4.11 recommendation), 82/83 with
  * DF1_OPT_SLC_IO_CODES_82 (F2E p.47). Frames checked with an independent
- * CRC-16/ARC and BCC computation (the spec 7.5 rules). */
+ * CRC-16/ARC and BCC computation (the doc/PROTOCOL.md 7.5 rules). */
 static void test_client_slc_io_codes_8b_default_82_option(void **state)
 {
 	df1_t *h = *state;
@@ -1041,15 +1041,15 @@ static void test_client_plc5_rmw_bits_vector(void **state)
 	assert_cmd(3, "01 00 0F 00 00 00 26 0E 04 01 00 FF FF 00 20");
 }
 
-/* PLC-5 typed-read T/C/R elements of 5 words (KF2 p.130, VME p.81; spec 4.3).
- * The type/data flag byte (spec 4.3): bits 7-4 the type ID, bits 3-0 the size;
+/* PLC-5 typed-read T/C/R elements of 5 words (KF2 p.130, VME p.81; doc/PROTOCOL.md 4.3).
+ * The type/data flag byte (doc/PROTOCOL.md 4.3): bits 7-4 the type ID, bits 3-0 the size;
  * size field 1001b = one size byte follows. So a 10-byte timer (ID 5) is
  * 0101 1001 = 59, then 0A; a counter (ID 6) 69 0A, a control (ID 7) 79 0A.
  * An array of n of them: 99 09 LL 59 0A with LL = 2 + 10n (the descriptor's
  * two bytes and the data). Words 0-2 are CTL, PRE/LEN, ACC/POS; words 3-4 are
  * set to 1234h 5678h here to show they are ignored. Commands: T4:1 = logical
- * binary 06 04 01 (spec 4.1), PKT_OFFSET TOTAL_TRANS SIZE LE; the wire frames'
- * BCC and CRC worked out with spec 7.5's rules. */
+ * binary 06 04 01 (doc/PROTOCOL.md 4.1), PKT_OFFSET TOTAL_TRANS SIZE LE; the wire frames'
+ * BCC and CRC worked out with doc/PROTOCOL.md 7.5's rules. */
 static void test_client_plc5_tcr_5_words_vector(void **state)
 {
 	df1_t *h = *state;
@@ -1125,7 +1125,7 @@ static void test_client_plc5_tcr_5_words_vector(void **state)
 	assert_non_null(strstr(df1_last_error(h)->message, "8 bytes, expected 6 or 10"));
 }
 
-/* A PLC-5 cuts a typed-read reply to 240 bytes (spec 6): 38 timers asked after
+/* A PLC-5 cuts a typed-read reply to 240 bytes (doc/PROTOCOL.md 6): 38 timers asked after
  * T4:0's 3-byte address, 23 five-word timers come (3 + 5 + 230 = 238; 24: 248):
  * the client takes them and asks for the other 15 at PKT_OFFSET 23 (17h),
  * TOTAL_TRANS 38 (26h). A reply of fewer that is not full is refused. */
@@ -1193,14 +1193,14 @@ static void test_client_plc5_timer_5_words_full_reply(void **state)
 }
 
 /* ------------------------------------------------------------------------
- * Packet boundaries (spec 6): for every PLC type and file type, the largest
+ * Packet boundaries (doc/PROTOCOL.md 6): for every PLC type and file type, the largest
  * count goes in one packet and one more in two. The counts are worked out
  * here from the spec's rules, not taken from the library:
  *   SLC 5/03+ and MicroLogix: A2 read data <= 236, AA write data <= 234;
  *   SLC 5/01-5/02: 82 both ways; PLC-2: 01 SIZE <= 244, 08 data <= 244;
  *   PLC-5 typed read reply / typed write: address + type/data + data <= 240.
- *     Address (spec 4.1): N7:0 = 06 07 00 (3 bytes), N7:300 = 06 07 FF 2C 01
- *     (5), N300:0 = 06 FF 2C 01 00 (5). Type/data of an array (spec 4.3):
+ *     Address (doc/PROTOCOL.md 4.1): N7:0 = 06 07 00 (3 bytes), N7:300 = 06 07 FF 2C 01
+ *     (5), N300:0 = 06 FF 2C 01 00 (5). Type/data of an array (doc/PROTOCOL.md 4.3):
  *     99 09 LL (3 bytes: the array size LL = descriptor + data <= 255) + the
  *     element descriptor: 42 integer, 44 long, 56 timer, 66 counter, 76
  *     control (1 byte), 94 08 float (2 bytes).
@@ -1302,7 +1302,7 @@ static void test_client_plc5_split_300(void **state)
 	fill_words(7, 300);
 	assert_int_equal(df1_read_int16(h, 1, "N7:0", v, 300), 300);
 	/* 3 address + 4 type/data (99 09 E9 42) + 2 * 116 = 239 <= 240: 116 per
-	 * packet (spec 6), offsets in elements */
+	 * packet (doc/PROTOCOL.md 6), offsets in elements */
 	assert_int_equal(ncmds, 3);
 	assert_cmd(0, "01 00 0F 00 00 00 68 00 00 2C 01 06 07 00 74 00");
 	assert_cmd(1, "01 00 0F 00 00 00 68 74 00 2C 01 06 07 00 74 00");
@@ -1333,7 +1333,7 @@ static void test_client_plc5_float_and_timer(void **state)
 	plc5_ftype[8] = 'F';
 	plc5_ftype[4] = 'T';
 	assert_int_equal(df1_write_float(h, 1, "F8:0", f, 2), 2);
-	/* plain LE floats after 94 08 (spec 5) */
+	/* plain LE floats after 94 08 (doc/PROTOCOL.md 5) */
 	assert_cmd(0, "01 00 0F 00 00 00 67 00 00 02 00 06 08 00 99 09 0A 94 08 00 00 C0 3F 00 00 00 C0");
 	assert_int_equal(df1_read_float(h, 1, "F8:0", r, 2), 2);
 	assert_true(r[0] == 1.5f && r[1] == -2.0f);
@@ -1353,7 +1353,7 @@ static void test_client_plc5_float_and_timer(void **state)
 	assert_int_equal(df1_read_int16(h, 1, "N7:0", w, 2), DF1_E_BAD_REPLY);
 }
 
-/* PLC-5 typed floats: plain LE by default (spec 5: 1.5 = 00 00 C0 3F),
+/* PLC-5 typed floats: plain LE by default (doc/PROTOCOL.md 5: 1.5 = 00 00 C0 3F),
  * word-swapped C0 3F 00 00 with DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED. */
 static void test_client_plc5_typed_float_swapped_option(void **state)
 {
@@ -1490,9 +1490,9 @@ static void test_client_plc2_ke_vectors(void **state)
 	}
 }
 
-/* DF1_OPT_PLC2_WORD_ADDR (spec 4.7: the common interface file of an SLC or a
+/* DF1_OPT_PLC2_WORD_ADDR (doc/PROTOCOL.md 4.7: the common interface file of an SLC or a
  * MicroLogix with S:2/8 = 0 takes the word offset): the KE vectors with word
- * 20 = 0014h where the byte address was 0028h (frames' BCC/CRC per spec 7.5);
+ * 20 = 0014h where the byte address was 0028h (frames' BCC/CRC per doc/PROTOCOL.md 7.5);
  * SIZE stays in bytes; N7:5 is address 0005h, not 000Ah; the 05 bit write,
  * whose blocks address bytes, is refused before anything is sent. */
 static void test_client_plc2_word_addresses(void **state)

@@ -3,7 +3,7 @@
  * test_config.c - network and mapping CSV files (lib/config/config_csv.c, config_net.c, config_map.c).
  *
  * Expected ranges, defaults, catalog IDs and message texts are those of
- * seeds/004 (network configuration table, catalog 2501-2504 and 2552-2559),
+ * doc/REQUIREMENTS.md 004 (network configuration table, catalog 2501-2504 and 2552-2559),
  * written out here by hand. Data files: tests/data/ (DF1_TEST_DATA overrides the
  * directory), examples/ (DF1_EXAMPLES); other cases are written to temp files.
  *
@@ -195,7 +195,7 @@ static void assert_tag_addr(const struct df1_tag_config *t, const char *canonica
 
 static void assert_seed_defaults(const struct df1_net_config *c)
 {
-	/* seeds/004 network configuration table */
+	/* doc/REQUIREMENTS.md 004 network configuration table */
 	assert_int_equal(c->station, 5);
 	assert_int_equal(c->mode, DF1_MODE_MASTER);
 	assert_int_equal(c->plc, DF1_PLC_PLC5);

@@ -7,9 +7,9 @@
  * known settings (raw, 9600 baud), starts `df1mon --sniff -d SLAVE -w FILE`,
  * waits until df1mon has put the port at 19200 (its tcsetattr shows through
  * our own slave descriptor: the ready signal, no sleeps), writes frames of
- * spec/protocol.md 7 into the master (one split across two writes), waits for
+ * doc/PROTOCOL.md 7 into the master (one split across two writes), waits for
  * the decoded lines, stops df1mon with SIGINT and checks:
- *   - exit 0 and one line per symbol, decoded as spec 7.3 says;
+ *   - exit 0 and one line per symbol, decoded as doc/PROTOCOL.md 7.3 says;
  *   - the slave's settings are back at 9600 (termios restored on a signal);
  *   - the pcap: libpcap header, link type 250, 12-byte RTAC headers (BE time
  *     equal to the record's time, event DATA_RX_END), payloads = the bytes

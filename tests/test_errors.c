@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
- * test_errors - error codes, the seeds/004 message catalog, STS / EXT STS texts.
- * The expected catalog below was written from seeds/004's tables (IDs,
+ * test_errors - error codes, the doc/REQUIREMENTS.md 004 message catalog, STS / EXT STS texts.
+ * The expected catalog below was written from doc/REQUIREMENTS.md 004's tables (IDs,
  * mnemonics as spelled there, message texts) and the STS texts from
- * spec/protocol.md 3.2-3.4, independently of lib/errors.c.
+ * doc/PROTOCOL.md 3.2-3.4, independently of lib/errors.c.
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -96,7 +96,7 @@ struct cat_expect {
 	const char *format;   /* NULL for counters */
 };
 
-/* seeds/004: errors 2501-2511, notices 2512-2524, counters 2525-2551,
+/* doc/REQUIREMENTS.md 004: errors 2501-2511, notices 2512-2524, counters 2525-2551,
  * critical 2552-2559, character counters 2560-2561. */
 static const struct cat_expect cat[] = {
 	{ 2501, "ERR_BAD_STATION", "Item: %d, Invalid station number (%d) must be less than %d" },
@@ -278,7 +278,7 @@ static bool known(const char *t)
 	return t && strcmp(t, "unknown status") != 0;
 }
 
-/* Every code of spec/protocol.md 3.2-3.4 (M p.8-2..8-5) with its text, typed in
+/* Every code of doc/PROTOCOL.md 3.2-3.4 (M p.8-2..8-5) with its text, typed in
  * from the spec. ASCII stands in for the spec's typography: an em dash is " - ",
  * "passthru" is "pass-through", an arrow is "to". */
 struct code_expect {

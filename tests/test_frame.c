@@ -284,7 +284,7 @@ static bool is_message(const struct vec *v)
 	return v->kind == V_FRAME || v->kind == V_MASTER;
 }
 
-/* Bitwise CRC-16/ARC exactly as spec 7.5 describes it. */
+/* Bitwise CRC-16/ARC exactly as doc/PROTOCOL.md 7.5 describes it. */
 static uint16_t ref_crc(uint16_t crc, const uint8_t *p, size_t n)
 {
 	for (size_t i = 0; i < n; i++) {
@@ -1167,9 +1167,9 @@ static void test_frame_public_decoder(void **state)
 	df1_decoder_free(d);
 }
 
-/* df1_decoder_set_option: the master message of spec 7.3 to station 1 ends in
+/* df1_decoder_set_option: the master message of doc/PROTOCOL.md 7.3 to station 1 ends in
  * A8 (BCC over STN + data, derived-hd-master-A2-stn1) and would end in A6 with
- * STX summed too (spec 2.2, [UNCERTAIN]); each reading takes its own and
+ * STX summed too (doc/PROTOCOL.md 2.2, [UNCERTAIN]); each reading takes its own and
  * reports the other as a bad BCC. DLE 0F, embedded responses, the EOT trailer
  * follow their options; others are refused. */
 static void test_frame_public_decoder_options(void **state)
@@ -1236,8 +1236,8 @@ static void test_frame_public_decoder_options(void **state)
 	df1_decoder_free(d);
 }
 
-/* Auto duplex (spec 2.1 poll DLE ENQ STN BCC, BCC = two's complement of STN,
- * STN 10h stuffed; spec 1.3 full-duplex DLE ENQ): the same symbols whatever the
+/* Auto duplex (doc/PROTOCOL.md 2.1 poll DLE ENQ STN BCC, BCC = two's complement of STN,
+ * STN 10h stuffed; doc/PROTOCOL.md 1.3 full-duplex DLE ENQ): the same symbols whatever the
  * pieces the bytes come in. */
 static void expect_auto(const uint8_t *in, size_t n, const enum df1_sym *kinds, size_t nk,
                         int station)

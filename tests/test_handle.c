@@ -127,7 +127,7 @@ static void test_handle_new_free_null(void **state)
  * a microsecond clock taken modulo 65536), each a new process as a tool run
  * is: the first TNS values must spread as chance spreads 16-bit values, not
  * cluster where the previous run started. A DF1 node's duplicate detection
- * drops a command with the TNS of the last one it took (spec 1.7), so a run
+ * drops a command with the TNS of the last one it took (doc/PROTOCOL.md 1.7), so a run
  * that starts with the previous run's TNS loses its first command. */
 #define TNS_RUNS 30
 #define TNS_NEAR 1024           /* "near": within 1024 either side */

@@ -460,7 +460,7 @@ static void test_it_o_i_s_a_words(void **state)
 	}
 }
 
-/* DF1_OPT_SLC_IO_CODES_82: O and I named 82/83 (spec 4.11) reach the same
+/* DF1_OPT_SLC_IO_CODES_82: O and I named 82/83 (doc/PROTOCOL.md 4.11) reach the same
  * files of df1sim as 8B/8C: written with one, read back with the other. */
 static void test_it_slc_io_codes_82(void **state)
 {

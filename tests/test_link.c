@@ -6,7 +6,7 @@
  * counters by seed ID, fault injection; and master <-> responder pairs where
  * the responder is a second handle run by the mock while the master waits.
  *
- * Frames on the wire are checked byte for byte against spec/vectors.txt where
+ * Frames on the wire are checked byte for byte against tests/data/vectors.txt where
  * a vector exists (TNS 0001, DST 01, SRC 00).
  */
 #include <stdarg.h>
@@ -25,7 +25,7 @@
 
 /* SLC 0F/A2 read N7:0, 20 bytes, to station 1 (TNS filled in by the link) */
 static const char *A2_CMD = "01 00 0F 00 00 00 A2 14 07 89 00 00";
-/* spec/vectors.txt derived-slc-A2-read-N7:0-20B, TNS 0001 */
+/* tests/data/vectors.txt derived-slc-A2-read-N7:0-20B, TNS 0001 */
 static const char *A2_FD_CRC = "10 02 01 00 0F 00 01 00 A2 14 07 89 00 00 10 03 60 46";
 static const char *A2_FD_BCC = "10 02 01 00 0F 00 01 00 A2 14 07 89 00 00 10 03 A9";
 /* derived-hd-master-A2-stn1 */
@@ -520,7 +520,7 @@ static void test_full_reply_dst_not_compared(void **state)
 	struct df1 *h = *state;
 	uint8_t out[300];
 
-	/* behind a 1770-KF2 the reply's DST is the KF2's node (spec 1.9) */
+	/* behind a 1770-KF2 the reply's DST is the KF2's node (doc/PROTOCOL.md 1.9) */
 	mock_port_feed(ACK, 2);
 	feed_reply(DF1_CHECK_CRC, 0x0A, 1, 0x4F, 0, 1);
 	assert_int_equal(transact_a2(h, out, sizeof out), 26);
@@ -572,7 +572,7 @@ static void test_full_embedded_ack_inside_reply(void **state)
 	uint8_t out[300], wire[FRAME_MAX_WIRE], emb[FRAME_MAX_WIRE];
 	size_t n = reply_wire(DF1_CHECK_CRC, 1, wire);
 
-	/* DLE ACK after the 5th data byte (spec 1.8), no ACK before the frame */
+	/* DLE ACK after the 5th data byte (doc/PROTOCOL.md 1.8), no ACK before the frame */
 	memcpy(emb, wire, 7);
 	memcpy(emb + 7, ACK, 2);
 	memcpy(emb + 9, wire + 7, n - 7);
@@ -590,7 +590,7 @@ static void test_full_noise_inside_frame_nak_then_good(void **state)
 	size_t n = reply_wire(DF1_CHECK_CRC, 1, wire);
 
 	mock_port_feed(ACK, 2);
-	/* a control symbol inside the frame: aborted, NAK (spec 1.7, KA p.118) */
+	/* a control symbol inside the frame: aborted, NAK (doc/PROTOCOL.md 1.7, KA p.118) */
 	mock_port_feed(wire, 8);
 	mock_port_feed_hex("10 99");
 	mock_port_feed(wire + 8, n - 8); /* the rest: noise + a stray DLE ETX */
@@ -1086,7 +1086,7 @@ static void test_hd_cmd_timeout_sends_nak(void **state)
 	assert_true(df1_now_ms() - t0 >= 80);
 	nw = mock_port_writes();
 	assert_true(nw >= 4);
-	assert_write_bytes(nw - 1, NAK, 2); /* "to terminate processing" (seeds/004 2545) */
+	assert_write_bytes(nw - 1, NAK, 2); /* "to terminate processing" (doc/REQUIREMENTS.md 004 2545) */
 	assert_int_equal(cnt(h, 2545), 1);
 	assert_int_equal(cnt(h, 2533), 1);
 	assert_int_equal(cnt(h, 2538), cnt(h, 2531));
@@ -1154,7 +1154,7 @@ static void test_hd_bad_check_reply_repolled(void **state)
 }
 
 /* A poll answered with neither DLE EOT nor a frame: 2516 with the symbol
- * byte (seeds/004 NTC_EOT_STX_EXPECTED), and polling goes on. */
+ * byte (doc/REQUIREMENTS.md 004 NTC_EOT_STX_EXPECTED), and polling goes on. */
 static void test_hd_poll_answer_not_eot_or_stx_2516(void **state)
 {
 	struct df1 *h = *state;
@@ -1231,7 +1231,7 @@ static void timed_hd_slave_hook(const uint8_t *buf, size_t n, void *user)
 	hd_slave_hook(buf, n, user);
 }
 
-/* TX_Delay before EVERY transmission (seeds/004 "DF1 and TX_Delay"): master
+/* TX_Delay before EVERY transmission (doc/REQUIREMENTS.md 004 "DF1 and TX_Delay"): master
  * message, each poll, the ACK of the reply; each write comes at least TX_Delay
  * after the answer to the previous one was read (the mock answers at once). */
 static void test_hd_tx_delay_before_each_write(void **state)
@@ -1701,7 +1701,7 @@ static void test_slave_bcc_options(void **state)
 	h->cfg.check = DF1_CHECK_BCC;
 	mock_port_feed_hex(A2_HD_BCC);
 	assert_int_equal(serve_script(h), 1);
-	/* the other reading of spec 2.2: STX in the sum */
+	/* the other reading of doc/PROTOCOL.md 2.2: STX in the sum */
 	h->cfg.hd_bcc_stx = true;
 	mock_port_feed_hex("10 01 01 10 02 01 00 0F 00 02 00 A2 14 07 89 00 00 10 03 A5");
 	assert_int_equal(serve_script(h), 1);

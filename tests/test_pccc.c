@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_pccc.c - PCCC encoders/decoders and df1_msg_decode against the byte
- * vectors of spec/protocol.md 7 and spec/vectors.txt (app bytes between DLE STX
+ * vectors of doc/PROTOCOL.md 7 and tests/data/vectors.txt (app bytes between DLE STX
  * and DLE ETX, de-stuffed), and the manual's examples (M p.123-124, p.227).
  */
 #include <setjmp.h>
@@ -63,7 +63,7 @@ static struct df1_addr mk_addr(enum df1_file_type t, int file, int elem, int sub
 }
 
 /* ------------------------------------------------------------------------
- * SLC commands (spec 4.5, 4.6; vectors 7.2, 7.3)
+ * SLC commands (doc/PROTOCOL.md 4.5, 4.6; vectors 7.2, 7.3)
  * ------------------------------------------------------------------------ */
 
 static void test_pccc_slc_a2_read_matches_vectors(void **state)
@@ -129,7 +129,7 @@ static void test_pccc_slc_ab_masked_write_matches_vector(void **state)
 	/* B3:0/5 := 1 */
 	assert_bytes(out, pccc_enc_slc_masked_write(out, sizeof out, &h, 3, 0x85, 0, 0, mask, data, 2),
 	             "01 00 0F 00 03 00 AB 02 03 85 00 00 20 00 20 00");
-	/* AHMI's clear of S2:5 minor fault bits (spec 4.6): AB 02 02 84 05 00 FF FC 00 00 */
+	/* AHMI's clear of S2:5 minor fault bits (doc/PROTOCOL.md 4.6): AB 02 02 84 05 00 FF FC 00 00 */
 	assert_bytes(out, pccc_enc_slc_masked_write(out, sizeof out, &h, 2, 0x84, 5, 0, s2mask, s2data, 2),
 	             "01 00 0F 00 03 00 AB 02 02 84 05 00 FF FC 00 00");
 }
@@ -214,7 +214,7 @@ static void test_pccc_slc_codes_map_to_file_types(void **state)
 }
 
 /* ------------------------------------------------------------------------
- * PLC-5 addresses (spec 4.1, M p.226-229)
+ * PLC-5 addresses (doc/PROTOCOL.md 4.1, M p.226-229)
  * ------------------------------------------------------------------------ */
 
 static void test_pccc_plc5_addr_forms_match_manual(void **state)
@@ -368,7 +368,7 @@ static void test_pccc_plc5_addr_ascii_decodes_and_parses(void **state)
 }
 
 /* ------------------------------------------------------------------------
- * PLC-5 commands (spec 4.2-4.4; KE p.50-51; 7.3)
+ * PLC-5 commands (doc/PROTOCOL.md 4.2-4.4; KE p.50-51; 7.3)
  * ------------------------------------------------------------------------ */
 
 static void test_pccc_plc5_typed_read_matches_vectors(void **state)
@@ -506,7 +506,7 @@ static void test_pccc_dec_plc5_req_reads_command_bodies(void **state)
 }
 
 /* ------------------------------------------------------------------------
- * PLC-2, diagnostics, mode (spec 4.7-4.9)
+ * PLC-2, diagnostics, mode (doc/PROTOCOL.md 4.7-4.9)
  * ------------------------------------------------------------------------ */
 
 static void test_pccc_plc2_matches_manual_vectors(void **state)
@@ -547,7 +547,7 @@ static void test_pccc_diag_echo_mode_match_vectors(void **state)
 }
 
 /* ------------------------------------------------------------------------
- * Header / reply decoding (spec 3)
+ * Header / reply decoding (doc/PROTOCOL.md 3)
  * ------------------------------------------------------------------------ */
 
 static void test_pccc_decode_replies_from_vectors(void **state)
@@ -623,13 +623,13 @@ static void test_pccc_decode_ext_sts_rules(void **state)
 	struct pccc_msg m;
 	(void)state;
 
-	/* CMD 00-08 have no EXT STS byte (spec 3.2) */
+	/* CMD 00-08 have no EXT STS byte (doc/PROTOCOL.md 3.2) */
 	n = hex("00 01 41 F0 05 00 06", b, sizeof b);
 	assert_int_equal(pccc_decode(b, n, &m), 0);
 	assert_false(m.has_ext);
 	assert_int_equal(m.len, 1);
 
-	/* DH-485 0B/1A/1B: EXT 1A/1B is followed by the owner node (spec 3.4) */
+	/* DH-485 0B/1A/1B: EXT 1A/1B is followed by the owner node (doc/PROTOCOL.md 3.4) */
 	n = hex("00 01 4B F0 05 00 1A 07", b, sizeof b);
 	assert_int_equal(pccc_decode(b, n, &m), 0);
 	assert_true(m.has_ext);
@@ -787,7 +787,7 @@ static void test_pccc_typedata_encodes_shortest(void **state)
 	assert_bytes(out, pccc_enc_typedata(out, sizeof out, 0x123, 0x10000), "AB 23 01 00 00 01");
 	assert_int_equal(pccc_enc_typedata(out, 1, PCCC_TD_FLOAT, 4), DF1_E_NOSPACE);
 
-	/* arrays: the size always in extension bytes, as in the spec 7.3 vectors */
+	/* arrays: the size always in extension bytes, as in the doc/PROTOCOL.md 7.3 vectors */
 	assert_bytes(out, pccc_enc_typed_array(out, sizeof out, PCCC_TD_INTEGER, 2, 10), "99 09 15 42");
 	assert_bytes(out, pccc_enc_typed_array(out, sizeof out, PCCC_TD_INTEGER, 2, 3), "99 09 07 42");
 	assert_bytes(out, pccc_enc_typed_array(out, sizeof out, PCCC_TD_FLOAT, 4, 2), "99 09 0A 94 08");
@@ -801,7 +801,7 @@ static void test_pccc_typedata_encodes_shortest(void **state)
 }
 
 /* T/C/R elements of 5 words as a typed reply brings them: one element, or an
- * array whose descriptor is 59 0A / 69 0A / 79 0A (spec 4.3 flag byte rules). */
+ * array whose descriptor is 59 0A / 69 0A / 79 0A (doc/PROTOCOL.md 4.3 flag byte rules). */
 static void test_pccc_typed_tcr_5_words(void **state)
 {
 	uint8_t b[64];
@@ -888,7 +888,7 @@ static void test_pccc_typed_arrays_from_manual_and_vector(void **state)
 }
 
 /* ------------------------------------------------------------------------
- * Diagnostic status (spec 4.9)
+ * Diagnostic status (doc/PROTOCOL.md 4.9)
  * ------------------------------------------------------------------------ */
 
 static void test_pccc_diag_status_slc_form(void **state)
@@ -1020,7 +1020,7 @@ static void test_pccc_command_names(void **state)
 }
 
 /* ------------------------------------------------------------------------
- * Every message frame of tests/data/vectors.txt (a copy of spec/vectors.txt):
+ * Every message frame of tests/data/vectors.txt (doc/PROTOCOL.md 7):
  * its fields decoded, then the message re-encoded from those fields with the
  * encoder of its command and framed again, byte for byte the vector's wire bytes.
  * ------------------------------------------------------------------------ */
@@ -1215,7 +1215,7 @@ static void test_pccc_vectors_reencoded_from_their_fields(void **state)
 		assert_memory_equal(frame, wire, nw);
 	}
 	fclose(f);
-	/* spec/vectors.txt: 38 command frames and 12 replies */
+	/* tests/data/vectors.txt: 38 command frames and 12 replies */
 	assert_true(commands >= 38);
 	assert_true(replies >= 12);
 }

@@ -192,7 +192,7 @@ static void test_plan_packet_limits(void **state)
 	assert_int_equal(poll_plan(it, 100, POLL_TX_OVERHEAD_FULL, b, 100), 2);
 	assert_int_equal(b[0].count, 59);
 	/* PLC-5 timers: 3 address + 4 type/data + 6 * 38 = 235 <= 240 (39: 241),
-	 * 38 per read (spec 6) */
+	 * 38 per read (doc/PROTOCOL.md 6) */
 	for (int i = 0; i < 40; i++)
 		it[i] = item(1, DF1_PLC_PLC5, DF1_FT_T, 4, i, 1, i);
 	assert_int_equal(poll_plan(it, 40, POLL_TX_OVERHEAD_FULL, b, 40), 2);
@@ -744,9 +744,9 @@ static void test_coalesce_slc502_limit(void **state)
 	assert_int_equal(tagst(f->h, 59).value.v.i16, 59);
 }
 
-/* PLC-5 typed reads (spec 6: address + type/data + data <= 240 bytes: 58
+/* PLC-5 typed reads (doc/PROTOCOL.md 6: address + type/data + data <= 240 bytes: 58
  * floats, 38 timers, 116 integers after a 3-byte address, see test_client's
- * boundaries) and stations in address order (seed 002),
+ * boundaries) and stations in address order (doc/REQUIREMENTS.md 002),
  * whatever order the tags were added in: df1sim's frame log. */
 static void test_coalesce_plc5_station_order(void **state)
 {
@@ -898,7 +898,7 @@ static void test_bad_tag_isolated(void **state)
 	assert_int_equal(tagst(f->h, idbad).quality, DF1_QUALITY_BAD);
 }
 
-/* Station 2 silenced, offline, retried slowly, restored (seeds 000, 002, 004). */
+/* Station 2 silenced, offline, retried slowly, restored (doc/REQUIREMENTS.md 000, 002, 004). */
 static void test_station_silenced_and_restored(void **state)
 {
 	struct fix *f = *state;
@@ -931,7 +931,7 @@ static void test_station_silenced_and_restored(void **state)
 	POLL_UNTIL(f, 10000, sth(f->h, 2).attempts > a.attempts, "an attempt at station 2");
 	b = sth(f->h, 2);
 	p1 = pstats(f->h);
-	/* it answered last scan: the attempt and two retries (seed 002) */
+	/* it answered last scan: the attempt and two retries (doc/REQUIREMENTS.md 002) */
 	assert_int_equal(b.attempts - a.attempts, 3);
 	assert_int_equal(p1.retries - p0.retries, 2);
 	assert_int_equal(b.state, DF1_STATION_FAILING);

@@ -1,12 +1,12 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_poll_pccc - df1_pccc_is_write() over the command list of
- * spec/protocol.md 4, and df1_poll_submit_pccc() against df1sim as a separate
+ * doc/PROTOCOL.md 4, and df1_poll_submit_pccc() against df1sim as a separate
  * process (tests/simproc.c) over a pseudo-terminal:
  *  - the argument checks, and the bounded queue (DF1_E_BUSY at
  *    DF1_PCCC_QUEUE_MAX waiting commands);
  *  - a diagnostic status (06/03) comes back with the requester's TNS, CMD 46,
- *    STS 00, and the processor type df1sim was given (spec 4.9: SLC 5/04 5B);
+ *    STS 00, and the processor type df1sim was given (doc/PROTOCOL.md 4.9: SLC 5/04 5B);
  *  - a raw SLC write (0F/AA) is executed once (df1sim --log) and reads back;
  *  - an error reply (a read of a file df1sim does not have) is passed through
  *    with its STS F0 and EXT STS as the controller sent them, result 0;
@@ -39,7 +39,7 @@ static int64_t now_ms(void)
 }
 
 /* ------------------------------------------------------------------------
- * The classifier (pure), with spec/protocol.md 4's command list
+ * The classifier (pure), with doc/PROTOCOL.md 4's command list
  * ------------------------------------------------------------------------ */
 
 static bool is_write(uint8_t cmd, int fnc)
@@ -229,7 +229,7 @@ static void test_diag_status_raw(void **state)
 	assert_int_equal(dn[0].reply[1], 0x00);
 	assert_int_equal(dn[0].reply[2], 0x34);
 	assert_int_equal(dn[0].reply[3], 0x12);
-	/* spec 4.9: SLC 5/03+ replies EE at data byte 1, the type at byte 3 */
+	/* doc/PROTOCOL.md 4.9: SLC 5/03+ replies EE at data byte 1, the type at byte 3 */
 	assert_int_equal(dn[0].reply[4 + 1], 0xEE);
 	assert_int_equal(dn[0].reply[4 + 3], 0x5B);
 	assert_int_equal(simproc_log_wait(&f->sim, "cmd=06/03", NULL, 1, 5000), 1);

@@ -4,7 +4,7 @@
  * (pure), the argument checks, and reads against df1sim as a separate process
  * (tests/simproc.c) over a pseudo-terminal, transactions counted in df1sim's
  * --log (one line per command it answered). Expectations come from the spec's
- * packet limits (spec/protocol.md 6: SLC 5/03+ 236 data bytes a read = 118
+ * packet limits (doc/PROTOCOL.md 6: SLC 5/03+ 236 data bytes a read = 118
  * words, SLC 5/01-5/02 82 bytes = 41 words) and df1sim's documented initial
  * data table (df1sim(1): N n = n, F n = n + 0.5, T/C PRE 100, 256 elements a
  * file), not from the library's own tables.
@@ -114,7 +114,7 @@ static void test_plan_packets_whole_elements(void **state)
 	assert_int_equal(poll_block_packets(&b[0], it), 2);
 }
 
-/* The table as spec/protocol.md 6 gives it. */
+/* The table as doc/PROTOCOL.md 6 gives it. */
 static void test_packet_max(void **state)
 {
 	(void)state;
@@ -136,7 +136,7 @@ static void test_packet_max(void **state)
  * Arguments (no I/O)
  * ------------------------------------------------------------------------ */
 
-/* Elements per packet, each command at its limit and one past it (spec 6,
+/* Elements per packet, each command at its limit and one past it (doc/PROTOCOL.md 6,
  * worked out as in test_client's boundaries): SLC A2 236 / AA 234 data bytes,
  * SLC 5/02 82, PLC-2 244; PLC-5 typed address + 99 09 LL + descriptor + data
  * <= 240, the address 3 bytes for N7:0 (06 07 00), 5 for N7:300, 7 for the
@@ -471,13 +471,13 @@ static void test_slc502_limit(void **state)
 	assert_int_equal(log_count(f, NULL), 3);
 }
 
-/* PLC-5 typed packets (spec 6: address + type/data + data <= 240 bytes; spec
- * 4.1 address N7:0 = 06 07 00, N7:300 = 06 07 FF 2C 01; spec 4.3 type/data
+/* PLC-5 typed packets (doc/PROTOCOL.md 6: address + type/data + data <= 240 bytes; doc/PROTOCOL.md
+ * 4.1 address N7:0 = 06 07 00, N7:300 = 06 07 FF 2C 01; doc/PROTOCOL.md 4.3 type/data
  * 99 09 LL + descriptor 42 / 44 / 56 / 66 / 76 (1 byte) or 94 08 (float)):
  * the largest count goes in one 0F/68 or 0F/67, one more in two, counted
  * in df1sim's frame log; the values read are df1sim's initial ones. */
 /* PLC-5 timers in the 5-word form of KF2 p.130 (df1sim's default for --plc plc5:
- * type/data 99 09 LL 59 0A, spec 4.3): 3 + 5 + 10 * 23 = 238 <= 240, 24: 248.
+ * type/data 99 09 LL 59 0A, doc/PROTOCOL.md 4.3): 3 + 5 + 10 * 23 = 238 <= 240, 24: 248.
  * A client told so (DF1_OPT_PLC5_TIMER_WORDS 5) asks for 23 and 24 goes in two; one
  * that plans 3-word timers asks for 38, takes the full reply of 23 and asks for the
  * other 15; either way every member is df1sim's, counted in its frame log. */

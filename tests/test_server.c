@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_server - the responder's command handling (lib/server/server.c): command app
- * bytes from spec/vectors.txt (derived SLC/PLC-5 vectors, KE PLC-2 and word
+ * bytes from tests/data/vectors.txt (derived SLC/PLC-5 vectors, KE PLC-2 and word
  * range vectors) go through server_handle() with a small in-test data table;
  * replies are checked byte for byte where the spec has them, and the data
  * table's contents after writes.
@@ -336,7 +336,7 @@ static void test_server_slc_errors(void **state)
 }
 
 /* O and I: 8B/8C (M p.104) and 82/83 (F2E p.47) both name the file, with or
- * without DF1_OPT_SLC_IO_CODES_82 on the serving handle (spec 4.11). */
+ * without DF1_OPT_SLC_IO_CODES_82 on the serving handle (doc/PROTOCOL.md 4.11). */
 static void test_server_slc_io_codes_82_83_and_8b_8c(void **state)
 {
 	(void)state;
@@ -409,7 +409,7 @@ static void test_server_plc5_typed_read_types(void **state)
 	expect_reply("01 00 0F 00 05 00 68 00 00 01 00 06 0C 01 01 00",
 	             "00 01 4F 00 05 00 99 09 05 44 01 00 01 00");
 	/* more than one reply holds: as many whole elements as fit, the command's
-	 * address (06 0A 00: 3 bytes) + type/data + data <= 240 (spec 6):
+	 * address (06 0A 00: 3 bytes) + type/data + data <= 240 (doc/PROTOCOL.md 6):
 	 * 3 + 4 (99 09 E9 42) + 2 * 116 = 239; 117 would be 241 */
 	n = run("01 00 0F 00 06 00 68 00 00 C8 00 06 0A 00 C8 00", r, sizeof r);
 	assert_int_equal(r[3], 0);
@@ -497,7 +497,7 @@ static void test_server_plc5_typed_float_swapped(void **state)
 {
 	(void)state;
 	handle.cfg.plc = DF1_PLC_PLC5;
-	/* default: plain LE (spec 5 recommendation) */
+	/* default: plain LE (doc/PROTOCOL.md 5 recommendation) */
 	expect_reply("01 00 0F 00 01 00 68 00 00 02 00 06 08 00 02 00",
 	             "00 01 4F 00 01 00 99 09 0A 94 08 00 00 C0 3F 00 00 20 40");
 	handle.cfg.plc5_float_swapped = true;
@@ -530,7 +530,7 @@ static void test_server_plc5_typed_float_swapped(void **state)
 }
 
 /* A handle serving a PLC-5 with DF1_OPT_PLC5_TIMER_WORDS 5: typed-read timers go
- * as the 5 words of KF2 p.130 (spec 4.3): type/data 99 09 LL 59 0A, LL = 2 + 10n
+ * as the 5 words of KF2 p.130 (doc/PROTOCOL.md 4.3): type/data 99 09 LL 59 0A, LL = 2 + 10n
  * (flag 59: type 5, one size byte 0A follows), words 0-2 from the data table,
  * words 3-4 zero; sub-elements stay integers, counters stay 3 words; the reply
  * limit counts 10 bytes a timer; writes take 3- and 5-word elements either way. */
@@ -673,7 +673,7 @@ static void test_server_plc2_ke_vectors(void **state)
 	expect_status("29 20 01 00 49 01 00 00 02", 0x80, -1);
 }
 
-/* DF1_OPT_PLC2_WORD_ADDR (spec 4.7: an SLC or MicroLogix common interface file
+/* DF1_OPT_PLC2_WORD_ADDR (doc/PROTOCOL.md 4.7: an SLC or MicroLogix common interface file
  * with S:2/8 = 0): the address is the word offset, SIZE still bytes. The KE
  * vectors' byte address 28h is word 14h here; odd word offsets are fine; 05's
  * byte blocks have no meaning with word addresses: STS 10. */

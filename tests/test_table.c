@@ -3,9 +3,9 @@
  * test_table - the data table (lib/table/table.c, lib/table/table_file.c,
  * lib/table/table_serve.c; df1_table(3)). Expectations come from the documents, not
  * from the code: initial contents from df1sim(1) DATA TABLE, the wire layout
- * from spec/protocol.md 5 (LE words and floats, ST as LEN + byte-swapped
+ * from doc/PROTOCOL.md 5 (LE words and floats, ST as LEN + byte-swapped
  * characters), EXT STS codes from M p.8-4 as lib/server/server.h lists them, the
- * masked write rule of spec 4.6, the diagnostic status layouts of spec 4.9
+ * masked write rule of doc/PROTOCOL.md 4.6, the diagnostic status layouts of doc/PROTOCOL.md 4.9
  * (M p.174 EE form, M p.192-193 EB form), and the spec's SLC vectors for
  * commands served through server_handle().
  */
@@ -206,7 +206,7 @@ static void test_table_wire_layout_spec_5(void **state)
 	assert_int_equal(b[1], 0x00);
 	assert_int_equal(b[2], 0x01);
 	assert_int_equal(b[3], 0x00);
-	/* "ABC" -> 03 00 42 41 00 43 (spec 5) */
+	/* "ABC" -> 03 00 42 41 00 43 (doc/PROTOCOL.md 5) */
 	snprintf(v.v.str.text, sizeof v.v.str.text, "ABC");
 	v.v.str.len = 3;
 	assert_int_equal(df1_table_write(t, "ST9:0", &v, 1), 1);
@@ -328,7 +328,7 @@ static void test_table_sub_element_of_consecutive_elements(void **state)
 	assert_int_equal(got[1].v.tcr.acc, 8);
 	assert_int_equal(got[2].v.tcr.acc, 0);
 	assert_int_equal(got[0].v.tcr.pre, 100);        /* PRE untouched */
-	/* named control bit: DN is bit 13 of word 0 (spec 5) */
+	/* named control bit: DN is bit 13 of word 0 (doc/PROTOCOL.md 5) */
 	got[0].kind = DF1_VAL_BIT;
 	got[0].v.bit = true;
 	assert_int_equal(df1_table_write(t, "T4:2/DN", got, 1), 1);
@@ -447,7 +447,7 @@ static void test_table_ops_masked_write_rule(void **state)
 	uint8_t b[2];
 
 	(void)state;
-	/* spec 4.6: the masked bits take the data's, the others stay (FFFF, mask FCFF, data 0 -> 0300) */
+	/* doc/PROTOCOL.md 4.6: the masked bits take the data's, the others stay (FFFF, mask FCFF, data 0 -> 0300) */
 	assert_int_equal(df1_table_write(t, "N7:2", &v, 1), 1);
 	assert_int_equal(ops->write(t, 1, &a, data, mask, 2), 0);
 	assert_int_equal(ops->read(t, 1, &a, b, 2), 0);
@@ -606,7 +606,7 @@ static void test_table_diag_status_micrologix(void **state)
 	uint8_t b[64];
 
 	(void)state;
-	/* default MicroLogix 1400 (9Fh, spec 4.9 AHMI list); interface type 34 (M p.177) */
+	/* default MicroLogix 1400 (9Fh, doc/PROTOCOL.md 4.9 AHMI list); interface type 34 (M p.177) */
 	assert_int_equal(df1_table_server_ops(t)->diag_status(t, 1, b, sizeof b), 24);
 	assert_int_equal(b[2], 0x34);
 	assert_int_equal(b[3], 0x9F);

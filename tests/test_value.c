@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
- * test_value.c - wire encodings of values (spec/protocol.md 5) and the public
+ * test_value.c - wire encodings of values (doc/PROTOCOL.md 5) and the public
  * text helpers: df1_value_format, df1_value_parse, df1_tcr_bit,
  * df1_addr_value_kind, df1_values_decode.
  */
@@ -39,7 +39,7 @@ static struct df1_addr mk(enum df1_file_type t, int file, int elem, int sub, int
 
 static void test_value_float_le_and_word_swapped(void **state)
 {
-	/* 1.5 = 3FC00000h: LE 00 00 C0 3F; PLC-5 word range C0 3F 00 00 (spec 5) */
+	/* 1.5 = 3FC00000h: LE 00 00 C0 3F; PLC-5 word range C0 3F 00 00 (doc/PROTOCOL.md 5) */
 	static const uint8_t le[] = { 0x00, 0x00, 0xC0, 0x3F }, sw[] = { 0xC0, 0x3F, 0x00, 0x00 };
 	/* -2.25 = C0100000h; 1.0e-3 = 3A83126Fh */
 	static const uint8_t le2[] = { 0x6F, 0x12, 0x83, 0x3A }, sw2[] = { 0x83, 0x3A, 0x6F, 0x12 };
@@ -66,7 +66,7 @@ static void test_value_string_pairs_swapped(void **state)
 	char text[100];
 	(void)state;
 
-	/* "ABC" -> 03 00 42 41 00 43 00 ... (spec 5) */
+	/* "ABC" -> 03 00 42 41 00 43 00 ... (doc/PROTOCOL.md 5) */
 	memset(want, 0, sizeof want);
 	want[0] = 0x03;
 	want[2] = 0x42;
@@ -186,7 +186,7 @@ struct bit_case {
 	int bit;
 };
 
-/* RM001 p.29-30; R per spec 5 */
+/* RM001 p.29-30; R per doc/PROTOCOL.md 5 */
 static const struct bit_case all_bits[] = {
 	{ DF1_FT_T, "EN", 15 }, { DF1_FT_T, "TT", 14 }, { DF1_FT_T, "DN", 13 },
 	{ DF1_FT_C, "CU", 15 }, { DF1_FT_C, "CD", 14 }, { DF1_FT_C, "DN", 13 },

@@ -198,7 +198,7 @@ def compare(mon_path, ts_path):
 
 
 def crc16(data):
-    """CRC-16/ARC (spec/protocol.md 1.5), computed bit by bit."""
+    """CRC-16/ARC (doc/PROTOCOL.md 1.5), computed bit by bit."""
     crc = 0
     for b in data:
         crc ^= b

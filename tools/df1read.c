@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * df1read - read data-table values from a DF1 controller, for shell scripts
- * (DESIGN.md 8, df1read(1)).
+ * (doc/ARCHITECTURE.md 8, df1read(1)).
  *
  *   df1read [OPTIONS] ADDRESS[,COUNT]...
  *

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * df1write - write data-table values to a DF1 controller, for shell scripts
- * (DESIGN.md 8, df1write(1)).
+ * (doc/ARCHITECTURE.md 8, df1write(1)).
  *
  *   df1write [OPTIONS] ADDRESS=VALUE[,VALUE...]...
  *

@@ -6,7 +6,7 @@
 -- chosen in the preferences (off by default). The bytes of each direction are
 -- one stream: symbols and frames split over several records are reassembled and
 -- shown on the record that completes them. Decoding follows libdf1's
--- spec/protocol.md and prints what `df1mon --read` prints: the decoder below
+-- doc/PROTOCOL.md and prints what `df1mon --read` prints: the decoder below
 -- mirrors lib/proto/frame.c (DLE stuffing, BCC/CRC auto-detection, duplex
 -- auto-detection), the message decoding mirrors tools/common/decode.c.
 --
@@ -27,7 +27,7 @@ local DECODE_CMDS = 64                   -- tools/common/decode.h
 local RTAC_HDR = 12
 local WTAP_RTAC_SERIAL = wtap_encaps and wtap_encaps.RTAC_SERIAL or 153
 
--- catalog IDs of the decoder's errors (seeds/004)
+-- catalog IDs of the decoder's errors (doc/REQUIREMENTS.md 004)
 local ID_ERR_BAD_BCC, ID_TOO_LONG, ID_TOO_SHORT, ID_INVALID_SYMBOL, ID_NO_ETX =
 	2507, 2512, 2513, 2514, 2518
 local ID_NAMES = {
@@ -37,7 +37,7 @@ local ID_NAMES = {
 
 local band, bor, bxor, rshift, lshift = bit32.band, bit32.bor, bit32.bxor, bit32.rshift, bit32.lshift
 
--- CRC-16/ARC, reflected 8005h (A001h), init 0 (spec 1.5)
+-- CRC-16/ARC, reflected 8005h (A001h), init 0 (doc/PROTOCOL.md 1.5)
 local CRC_TABLE = {}
 for i = 0, 255 do
 	local c = i
@@ -339,7 +339,7 @@ local function get_field(s, i)
 	return le16(s, i + 1), 3
 end
 
--- PLC-5 system address at offset i (spec 4.1): addr, length | nil, error.
+-- PLC-5 system address at offset i (doc/PROTOCOL.md 4.1): addr, length | nil, error.
 local function plc5_addr(s, i)
 	if i >= #s then return nil, "too short" end
 	if u8(s, i) == 0 then
@@ -371,7 +371,7 @@ local function plc5_addr(s, i)
 	return { file = lv[1], element = lv[2], sub = band(mask, 8) ~= 0 and lv[3] or nil }, pos - i
 end
 
--- Type/data parameter (spec 4.3): type id, size, length | nil.
+-- Type/data parameter (doc/PROTOCOL.md 4.3): type id, size, length | nil.
 local function typedata(s, i)
 	if i >= #s then return nil end
 	local flag = u8(s, i)
@@ -627,7 +627,7 @@ local function view_values(v, ft, s, i, n)
 	v.values = vals
 end
 
--- PLC-5 word range data: a float goes high-order word first (spec 5).
+-- PLC-5 word range data: a float goes high-order word first (doc/PROTOCOL.md 5).
 local function view_word_range(v, ft, s, i, n)
 	if ft == "F" and n >= 4 and n % 4 == 0 then
 		local t = {}
@@ -706,7 +706,7 @@ local function view_command_data(v, m, s)
 end
 
 -- The diagnostic status (06/03) reply: processor type, series, revision, mode
--- (spec 4.9; lib/proto/pccc_diag.c), or nil.
+-- (doc/PROTOCOL.md 4.9; lib/proto/pccc_diag.c), or nil.
 local PROCESSORS = {
 	[0x13] = "PLC-5/12", [0x14] = "PLC-5/25", [0x15] = "PLC-5/40", [0x18] = "SLC 5/01",
 	[0x1A] = "SLC 500 (fixed)", [0x21] = "PLC-5/60", [0x22] = "PLC-5/10", [0x23] = "PLC-5/60",
@@ -1006,7 +1006,7 @@ function Decoder:data_dle(sym, b, o)
 		return false
 	end
 	if b == ACK or is_nak(b) then
-		-- embedded response (spec 1.8): out of band, the frame goes on
+		-- embedded response (doc/PROTOCOL.md 1.8): out of band, the frame goes on
 		sym.kind, sym.embedded, sym.s, sym.e = b == ACK and "ACK" or "NAK", true, o - 1, o
 		self.state = ST.DATA
 		return true
@@ -1201,7 +1201,7 @@ df1.prefs.duplex = Pref.enum("Duplex", 0,
 	"Auto: DLE ENQ followed by STN and its BCC is a half-duplex poll, else the full-duplex ENQ",
 	{ { 1, "Auto", 0 }, { 2, "Full duplex", 1 }, { 3, "Half duplex", 2 } }, false)
 df1.prefs.bcc_stx = Pref.bool("Half-duplex master BCC includes STX", false,
-	"The manual's text sums STN and data only (spec/protocol.md 2.2); some devices add STX")
+	"The manual's text sums STN and data only (doc/PROTOCOL.md 2.2); some devices add STX")
 
 local CHECKS = { [0] = "auto", [1] = "bcc", [2] = "crc" }
 local DUPLEX = { [0] = "auto", [1] = "full", [2] = "half" }
@@ -1252,7 +1252,7 @@ local function analyse(st, sym)
 		local m = v.m
 		if not m.is_reply then
 			local last = st.last_cmds[m.src]
-			-- the same SRC, CMD and TNS again: the receiver ACKs and discards it (spec 1.7)
+			-- the same SRC, CMD and TNS again: the receiver ACKs and discards it (doc/PROTOCOL.md 1.7)
 			if last and last.cmd == m.cmd and last.tns == m.tns then
 				sym.duplicate_of = last.sym
 			else

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
- * base.c - the handle's last-error detail, its counters (seeds/004 IDs
+ * base.c - the handle's last-error detail, its counters (doc/REQUIREMENTS.md 004 IDs
  * 2525-2561) and catalog logging, for every layer above (lib/base/base.h).
  * The public getters (df1_last_error, df1_counter) are lib/handle.c's.
  */

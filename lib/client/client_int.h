@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * client_int.h - the client's internals, shared by the files of lib/client
- * (DESIGN.md 3): the master side, df1_read / df1_write and friends.
+ * (doc/ARCHITECTURE.md 3): the master side, df1_read / df1_write and friends.
  * address + values -> PCCC command(s) -> link_transact -> reply -> values.
  * Not installed.
  *
@@ -16,33 +16,33 @@
  *   diag.c        any PCCC command, diagnostic status, echo, link test, change mode
  *   read_multi.c  df1_read_multi()
  *
- * The PLC type (h->cfg.plc) picks the command set (spec/protocol.md 4):
+ * The PLC type (h->cfg.plc) picks the command set (doc/PROTOCOL.md 4):
  *
  *   SLC 5/03+, MicroLogix, SLC 5/01-5/02:
  *     read 0F/A2, write 0F/AA (three address fields: file, type, element, sub);
  *     bit writes 0F/AB (mask + data: only the masked bits change). O and I go
- *     as type codes 8B/8C (spec 4.11), or 82/83 with DF1_OPT_SLC_IO_CODES_82
- *     [SRC-CONFLICT, spec 8 item 10].
+ *     as type codes 8B/8C (doc/PROTOCOL.md 4.11), or 82/83 with DF1_OPT_SLC_IO_CODES_82
+ *     [SRC-CONFLICT, doc/PROTOCOL.md 8 item 10].
  *   PLC-5:
  *     read 0F/68, write 0F/67 (typed, counts in elements) with a logical binary
  *     address (06 file element, 0E with a sub-element) or, for "$N7:0", the
  *     logical ASCII form; bit writes 0F/26 read-modify-write
  *     (set: AND FFFF OR bit; clear: AND ~bit OR 0000). Typed writes send an
- *     array (99 09 LL desc data, as RTA and the spec 7.3 vectors); a reply may
+ *     array (99 09 LL desc data, as RTA and the doc/PROTOCOL.md 7.3 vectors); a reply may
  *     be an array or a single element. Strings (ST) go one per packet as a
  *     string parameter and the characters in text order (39 LEN chars, RTA).
  *     T/C/R replies are decoded by their type/data descriptor: 3 words (the data
  *     table's, 56 66 76) or 5 (KF2 p.130 "timer elements return five words", VME
  *     p.81: 59 0A), words 0-2 CTL, PRE/LEN, ACC/POS, the rest ignored
- *     [UNCERTAIN, spec 8 item 8]; any other size is DF1_E_BAD_REPLY. A reply of
+ *     [UNCERTAIN, doc/PROTOCOL.md 8 item 8]; any other size is DF1_E_BAD_REPLY. A reply of
  *     5-word elements that holds fewer than asked is taken when it is full (the
  *     PLC cut it to 240 bytes), and the next packets ask for that many;
  *     DF1_OPT_PLC5_TIMER_WORDS 5 plans timer reads at 5 words from the start.
  *     Writes send the 3-word form.
- *     Floats go plain little-endian in typed reads and writes, the spec 5
+ *     Floats go plain little-endian in typed reads and writes, the doc/PROTOCOL.md 5
  *     recommendation (RTA); DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED word-swaps them
  *     ([2,3,0,1], as word range 0F/00/01 always has them; the client does not
- *     use word range). [UNCERTAIN, spec 8 item 7] Raw reads and writes pass
+ *     use word range). [UNCERTAIN, doc/PROTOCOL.md 8 item 7] Raw reads and writes pass
  *     the wire bytes either way.
  *   PLC-2 (01 unprotected read, 08 unprotected write, 05 unprotected bit write):
  *     PLC-2 commands carry a 16-bit address and no file. The address's element
@@ -50,13 +50,13 @@
  *     table; the PLC-2 compatibility file of a PLC-5; the Common Interface File
  *     N9 of an SLC; N7 of a MicroLogix 1000); the file number is ignored. "N7:8"
  *     = PLC-2 word 010 (octal). The command carries byte address 2 * element
- *     (spec 4.7: a PLC-2, a PLC-5's compatibility file, an SLC with S:2/8 = 1),
+ *     (doc/PROTOCOL.md 4.7: a PLC-2, a PLC-5's compatibility file, an SLC with S:2/8 = 1),
  *     or with DF1_OPT_PLC2_WORD_ADDR the element itself (an SLC or MicroLogix
  *     common interface file, S:2/8 = 0); 05's blocks address bytes, so bit
  *     writes are refused in word mode. Only 16-bit word files (N B S I O A) and
  *     their bits; no sub-elements.
  *
- * Splitting (spec 6). Requests larger than one packet are split on element
+ * Splitting (doc/PROTOCOL.md 6). Requests larger than one packet are split on element
  * boundaries. Data bytes per packet:
  *   SLC 5/03+ and MicroLogix: read 236, write 234; SLC 5/01-5/02: 82 / 82;
  *   PLC-2: 244 / 244;
@@ -83,7 +83,7 @@
  *                           Reads fetch the word(s) and extract; writes are masked per
  *                           word (AB, 26 or 05), never clobbering the other bits.
  *                           An L bit on SLC/MicroLogix is an AB with a 4-byte mask and
- *                           data (BYTE_SIZE 4) [UNCERTAIN: spec 4.6, NPC found AB on L
+ *                           data (BYTE_SIZE 4) [UNCERTAIN: doc/PROTOCOL.md 4.6, NPC found AB on L
  *                           files unreliable]; PLC-5 has no L files.
  *
  * Returns: element reads/writes return n; raw ones the byte count; df1_read_string

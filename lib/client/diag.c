@@ -97,7 +97,7 @@ int df1_link_test(df1_t *h, int station)
 
 /*
  * SLC 5/03+ and MicroLogix: 0F/80 with the mode byte as given (1 program,
- * 6 run, 7 test continuous, 8 test single scan; spec 4.8 [UNCERTAIN] for 7/8).
+ * 6 run, 7 test continuous, 8 test single scan; doc/PROTOCOL.md 4.8 [UNCERTAIN] for 7/8).
  * PLC-5 and SLC 5/01-5/02: 0F/3A set CPU mode, whose flag byte takes the same
  * codes mapped: 1 -> 00 program, 6 -> 02 run, 7 or 8 -> 01 test. PLC-2: not supported.
  */

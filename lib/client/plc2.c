@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * plc2.c - PLC-2: unprotected reads and writes (01, 08), byte address = 2 * element,
- * or the element itself with DF1_OPT_PLC2_WORD_ADDR (spec 4.7).
+ * or the element itself with DF1_OPT_PLC2_WORD_ADDR (doc/PROTOCOL.md 4.7).
  */
 #include "client/client_int.h"
 

@@ -34,7 +34,7 @@ int plc5_addr(struct df1 *h, int station, const char *what, const struct df1_add
 
 /* Whole T/C/R elements: a reply's element holds the 3 data-table words or the 5
  * of KF2 p.130 / VME p.81 (timer 59 0A); words 0-2 are CTL, PRE/LEN, ACC/POS either
- * way and the rest is ignored (spec 4.3, 5). */
+ * way and the rest is ignored (doc/PROTOCOL.md 4.3, 5). */
 static bool plc5_whole_tcr(const struct span *s)
 {
 	return client_is_tcr(s->a.type) && s->esize == PCCC_TCR_BYTES;
@@ -130,7 +130,7 @@ int plc5_read(struct df1 *h, int station, const char *what, const struct span *s
 }
 
 /* PLC-5 strings go one per packet as a string type/data parameter (3x LEN) and the
- * characters in text order, as RTA does (spec 5); PKT_OFFSET counts strings. */
+ * characters in text order, as RTA does (doc/PROTOCOL.md 5); PKT_OFFSET counts strings. */
 static int plc5_write_strings(struct df1 *h, int station, const char *what, const struct span *s,
                               struct io *io, const uint8_t *addr, size_t alen)
 {

@@ -12,7 +12,7 @@ int slc_type_code(struct df1 *h, int station, const char *what, enum df1_file_ty
 	if (code <= 0)
 		return client_fail(h, DF1_E_NOTSUP, station, what, "file type has no SLC code");
 	if (h->cfg.slc_io_82 && (t == DF1_FT_O || t == DF1_FT_I))
-		code = t == DF1_FT_O ? 0x82 : 0x83;     /* F2E p.47 (spec 4.11) */
+		code = t == DF1_FT_O ? 0x82 : 0x83;     /* F2E p.47 (doc/PROTOCOL.md 4.11) */
 	return code;
 }
 

@@ -55,7 +55,7 @@ static int client_fail_at(struct df1 *h, int rc, int station, const char *what)
 }
 
 /* A reply the link accepted whose content is wrong: DF1_E_BAD_REPLY, counted as an
- * invalid message (2550, seeds/004: "bad data, incorrect addressing"). */
+ * invalid message (2550, doc/REQUIREMENTS.md 004: "bad data, incorrect addressing"). */
 int client_bad_reply(struct df1 *h, int station, const char *what, const char *fmt, ...)
 {
 	char buf[sizeof h->err.message];

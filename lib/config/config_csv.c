@@ -4,7 +4,7 @@
  * stand on: reading the CSV file with libcsv, the header row and its columns,
  * the cell parsers, and the issue callback.
  *
- * File format (DESIGN.md 6): spreadsheet-exported CSV, RFC 4180 quoting. The
+ * File format (doc/ARCHITECTURE.md 6): spreadsheet-exported CSV, RFC 4180 quoting. The
  * first row that is not blank and not a comment is the header: field identifiers,
  * case-insensitive, in any order, surrounding spaces trimmed; '_', '-' and spaces
  * inside an identifier are ignored ("NAK_Retries" = "nak retries" = "NAKRETRIES").

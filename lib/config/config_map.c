@@ -3,7 +3,7 @@
  * config_map.c - the mapping file (one row per tag). The CSV rules are
  * config_csv.c's.
  *
- * Mapping file (seeds/004, "Mapping Parameters"): columns Tag, Station, PLC_Type,
+ * Mapping file (doc/REQUIREMENTS.md 004, "Mapping Parameters"): columns Tag, Station, PLC_Type,
  * Address are required (a missing column fails the load); Command (Read, Write,
  * ReadWrite; also RW and "Read/Write"; default Read), Type (informational, up to
  * 15 characters), Count (elements, 1-1000, default 1), Scan_Ms (0-86400000,

@@ -3,7 +3,7 @@
  * config_net.c - the network configuration file (one row: the line's settings)
  * and applying it to a handle. The CSV rules are config_csv.c's.
  *
- * Network file (seeds/004, "Network Configuration Parameters"): the first data
+ * Network file (doc/REQUIREMENTS.md 004, "Network Configuration Parameters"): the first data
  * row is used, later rows are ignored. A file with a header and no data row
  * (blank and comment rows do not count) is an error naming the file, catalog
  * ID 0 (none of 2552-2559 fits): the module does not start. Every invalid

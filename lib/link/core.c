@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
- * core.c - what every DF1 link mode shares (spec/protocol.md 1-2, DESIGN.md 4,
- * seeds/004): setup, transmission with TX_Delay, line pacing, trace, echo
+ * core.c - what every DF1 link mode shares (doc/PROTOCOL.md 1-2, doc/ARCHITECTURE.md 4,
+ * doc/REQUIREMENTS.md 004): setup, transmission with TX_Delay, line pacing, trace, echo
  * discard and the character counters; symbol reception with deadlines;
  * duplicate detection; the master's reply matching; the responder's reply
  * queue and where faults act. Used by full.c (full-duplex peer) and half.c
@@ -11,7 +11,7 @@
  * Decisions the sources leave open (documented here, relied on by tests):
  *  - The receiver's last-response variable starts as NAK: an ENQ before any
  *    frame was taken must make the sender retransmit, not believe a frame got
- *    through (spec 1.7: noise also sets NAK).
+ *    through (doc/PROTOCOL.md 1.7: noise also sets NAK).
  *  - Every wait is a port read against an absolute deadline. A read that
  *    returns 0 means its deadline passed (port contract); the link does not
  *    second-guess it with the clock. A symbol under way when the deadline
@@ -30,7 +30,7 @@
  *    2511 ERR_RCVD_NAK_SYMBOL, counted (2534) and otherwise ignored.
  *  - Replies are matched on the full 16-bit TNS and SRC == the command's DST.
  *    DST is not compared: behind a 1770-KF2 the reply's DST is the KF2's node,
- *    not our SRC (spec 1.9, M p.14-3). CMD must be the command's CMD | 40h, or
+ *    not our SRC (doc/PROTOCOL.md 1.9, M p.14-3). CMD must be the command's CMD | 40h, or
  *    the transaction ends with DF1_E_BAD_FUNCTION (2505).
  *  - Duplicate detection keeps the first 6 bytes of the last message accepted
  *    per station (h->stations[]): in full duplex and on the half-duplex master
@@ -54,7 +54,7 @@
  *    reply still waiting for its ACK (the master has moved on). With a queue
  *    (df1_server_set_max_queue) the replies go out in command order instead,
  *    each after the ACK of the one before, and a command beyond the queue is
- *    NAKed and not run (spec 1.7: a full message sink).
+ *    NAKed and not run (doc/PROTOCOL.md 1.7: a full message sink).
  *  - Faults: DROP_ACK and NAK_COMMAND act on new commands only (duplicates are
  *    ACKed), so one dropped ACK leads to exactly one execution. DROP_ACK leaves
  *    the last response at ACK, as a lost ACK would: an ENQ then gets the ACK.
@@ -245,7 +245,7 @@ static int link_send_wire(struct df1 *h, const uint8_t *buf, size_t n)
 	if (n == 0)
 		return 0;
 	if (h->cfg.tx_delay_ms > 0) {
-		/* TX_Delay before every transmission (seeds/004, radio key-up) */
+		/* TX_Delay before every transmission (doc/REQUIREMENTS.md 004, radio key-up) */
 		r = link_pause(h, df1_now_ms() + h->cfg.tx_delay_ms);
 		if (r < 0)
 			return r;
@@ -351,7 +351,7 @@ void link_flush(struct df1 *h)
  * Reception
  * ------------------------------------------------------------------------ */
 
-/* Noise or a broken symbol: the receiver's last response becomes NAK (spec 1.7). */
+/* Noise or a broken symbol: the receiver's last response becomes NAK (doc/PROTOCOL.md 1.7). */
 void link_noise(struct df1 *h)
 {
 	h->last_response = DF1_NAK;
@@ -529,7 +529,7 @@ bool link_log_error(struct df1 *h, const struct df1_symbol *s)
 }
 
 /* ------------------------------------------------------------------------
- * Duplicate detection (spec 1.7, 2.3): SRC, CMD and both TNS bytes.
+ * Duplicate detection (doc/PROTOCOL.md 1.7, 2.3): SRC, CMD and both TNS bytes.
  * ------------------------------------------------------------------------ */
 
 bool link_is_dup(const struct df1 *h, uint8_t key, const uint8_t *app, size_t n)
@@ -611,7 +611,7 @@ int link_serve_screen(struct df1 *h, uint8_t key, const struct df1_symbol *s)
 
 	if (link_is_dup(h, key, d, s->len)) {
 		r = link_ack_dup(h, s);
-		/* Not run again (spec 1.7). Its reply is not sent for it either: a
+		/* Not run again (doc/PROTOCOL.md 1.7). Its reply is not sent for it either: a
 		 * retransmitted command's reply has its own retries (ENQ and NAK, or
 		 * the next poll), and a different command under the same header is
 		 * a master that started again on its last TNS; the reply still held

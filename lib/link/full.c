@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
- * full.c - the DF1 full-duplex peer (spec/protocol.md 1, DESIGN.md 4): the
+ * full.c - the DF1 full-duplex peer (doc/PROTOCOL.md 1, doc/ARCHITECTURE.md 4): the
  * receiver rules, the master's transaction (ACK timer, ENQ and NAK retries)
  * and the responder (one reply in flight). The decisions it follows are listed
  * in core.c, which holds what it shares with half.c; link.c dispatches here.
@@ -10,7 +10,7 @@
 #include "link/link_int.h"
 
 /* ------------------------------------------------------------------------
- * Full duplex: the receiver (spec 1.7)
+ * Full duplex: the receiver (doc/PROTOCOL.md 1.7)
  * ------------------------------------------------------------------------ */
 
 /* A frame with a bad check or an ERROR symbol: DLE NAK when a frame was broken,
@@ -68,7 +68,7 @@ int full_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 				df1_log(h, DF1_ID_ERR_COMMAND_TIMEOUT);
 				return df1_fail(h, DF1_E_TIMEOUT, stn, "no reply from station %d", stn);
 			}
-			/* ACK timeout: ask for the response again (spec 1.6 rule 4) */
+			/* ACK timeout: ask for the response again (doc/PROTOCOL.md 1.6 rule 4) */
 			if (enqs >= h->cfg.enq_retries) {
 				df1_count(h, DF1_ID_CNT_ENQ_LIMIT_EXCEEDED);
 				df1_log(h, DF1_ID_NTC_ENQ_LIMIT_EXCEEDED, h->cfg.enq_retries);
@@ -296,7 +296,7 @@ static int full_tx_timeout(struct df1 *h, struct link_reply *t)
 	return 0;
 }
 
-/* A controller with full buffers NAKs a new command (spec 1.7: "message source
+/* A controller with full buffers NAKs a new command (doc/PROTOCOL.md 1.7: "message source
  * full"): the commands accepted whose reply is not through (queued, or sent
  * and not ACKed) fill max_queue. */
 static bool full_queue_full(struct df1 *h)

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
- * half.c - DF1 half duplex (spec/protocol.md 2, seeds/004 "Network Reads"
+ * half.c - DF1 half duplex (doc/PROTOCOL.md 2, doc/REQUIREMENTS.md 004 "Network Reads"
  * and "Active Station List"): the master's transaction (master message, ACK,
  * polls until the reply) and the slave that answers it.
  *
@@ -17,7 +17,7 @@
  *    decoder's own notice for a broken one) and ignored.
  *  - Polls run from the first poll until cmd_timeout_ms (Cmd_Timeout; DLE EOT
  *    means "not yet", the message is known to be outstanding). A frame with a
- *    bad check (not ACKed: the slave sends it again, spec 2.3), a broken
+ *    bad check (not ACKed: the slave sends it again, doc/PROTOCOL.md 2.3), a broken
  *    symbol or a NAK is an ENQ retry (2543, 2522); more than enq_retries is
  *    DF1_E_ENQ_LIMIT. An answer that is neither DLE EOT nor a slave frame (DLE
  *    ACK, DLE NAK, DLE + an invalid byte) is also 2516 NTC_EOT_STX_EXPECTED.
@@ -30,7 +30,7 @@
  *    from its learned reply latency; never closer than two characters (at
  *    least 1 ms, so a TCP-attached line is not flooded). Each pause is a
  *    read with that deadline: anything arriving is still handled.
- *  - Cmd_Timeout: DLE NAK to the line (seeds/004 2545: "a NAK Symbol is sent
+ *  - Cmd_Timeout: DLE NAK to the line (doc/REQUIREMENTS.md 004 2545: "a NAK Symbol is sent
  *    to the remote device to terminate processing"; in half duplex a NAK from
  *    the master is the global link reset), 2545, 2508, DF1_E_TIMEOUT.
  *  - Every good slave message is ACKed. Duplicates (same SRC CMD TNS as the
@@ -41,7 +41,7 @@
  *  - Stations answered: h->resp->serve_station[] (df1_server_add_station), or our own
  *    cfg.station when none was added.
  *  - A master message with a good check is ACKed and run; a bad one gets no
- *    answer at all (spec 2.3). A duplicate is ACKed and not run again: the
+ *    answer at all (doc/PROTOCOL.md 2.3). A duplicate is ACKed and not run again: the
  *    reply of the message it repeats is still queued and goes out on the next
  *    poll (a duplicate with other bytes drops that reply: core.c). With no reply slot free the
  *    message is not ACKed (sink full): the master retries.
@@ -321,7 +321,7 @@ int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 		int a;
 
 		if (now >= cmd_deadline) {
-			r = link_send_sym(h, DF1_NAK); /* end the slave's processing (seeds/004) */
+			r = link_send_sym(h, DF1_NAK); /* end the slave's processing (doc/REQUIREMENTS.md 004) */
 			if (r < 0)
 				return r;
 			df1_count(h, DF1_ID_CNT_COMMAND_TIMEOUTS);
@@ -535,7 +535,7 @@ int half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms
 			}
 			break;
 		case DF1_SYM_NAK:
-			/* the master's global link reset (spec 2.1) */
+			/* the master's global link reset (doc/PROTOCOL.md 2.1) */
 			df1_count(h, DF1_ID_CNT_NAKS_RCVD);
 			df1_log(h, DF1_ID_NTC_RCVD_NAK_SYMBOL);
 			link_slots_clear(h);

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * link - the DF1 link layer over a port: full-duplex peer, half-duplex master,
- * half-duplex slave (spec/protocol.md 1-2, DESIGN.md 4, seeds/004).
+ * half-duplex slave (doc/PROTOCOL.md 1-2, doc/ARCHITECTURE.md 4, doc/REQUIREMENTS.md 004).
  */
 #ifndef LIBDF1_LINK_H
 #define LIBDF1_LINK_H

@@ -31,7 +31,7 @@ int link_send_sym(struct df1 *h, uint8_t sym);
 int link_send_sym_held(struct df1 *h, uint8_t sym);
 
 /* reception: 1 (sym filled), 0 (deadline passed), DF1_E_* */
-/* Noise or a broken symbol: the receiver's last response becomes NAK (spec 1.7). */
+/* Noise or a broken symbol: the receiver's last response becomes NAK (doc/PROTOCOL.md 1.7). */
 void link_noise(struct df1 *h);
 int link_read_symbol(struct df1 *h, int64_t deadline_ms, struct df1_symbol *sym);
 void link_bad_check(struct df1 *h, const struct df1_symbol *s);

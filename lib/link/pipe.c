@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
- * pipe.c - the full-duplex master's pipeline (DF1_OPT_MAX_OUTSTANDING; spec
+ * pipe.c - the full-duplex master's pipeline (DF1_OPT_MAX_OUTSTANDING; doc/PROTOCOL.md
  * 1.6 rule 6): commands are submitted into slots (h->pipe) and sent one after
  * the other, each as soon as the previous frame of ours has been ACKed and
  * fewer than the option's number are outstanding (ACKed, reply not in). Each
@@ -207,7 +207,7 @@ static void pipe_acked(struct df1 *h, struct link_pipe_slot *p)
 }
 
 /* The port's read ran to deadline dl: the timers of the slots on the line that
- * end there ran out (spec 1.6 rule 4). The port said so; the clock is not asked
+ * end there ran out (doc/PROTOCOL.md 1.6 rule 4). The port said so; the clock is not asked
  * again (core.c). */
 static int pipe_timeouts(struct df1 *h, int64_t dl)
 {

@@ -2,7 +2,7 @@
 /*
  * health.c - what a transaction's result means (outcome), the tags' values
  * and qualities after it, and station health: answers, failures, offline,
- * recovery (seed 000).
+ * recovery (doc/REQUIREMENTS.md 000).
  */
 #include "poll/poll_int.h"
 
@@ -145,7 +145,7 @@ void poll_station_answer(struct poll_engine *e, int stn, int64_t now)
 	s->fails = 0;
 	s->last_good_ms = now;
 	if (s->state == DF1_STATION_FAILING || s->state == DF1_STATION_OFFLINE) {
-		/* seed 000: points back to their state before the failure, then a one-time
+		/* doc/REQUIREMENTS.md 000: points back to their state before the failure, then a one-time
 		 * poll of every point (the scan reads every block of the station now) */
 		FOR_STATION_TAGS(e, stn, t) {
 			if (t->saved) {
@@ -211,7 +211,7 @@ void poll_block_done(struct poll_engine *e, struct pblock *b, int64_t start)
 	}
 }
 
-/* Attempts a station gets for a failing transaction in a scan (seed 002). */
+/* Attempts a station gets for a failing transaction in a scan (doc/REQUIREMENTS.md 002). */
 int poll_tries(const struct pstation *s)
 {
 	return s->state == DF1_STATION_OK || s->state == DF1_STATION_UNKNOWN ? 1 + POLL_RETRIES_OK : 1;

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * poll_int.h - the poll engine's state and internal calls, shared by the files
- * of lib/poll (DESIGN.md 9; seeds 000, 002, 004): a scan list of tags, block
+ * of lib/poll (doc/ARCHITECTURE.md 9; doc/REQUIREMENTS.md 000, 002, 004): a scan list of tags, block
  * coalescing, point quality, station health and queued writes. Not installed.
  *
  * Files (each calls only files listed before it, never back):
@@ -26,7 +26,7 @@
  * allocates nothing. A block is due when any member is due: it is read with
  * the shortest period of its members.
  *
- * A scan visits the stations in address order (seed 002) and reads what is due
+ * A scan visits the stations in address order (doc/REQUIREMENTS.md 002) and reads what is due
  * at its start. Between any two transactions, queued writes go first (seed
  * 002: "the command will be next"). df1_poll() runs at most one scan per call.
  *
@@ -47,27 +47,28 @@
  *
  * Station health:
  *  - UNKNOWN (not yet polled) and OK stations get two retries of a failing
- *    transaction in a scan (seed 002: it answered last scan, or, at start, every
- *    station is assumed active, seed 004); a FAILING station gets a single
+ *    transaction in a scan (doc/REQUIREMENTS.md 002: it answered last scan, or, at start, every
+ *    station is assumed active, doc/REQUIREMENTS.md 004); a FAILING station gets a single
  *    attempt per scan. When a station fails its other due blocks are skipped for
  *    this scan. Retries of a half-duplex station cost one poll each, as the link
- *    layer's active station list probes an inactive station first (seed 004).
+ *    layer's active station list probes an inactive station first (doc/REQUIREMENTS.md 004).
  *  - Failing tags: UNCERTAIN (COMM_FAILURE) keeping their last value; a tag
  *    without a value (never read) is BAD (COMM_FAILURE).
- *  - Offline (seed 000): absolute_retries > 0: when more than that many
+ *  - Offline (doc/REQUIREMENTS.md 000): absolute_retries > 0: when more than that many
  *    attempts in a row failed; else when watchdog_ms passed since the last
  *    answer (since the first attempt if it never answered), checked at each
  *    failed attempt. Every tag of the station becomes BAD (STATION_OFFLINE).
  *    An offline station gets one attempt (its first block, or its probe) every
- *    watchdog_ms / 2. Seed 000 resets its watchdog on every character; here an
- *    answer is a whole transaction (the link layer owns the characters), which
- *    only matters for a station that keeps sending garbage.
+ *    watchdog_ms / 2. The interface of doc/REQUIREMENTS.md 000 resets its
+ *    watchdog on every character; here an answer is a whole transaction (the
+ *    link layer owns the characters), which only matters for a station that
+ *    keeps sending garbage.
  *  - Recovery (the first answer after FAILING or OFFLINE): each tag gets back
  *    the quality it had before the failure, and every block of the station is
- *    read at once, in this scan (seed 000's one-time poll of every point).
+ *    read at once, in this scan (doc/REQUIREMENTS.md 000's one-time poll of every point).
  *  - Writes count for health too (an answer or a failure) but are never retried.
  *
- * Discovery (seed 002, df1_poll_set_station_range): addresses in the range
+ * Discovery (doc/REQUIREMENTS.md 002, df1_poll_set_station_range): addresses in the range
  * without tags are probed with a link test (half duplex: a poll, DLE ENQ STN
  * BCC) or an empty echo (full duplex, 06/00). Probe scans run once per
  * POLL_PROBE_MS: stations that answered are probed each time, absent addresses
@@ -127,7 +128,7 @@
 #define POLL_WATCHDOG_DEFAULT_MS 10000
 #define POLL_WATCHDOG_MAX_MS 86400000
 #define POLL_RETRIES_MAX 1000
-#define POLL_RETRIES_OK 2               /* seed 002: "will retry twice" */
+#define POLL_RETRIES_OK 2               /* doc/REQUIREMENTS.md 002: "will retry twice" */
 #define POLL_PROBE_MS 1000
 #define POLL_COUNT_MAX 1000
 #define POLL_STATIONS 255               /* 0..254 */

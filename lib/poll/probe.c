@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
- * probe.c - station discovery in the poll engine (seed 002,
+ * probe.c - station discovery in the poll engine (doc/REQUIREMENTS.md 002,
  * df1_poll_set_station_range): the addresses of the range without tags are
  * probed with discover_probe(), the probe of df1_discover() (lib/client/discover.c):
  * a link test (half duplex) or an empty echo (full duplex). poll_discover() is

@@ -236,7 +236,7 @@ static int poll_scan_station(struct df1 *h, struct poll_engine *e, int stn, int6
 	if (s->state == DF1_STATION_OFFLINE) {
 		if (start < s->next_retry_ms)
 			return 0;
-		offline_try = true;     /* one attempt every half watchdog (seed 000) */
+		offline_try = true;     /* one attempt every half watchdog (doc/REQUIREMENTS.md 000) */
 		s->next_retry_ms = start + e->wd_ms / 2;
 	}
 	s->recovered = false;

@@ -3,7 +3,7 @@
  * addr.c - data-table addresses: text <-> struct df1_addr (pure: no I/O,
  * no clock, no allocation, no global mutable state).
  *
- * Grammar (DESIGN.md 7, seeds/004 "Mapping Address Formatting Rules"):
+ * Grammar (doc/ARCHITECTURE.md 7, doc/REQUIREMENTS.md 004 "Mapping Address Formatting Rules"):
  *
  *   address  = [ "$" ] type [ file ] ( ":" element [ sub ] [ bit ] | "/" bitnum )
  *   type     = O I S B T C R N F ST A L          (any case)
@@ -28,7 +28,7 @@
  *                                         kept as written; the fields are parsed as well.
  *
  * Files. O, I and S are fixed at files 0, 1 and 2 (all controllers). Every other
- * type may use files 3-999 (seeds/004: 0-8 reserved for the default files, 9-999
+ * type may use files 3-999 (doc/REQUIREMENTS.md 004: 0-8 reserved for the default files, 9-999
  * user files; PLC-5 lets files 3-8 be re-created as other types, so libdf1 does not
  * pin them; a controller without the file answers with an EXT STS). Files 0-2 are
  * never valid for B T C R N F ST A L. Elements 0-999 (PLC-5 range; SLC stops at 255
@@ -66,7 +66,7 @@ struct ft_info {
 	int default_file; /* -1: a number is required */
 	int fixed_file;   /* -1: any of 3..999 */
 	int element_size; /* bytes on the wire */
-	int slc_code;     /* SLC file type code (spec 4.11) */
+	int slc_code;     /* SLC file type code (doc/PROTOCOL.md 4.11) */
 	int max_bit;      /* -1: no bit addressing */
 	int max_sub;      /* -1: no sub-elements */
 };
@@ -92,11 +92,11 @@ struct name_num {
 	int num;
 };
 
-/* Named words of T/C/R elements (spec 5). */
+/* Named words of T/C/R elements (doc/PROTOCOL.md 5). */
 static const struct name_num tc_words[] = { { "PRE", 1 }, { "ACC", 2 }, { NULL, 0 } };
 static const struct name_num r_words[] = { { "LEN", 1 }, { "POS", 2 }, { NULL, 0 } };
 
-/* Named bits of word 0 (spec 5; R positions per the common EN 15 .. FD 8 layout). */
+/* Named bits of word 0 (doc/PROTOCOL.md 5; R positions per the common EN 15 .. FD 8 layout). */
 static const struct name_num t_bits[] = {
 	{ "EN", 15 }, { "TT", 14 }, { "DN", 13 }, { NULL, 0 }
 };

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * errors - the one home of every table of texts: library error codes (the
- * DF1_ERROR_TABLE X-macro of df1.h), the message catalog of seeds/004
- * (IDs 2501-2561), and the PLC's STS / EXT STS codes (spec/protocol.md 3.2-3.4).
+ * DF1_ERROR_TABLE X-macro of df1.h), the message catalog of doc/REQUIREMENTS.md 004
+ * (IDs 2501-2561), and the PLC's STS / EXT STS codes (doc/PROTOCOL.md 3.2-3.4).
  * Pure: const tables and lookups only.
  */
 #include "df1.h"
@@ -81,7 +81,7 @@ bool df1_error_unexecuted(int err)
 }
 
 /* ------------------------------------------------------------------------
- * Message catalog (seeds/004): the rows of DF1_CATALOG_TABLE (df1.h). Every
+ * Message catalog (doc/REQUIREMENTS.md 004): the rows of DF1_CATALOG_TABLE (df1.h). Every
  * ID 2501-2561 is defined by the seed; the format is the seed's message text
  * before its " - explanation".
  * ------------------------------------------------------------------------ */
@@ -129,7 +129,7 @@ const struct df1_catalog_entry *df1_catalog_at(size_t index)
 }
 
 /* ------------------------------------------------------------------------
- * PLC status codes (M p.8-2..8-5, spec/protocol.md 3.2-3.4)
+ * PLC status codes (M p.8-2..8-5, doc/PROTOCOL.md 3.2-3.4)
  * ------------------------------------------------------------------------ */
 
 struct code_text {
@@ -169,7 +169,7 @@ static const struct code_text sts_remote[] = {
 	{ 0xF0, "error code is in the EXT STS byte" },
 };
 
-/* EXT STS after STS F0, CMD 0F (M p.8-4). 22-24: see spec 3.3 [UNCERTAIN]. */
+/* EXT STS after STS F0, CMD 0F (M p.8-4). 22-24: see doc/PROTOCOL.md 3.3 [UNCERTAIN]. */
 static const struct code_text ext_sts_0f[] = {
 	{ 0x00, "not used" },
 	{ 0x01, "a field has an illegal value" },

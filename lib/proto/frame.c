@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
- * frame - DF1 link-layer framing (spec/protocol.md 1-2). Pure: no I/O, no
+ * frame - DF1 link-layer framing (doc/PROTOCOL.md 1-2). Pure: no I/O, no
  * clock, no allocation, no mutable globals. The decoder rules the spec leaves
  * open are listed in frame.h.
  */
@@ -8,7 +8,7 @@
 
 #include <string.h>
 
-/* CRC-16/ARC table: entry i = i shifted out LSB-first through A001h (spec 1.5). */
+/* CRC-16/ARC table: entry i = i shifted out LSB-first through A001h (doc/PROTOCOL.md 1.5). */
 static const uint16_t crc_table[256] = {
 	0x0000, 0xC0C1, 0xC181, 0x0140, 0xC301, 0x03C0, 0x0280, 0xC241,
 	0xC601, 0x06C0, 0x0780, 0xC741, 0x0500, 0xC5C1, 0xC481, 0x0440,
@@ -116,7 +116,7 @@ static void put_body(struct writer *w, enum df1_check check, uint8_t sum, uint16
 		put(w, (uint8_t)(0u - sum));
 	} else {
 		crc = crc_step(crc, DF1_ETX);
-		put(w, (uint8_t)(crc & 0xFF)); /* low byte first (spec 1.5) */
+		put(w, (uint8_t)(crc & 0xFF)); /* low byte first (doc/PROTOCOL.md 1.5) */
 		put(w, (uint8_t)(crc >> 8));
 	}
 }
@@ -147,7 +147,7 @@ size_t frame_encode_master(enum df1_check check, uint8_t stn, bool bcc_includes_
 	put_stuffed(&w, stn);
 	put(&w, DF1_DLE);
 	put(&w, DF1_STX);
-	/* CRC covers STN and STX; the BCC's STX is the spec 2.2 open question. */
+	/* CRC covers STN and STX; the BCC's STX is the doc/PROTOCOL.md 2.2 open question. */
 	crc = crc_step(crc_step(0, stn), DF1_STX);
 	if (bcc_includes_stx)
 		sum = (uint8_t)(sum + DF1_STX);
@@ -447,7 +447,7 @@ static bool after_dle(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b
 		d->wire = 1;
 		return false;
 	case DF1_ETX:
-		/* the end of a frame whose start we missed: noise (spec 1.7) */
+		/* the end of a frame whose start we missed: noise (doc/PROTOCOL.md 1.7) */
 		d->noise += 2;
 		d->wire = 0;
 		d->state = ST_IDLE;
@@ -477,7 +477,7 @@ static bool data_dle(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b)
 		return false;
 	}
 	if ((b == DF1_ACK || is_nak(d, b)) && !(d->opts & FRAME_OPT_NO_EMBEDDED)) {
-		/* embedded response (spec 1.8): out of band, the frame goes on */
+		/* embedded response (doc/PROTOCOL.md 1.8): out of band, the frame goes on */
 		sym->kind = b == DF1_ACK ? DF1_SYM_ACK : DF1_SYM_NAK;
 		sym->embedded = true;
 		sym->wire_len = 2;

@@ -2,7 +2,7 @@
 /*
  * frame - DF1 link-layer framing (pure: no I/O, no clock, no allocation).
  * DLE stuffing, BCC, CRC-16/ARC, encoders for every frame kind, and an
- * incremental decoder fed any number of bytes at a time (spec/protocol.md 1-2).
+ * incremental decoder fed any number of bytes at a time (doc/PROTOCOL.md 1-2).
  */
 #ifndef LIBDF1_FRAME_H
 #define LIBDF1_FRAME_H
@@ -17,9 +17,9 @@
 #define DF1_ENQ 0x05
 #define DF1_ACK 0x06
 #define DF1_NAK 0x15
-#define DF1_NAK_OLD 0x0F /* the 1996 manual's tables print NAK as 0F (spec 1.1) */
+#define DF1_NAK_OLD 0x0F /* the 1996 manual's tables print NAK as 0F (doc/PROTOCOL.md 1.1) */
 
-/* Link-layer data limit: 6 header bytes + FNC + 250 bytes of data, with margin (spec 6). */
+/* Link-layer data limit: 6 header bytes + FNC + 250 bytes of data, with margin (doc/PROTOCOL.md 6). */
 #define FRAME_MAX_DATA 264
 #define FRAME_MIN_DATA 6
 /* Worst case on the wire: SOH STN(2) STX + every byte stuffed + ETX + CRC(2) */

@@ -2,7 +2,7 @@
 /*
  * limits.c - the packet-limit table (plc_limits.h): the bytes per PLC type
  * (df1_packet_max()) and the elements per packet for each command, derived
- * here once from spec/protocol.md 6. Pure.
+ * here once from doc/PROTOCOL.md 6. Pure.
  */
 #include "proto/plc_limits.h"
 

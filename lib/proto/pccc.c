@@ -2,7 +2,7 @@
 /*
  * pccc.c - PCCC application layer: command encoders, header/reply decoding,
  * SLC address fields, PLC-5 system addresses, typed-data descriptors and
- * command names (spec/protocol.md 3-4); the diagnostic status is in
+ * command names (doc/PROTOCOL.md 3-4); the diagnostic status is in
  * pccc_diag.c. Pure: no I/O, clock or allocation.
  */
 #include "proto/pccc.h"
@@ -78,7 +78,7 @@ bool pccc_cmd_has_ext_sts(uint8_t cmd)
 	return (cmd & (uint8_t)~PCCC_REPLY_BIT) > 0x08;
 }
 
-/* DH-485 codes whose EXT STS 1A/1B is followed by the owner's node (spec 3.4). */
+/* DH-485 codes whose EXT STS 1A/1B is followed by the owner's node (doc/PROTOCOL.md 3.4). */
 static bool pccc_has_owner_byte(uint8_t cmd, uint8_t ext)
 {
 	cmd &= (uint8_t)~PCCC_REPLY_BIT;
@@ -235,7 +235,7 @@ int pccc_enc_slc_masked_write(uint8_t *out, size_t cap, const struct pccc_hdr *h
 		return DF1_E_INVAL;
 	pos = pccc_put_hdr(out, cap, h, PCCC_CMD_TYPED, PCCC_FNC_SLC_MASKED);
 	pos = pccc_put_slc_fields(out, cap, pos, nbytes, file, type_code, elem, true, sub);
-	pos = pccc_put_bytes(out, cap, pos, mask, nbytes);   /* MASK then DATA (spec 4.6) */
+	pos = pccc_put_bytes(out, cap, pos, mask, nbytes);   /* MASK then DATA (doc/PROTOCOL.md 4.6) */
 	return pccc_put_bytes(out, cap, pos, data, nbytes);
 }
 
@@ -277,7 +277,7 @@ int pccc_dec_slc_fields(const uint8_t *in, size_t n, bool three_fields, uint8_t 
 enum df1_file_type pccc_slc_code_file_type(uint8_t code)
 {
 	switch (code) {
-	case 0x82: case 0x8B: return DF1_FT_O;   /* 82/83: F2E; 8B/8C: M p.104 (spec 4.11) */
+	case 0x82: case 0x8B: return DF1_FT_O;   /* 82/83: F2E; 8B/8C: M p.104 (doc/PROTOCOL.md 4.11) */
 	case 0x83: case 0x8C: return DF1_FT_I;
 	case 0x84: return DF1_FT_S;
 	case 0x85: return DF1_FT_B;
@@ -294,7 +294,7 @@ enum df1_file_type pccc_slc_code_file_type(uint8_t code)
 }
 
 /* ------------------------------------------------------------------------
- * PLC-5 system addresses (spec 4.1)
+ * PLC-5 system addresses (doc/PROTOCOL.md 4.1)
  * ------------------------------------------------------------------------ */
 
 static int pccc_enc_plc5_levels(uint8_t *out, size_t cap, unsigned mask, const unsigned *lv)
@@ -476,7 +476,7 @@ int pccc_dec_plc5_req(uint8_t fnc, const uint8_t *in, size_t n, struct pccc_plc5
 }
 
 /* ------------------------------------------------------------------------
- * PLC-5 commands (spec 4.2-4.4)
+ * PLC-5 commands (doc/PROTOCOL.md 4.2-4.4)
  * ------------------------------------------------------------------------ */
 
 /* FNC PKT_OFFSET TOTAL ADDRESS: the common start of 00 01 67 68. */
@@ -565,7 +565,7 @@ int pccc_enc_plc5_bit_write(uint8_t *out, size_t cap, const struct pccc_hdr *h,
 }
 
 /* ------------------------------------------------------------------------
- * PLC-2, diagnostics, mode (spec 4.7-4.9)
+ * PLC-2, diagnostics, mode (doc/PROTOCOL.md 4.7-4.9)
  * ------------------------------------------------------------------------ */
 
 int pccc_enc_plc2_read(uint8_t *out, size_t cap, const struct pccc_hdr *h, uint16_t byte_addr,

@@ -2,7 +2,7 @@
 /*
  * pccc - PCCC application layer (pure: no I/O, no clock, no allocation).
  * Command encoders for every supported CMD/FNC with the exact layouts of
- * spec/protocol.md 4, reply decoding (CMD|40h, TNS, STS, EXT STS), PLC-5
+ * doc/PROTOCOL.md 4, reply decoding (CMD|40h, TNS, STS, EXT STS), PLC-5
  * system addresses, typed-data descriptors and diagnostic status.
  *
  * Encoders write the whole app message (DST SRC CMD STS TNS_lo TNS_hi FNC data)
@@ -59,7 +59,7 @@
 
 /* Bytes of a whole T/C/R element in a PLC-5 typed reply: the 3 data-table words
  * (type/data 56 66 76), or 5 (timer 59 0A: KF2 p.130, VME p.81), of which words
- * 0-2 are CTL, PRE/LEN, ACC/POS and the rest is ignored (spec 4.3, 5, 8 item 8). */
+ * 0-2 are CTL, PRE/LEN, ACC/POS and the rest is ignored (doc/PROTOCOL.md 4.3, 5, 8 item 8). */
 #define PCCC_TCR_BYTES 6
 #define PCCC_TCR5_BYTES 10
 
@@ -84,15 +84,15 @@ struct pccc_msg {
 };
 
 /* Header: DST SRC CMD STS TNS; FNC for CMD 06/0F; on replies with STS F0 the EXT STS
- * byte (only for CMD above 08, spec 3.2) and the owner byte after EXT 1A/1B for CMD
- * 0B/1A/1B (spec 3.4). DF1_E_TOO_SHORT below 6 bytes or a command missing its FNC;
+ * byte (only for CMD above 08, doc/PROTOCOL.md 3.2) and the owner byte after EXT 1A/1B for CMD
+ * 0B/1A/1B (doc/PROTOCOL.md 3.4). DF1_E_TOO_SHORT below 6 bytes or a command missing its FNC;
  * DF1_E_BAD_REPLY for a reply missing its EXT STS or owner byte. */
 int pccc_decode(const uint8_t *app, size_t n, struct pccc_msg *m);
 /* Build a reply header (dst/src swapped, CMD|40h, same TNS) + data. ext_sts is written
  * when sts is F0 and the CMD carries EXT STS; an owner byte (EXT 1A/1B) goes first in data. */
 int pccc_encode_reply(uint8_t *out, size_t cap, const struct pccc_msg *cmd,
                       uint8_t sts, uint8_t ext_sts, const uint8_t *data, size_t n);
-/* Does a reply to this CMD carry EXT STS when STS is F0? (CMD 00-08 do not, spec 3.2) */
+/* Does a reply to this CMD carry EXT STS when STS is F0? (CMD 00-08 do not, doc/PROTOCOL.md 3.2) */
 bool pccc_cmd_has_ext_sts(uint8_t cmd);
 
 /* SLC logical address fields: 1 byte for 0..254, FF + LE16 above (M p.104). */
@@ -115,7 +115,7 @@ int pccc_dec_slc_fields(const uint8_t *in, size_t n, bool three_fields, uint8_t 
 /* SLC file type code (89h ...) -> file type; 82h/83h (F2E) read as O/I too. DF1_FT_NONE if unknown. */
 enum df1_file_type pccc_slc_code_file_type(uint8_t code);
 
-/* PLC-5 system address, logical binary (spec 4.1): a mask byte (bit n set = level n+1
+/* PLC-5 system address, logical binary (doc/PROTOCOL.md 4.1): a mask byte (bit n set = level n+1
  * follows), then the encoded levels: 1 area (0 = data table), 2 file, 3 element,
  * 4 sub-element. Values and the mask above 254 take the FF + LE16 escape.
  * Which levels to send is a choice; all forms mean the same address: */
@@ -186,7 +186,7 @@ int pccc_enc_change_mode(uint8_t *out, size_t cap, const struct pccc_hdr *h, uin
 int pccc_enc_typedata(uint8_t *out, size_t cap, unsigned type_id, uint32_t size);
 int pccc_dec_typedata(const uint8_t *in, size_t n, unsigned *type_id, uint32_t *size);
 /* Array header: 9x 09 SIZE.. + element descriptor (shortest). The array size always
- * goes in extension bytes (99 09 05 42), the form of RTA and of the spec 7.3 vectors;
+ * goes in extension bytes (99 09 05 42), the form of RTA and of the doc/PROTOCOL.md 7.3 vectors;
  * M's short form (97 09 42) is decoded as well. Returns bytes. */
 int pccc_enc_typed_array(uint8_t *out, size_t cap, unsigned elem_type, uint32_t elem_size, size_t count);
 
@@ -208,7 +208,7 @@ int pccc_dec_typed(const uint8_t *in, size_t n, struct pccc_typed *t);
  * module) -> d[2]; else d[7]. Series letter = bits 5-7 of the series/revision byte (0 = A),
  * revision = bits 0-4 plus 1 (M p.174: "0 = release 1"). DF1_E_TOO_SHORT without the type. */
 int pccc_dec_diag_status(const uint8_t *data, size_t n, struct df1_diag_status *out);
-/* What a diagnostic status reply (06/03, spec 4.9) says about a processor. */
+/* What a diagnostic status reply (06/03, doc/PROTOCOL.md 4.9) says about a processor. */
 struct pccc_diag_info {
 	bool plc5;              /* the PLC-5 EB form (M p.192-193), else the EE form (M p.174) */
 	uint8_t type_code;      /* EE byte 4 / EB byte 3: processor (expansion) type */

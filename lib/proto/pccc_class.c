@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
- * pccc_class.c - which PCCC commands only read (spec/protocol.md 4, the
+ * pccc_class.c - which PCCC commands only read (doc/PROTOCOL.md 4, the
  * command list): the rule for a command that is never sent twice once it may
  * have reached the controller (df1_poll_submit_pccc) and for a bridge that
  * gives data and no control (df1gw --eip-read-only). Pure.

@@ -2,7 +2,7 @@
 /*
  * pccc_diag.c - the diagnostic status (06/03) reply: its decoder and, beside
  * it, the encoder a responder answers with; processor type codes and names
- * (spec/protocol.md 4.9). Pure: no I/O, clock or allocation.
+ * (doc/PROTOCOL.md 4.9). Pure: no I/O, clock or allocation.
  */
 #include "proto/pccc.h"
 
@@ -12,7 +12,7 @@
 #include "proto/value.h"
 
 /* ------------------------------------------------------------------------
- * Diagnostic status (spec 4.9) and names
+ * Diagnostic status (doc/PROTOCOL.md 4.9) and names
  * ------------------------------------------------------------------------ */
 
 struct code_name {
@@ -122,7 +122,7 @@ int pccc_dec_diag_status(const uint8_t *d, size_t n, struct df1_diag_status *o)
 	memcpy(o->raw, d, o->raw_len);
 	if (n < 2)
 		return DF1_E_TOO_SHORT;
-	/* which byte holds the type: AHMI's rule (spec 4.9) */
+	/* which byte holds the type: AHMI's rule (doc/PROTOCOL.md 4.9) */
 	if (d[1] == 0xEE)
 		t = 3;
 	else if (d[1] == 0xEB || d[1] == 0xFE)

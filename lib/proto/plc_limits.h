@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
- * plc_limits.h - data per packet by PLC type and command (spec/protocol.md 6),
+ * plc_limits.h - data per packet by PLC type and command (doc/PROTOCOL.md 6),
  * one table for every layer that plans or checks packets: the client splits
  * requests with it, the poll engine and df1_read_multi() size their block
  * reads with it, the responder refuses SLC and PLC-2 requests that exceed it
@@ -21,12 +21,12 @@
  *     So with N7:0's 3-byte address (06 07 00): 116 integers (3 + 4 + 232 =
  *     239), 58 floats or longs (3 + 5 + 232 = 240, 3 + 4 + 232 = 239), 38
  *     timers, counters or controls (3 + 4 + 228 = 235); a longer address
- *     (element or file >= 255: FF LL HH, spec 4.1; logical ASCII) leaves less.
+ *     (element or file >= 255: FF LL HH, doc/PROTOCOL.md 4.1; logical ASCII) leaves less.
  *     Strings go one per packet (39 LEN chars, RTA).
  *   PLC-5 0F/01 word range read: SIZE <= 244 bytes, even; 0F/00 word range
  *     write: address + data <= 239 (KF2 p.136).
  * T/C/R elements count as their 3 data-table words; a PLC-5 that answers
- * 5-word timers (KF2 p.130 [UNCERTAIN, spec 8 item 8], DF1_OPT_PLC5_TIMER_WORDS)
+ * 5-word timers (KF2 p.130 [UNCERTAIN, doc/PROTOCOL.md 8 item 8], DF1_OPT_PLC5_TIMER_WORDS)
  * fits fewer: the client and the responder call plc5_typed_per_packet() with
  * 10-byte elements for them (23 after a 3-byte address: 3 + 5 + 230 = 238).
  *

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
- * value.c - wire bytes <-> typed values (spec/protocol.md 5). Pure: no I/O,
+ * value.c - wire bytes <-> typed values (doc/PROTOCOL.md 5). Pure: no I/O,
  * clock or allocation.
  */
 #include "proto/value.h"

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * value - wire bytes <-> typed values (pure). Integers are little-endian;
- * SLC floats little-endian, PLC-5 word-range floats word-swapped (spec 5);
+ * SLC floats little-endian, PLC-5 word-range floats word-swapped (doc/PROTOCOL.md 5);
  * ST strings: LEN(2) + 82 characters, bytes swapped per word.
  */
 #ifndef LIBDF1_VALUE_H
@@ -43,8 +43,8 @@ static inline void value_mask_bit(uint32_t *mask, uint32_t *data, unsigned bit, 
 enum value_float_order { VALUE_FLOAT_LE = 0, VALUE_FLOAT_WORD_SWAPPED = 1 };
 
 /* The float order of the element commands of a PLC type: plain LE (SLC A2/AA, and
- * PLC-5 typed 0F/68 67 as spec 5 recommends), word-swapped for a PLC-5 when
- * DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED is set (the spec 8 item 7 alternative). */
+ * PLC-5 typed 0F/68 67 as doc/PROTOCOL.md 5 recommends), word-swapped for a PLC-5 when
+ * DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED is set (the doc/PROTOCOL.md 8 item 7 alternative). */
 static inline enum value_float_order value_typed_float_order(enum df1_plc plc, bool plc5_swapped)
 {
 	return plc == DF1_PLC_PLC5 && plc5_swapped ? VALUE_FLOAT_WORD_SWAPPED : VALUE_FLOAT_LE;

@@ -40,7 +40,7 @@ struct bit_name {
 	int bit;
 };
 
-/* RM001 p.29-30 (T, C); R from common use, spec 5 [UNCERTAIN] */
+/* RM001 p.29-30 (T, C); R from common use, doc/PROTOCOL.md 5 [UNCERTAIN] */
 static const struct bit_name t_bits[] = { { "EN", 15 }, { "TT", 14 }, { "DN", 13 }, { NULL, 0 } };
 static const struct bit_name c_bits[] = {
 	{ "CU", 15 }, { "CD", 14 }, { "DN", 13 }, { "OV", 12 }, { "UN", 11 }, { "UA", 10 }, { NULL, 0 }

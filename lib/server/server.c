@@ -3,7 +3,7 @@
  * server - the responder: decoded PCCC command -> data-table callbacks ->
  * reply. See server.h for the data-table contract.
  *
- * Status rules (spec/protocol.md 3.2, 3.3):
+ * Status rules (doc/PROTOCOL.md 3.2, 3.3):
  *  - a command this responder does not know, and no `command` callback: STS 10;
  *  - a malformed command (short or extra bytes, zero or odd sizes, counts past
  *    TOTAL_TRANS): STS 10;
@@ -16,14 +16,14 @@
  *
  * Where the spec flags a doubt (8):
  *  - SLC O/I file type codes: 8B/8C and 82/83 are both taken, whatever
- *    DF1_OPT_SLC_IO_CODES_82 says (spec 4.11);
+ *    DF1_OPT_SLC_IO_CODES_82 says (doc/PROTOCOL.md 4.11);
  *  - PLC-5 typed read/write floats: plain LE, or word-swapped [2,3,0,1] when the
- *    handle serves a PLC-5 with DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED (spec 5); word
+ *    handle serves a PLC-5 with DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED (doc/PROTOCOL.md 5); word
  *    range 0F/00/01 always word-swaps them;
  *  - PLC-5 typed-read timers: 3 words, or 5 (59 0A, words 3-4 zero) with
- *    DF1_OPT_PLC5_TIMER_WORDS 5 (KF2 p.130, spec 8 item 8); typed writes take
+ *    DF1_OPT_PLC5_TIMER_WORDS 5 (KF2 p.130, doc/PROTOCOL.md 8 item 8); typed writes take
  *    3- and 5-word T/C/R elements either way (words 3-4 ignored);
- *  - PLC-2 addresses: bytes, or words with DF1_OPT_PLC2_WORD_ADDR (spec 4.7;
+ *  - PLC-2 addresses: bytes, or words with DF1_OPT_PLC2_WORD_ADDR (doc/PROTOCOL.md 4.7;
  *    05/02 bit writes then STS 10: their blocks address bytes).
  */
 #include "server/server.h"
@@ -147,7 +147,7 @@ static int srv_tbl_probe(struct srv *s, enum df1_file_type t, int file)
 }
 
 /* Words of a file as a PLC-5 word range command sees them: F files word-swapped
- * (spec 5: 1.5 goes as C0 3F 00 00), everything else as stored. */
+ * (doc/PROTOCOL.md 5: 1.5 goes as C0 3F 00 00), everything else as stored. */
 static int read_words(struct srv *s, enum df1_file_type t, int file, size_t off, uint8_t *out, size_t n)
 {
 	uint8_t tmp[2 * FRAME_MAX_DATA];
@@ -278,8 +278,8 @@ static void typed_layout(const struct df1_addr *a, unsigned *td, size_t *es)
 	}
 }
 
-/* Typed read/write floats word-swapped? Plain LE by default (spec 5); a handle
- * serving a PLC-5 with DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED swaps them (spec 8 item 7). */
+/* Typed read/write floats word-swapped? Plain LE by default (doc/PROTOCOL.md 5); a handle
+ * serving a PLC-5 with DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED swaps them (doc/PROTOCOL.md 8 item 7). */
 static bool typed_float_swapped(const struct srv *s, unsigned td)
 {
 	return td == PCCC_TD_FLOAT && s->h &&
@@ -301,7 +301,7 @@ static void swap_float_words(uint8_t *p, size_t n)
 }
 
 /* ------------------------------------------------------------------------
- * PLC-5 commands (spec 4.2-4.4)
+ * PLC-5 commands (doc/PROTOCOL.md 4.2-4.4)
  * ------------------------------------------------------------------------ */
 
 /* Bytes of an element on the wire in a typed reply: a timer of a PLC-5 served with
@@ -351,7 +351,7 @@ static int srv_typed_read(struct srv *s)
 		return 0;
 	}
 	/* as many whole elements as one reply holds: the command's address + the
-	 * reply's type/data + data <= 240 (spec 6, plc_limits.h); the address is
+	 * reply's type/data + data <= 240 (doc/PROTOCOL.md 6, plc_limits.h); the address is
 	 * what the command holds between TOTAL_TRANS and SIZE */
 	wes = typed_wire_size(s, td, es);
 	count = plc5_typed_per_packet(s->m->len - 6, td, wes);
@@ -545,7 +545,7 @@ static int srv_word_masks(struct srv *s, bool rmw)
 }
 
 /* ------------------------------------------------------------------------
- * SLC commands (spec 4.5, 4.6)
+ * SLC commands (doc/PROTOCOL.md 4.5, 4.6)
  * ------------------------------------------------------------------------ */
 
 static int srv_slc(struct srv *s, uint8_t fnc)
@@ -566,11 +566,11 @@ static int srv_slc(struct srv *s, uint8_t fnc)
 	d = s->m->data + k;
 	rest = s->m->len - (size_t)k;
 	/* AB with one mask word for every word of the data (pycomm3 and NPC send
-	 * it so for F, L and ST elements: spec 4.6) or a mask as long as the data */
+	 * it so for F, L and ST elements: doc/PROTOCOL.md 4.6) or a mask as long as the data */
 	bool mask_word = masked && nb > 2 && !(nb & 1) && rest == 2u + nb;
 	if (rest != (rd ? 0u : masked ? 2u * nb : nb) && !mask_word)
 		return srv_fail_sts(s, 0x10);
-	t = pccc_slc_code_file_type(tc);       /* O: 8B or 82, I: 8C or 83 (spec 4.11) */
+	t = pccc_slc_code_file_type(tc);       /* O: 8B or 82, I: 8C or 83 (doc/PROTOCOL.md 4.11) */
 	if (t == DF1_FT_NONE)
 		return srv_fail_ext(s, 0x11);
 	if (s->h && s->h->cfg.plc == DF1_PLC_SLC502)
@@ -599,7 +599,7 @@ static int srv_slc(struct srv *s, uint8_t fnc)
 }
 
 /* ------------------------------------------------------------------------
- * PLC-2 commands (spec 4.7): a byte address in the compatibility file
+ * PLC-2 commands (doc/PROTOCOL.md 4.7): a byte address in the compatibility file
  * ------------------------------------------------------------------------ */
 
 static int plc2_file(const struct srv *s)
@@ -617,7 +617,7 @@ static int srv_plc2(struct srv *s)
 	size_t n = s->m->len;
 	int file = plc2_file(s), rc;
 	/* DF1_OPT_PLC2_WORD_ADDR: the address is a word offset (an SLC common
-	 * interface file with S:2/8 = 0, spec 4.7); else a byte address, even */
+	 * interface file with S:2/8 = 0, doc/PROTOCOL.md 4.7); else a byte address, even */
 	bool words = s->h && s->h->cfg.plc2_word_addr;
 	unsigned odd = words ? 0u : 1u;
 	size_t addr;

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * server - the responder (slave / peer side): a received PCCC command ->
- * data-table callbacks (struct df1_server_ops) -> reply (DESIGN.md 2, 3;
- * spec/protocol.md 3-5). df1_serve() runs the link layer's link_serve() with
+ * data-table callbacks (struct df1_server_ops) -> reply (doc/ARCHITECTURE.md 2, 3;
+ * doc/PROTOCOL.md 3-5). df1_serve() runs the link layer's link_serve() with
  * server_handle() as its handler; tests call server_handle() directly.
  *
  * The data-table contract (what the callbacks of struct df1_server_ops see):
@@ -41,7 +41,7 @@ struct server_ctx {
 #define SERVER_PLC2_FILE_MICROLOGIX 7
 #define SERVER_PLC2_FILE_PLC5 9
 
-/* Data limits per reply / write (spec 6): lib/proto/plc_limits.h's
+/* Data limits per reply / write (doc/PROTOCOL.md 6): lib/proto/plc_limits.h's
  * PLC_SLC_READ_MAX (A1/A2), PLC_SLC_WRITE_MAX (A9/AA/AB), PLC_SLC502_MAX,
  * PLC_PLC2_MAX (01 SIZE, 08 data), PLC_ECHO_MAX (06/00), plc5_typed_per_packet()
  * (0F/68 reply: the command's address + type/data + data <= 240), and: */
@@ -57,7 +57,7 @@ int server_handle(struct df1 *h, void *ctx, const uint8_t *cmd, size_t n, uint8_
 struct link_responder *server_responder(struct df1 *h);
 
 /* The default 06/03 diagnostic status (no diag_status callback): a generic
- * SLC 5/04 (type 5Bh) in the EE form of spec 4.9, in run mode. Returns bytes. */
+ * SLC 5/04 (type 5Bh) in the EE form of doc/PROTOCOL.md 4.9, in run mode. Returns bytes. */
 int server_default_diag(uint8_t *buf, size_t cap);
 
 #endif

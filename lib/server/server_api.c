@@ -69,7 +69,7 @@ DF1_API int df1_server_add_station(df1_t *h, int station)
 
 	if (!h)
 		return DF1_E_INVAL;
-	if (station < 0 || station > 254)   /* 255 is the broadcast address (spec 2.3) */
+	if (station < 0 || station > 254)   /* 255 is the broadcast address (doc/PROTOCOL.md 2.3) */
 		return df1_fail(h, DF1_E_INVAL, station, "station %d out of range 0-254", station);
 	r = server_responder(h);
 	if (!r)

@@ -30,7 +30,7 @@ int table_fail(struct df1_table *t, int err, const char *fmt, ...)
  * Files
  * ------------------------------------------------------------------------ */
 
-/* An ST element: LEN(2) + 82 characters, bytes swapped per word (spec 5). */
+/* An ST element: LEN(2) + 82 characters, bytes swapped per word (doc/PROTOCOL.md 5). */
 /* Initial contents of element n (df1sim(1), DATA TABLE). */
 static void table_elem_init(enum df1_file_type type, int n, uint8_t *p)
 {
@@ -110,7 +110,7 @@ static bool table_type_ok(enum df1_file_type type)
 }
 
 /* ------------------------------------------------------------------------
- * Processors (diagnostic status, spec 4.9)
+ * Processors (diagnostic status, doc/PROTOCOL.md 4.9)
  * ------------------------------------------------------------------------ */
 
 static const struct table_processor processors[] = {

@@ -3,7 +3,7 @@
  * table - the data table of a slave (struct df1_table, df1_table(3)): files of
  * elements in the SLC wire layout (lib/server/server.h's data-table contract), their
  * initial contents, address stepping, values in and out, the processor table
- * and the diagnostic status it answers with (spec/protocol.md 4.9, 5).
+ * and the diagnostic status it answers with (doc/PROTOCOL.md 4.9, 5).
  * No I/O and no clock; memory is allocated only when files are added or grown.
  * lib/table/table_file.c loads and saves it, lib/table/table_serve.c serves it.
  */
@@ -23,7 +23,7 @@ struct table_file {
 	bool provisional;       /* ST9 L10 A11 of the default files: another type replaces it */
 };
 
-/* A processor of the diagnostic status (spec 4.9). */
+/* A processor of the diagnostic status (doc/PROTOCOL.md 4.9). */
 struct table_processor {
 	const char *key;        /* normalised name: lower case, no blanks, '-' or '_' */
 	const char *bulletin;   /* EE form: bytes 6-16 */

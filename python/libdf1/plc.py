@@ -314,7 +314,7 @@ class Plc:
             self._check(lib.df1_change_mode(self.handle, st, mode), "", st)
 
     def counters(self) -> Dict[str, int]:
-        """The link counters of seeds/004 by mnemonic (2525-2551, 2560, 2561), df1_counter(3)."""
+        """The link counters of doc/REQUIREMENTS.md 004 by mnemonic (2525-2551, 2560, 2561), df1_counter(3)."""
         out: Dict[str, int] = {}
         v = ffi.new("uint64_t *")
         with self._lock:

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: MPL-2.0
 """Diagnostics against df1sim: diagnostic status (the processor df1sim(1) documents
-for --processor), echo, link test, counters by seeds/004 mnemonic matched to the
+for --processor), echo, link test, counters by doc/REQUIREMENTS.md 004 mnemonic matched to the
 frame log, station discovery in half duplex (who answers) and full duplex."""
 import pytest
 

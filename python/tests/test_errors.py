@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MPL-2.0
-"""Errors from a real line map to the right exception and catalog ID (seeds/004):
+"""Errors from a real line map to the right exception and catalog ID (doc/REQUIREMENTS.md 004):
 no ACK after the ENQ retries 2520, no ACK in half duplex 2519 then the inactive
 station 2509, no reply in time 2508, a PLC's error status with its EXT STS, bad
 checks counted, bad values refused before anything is sent."""
@@ -67,7 +67,7 @@ def test_element_beyond_the_file(sim):
 
 @pytest.mark.parametrize("check,counter", [("crc", "CNT_CRC_ERRORS"), ("bcc", "CNT_BCC_ERRORS")])
 def test_corrupt_replies_are_nakd_counted_and_sent_again(sim_factory, check, counter):
-    # seed 001: a bad check is NAKed and the packet discarded; the sender retransmits
+    # doc/REQUIREMENTS.md 001: a bad check is NAKed and the packet discarded; the sender retransmits
     s = sim_factory("--check", check, "--corrupt", "50", "--seed", "7")
     with libdf1.open(s.target, check=check, timeout_ms=500) as plc:
         for i in range(20):

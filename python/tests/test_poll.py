@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: MPL-2.0
 """The poll engine from Python: changes with value, quality, reason and time; a
-silenced station goes UNCERTAIN, then BAD when offline (seed 000), and comes
+silenced station goes UNCERTAIN, then BAD when offline (doc/REQUIREMENTS.md 000), and comes
 back GOOD; a write queued from another thread executes exactly once (df1sim's
 --log frame log)."""
 import threading
@@ -52,7 +52,7 @@ def test_silenced_station_goes_uncertain_then_bad_and_comes_back(sim_factory, du
         sim.silence()
         seen = _until(poller, lambda c: c.quality == "BAD")
         qualities = [(c.quality, c.reason) for c in seen]
-        # seeds 002/000: the first scan's attempt and two retries fail (3), later scans one
+        # doc/REQUIREMENTS.md 002/000: the first scan's attempt and two retries fail (3), later scans one
         # attempt each; more than 5 in a row: offline. Until then the last good value
         # is UNCERTAIN (comm failure), then BAD (station offline)
         assert (Quality.UNCERTAIN, Reason.COMM_FAILURE) in qualities

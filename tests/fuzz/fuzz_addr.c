@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * fuzz_addr - address parsing (lib/proto/addr.c) with the round-trip property
- * of DESIGN.md 7: an address that parses formats, its text parses again to the
+ * of doc/ARCHITECTURE.md 7: an address that parses formats, its text parses again to the
  * same address, and that formats to the same text.
  * Input: the address text (up to the first NUL).
  */

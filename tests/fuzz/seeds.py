@@ -3,8 +3,8 @@
 """Seed corpora of the fuzz targets (tests/fuzz/README), written to OUTDIR/TARGET/.
 
 Built from what the tree already holds: the spec vectors (tests/data/vectors.txt,
-a copy of spec/vectors.txt), the serial-tap captures and the CSV files of
-tests/data and examples/, plus the address and value forms of DESIGN.md 7 and
+doc/PROTOCOL.md 7), the serial-tap captures and the CSV files of
+tests/data and examples/, plus the address and value forms of doc/ARCHITECTURE.md 7 and
 df1_value_format(3). Each seed carries the target's leading option bytes (see
 the comment at the top of each tests/fuzz/fuzz_TARGET.c).
 

@@ -48,7 +48,7 @@ void ledger_free(struct ledger *l)
 	l->log_fd = -1;
 }
 
-/* The data-table writes of every command set (spec 4-6). */
+/* The data-table writes of every command set (doc/PROTOCOL.md 4-6). */
 static bool is_write_cmd(const struct df1_msg *m)
 {
 	if (m->cmd == 0x0F && m->has_fnc)

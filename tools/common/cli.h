@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * cli - the command-line code shared by df1read, df1write, df1mon and df1sim
- * (DESIGN.md 8, STYLE.md 7.9): the common options, parsed with getopt_long
+ * (doc/ARCHITECTURE.md 8, doc/HACKING.md 7.9): the common options, parsed with getopt_long
  * from one table; per-tool option sets and extra options; building and
  * opening the handle; error reports in the catalog format; -v logging and
  * -vv frame traces on stderr; SIGINT/SIGTERM through a self-pipe; operand

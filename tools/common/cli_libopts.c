@@ -2,7 +2,7 @@
 /*
  * cli_libopts - the common options that set df1_set_option(3)'s link and PLC
  * options (see cli.h): their values, words and defaults, applied to a handle
- * and to the tools' own decoders. Where the spec leaves a doubt (spec 8), the
+ * and to the tools' own decoders. Where the spec leaves a doubt (doc/PROTOCOL.md 8), the
  * default is its recommendation and the other reading is one option away.
  */
 #include "common/cli_int.h"

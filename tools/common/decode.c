@@ -157,7 +157,7 @@ static struct decode_cmd *cmd_find(struct decode_ctx *x, const struct df1_msg *r
 		/* exact: the reply's DST/SRC are the command's SRC/DST */
 		if (c->dst == reply->src && c->src == reply->dst)
 			return c;
-		/* else the newest with that TNS (a bridge may rewrite SRC, spec 1.9) */
+		/* else the newest with that TNS (a bridge may rewrite SRC, doc/PROTOCOL.md 1.9) */
 		if (!best || c->age > best->age)
 			best = c;
 	}
@@ -243,7 +243,7 @@ static void decode_values(struct frame_view *v, enum df1_file_type ft, const uin
 }
 
 /* PLC-5 word range read / write (0F/01, 0F/00): a float goes high-order word
- * first, each word LE (spec 5): 1.5 is C0 3F 00 00. Other types are plain words. */
+ * first, each word LE (doc/PROTOCOL.md 5): 1.5 is C0 3F 00 00. Other types are plain words. */
 static void decode_word_range(struct frame_view *v, enum df1_file_type ft, const uint8_t *p, size_t n)
 {
 	if (ft == DF1_FT_F && n >= 4 && n % 4 == 0 && n <= sizeof v->swapped) {
@@ -501,7 +501,7 @@ static void build_view(struct decode_ctx *x, const struct df1_symbol *s, bool re
 			                        : df1_ext_sts_text(m->ext_sts);
 			char owner[32] = "";
 
-			/* DH-485 EXT STS 1A/1B: the owner's node follows (spec 3.4) */
+			/* DH-485 EXT STS 1A/1B: the owner's node follows (doc/PROTOCOL.md 3.4) */
 			if (r >= 0 && dh485 && (m->ext_sts == 0x1A || m->ext_sts == 0x1B) && s->len > 7) {
 				v->has_owner = true;
 				v->owner = s->data[7];

@@ -1,13 +1,13 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * decode_typedata - the parts of a command's bytes that say what its data is:
- * the type/data parameter (spec 4.3) of typed commands, PLC-5 system addresses
- * (spec 4.1), and the file type the values of an address decode as (see
+ * the type/data parameter (doc/PROTOCOL.md 4.3) of typed commands, PLC-5 system addresses
+ * (doc/PROTOCOL.md 4.1), and the file type the values of an address decode as (see
  * decode_int.h).
  */
 #include "common/decode_int.h"
 
-/* ---- type/data parameter (spec 4.3): flag byte, then ID and size bytes (LE) ---- */
+/* ---- type/data parameter (doc/PROTOCOL.md 4.3): flag byte, then ID and size bytes (LE) ---- */
 
 static int typedata_parse(const uint8_t *p, size_t n, unsigned *id, uint32_t *size)
 {
@@ -78,7 +78,7 @@ int decode_typedata_skip(const uint8_t *p, size_t n, enum df1_file_type *ft)
 	return k;
 }
 
-/* Bytes of a PLC-5 system address (spec 4.1) at p: logical ASCII 00 '$' text 00,
+/* Bytes of a PLC-5 system address (doc/PROTOCOL.md 4.1) at p: logical ASCII 00 '$' text 00,
  * or logical binary: a mask (FF + LE16 above 254), then one field per mask bit,
  * each 1 byte or FF + LE16. -1 if it does not fit in n. */
 static int plc5_addr_len(const uint8_t *p, size_t n)
@@ -114,7 +114,7 @@ static int plc5_addr_len(const uint8_t *p, size_t n)
 }
 
 /* 0F/67: df1_msg_decode points data past the type/data parameter; find that
- * parameter after PKT_OFFSET TOTAL ADDRESS (app bytes 7.., spec 4.3) and read the
+ * parameter after PKT_OFFSET TOTAL ADDRESS (app bytes 7.., doc/PROTOCOL.md 4.3) and read the
  * element type from it. Returns false if it does not end where the data starts. */
 bool decode_typedata_before(const uint8_t *app, const uint8_t *data, enum df1_file_type *ft)
 {

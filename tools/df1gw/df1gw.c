@@ -2,7 +2,7 @@
 /*
  * df1gw - a gateway daemon: one DF1 line's tags (a mapping CSV, polled by the
  * poll engine) kept in an MQTT broker as retained JSON, and writes taken back
- * from <prefix>/tag/<name>/set (DESIGN.md 11; df1gw(1)).
+ * from <prefix>/tag/<name>/set (doc/ARCHITECTURE.md 11; df1gw(1)).
  *
  * One loop, no threads: poll() on the signal self-pipe (stop), a signalfd
  * (SIGHUP: reload), the broker's socket (gw_mqtt.c) and the poll engine's

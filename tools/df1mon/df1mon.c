@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
- * df1mon - DF1 diagnostics (DESIGN.md 8).
+ * df1mon - DF1 diagnostics (doc/ARCHITECTURE.md 8).
  *
  * Offline modes (no device):
  *   --decode [HEX...]  frames given as hex: each argument (or each stdin line) is

@@ -2,7 +2,7 @@
 /*
  * df1sim - a simulated PLC: a DF1 half-duplex slave or full-duplex peer with a
  * data table and fault injection, served on a pseudo-terminal, a serial port
- * or TCP (DESIGN.md 8, man/man1/df1sim.1). Options and transport set-up on
+ * or TCP (doc/ARCHITECTURE.md 8, man/man1/df1sim.1). Options and transport set-up on
  * the library's data table (df1_table(3): files, --data, the processor of the
  * diagnostic status, the serving callbacks) and df1_serve(); the shared code
  * is tools/common/cli.h (cli_parse: the line options, df1sim's own as extra options;
@@ -464,7 +464,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 	if ((o->cli.given & CLI_ACCEPT(CLI_OPT_PLC5_TIMER_WORDS)) && o->cli.plc != DF1_PLC_PLC5)
 		return cli_usage_error(&o->cli, "--plc5-timer-words goes with --plc plc5 only");
 	/* a PLC-5 answers typed reads of timers with 5 words, as KF2 p.130 and VME
-	 * p.81 describe it (spec 4.3); --plc5-timer-words 3 for the data-table form */
+	 * p.81 describe it (doc/PROTOCOL.md 4.3); --plc5-timer-words 3 for the data-table form */
 	if (o->cli.plc == DF1_PLC_PLC5 && !(o->cli.given & CLI_ACCEPT(CLI_OPT_PLC5_TIMER_WORDS))) {
 		o->cli.lib_value[CLI_OPT_PLC5_TIMER_WORDS] = 5;
 		o->cli.lib_set |= CLI_ACCEPT(CLI_OPT_PLC5_TIMER_WORDS);
