@@ -746,7 +746,7 @@ static int run(struct gw *g)
 }
 
 /* --counters: the poll engine's figures, EtherNet/IP's, the line's catalog counters. */
-static void print_counters(const struct gw *g)
+static void gw_print_counters(const struct gw *g)
 {
 	struct df1_poll_stats ps;
 
@@ -759,15 +759,7 @@ static void print_counters(const struct gw *g)
 	       (unsigned long long)ps.writes, (unsigned long long)ps.write_failures,
 	       (unsigned long long)ps.retries);
 	gw_eip_counters(&g->eip, stdout);
-	for (size_t i = 0;; i++) {
-		const struct df1_catalog_entry *e = df1_catalog_at(i);
-		uint64_t v = 0;
-
-		if (!e)
-			break;
-		if (e->severity == DF1_SEV_COUNTER && df1_counter(g->h, e->id, &v) == 0)
-			printf("%d %s %llu\n", e->id, e->mnemonic, (unsigned long long)v);
-	}
+	cli_print_counters(stdout, g->h, CLI_FMT_PLAIN, 0);
 	fflush(stdout);
 }
 
@@ -776,7 +768,7 @@ static void shutdown_gw(struct gw *g)
 	char topic[GW_TOPIC_MAX];
 
 	if (g->counters)
-		print_counters(g);
+		gw_print_counters(g);
 	/* queued writes and EtherNet/IP requests end first (their results go
 	 * out), then the line closes, then the EtherNet/IP server */
 	df1_free(g->h);
