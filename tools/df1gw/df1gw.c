@@ -2,7 +2,8 @@
 /*
  * df1gw - a gateway daemon: one DF1 line's tags (a mapping CSV, polled by the
  * poll engine) kept in an MQTT broker as retained JSON, and writes taken back
- * from <prefix>/tag/<name>/set (DESIGN.md 11; df1gw(1)).
+ * from <prefix>/tag/<name>/set (DESIGN.md 11; df1gw(1)). What the messages
+ * hold is the payload formats' (gw_format.h); gw_pub.c says when.
  *
  * One loop, no threads: poll() on the signal self-pipe (stop), a signalfd
  * (SIGHUP: reload), the broker's socket (gw_mqtt.c) and the poll engine's
@@ -31,12 +32,12 @@
 #include <unistd.h>
 
 #include "df1gw/gw.h"
-#include "df1gw/gw_url.h"
 
 #define LINE_BACKOFF_MIN 500
 #define LINE_BACKOFF_MAX 30000
 #define ONCE_CONNECT_MS 10000        /* --once: the broker must answer within this */
 #define FLUSH_MS 2000                /* at exit: what is queued for the broker */
+#define GW_FORMATS_DEFAULT "json"    /* the payload formats enabled */
 
 enum {
 	OPT_MAP = CLI_KEY_EXTRA, OPT_MQTT, OPT_CAFILE, OPT_CERT, OPT_KEY, OPT_CLIENT_ID, OPT_USERNAME,
@@ -248,7 +249,7 @@ static int line_adopt(struct gw *g, df1_t *h)
 			return -1;
 		}
 		if (e->config && strcmp(e->config, conf) != 0)
-			gw_pub_set(&e->key, NULL);      /* changed: published at its first read */
+			gw_pub_forget(e);               /* changed: published at its first read */
 		gw_pub_set(&e->config, conf);
 		e->live = true;
 		if (st.config->station >= 0 && st.config->station < 255)
@@ -257,8 +258,7 @@ static int line_adopt(struct gw *g, df1_t *h)
 	/* tags removed: their retained topics go */
 	for (size_t i = 0; i < g->pubs.n;) {
 		if (!g->pubs.v[i].live) {
-			if (g->pubs.v[i].key)
-				gw_publish_clear(g, g->pubs.v[i].name);
+			gw_publish_gone(g, &g->pubs.v[i]);
 			gw_pubs_remove(&g->pubs, &g->pubs.v[i]);
 			continue;
 		}
@@ -479,9 +479,44 @@ static int check_prefix(struct gw *g)
 	return 0;
 }
 
+/* The payload formats, each under the prefix; the broker's client with the
+ * first format's last will (none with --once). 0 or the exit status. */
+static int broker_setup(struct gw *g)
+{
+	const struct gw_url *url = &g->url;
+	struct gw_mqtt_config mc = {
+		.prog = GW_PROG, .url = g->mqtt_url, .host = url->host, .port = url->port, .tls = url->tls,
+		.cafile = g->cafile, .cert = g->cert, .key = g->keyfile, .client_id = g->client_id,
+		.username = g->username, .password = g->password, .keepalive = g->keepalive_s,
+		.qos = g->qos, .will_topic = NULL, .verbose = g->cli.verbose, .quiet = g->cli.quiet,
+	};
+	struct gw_mqtt_events ev = { g, gw_on_connected, g->once ? NULL : gw_on_message };
+	char err[256];
+
+	if (gw_fmts_enable(&g->fmts, GW_FORMATS_DEFAULT, g->prefix, err, sizeof err) < 0) {
+		fprintf(stderr, "%s: %s\n", GW_PROG, err);
+		return CLI_EXIT_USAGE;
+	}
+	for (int i = 0; i < g->fmts.n && !g->once && !mc.will_topic; i++) {
+		const struct gw_fmt *f = &g->fmts.v[i];
+
+		if (f->ops->will(f, &g->will) == 0) {
+			mc.will_topic = g->will.topic;
+			mc.will_payload = g->will.body.p;
+			mc.will_len = g->will.body.len;
+			mc.will_retain = g->will.retain;
+		}
+	}
+	if (gw_mqtt_init(&g->mq, &mc, &ev, err, sizeof err) < 0) {
+		fprintf(stderr, "%s: --mqtt %s: %s\n", GW_PROG, g->mqtt_url, err);
+		return CLI_EXIT_USAGE;
+	}
+	g->mq_configured = true;
+	return 0;
+}
+
 static int setup(struct gw *g, int argc, char **argv)
 {
-	struct gw_url url;
 	char err[256];
 	int r;
 
@@ -504,7 +539,7 @@ static int setup(struct gw *g, int argc, char **argv)
 		return cli_usage_error(&g->cli, "--once publishes: it needs --mqtt");
 	if (g->eip.station < 0)
 		g->eip.station = 1;     /* -a is not df1gw's: tags name their stations */
-	if (g->mqtt_url && gw_url_parse(g->mqtt_url, &url, err, sizeof err) < 0) {
+	if (g->mqtt_url && gw_url_parse(g->mqtt_url, &g->url, err, sizeof err) < 0) {
 		fprintf(stderr, "%s: --mqtt %s: %s\n", GW_PROG, g->mqtt_url, err);
 		return CLI_EXIT_USAGE;
 	}
@@ -512,7 +547,7 @@ static int setup(struct gw *g, int argc, char **argv)
 		fprintf(stderr, "%s: --cafile, --cert, --key, --username and --password-file go with --mqtt\n", GW_PROG);
 		return CLI_EXIT_USAGE;
 	}
-	if (g->mqtt_url && !url.tls && (g->cafile || g->cert || g->keyfile)) {
+	if (g->mqtt_url && !g->url.tls && (g->cafile || g->cert || g->keyfile)) {
 		fprintf(stderr, "%s: --cafile, --cert and --key are for mqtts:// (TLS)\n", GW_PROG);
 		return CLI_EXIT_USAGE;
 	}
@@ -546,29 +581,8 @@ static int setup(struct gw *g, int argc, char **argv)
 			return CLI_EXIT_FAIL;
 		}
 	}
-	if (g->mqtt_url) {
-		static char will[GW_TOPIC_MAX + 8];
-		struct gw_mqtt_config mc = {
-			.prog = GW_PROG, .url = g->mqtt_url, .host = NULL, .port = url.port, .tls = url.tls,
-			.cafile = g->cafile, .cert = g->cert, .key = g->keyfile, .client_id = g->client_id,
-			.username = g->username, .password = g->password, .keepalive = g->keepalive_s,
-			.qos = g->qos, .will_topic = NULL, .verbose = g->cli.verbose, .quiet = g->cli.quiet,
-		};
-		struct gw_mqtt_events ev = { g, gw_on_connected, g->once ? NULL : gw_on_message };
-		static char host[256];
-
-		snprintf(host, sizeof host, "%s", url.host);
-		mc.host = host;
-		if (!g->once) {
-			snprintf(will, sizeof will, "%s/status", g->prefix);
-			mc.will_topic = will;
-		}
-		if (gw_mqtt_init(&g->mq, &mc, &ev, err, sizeof err) < 0) {
-			fprintf(stderr, "%s: --mqtt %s: %s\n", GW_PROG, g->mqtt_url, err);
-			return CLI_EXIT_USAGE;
-		}
-		g->mq_configured = true;
-	}
+	if (g->mqtt_url && (r = broker_setup(g)) != 0)
+		return r;
 	if (g->eip.listen && (r = gw_eip_open(&g->eip, GW_PROG, g->cli.quiet)) != 0)
 		return r;
 	if (gw_ids_init(&g->ids, GW_IDS_DEFAULT) < 0) {
@@ -765,8 +779,6 @@ static void gw_print_counters(const struct gw *g)
 
 static void shutdown_gw(struct gw *g)
 {
-	char topic[GW_TOPIC_MAX];
-
 	if (g->counters)
 		gw_print_counters(g);
 	/* queued writes and EtherNet/IP requests end first (their results go
@@ -776,16 +788,16 @@ static void shutdown_gw(struct gw *g)
 	g->eip.h = NULL;
 	gw_eip_close(&g->eip);
 	if (g->mq_configured) {
-		if (!g->once && gw_mqtt_up(&g->mq)) {
-			snprintf(topic, sizeof topic, "%s/status", g->prefix);
-			gw_mqtt_publish(&g->mq, topic, "offline", 7, true);
-		}
+		if (!g->once && gw_mqtt_up(&g->mq))
+			gw_publish_offline(g);
 		flush_broker(g, FLUSH_MS);
 		gw_mqtt_close(&g->mq);
 	}
+	gw_fmts_close(&g->fmts);
 	gw_pubs_free(&g->pubs);
 	gw_ids_free(&g->ids);
-	gw_buf_free(&g->buf);
+	gw_msg_free(&g->msg);
+	gw_msg_free(&g->will);
 	gw_buf_free(&g->key);
 	free(g->dirty);
 	free(g->pub_of);
@@ -803,7 +815,8 @@ int main(int argc, char **argv)
 
 	g.eip.station = -1;
 	gw_pubs_init(&g.pubs);
-	gw_buf_init(&g.buf);
+	gw_msg_init(&g.msg);
+	gw_msg_init(&g.will);
 	gw_buf_init(&g.key);
 	r = setup(&g, argc, argv);
 	if (r != CLI_CONTINUE) {
