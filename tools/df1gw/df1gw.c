@@ -632,16 +632,173 @@ static void flush_broker(struct gw *g, int ms)
 	}
 }
 
-static int run(struct gw *g)
-{
-	int hup = hup_fd_open();
-	int64_t started = gw_now_ms();
-	uint64_t scans_seen = 0;
-	bool once_published = false;
-	int status = CLI_EXIT_OK;
+/* What the loop waits on: each one's place in p, -1 when it is not there. */
+struct gw_wait {
+	struct pollfd p[5];
+	int n, sig, hup, mq, line, eip;
+};
 
-	if (hup < 0 && !g->once)
-		fprintf(stderr, "%s: SIGHUP: %s (no reload)\n", GW_PROG, strerror(errno));
+static void wait_add(struct gw_wait *w, int *at, int fd, short events)
+{
+	*at = -1;
+	if (fd < 0)
+		return;
+	w->p[w->n] = (struct pollfd){ fd, events, 0 };
+	*at = w->n++;
+}
+
+static bool wait_ready(const struct gw_wait *w, int at)
+{
+	return at >= 0 && w->p[at].revents;
+}
+
+/* The signals, SIGHUP, the broker, the line's poll engine, EtherNet/IP. */
+static void wait_set(const struct gw *g, int hup, struct gw_wait *w)
+{
+	w->n = 0;
+	wait_add(w, &w->sig, cli_signal_fd(), POLLIN);
+	wait_add(w, &w->hup, hup, POLLIN);
+	wait_add(w, &w->mq, gw_mqtt_fd(&g->mq), gw_mqtt_poll_events(&g->mq));
+	wait_add(w, &w->line, g->line_up ? df1_poll_fd(g->h) : -1, POLLIN);
+	wait_add(w, &w->eip, gw_eip_fd(&g->eip), POLLIN);
+}
+
+/* Milliseconds until whatever is due next: the broker, the line's work or
+ * its reopening, --refresh; at most 1 s. */
+static int wait_timeout(const struct gw *g, int64_t now)
+{
+	int timeout = 1000, t;
+
+	t = g->mq_configured ? gw_mqtt_wait_ms(&g->mq, now) : timeout;
+	if (t < timeout)
+		timeout = t;
+	if (g->line_up) {
+		t = df1_poll_next_ms(g->h);
+		if (t >= 0 && t < timeout)
+			timeout = t;
+	} else {
+		int64_t d = g->line_next_try_ms - now;
+		if (d < timeout)
+			timeout = d < 0 ? 0 : (int)d;
+	}
+	if (g->refresh_s > 0 && g->next_refresh_ms - now < timeout)
+		timeout = g->next_refresh_ms - now < 0 ? 0 : (int)(g->next_refresh_ms - now);
+	return timeout;
+}
+
+/* --once: when it started, whether everything went out after the first scan. */
+struct gw_once {
+	int64_t started;
+	uint64_t scans_seen;
+	bool published;
+};
+
+/* The broker refused us for good (the first connection; any with --once),
+ * or --once has none: the exit status, else CLI_CONTINUE. */
+static int broker_verdict(const struct gw *g, const struct gw_once *o, int64_t now)
+{
+	if (g->mq.refused && (!g->mq.ever_up || g->once)) {
+		fprintf(stderr, "%s: broker %s: refused the connection: %s\n", GW_PROG, g->mqtt_url,
+		        g->mq.refused_text);
+		return CLI_EXIT_FAIL;
+	}
+	if (g->once && !gw_mqtt_up(&g->mq) && (g->mq.next_try_ms > 0 || now - o->started > ONCE_CONNECT_MS)) {
+		fprintf(stderr, "%s: broker %s: cannot connect\n", GW_PROG, g->mqtt_url);
+		return CLI_EXIT_FAIL;
+	}
+	return CLI_CONTINUE;
+}
+
+/* --once after a pass: everything published after the first scan, then the
+ * end once the broker has it; a line that is not open ends it at once.
+ * CLI_CONTINUE, or the exit status. */
+static int once_step(struct gw *g, struct gw_once *o)
+{
+	struct df1_poll_stats ps;
+
+	if (!g->line_up) {
+		fprintf(stderr, "%s: %s\n", GW_PROG, g->line_error);
+		return CLI_EXIT_FAIL;
+	}
+	if (!gw_mqtt_up(&g->mq))
+		return CLI_CONTINUE;
+	df1_poll_stats(g->h, &ps);
+	if (!o->published && ps.scans > o->scans_seen) {
+		gw_publish_changes(g, true);
+		o->published = true;
+	}
+	return o->published && gw_mqtt_idle(&g->mq) ? CLI_EXIT_OK : CLI_CONTINUE;
+}
+
+/* The EtherNet/IP side forwards to the line as it is now (a reload replaces
+ * the handle; a lost line is answered at once). */
+static void eip_mirror(struct gw *g)
+{
+	g->eip.h = g->h;
+	g->eip.line_up = g->line_up;
+}
+
+/* One pass after poll(): a reload, EtherNet/IP's requests, the line's work
+ * (or its reopening), --refresh, what changed published. */
+static void loop_work(struct gw *g, const struct gw_wait *w, int hup, int64_t now)
+{
+	if (wait_ready(w, w->hup)) {
+		struct signalfd_siginfo si;
+
+		while (read(hup, &si, sizeof si) == (ssize_t)sizeof si)
+			;
+		if (!g->once)
+			reload(g);
+	}
+	eip_mirror(g);
+	if (wait_ready(w, w->eip))
+		gw_eip_process(&g->eip);       /* requests join the line's queue */
+	if (g->line_up && (df1_poll_next_ms(g->h) == 0 || wait_ready(w, w->line)))
+		line_work(g);
+	else if (!g->line_up && now >= g->line_next_try_ms)
+		line_open(g);
+	if (g->refresh_s > 0 && now >= g->next_refresh_ms) {
+		g->republish = true;
+		g->next_refresh_ms = now + (int64_t)g->refresh_s * 1000;
+	}
+	gw_publish_changes(g, false);
+}
+
+/* Until a signal stops it (or --once is done): the exit status. */
+static int loop(struct gw *g, int hup, struct gw_once *o)
+{
+	struct gw_wait w;
+	int status = CLI_CONTINUE;
+
+	while (!cli_stop && status == CLI_CONTINUE) {
+		int64_t now = gw_now_ms();
+
+		wait_set(g, hup, &w);
+		if (poll(w.p, (nfds_t)w.n, wait_timeout(g, now)) < 0 && errno != EINTR) {
+			fprintf(stderr, "%s: poll: %s\n", GW_PROG, strerror(errno));
+			return CLI_EXIT_FAIL;
+		}
+		if (cli_stop)
+			break;
+		if (wait_ready(&w, w.sig))
+			cli_signal_drain();
+		now = gw_now_ms();
+		if (g->mq_configured)
+			gw_mqtt_service(&g->mq, w.mq >= 0 ? w.p[w.mq].revents : 0, now);
+		status = broker_verdict(g, o, now);
+		if (status != CLI_CONTINUE)
+			break;
+		loop_work(g, &w, hup, now);
+		if (g->once)
+			status = once_step(g, o);
+	}
+	return status == CLI_CONTINUE ? CLI_EXIT_OK : status;
+}
+
+/* Before the loop: the line opened (with --once it must be), the first
+ * connect to the broker. CLI_CONTINUE, or the exit status. */
+static int loop_start(struct gw *g)
+{
 	g->line_backoff_ms = LINE_BACKOFF_MIN;
 	if (line_open(g) < 0 && g->once) {
 		fprintf(stderr, "%s: %s\n", GW_PROG, g->line_error);
@@ -654,106 +811,24 @@ static int run(struct gw *g)
 		gw_mqtt_service(&g->mq, 0, gw_now_ms());        /* the first connect */
 	if (g->refresh_s > 0)
 		g->next_refresh_ms = gw_now_ms() + (int64_t)g->refresh_s * 1000;
-	while (!cli_stop) {
-		struct pollfd p[5];
-		int np = 0, i_sig, i_hup = -1, i_mq = -1, i_line = -1, i_eip = -1, timeout = 1000, t, r;
-		int64_t now = gw_now_ms();
+	return CLI_CONTINUE;
+}
 
-		p[np] = (struct pollfd){ cli_signal_fd(), POLLIN, 0 };
-		i_sig = np++;
-		if (hup >= 0) {
-			p[np] = (struct pollfd){ hup, POLLIN, 0 };
-			i_hup = np++;
-		}
-		if (gw_mqtt_fd(&g->mq) >= 0) {
-			p[np] = (struct pollfd){ gw_mqtt_fd(&g->mq), gw_mqtt_poll_events(&g->mq), 0 };
-			i_mq = np++;
-		}
-		if (g->line_up && (r = df1_poll_fd(g->h)) >= 0) {
-			p[np] = (struct pollfd){ r, POLLIN, 0 };
-			i_line = np++;
-		}
-		if (gw_eip_fd(&g->eip) >= 0) {
-			p[np] = (struct pollfd){ gw_eip_fd(&g->eip), POLLIN, 0 };
-			i_eip = np++;
-		}
-		t = g->mq_configured ? gw_mqtt_wait_ms(&g->mq, now) : timeout;
-		if (t < timeout)
-			timeout = t;
-		if (g->line_up) {
-			t = df1_poll_next_ms(g->h);
-			if (t >= 0 && t < timeout)
-				timeout = t;
-		} else {
-			int64_t d = g->line_next_try_ms - now;
-			if (d < timeout)
-				timeout = d < 0 ? 0 : (int)d;
-		}
-		if (g->refresh_s > 0 && g->next_refresh_ms - now < timeout)
-			timeout = g->next_refresh_ms - now < 0 ? 0 : (int)(g->next_refresh_ms - now);
-		if (poll(p, (nfds_t)np, timeout) < 0 && errno != EINTR) {
-			fprintf(stderr, "%s: poll: %s\n", GW_PROG, strerror(errno));
-			status = CLI_EXIT_FAIL;
-			break;
-		}
-		if (cli_stop)
-			break;
-		if (p[i_sig].revents)
-			cli_signal_drain();
-		now = gw_now_ms();
-		if (g->mq_configured)
-			gw_mqtt_service(&g->mq, i_mq >= 0 ? p[i_mq].revents : 0, now);
-		if (g->mq.refused && (!g->mq.ever_up || g->once)) {
-			fprintf(stderr, "%s: broker %s: refused the connection: %s\n", GW_PROG, g->mqtt_url,
-			        g->mq.refused_text);
-			status = CLI_EXIT_FAIL;
-			break;
-		}
-		if (g->once && !gw_mqtt_up(&g->mq) &&
-		    (g->mq.next_try_ms > 0 || now - started > ONCE_CONNECT_MS)) {
-			fprintf(stderr, "%s: broker %s: cannot connect\n", GW_PROG, g->mqtt_url);
-			status = CLI_EXIT_FAIL;
-			break;
-		}
-		if (i_hup >= 0 && p[i_hup].revents) {
-			struct signalfd_siginfo si;
+static int run(struct gw *g)
+{
+	int hup = hup_fd_open();
+	struct gw_once once = { gw_now_ms(), 0, false };
+	int status;
 
-			while (read(hup, &si, sizeof si) == (ssize_t)sizeof si)
-				;
-			if (!g->once)
-				reload(g);
-		}
-		g->eip.h = g->h;
-		g->eip.line_up = g->line_up;
-		if (i_eip >= 0 && p[i_eip].revents)
-			gw_eip_process(&g->eip);       /* requests join the line's queue */
-		if (g->line_up && (df1_poll_next_ms(g->h) == 0 || (i_line >= 0 && p[i_line].revents)))
-			line_work(g);
-		else if (!g->line_up && now >= g->line_next_try_ms)
-			line_open(g);
-		if (g->refresh_s > 0 && now >= g->next_refresh_ms) {
-			g->republish = true;
-			g->next_refresh_ms = now + (int64_t)g->refresh_s * 1000;
-		}
-		gw_publish_changes(g, false);
-		if (g->once && g->line_up && gw_mqtt_up(&g->mq)) {
-			struct df1_poll_stats ps;
-
-			df1_poll_stats(g->h, &ps);
-			if (!once_published && ps.scans > scans_seen) {
-				gw_publish_changes(g, true);
-				once_published = true;
-			}
-			if (once_published && gw_mqtt_idle(&g->mq))
-				break;
-		} else if (g->once && !g->line_up) {
-			fprintf(stderr, "%s: %s\n", GW_PROG, g->line_error);
+	if (hup < 0 && !g->once)
+		fprintf(stderr, "%s: SIGHUP: %s (no reload)\n", GW_PROG, strerror(errno));
+	status = loop_start(g);
+	if (status == CLI_CONTINUE) {
+		status = loop(g, hup, &once);
+		/* --once: published, and no readable tag BAD */
+		if (g->once && status == CLI_EXIT_OK && (!once.published || any_bad(g)))
 			status = CLI_EXIT_FAIL;
-			break;
-		}
 	}
-	if (g->once && status == CLI_EXIT_OK && (!once_published || any_bad(g)))
-		status = CLI_EXIT_FAIL;
 	if (hup >= 0)
 		close(hup);
 	return status;
