@@ -99,6 +99,19 @@ static void test_table_and_list(void **state)
 	assert_int_equal(l.n, 1);
 	gw_fmts_close(&l);
 	assert_int_equal(l.n, 0);
+	/* a comma-separated list, as an option would give it */
+	assert_int_equal(gw_fmts_enable_list(&l, "json", "p", err, sizeof err), 0);
+	assert_int_equal(l.n, 1);
+	gw_fmts_close(&l);
+	assert_int_equal(gw_fmts_enable_list(&l, "json,json", "p", err, sizeof err), -1);
+	gw_fmts_close(&l);
+	assert_int_equal(gw_fmts_enable_list(&l, "json,", "p", err, sizeof err), -1);
+	gw_fmts_close(&l);
+	assert_int_equal(gw_fmts_enable_list(&l, ",json", "p", err, sizeof err), -1);
+	assert_int_equal(gw_fmts_enable_list(&l, "", "p", err, sizeof err), -1);
+	assert_int_equal(gw_fmts_enable_list(&l, "json,xml", "p", err, sizeof err), -1);
+	assert_non_null(strstr(err, "xml"));
+	gw_fmts_close(&l);
 }
 
 /* The tag message of df1gw(1): the topic, retained, the "ts" out of the key. */

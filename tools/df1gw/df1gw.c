@@ -37,7 +37,7 @@
 #define LINE_BACKOFF_MAX 30000
 #define ONCE_CONNECT_MS 10000        /* --once: the broker must answer within this */
 #define FLUSH_MS 2000                /* at exit: what is queued for the broker */
-#define GW_FORMATS_DEFAULT "json"    /* the payload formats enabled */
+#define GW_FORMATS_DEFAULT "json"    /* the payload formats enabled (gw_format.h), a comma list */
 
 enum {
 	OPT_MAP = CLI_KEY_EXTRA, OPT_MQTT, OPT_CAFILE, OPT_CERT, OPT_KEY, OPT_CLIENT_ID, OPT_USERNAME,
@@ -493,7 +493,7 @@ static int broker_setup(struct gw *g)
 	struct gw_mqtt_events ev = { g, gw_on_connected, g->once ? NULL : gw_on_message };
 	char err[256];
 
-	if (gw_fmts_enable(&g->fmts, GW_FORMATS_DEFAULT, g->prefix, err, sizeof err) < 0) {
+	if (gw_fmts_enable_list(&g->fmts, GW_FORMATS_DEFAULT, g->prefix, err, sizeof err) < 0) {
 		fprintf(stderr, "%s: %s\n", GW_PROG, err);
 		return CLI_EXIT_USAGE;
 	}

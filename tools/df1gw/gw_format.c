@@ -10,11 +10,12 @@
 #include <string.h>
 
 /*
- * The table: one line X(NAME) per format, for the file gw_format_NAME.c
+ * The table: one line X(NAME) \ per format, for the file gw_format_NAME.c
  * that defines `const struct gw_format gw_format_NAME`.
  */
 #define GW_FORMAT_TABLE(X) \
-	X(json)
+	X(json) \
+	/* the end of the table */
 
 #define GW_FORMAT_DECLARE(name) extern const struct gw_format gw_format_##name;
 #define GW_FORMAT_ENTRY(name) &gw_format_##name,
@@ -62,6 +63,34 @@ int gw_fmts_enable(struct gw_fmts *l, const char *name, const char *prefix, char
 	if (ops->open && ops->open(f, err, errcap) < 0)
 		return -1;
 	l->n++;
+	return 0;
+}
+
+int gw_fmts_enable_list(struct gw_fmts *l, const char *names, const char *prefix, char *err, size_t errcap)
+{
+	char name[64];
+
+	if (!*names) {
+		snprintf(err, errcap, "no payload format");
+		return -1;
+	}
+	for (const char *p = names; *p;) {
+		size_t n = strcspn(p, ",");
+
+		if (n == 0 || n >= sizeof name) {
+			snprintf(err, errcap, "payload formats \"%s\": a list of names, comma-separated", names);
+			return -1;
+		}
+		memcpy(name, p, n);
+		name[n] = '\0';
+		if (gw_fmts_enable(l, name, prefix, err, errcap) < 0)
+			return -1;
+		p += n;
+		if (*p == ',' && *++p == '\0') {
+			snprintf(err, errcap, "payload formats \"%s\": a list of names, comma-separated", names);
+			return -1;
+		}
+	}
 	return 0;
 }
 

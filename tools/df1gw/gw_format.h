@@ -9,7 +9,7 @@
  * Pure: no I/O, no clock.
  *
  * A new format is one file, tools/df1gw/gw_format_NAME.c defining
- * `const struct gw_format gw_format_NAME`, plus one line X(NAME) in
+ * `const struct gw_format gw_format_NAME`, plus one line X(NAME) \ in
  * gw_format.c's table.
  */
 #ifndef DF1_TOOLS_GW_FORMAT_H
@@ -86,15 +86,17 @@ struct gw_format {
 	int (*station)(const struct gw_fmt *f, const struct gw_station_out *s, struct gw_msg *m,
 	               struct gw_buf *key);
 	int (*result)(const struct gw_fmt *f, const struct gw_result_out *r, struct gw_msg *m);
-	/* online (connected) or offline (stopping). */
+	/* online (connected) or offline (stopping); none with --once. */
 	int (*status)(const struct gw_fmt *f, bool online, struct gw_msg *m);
-	/* The broker's last will, set before connecting. */
+	/* The broker's last will, set before connecting. A connection has one:
+	 * the first enabled format that makes one gives it. */
 	int (*will)(const struct gw_fmt *f, struct gw_msg *m);
 
 	/* Writes: the subscription's pattern; the tag a topic writes (false: not
-	 * one of this format's write topics); the payload parsed (0, or -1 with
-	 * err; write_free in both cases); the values it asks of tag c (cur: the
-	 * tag's state, may be NULL), as gw_value_from_json() returns them. */
+	 * one of this format's write topics); the payload parsed (0, then
+	 * write_free when done; or -1 with err and nothing kept); the values it
+	 * asks of tag c (cur: the tag's state, may be NULL), returning 0 or
+	 * DF1_E_TYPE / DF1_E_RANGE with err as gw_value_from_json() does. */
 	void (*set_pattern)(const struct gw_fmt *f, char *out, size_t cap);
 	bool (*set_tag)(const struct gw_fmt *f, const char *topic, char *tag, size_t cap);
 	int (*write_parse)(const struct gw_fmt *f, const void *payload, size_t n, struct gw_write_in *w,
@@ -127,6 +129,8 @@ const struct gw_format *gw_format_at(size_t i);
 /* Enable the format named name with topics under prefix (kept, not copied).
  * 0, or -1 with err (unknown, enabled already, too many, its open failed). */
 int gw_fmts_enable(struct gw_fmts *l, const char *name, const char *prefix, char *err, size_t errcap);
+/* Enable each of names, a comma-separated list ("json"), in its order. 0, or -1 with err. */
+int gw_fmts_enable_list(struct gw_fmts *l, const char *names, const char *prefix, char *err, size_t errcap);
 void gw_fmts_close(struct gw_fmts *l);
 
 /* Inline: the formats use them, and gw_format.c's table uses the formats. */
