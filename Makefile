@@ -149,7 +149,9 @@ $(B)/libdf1.pc: libdf1.pc.in include/df1.h
 	$(Q)sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
 	    -e 's|@INCLUDEDIR@|$(INCLUDEDIR)|' -e 's|@VERSION@|$(VERSION)|' $< > $@
 
-$(B)/tests/test_gw_%: $(GW_PURE_OBJS) $(TOOL_COMMON_LIB)
+# df1gw's unit tests link its broker-free objects: an explicit rule, so that
+# they are prerequisites (a pattern rule without a recipe would not add them)
+$(filter $(B)/tests/test_gw_%,$(TEST_BINS)): $(GW_PURE_OBJS) $(TOOL_COMMON_LIB)
 $(B)/tests/%: $(B)/tests/%.o $(TEST_HELPER_OBJS) $(STATIC)
 	@mkdir -p $(dir $@)
 	@$(if $(Q),echo "  LD      $@")

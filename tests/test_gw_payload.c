@@ -308,11 +308,20 @@ static void test_change_key(void **state)
 	gw_pubs_init(&p);
 	e = gw_pubs_get(&p, "tag/a", true);
 	assert_non_null(e);
-	assert_true(gw_pub_update(e, "{1}", 10, false));     /* first: published */
-	assert_false(gw_pub_update(e, "{1}", 20, false));    /* same: not again */
+	assert_true(gw_pub_update(e, 0, "{1}", 10, false));     /* first: published */
+	assert_false(gw_pub_update(e, 0, "{1}", 20, false));    /* same: not again */
 	assert_int_equal(e->last_ms, 10);
-	assert_true(gw_pub_update(e, "{1}", 30, true));      /* forced (reconnect, --refresh) */
-	assert_true(gw_pub_update(e, "{2}", 40, false));     /* changed */
+	assert_true(gw_pub_update(e, 0, "{1}", 30, true));      /* forced (reconnect, --refresh) */
+	assert_true(gw_pub_update(e, 0, "{2}", 40, false));     /* changed */
+	/* each payload format has its own key: another slot has published nothing */
+	assert_true(gw_pub_update(e, 1, "{2}", 50, false));
+	assert_false(gw_pub_update(e, 1, "{2}", 60, false));
+	assert_false(gw_pub_update(e, 0, "{2}", 70, false));
+	/* a tag whose row changed at a reload: every format publishes it again */
+	gw_pub_forget(e);
+	assert_null(e->key[0]);
+	assert_true(gw_pub_update(e, 0, "{2}", 80, false));
+	assert_true(gw_pub_update(e, 1, "{2}", 90, false));
 	assert_ptr_equal(gw_pubs_get(&p, "tag/a", false), e);
 	assert_null(gw_pubs_get(&p, "tag/b", false));
 	gw_pubs_get(&p, "tag/b", true);

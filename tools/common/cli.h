@@ -241,6 +241,11 @@ void cli_error_text(const df1_t *h, int err, char *buf, size_t cap);
 int cli_exit_status(int err);
 /* "[2508] ERR_COMMAND_TIMEOUT" for a catalog ID, else the error name ("DF1_E_REMOTE"). */
 void cli_error_tag(int err, int catalog_id, char *buf, size_t cap);
+/* The line's counters of the message catalog in ID order (cli_counters.c):
+ * "ID MNEMONIC VALUE" lines (CLI_FMT_PLAIN, and INFLUX), "T,ID,MNEMONIC,VALUE"
+ * rows with t the seconds given (CSV), or {"id":..,"mnemonic":..,"value":..}
+ * objects joined by commas (JSON). Returns how many. */
+int cli_print_counters(FILE *f, const df1_t *h, enum cli_format fmt, double t);
 
 /* Logging (-v) and tracing (-vv) callbacks; user = struct cli *. */
 void cli_log(void *user, int catalog_id, enum df1_severity sev, const char *text);

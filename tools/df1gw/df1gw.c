@@ -2,7 +2,8 @@
 /*
  * df1gw - a gateway daemon: one DF1 line's tags (a mapping CSV, polled by the
  * poll engine) kept in an MQTT broker as retained JSON, and writes taken back
- * from <prefix>/tag/<name>/set (doc/ARCHITECTURE.md 11; df1gw(1)).
+ * from <prefix>/tag/<name>/set (doc/ARCHITECTURE.md 11; df1gw(1)). What the messages
+ * hold is the payload formats' (gw_format.h); gw_pub.c says when.
  *
  * One loop, no threads: poll() on the signal self-pipe (stop), a signalfd
  * (SIGHUP: reload), the broker's socket (gw_mqtt.c) and the poll engine's
@@ -31,12 +32,12 @@
 #include <unistd.h>
 
 #include "df1gw/gw.h"
-#include "df1gw/gw_url.h"
 
 #define LINE_BACKOFF_MIN 500
 #define LINE_BACKOFF_MAX 30000
 #define ONCE_CONNECT_MS 10000        /* --once: the broker must answer within this */
 #define FLUSH_MS 2000                /* at exit: what is queued for the broker */
+#define GW_FORMATS_DEFAULT "json"    /* the payload formats enabled (gw_format.h), a comma list */
 
 enum {
 	OPT_MAP = CLI_KEY_EXTRA, OPT_MQTT, OPT_CAFILE, OPT_CERT, OPT_KEY, OPT_CLIENT_ID, OPT_USERNAME,
@@ -248,7 +249,7 @@ static int line_adopt(struct gw *g, df1_t *h)
 			return -1;
 		}
 		if (e->config && strcmp(e->config, conf) != 0)
-			gw_pub_set(&e->key, NULL);      /* changed: published at its first read */
+			gw_pub_forget(e);               /* changed: published at its first read */
 		gw_pub_set(&e->config, conf);
 		e->live = true;
 		if (st.config->station >= 0 && st.config->station < 255)
@@ -257,8 +258,7 @@ static int line_adopt(struct gw *g, df1_t *h)
 	/* tags removed: their retained topics go */
 	for (size_t i = 0; i < g->pubs.n;) {
 		if (!g->pubs.v[i].live) {
-			if (g->pubs.v[i].key)
-				gw_publish_clear(g, g->pubs.v[i].name);
+			gw_publish_gone(g, &g->pubs.v[i]);
 			gw_pubs_remove(&g->pubs, &g->pubs.v[i]);
 			continue;
 		}
@@ -479,9 +479,44 @@ static int check_prefix(struct gw *g)
 	return 0;
 }
 
+/* The payload formats, each under the prefix; the broker's client with the
+ * first format's last will (none with --once). 0 or the exit status. */
+static int broker_setup(struct gw *g)
+{
+	const struct gw_url *url = &g->url;
+	struct gw_mqtt_config mc = {
+		.prog = GW_PROG, .url = g->mqtt_url, .host = url->host, .port = url->port, .tls = url->tls,
+		.cafile = g->cafile, .cert = g->cert, .key = g->keyfile, .client_id = g->client_id,
+		.username = g->username, .password = g->password, .keepalive = g->keepalive_s,
+		.qos = g->qos, .will_topic = NULL, .verbose = g->cli.verbose, .quiet = g->cli.quiet,
+	};
+	struct gw_mqtt_events ev = { g, gw_on_connected, g->once ? NULL : gw_on_message };
+	char err[256];
+
+	if (gw_fmts_enable_list(&g->fmts, GW_FORMATS_DEFAULT, g->prefix, err, sizeof err) < 0) {
+		fprintf(stderr, "%s: %s\n", GW_PROG, err);
+		return CLI_EXIT_USAGE;
+	}
+	for (int i = 0; i < g->fmts.n && !g->once && !mc.will_topic; i++) {
+		const struct gw_fmt *f = &g->fmts.v[i];
+
+		if (f->ops->will(f, &g->will) == 0) {
+			mc.will_topic = g->will.topic;
+			mc.will_payload = g->will.body.p;
+			mc.will_len = g->will.body.len;
+			mc.will_retain = g->will.retain;
+		}
+	}
+	if (gw_mqtt_init(&g->mq, &mc, &ev, err, sizeof err) < 0) {
+		fprintf(stderr, "%s: --mqtt %s: %s\n", GW_PROG, g->mqtt_url, err);
+		return CLI_EXIT_USAGE;
+	}
+	g->mq_configured = true;
+	return 0;
+}
+
 static int setup(struct gw *g, int argc, char **argv)
 {
-	struct gw_url url;
 	char err[256];
 	int r;
 
@@ -504,7 +539,7 @@ static int setup(struct gw *g, int argc, char **argv)
 		return cli_usage_error(&g->cli, "--once publishes: it needs --mqtt");
 	if (g->eip.station < 0)
 		g->eip.station = 1;     /* -a is not df1gw's: tags name their stations */
-	if (g->mqtt_url && gw_url_parse(g->mqtt_url, &url, err, sizeof err) < 0) {
+	if (g->mqtt_url && gw_url_parse(g->mqtt_url, &g->url, err, sizeof err) < 0) {
 		fprintf(stderr, "%s: --mqtt %s: %s\n", GW_PROG, g->mqtt_url, err);
 		return CLI_EXIT_USAGE;
 	}
@@ -512,7 +547,7 @@ static int setup(struct gw *g, int argc, char **argv)
 		fprintf(stderr, "%s: --cafile, --cert, --key, --username and --password-file go with --mqtt\n", GW_PROG);
 		return CLI_EXIT_USAGE;
 	}
-	if (g->mqtt_url && !url.tls && (g->cafile || g->cert || g->keyfile)) {
+	if (g->mqtt_url && !g->url.tls && (g->cafile || g->cert || g->keyfile)) {
 		fprintf(stderr, "%s: --cafile, --cert and --key are for mqtts:// (TLS)\n", GW_PROG);
 		return CLI_EXIT_USAGE;
 	}
@@ -546,29 +581,8 @@ static int setup(struct gw *g, int argc, char **argv)
 			return CLI_EXIT_FAIL;
 		}
 	}
-	if (g->mqtt_url) {
-		static char will[GW_TOPIC_MAX + 8];
-		struct gw_mqtt_config mc = {
-			.prog = GW_PROG, .url = g->mqtt_url, .host = NULL, .port = url.port, .tls = url.tls,
-			.cafile = g->cafile, .cert = g->cert, .key = g->keyfile, .client_id = g->client_id,
-			.username = g->username, .password = g->password, .keepalive = g->keepalive_s,
-			.qos = g->qos, .will_topic = NULL, .verbose = g->cli.verbose, .quiet = g->cli.quiet,
-		};
-		struct gw_mqtt_events ev = { g, gw_on_connected, g->once ? NULL : gw_on_message };
-		static char host[256];
-
-		snprintf(host, sizeof host, "%s", url.host);
-		mc.host = host;
-		if (!g->once) {
-			snprintf(will, sizeof will, "%s/status", g->prefix);
-			mc.will_topic = will;
-		}
-		if (gw_mqtt_init(&g->mq, &mc, &ev, err, sizeof err) < 0) {
-			fprintf(stderr, "%s: --mqtt %s: %s\n", GW_PROG, g->mqtt_url, err);
-			return CLI_EXIT_USAGE;
-		}
-		g->mq_configured = true;
-	}
+	if (g->mqtt_url && (r = broker_setup(g)) != 0)
+		return r;
 	if (g->eip.listen && (r = gw_eip_open(&g->eip, GW_PROG, g->cli.quiet)) != 0)
 		return r;
 	if (gw_ids_init(&g->ids, GW_IDS_DEFAULT) < 0) {
@@ -618,16 +632,173 @@ static void flush_broker(struct gw *g, int ms)
 	}
 }
 
-static int run(struct gw *g)
-{
-	int hup = hup_fd_open();
-	int64_t started = gw_now_ms();
-	uint64_t scans_seen = 0;
-	bool once_published = false;
-	int status = CLI_EXIT_OK;
+/* What the loop waits on: each one's place in p, -1 when it is not there. */
+struct gw_wait {
+	struct pollfd p[5];
+	int n, sig, hup, mq, line, eip;
+};
 
-	if (hup < 0 && !g->once)
-		fprintf(stderr, "%s: SIGHUP: %s (no reload)\n", GW_PROG, strerror(errno));
+static void wait_add(struct gw_wait *w, int *at, int fd, short events)
+{
+	*at = -1;
+	if (fd < 0)
+		return;
+	w->p[w->n] = (struct pollfd){ fd, events, 0 };
+	*at = w->n++;
+}
+
+static bool wait_ready(const struct gw_wait *w, int at)
+{
+	return at >= 0 && w->p[at].revents;
+}
+
+/* The signals, SIGHUP, the broker, the line's poll engine, EtherNet/IP. */
+static void wait_set(const struct gw *g, int hup, struct gw_wait *w)
+{
+	w->n = 0;
+	wait_add(w, &w->sig, cli_signal_fd(), POLLIN);
+	wait_add(w, &w->hup, hup, POLLIN);
+	wait_add(w, &w->mq, gw_mqtt_fd(&g->mq), gw_mqtt_poll_events(&g->mq));
+	wait_add(w, &w->line, g->line_up ? df1_poll_fd(g->h) : -1, POLLIN);
+	wait_add(w, &w->eip, gw_eip_fd(&g->eip), POLLIN);
+}
+
+/* Milliseconds until whatever is due next: the broker, the line's work or
+ * its reopening, --refresh; at most 1 s. */
+static int wait_timeout(const struct gw *g, int64_t now)
+{
+	int timeout = 1000, t;
+
+	t = g->mq_configured ? gw_mqtt_wait_ms(&g->mq, now) : timeout;
+	if (t < timeout)
+		timeout = t;
+	if (g->line_up) {
+		t = df1_poll_next_ms(g->h);
+		if (t >= 0 && t < timeout)
+			timeout = t;
+	} else {
+		int64_t d = g->line_next_try_ms - now;
+		if (d < timeout)
+			timeout = d < 0 ? 0 : (int)d;
+	}
+	if (g->refresh_s > 0 && g->next_refresh_ms - now < timeout)
+		timeout = g->next_refresh_ms - now < 0 ? 0 : (int)(g->next_refresh_ms - now);
+	return timeout;
+}
+
+/* --once: when it started, whether everything went out after the first scan. */
+struct gw_once {
+	int64_t started;
+	uint64_t scans_seen;
+	bool published;
+};
+
+/* The broker refused us for good (the first connection; any with --once),
+ * or --once has none: the exit status, else CLI_CONTINUE. */
+static int broker_verdict(const struct gw *g, const struct gw_once *o, int64_t now)
+{
+	if (g->mq.refused && (!g->mq.ever_up || g->once)) {
+		fprintf(stderr, "%s: broker %s: refused the connection: %s\n", GW_PROG, g->mqtt_url,
+		        g->mq.refused_text);
+		return CLI_EXIT_FAIL;
+	}
+	if (g->once && !gw_mqtt_up(&g->mq) && (g->mq.next_try_ms > 0 || now - o->started > ONCE_CONNECT_MS)) {
+		fprintf(stderr, "%s: broker %s: cannot connect\n", GW_PROG, g->mqtt_url);
+		return CLI_EXIT_FAIL;
+	}
+	return CLI_CONTINUE;
+}
+
+/* --once after a pass: everything published after the first scan, then the
+ * end once the broker has it; a line that is not open ends it at once.
+ * CLI_CONTINUE, or the exit status. */
+static int once_step(struct gw *g, struct gw_once *o)
+{
+	struct df1_poll_stats ps;
+
+	if (!g->line_up) {
+		fprintf(stderr, "%s: %s\n", GW_PROG, g->line_error);
+		return CLI_EXIT_FAIL;
+	}
+	if (!gw_mqtt_up(&g->mq))
+		return CLI_CONTINUE;
+	df1_poll_stats(g->h, &ps);
+	if (!o->published && ps.scans > o->scans_seen) {
+		gw_publish_changes(g, true);
+		o->published = true;
+	}
+	return o->published && gw_mqtt_idle(&g->mq) ? CLI_EXIT_OK : CLI_CONTINUE;
+}
+
+/* The EtherNet/IP side forwards to the line as it is now (a reload replaces
+ * the handle; a lost line is answered at once). */
+static void eip_mirror(struct gw *g)
+{
+	g->eip.h = g->h;
+	g->eip.line_up = g->line_up;
+}
+
+/* One pass after poll(): a reload, EtherNet/IP's requests, the line's work
+ * (or its reopening), --refresh, what changed published. */
+static void loop_work(struct gw *g, const struct gw_wait *w, int hup, int64_t now)
+{
+	if (wait_ready(w, w->hup)) {
+		struct signalfd_siginfo si;
+
+		while (read(hup, &si, sizeof si) == (ssize_t)sizeof si)
+			;
+		if (!g->once)
+			reload(g);
+	}
+	eip_mirror(g);
+	if (wait_ready(w, w->eip))
+		gw_eip_process(&g->eip);       /* requests join the line's queue */
+	if (g->line_up && (df1_poll_next_ms(g->h) == 0 || wait_ready(w, w->line)))
+		line_work(g);
+	else if (!g->line_up && now >= g->line_next_try_ms)
+		line_open(g);
+	if (g->refresh_s > 0 && now >= g->next_refresh_ms) {
+		g->republish = true;
+		g->next_refresh_ms = now + (int64_t)g->refresh_s * 1000;
+	}
+	gw_publish_changes(g, false);
+}
+
+/* Until a signal stops it (or --once is done): the exit status. */
+static int loop(struct gw *g, int hup, struct gw_once *o)
+{
+	struct gw_wait w;
+	int status = CLI_CONTINUE;
+
+	while (!cli_stop && status == CLI_CONTINUE) {
+		int64_t now = gw_now_ms();
+
+		wait_set(g, hup, &w);
+		if (poll(w.p, (nfds_t)w.n, wait_timeout(g, now)) < 0 && errno != EINTR) {
+			fprintf(stderr, "%s: poll: %s\n", GW_PROG, strerror(errno));
+			return CLI_EXIT_FAIL;
+		}
+		if (cli_stop)
+			break;
+		if (wait_ready(&w, w.sig))
+			cli_signal_drain();
+		now = gw_now_ms();
+		if (g->mq_configured)
+			gw_mqtt_service(&g->mq, w.mq >= 0 ? w.p[w.mq].revents : 0, now);
+		status = broker_verdict(g, o, now);
+		if (status != CLI_CONTINUE)
+			break;
+		loop_work(g, &w, hup, now);
+		if (g->once)
+			status = once_step(g, o);
+	}
+	return status == CLI_CONTINUE ? CLI_EXIT_OK : status;
+}
+
+/* Before the loop: the line opened (with --once it must be), the first
+ * connect to the broker. CLI_CONTINUE, or the exit status. */
+static int loop_start(struct gw *g)
+{
 	g->line_backoff_ms = LINE_BACKOFF_MIN;
 	if (line_open(g) < 0 && g->once) {
 		fprintf(stderr, "%s: %s\n", GW_PROG, g->line_error);
@@ -640,113 +811,31 @@ static int run(struct gw *g)
 		gw_mqtt_service(&g->mq, 0, gw_now_ms());        /* the first connect */
 	if (g->refresh_s > 0)
 		g->next_refresh_ms = gw_now_ms() + (int64_t)g->refresh_s * 1000;
-	while (!cli_stop) {
-		struct pollfd p[5];
-		int np = 0, i_sig, i_hup = -1, i_mq = -1, i_line = -1, i_eip = -1, timeout = 1000, t, r;
-		int64_t now = gw_now_ms();
+	return CLI_CONTINUE;
+}
 
-		p[np] = (struct pollfd){ cli_signal_fd(), POLLIN, 0 };
-		i_sig = np++;
-		if (hup >= 0) {
-			p[np] = (struct pollfd){ hup, POLLIN, 0 };
-			i_hup = np++;
-		}
-		if (gw_mqtt_fd(&g->mq) >= 0) {
-			p[np] = (struct pollfd){ gw_mqtt_fd(&g->mq), gw_mqtt_poll_events(&g->mq), 0 };
-			i_mq = np++;
-		}
-		if (g->line_up && (r = df1_poll_fd(g->h)) >= 0) {
-			p[np] = (struct pollfd){ r, POLLIN, 0 };
-			i_line = np++;
-		}
-		if (gw_eip_fd(&g->eip) >= 0) {
-			p[np] = (struct pollfd){ gw_eip_fd(&g->eip), POLLIN, 0 };
-			i_eip = np++;
-		}
-		t = g->mq_configured ? gw_mqtt_wait_ms(&g->mq, now) : timeout;
-		if (t < timeout)
-			timeout = t;
-		if (g->line_up) {
-			t = df1_poll_next_ms(g->h);
-			if (t >= 0 && t < timeout)
-				timeout = t;
-		} else {
-			int64_t d = g->line_next_try_ms - now;
-			if (d < timeout)
-				timeout = d < 0 ? 0 : (int)d;
-		}
-		if (g->refresh_s > 0 && g->next_refresh_ms - now < timeout)
-			timeout = g->next_refresh_ms - now < 0 ? 0 : (int)(g->next_refresh_ms - now);
-		if (poll(p, (nfds_t)np, timeout) < 0 && errno != EINTR) {
-			fprintf(stderr, "%s: poll: %s\n", GW_PROG, strerror(errno));
-			status = CLI_EXIT_FAIL;
-			break;
-		}
-		if (cli_stop)
-			break;
-		if (p[i_sig].revents)
-			cli_signal_drain();
-		now = gw_now_ms();
-		if (g->mq_configured)
-			gw_mqtt_service(&g->mq, i_mq >= 0 ? p[i_mq].revents : 0, now);
-		if (g->mq.refused && (!g->mq.ever_up || g->once)) {
-			fprintf(stderr, "%s: broker %s: refused the connection: %s\n", GW_PROG, g->mqtt_url,
-			        g->mq.refused_text);
-			status = CLI_EXIT_FAIL;
-			break;
-		}
-		if (g->once && !gw_mqtt_up(&g->mq) &&
-		    (g->mq.next_try_ms > 0 || now - started > ONCE_CONNECT_MS)) {
-			fprintf(stderr, "%s: broker %s: cannot connect\n", GW_PROG, g->mqtt_url);
-			status = CLI_EXIT_FAIL;
-			break;
-		}
-		if (i_hup >= 0 && p[i_hup].revents) {
-			struct signalfd_siginfo si;
+static int run(struct gw *g)
+{
+	int hup = hup_fd_open();
+	struct gw_once once = { gw_now_ms(), 0, false };
+	int status;
 
-			while (read(hup, &si, sizeof si) == (ssize_t)sizeof si)
-				;
-			if (!g->once)
-				reload(g);
-		}
-		g->eip.h = g->h;
-		g->eip.line_up = g->line_up;
-		if (i_eip >= 0 && p[i_eip].revents)
-			gw_eip_process(&g->eip);       /* requests join the line's queue */
-		if (g->line_up && (df1_poll_next_ms(g->h) == 0 || (i_line >= 0 && p[i_line].revents)))
-			line_work(g);
-		else if (!g->line_up && now >= g->line_next_try_ms)
-			line_open(g);
-		if (g->refresh_s > 0 && now >= g->next_refresh_ms) {
-			g->republish = true;
-			g->next_refresh_ms = now + (int64_t)g->refresh_s * 1000;
-		}
-		gw_publish_changes(g, false);
-		if (g->once && g->line_up && gw_mqtt_up(&g->mq)) {
-			struct df1_poll_stats ps;
-
-			df1_poll_stats(g->h, &ps);
-			if (!once_published && ps.scans > scans_seen) {
-				gw_publish_changes(g, true);
-				once_published = true;
-			}
-			if (once_published && gw_mqtt_idle(&g->mq))
-				break;
-		} else if (g->once && !g->line_up) {
-			fprintf(stderr, "%s: %s\n", GW_PROG, g->line_error);
+	if (hup < 0 && !g->once)
+		fprintf(stderr, "%s: SIGHUP: %s (no reload)\n", GW_PROG, strerror(errno));
+	status = loop_start(g);
+	if (status == CLI_CONTINUE) {
+		status = loop(g, hup, &once);
+		/* --once: published, and no readable tag BAD */
+		if (g->once && status == CLI_EXIT_OK && (!once.published || any_bad(g)))
 			status = CLI_EXIT_FAIL;
-			break;
-		}
 	}
-	if (g->once && status == CLI_EXIT_OK && (!once_published || any_bad(g)))
-		status = CLI_EXIT_FAIL;
 	if (hup >= 0)
 		close(hup);
 	return status;
 }
 
 /* --counters: the poll engine's figures, EtherNet/IP's, the line's catalog counters. */
-static void print_counters(const struct gw *g)
+static void gw_print_counters(const struct gw *g)
 {
 	struct df1_poll_stats ps;
 
@@ -759,24 +848,14 @@ static void print_counters(const struct gw *g)
 	       (unsigned long long)ps.writes, (unsigned long long)ps.write_failures,
 	       (unsigned long long)ps.retries);
 	gw_eip_counters(&g->eip, stdout);
-	for (size_t i = 0;; i++) {
-		const struct df1_catalog_entry *e = df1_catalog_at(i);
-		uint64_t v = 0;
-
-		if (!e)
-			break;
-		if (e->severity == DF1_SEV_COUNTER && df1_counter(g->h, e->id, &v) == 0)
-			printf("%d %s %llu\n", e->id, e->mnemonic, (unsigned long long)v);
-	}
+	cli_print_counters(stdout, g->h, CLI_FMT_PLAIN, 0);
 	fflush(stdout);
 }
 
 static void shutdown_gw(struct gw *g)
 {
-	char topic[GW_TOPIC_MAX];
-
 	if (g->counters)
-		print_counters(g);
+		gw_print_counters(g);
 	/* queued writes and EtherNet/IP requests end first (their results go
 	 * out), then the line closes, then the EtherNet/IP server */
 	df1_free(g->h);
@@ -784,16 +863,16 @@ static void shutdown_gw(struct gw *g)
 	g->eip.h = NULL;
 	gw_eip_close(&g->eip);
 	if (g->mq_configured) {
-		if (!g->once && gw_mqtt_up(&g->mq)) {
-			snprintf(topic, sizeof topic, "%s/status", g->prefix);
-			gw_mqtt_publish(&g->mq, topic, "offline", 7, true);
-		}
+		if (!g->once && gw_mqtt_up(&g->mq))
+			gw_publish_offline(g);
 		flush_broker(g, FLUSH_MS);
 		gw_mqtt_close(&g->mq);
 	}
+	gw_fmts_close(&g->fmts);
 	gw_pubs_free(&g->pubs);
 	gw_ids_free(&g->ids);
-	gw_buf_free(&g->buf);
+	gw_msg_free(&g->msg);
+	gw_msg_free(&g->will);
 	gw_buf_free(&g->key);
 	free(g->dirty);
 	free(g->pub_of);
@@ -811,7 +890,8 @@ int main(int argc, char **argv)
 
 	g.eip.station = -1;
 	gw_pubs_init(&g.pubs);
-	gw_buf_init(&g.buf);
+	gw_msg_init(&g.msg);
+	gw_msg_init(&g.will);
 	gw_buf_init(&g.key);
 	r = setup(&g, argc, argv);
 	if (r != CLI_CONTINUE) {

@@ -2,8 +2,9 @@
 /*
  * gw - what df1gw's files share: the daemon's state (struct gw), and the
  * northbound work of gw_pub.c (publishing tags and stations, taking writes
- * from .../set). df1gw.c owns the loop, the options, the line and the reload;
- * gw_pub.c never calls back into it.
+ * from .../set) in the payload formats enabled (gw_format.h). df1gw.c owns
+ * the loop, the options, the line and the reload; gw_pub.c never calls back
+ * into it.
  */
 #ifndef DF1_TOOLS_GW_H
 #define DF1_TOOLS_GW_H
@@ -13,13 +14,14 @@
 
 #include "common/cli.h"
 #include "df1gw/gw_eip.h"
+#include "df1gw/gw_format.h"
 #include "df1gw/gw_json.h"
 #include "df1gw/gw_mqtt.h"
 #include "df1gw/gw_state.h"
+#include "df1gw/gw_url.h"
 #include "df1gw/gw_write.h"
 
 #define GW_PROG "df1gw"
-#define GW_TOPIC_MAX 512
 
 struct gw {
 	struct cli cli;
@@ -27,6 +29,7 @@ struct gw {
 	/* options */
 	const char *map_path;
 	const char *mqtt_url;
+	struct gw_url url;           /* mqtt_url parsed */
 	const char *cafile, *cert, *keyfile;
 	const char *client_id_opt, *username, *password_file, *prefix_opt;
 	int qos;
@@ -55,11 +58,14 @@ struct gw {
 	int ntags;
 	int *pub_of;                 /* per tag id: index in pubs */
 
+	struct gw_fmts fmts;         /* the payload formats, each publishing through mq */
 	struct gw_mqtt mq;
 	bool mq_configured;
-	struct gw_pubs pubs;         /* tag/<name> and station/<n> */
+	struct gw_msg will;          /* the last will, as the first format with one makes it */
+	struct gw_pubs pubs;         /* tag/<name> and station/<n>: their change keys */
 	struct gw_ids ids;
-	struct gw_buf buf, key;
+	struct gw_msg msg;           /* the message being made */
+	struct gw_buf key;           /* its change key */
 	bool republish;              /* everything, at the next chance (connected, line change) */
 	int64_t next_refresh_ms;
 	unsigned writes_pending;
@@ -72,11 +78,15 @@ int64_t gw_wall_ms(void);
 /* Publish what changed: dirty tags, station health; all when force (or
  * g->republish). Nothing while the broker is down. */
 void gw_publish_changes(struct gw *g, bool force);
-/* Clear a retained topic (a removed tag): an empty retained payload. */
-void gw_publish_clear(struct gw *g, const char *name);
+/* A tag removed (its entry, not live): what each format that published it
+ * says for that (JSON: its retained topic cleared). */
+void gw_publish_gone(struct gw *g, const struct gw_pub *e);
+/* Stopping: each format's offline status (not printed with -v). */
+void gw_publish_offline(struct gw *g);
 /* The tag callback of df1_set_tag_callback: marks the tag dirty. */
 void gw_on_tag(void *user, int id, const struct df1_tag_state *st);
-/* A message on <prefix>/tag/+/set (gw_mqtt_events.message). */
+/* A message on a format's write topics, <prefix>/tag/+/set for JSON
+ * (gw_mqtt_events.message). */
 void gw_on_message(void *user, const char *topic, const void *payload, int len, bool retain);
 /* Connected (again): status online, subscribe, republish everything. */
 void gw_on_connected(void *user);

@@ -26,6 +26,11 @@ void gw_buf_add(struct gw_buf *b, const char *s, size_t n);
 void gw_buf_puts(struct gw_buf *b, const char *s);
 void gw_buf_printf(struct gw_buf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
+/* Where a piece went in a buffer: [at, at + len). */
+struct gw_span {
+	size_t at, len;
+};
+
 /* A JSON string of UTF-8 text: quotes, backslash and control characters
  * escaped; a byte that is not part of valid UTF-8 as \u00XX. */
 void gw_json_text(struct gw_buf *b, const char *s, size_t n);

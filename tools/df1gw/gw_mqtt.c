@@ -131,8 +131,8 @@ int gw_mqtt_init(struct gw_mqtt *q, const struct gw_mqtt_config *c, const struct
 			return -1;
 		}
 	}
-	if (c->will_topic &&
-	    (rc = mosquitto_will_set(q->m, c->will_topic, 7, "offline", c->qos, true)) != 0) {
+	if (c->will_topic && (rc = mosquitto_will_set(q->m, c->will_topic, (int)c->will_len, c->will_payload,
+	                                               c->qos, c->will_retain)) != 0) {
 		snprintf(err, errcap, "last will on %s: %s", c->will_topic, mosquitto_strerror(rc));
 		return -1;
 	}

@@ -4,7 +4,8 @@
  * poll() loop (no libmosquitto thread): the socket and the events it waits
  * for, loop_read / loop_write / loop_misc when poll() says so, connecting
  * without blocking the loop, reconnecting with an exponential backoff
- * (0.5 s doubling to 30 s), the last will on <prefix>/status.
+ * (0.5 s doubling to 30 s), the last will it is given. It carries bytes:
+ * what they say is the payload formats' (gw_format.h).
  */
 #ifndef DF1_TOOLS_GW_MQTT_H
 #define DF1_TOOLS_GW_MQTT_H
@@ -26,7 +27,12 @@ struct gw_mqtt_config {
 	const char *username, *password;   /* NULL: none */
 	int keepalive;             /* seconds */
 	int qos;                   /* 0 or 1 */
-	const char *will_topic;    /* retained "offline" as the last will, NULL: none */
+	/* the last will as the payload format makes it: topic (NULL: none),
+	 * payload bytes, retain flag; sent with qos */
+	const char *will_topic;
+	const void *will_payload;
+	size_t will_len;
+	bool will_retain;
 	int verbose;
 	bool quiet;
 };

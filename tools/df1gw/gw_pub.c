@@ -1,8 +1,10 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
- * gw_pub - df1gw's northbound work (see gw.h): the retained tag and station
- * topics, published when their content changes; the status topic; writes
- * from <prefix>/tag/<name>/set through df1_tag_write(), each with one result.
+ * gw_pub - df1gw's northbound work (see gw.h): when to publish a tag or a
+ * station (its content changed, --refresh, a reconnect), the status, and
+ * writes through df1_tag_write(), each with one result; what the messages
+ * hold and which topics they go to is each enabled payload format's
+ * (gw_format.h).
  */
 #include "df1gw/gw.h"
 
@@ -11,7 +13,6 @@
 #include <string.h>
 #include <time.h>
 
-#include "df1gw/gw_value.h"
 
 int64_t gw_now_ms(void)
 {
@@ -44,58 +45,59 @@ static void err_text(int err, uint8_t sts, uint8_t ext, char *buf, size_t cap)
 		snprintf(buf, cap, "%s: %s", tag, df1_strerror(err));
 }
 
-static void topic_of(const struct gw *g, const char *name, const char *tail, char *out, size_t cap)
+/* One message of a format to the broker; said with -v. */
+static void publish(struct gw *g, const struct gw_msg *m)
 {
-	snprintf(out, cap, "%s/%s%s", g->prefix, name, tail ? tail : "");
-}
+	const char *body = m->body.p ? m->body.p : "";
 
-static void publish(struct gw *g, const char *topic, const char *payload, size_t len, bool retain)
-{
-	if (gw_mqtt_publish(&g->mq, topic, payload, len, retain) == 0 && g->cli.verbose && !g->cli.quiet)
-		fprintf(stderr, "%s: > %s %.*s\n", GW_PROG, topic, (int)len, payload);
+	if (gw_mqtt_publish(&g->mq, m->topic, body, m->body.len, m->retain) == 0 && g->cli.verbose &&
+	    !g->cli.quiet)
+		fprintf(stderr, "%s: > %s %.*s\n", GW_PROG, m->topic, (int)m->body.len, body);
 }
 
 /* ---- tags ---- */
 
-static void tag_publish(struct gw *g, int id, bool force, int64_t now)
+/* What the gateway says of tag st beyond the library's state, into *t (error
+ * is t->error's room); false when there is nothing to say yet. */
+static bool tag_out(const struct gw *g, const struct df1_tag_state *st, bool force, struct gw_tag_out *t,
+                    char *error, size_t cap)
 {
-	struct df1_tag_state st;
-	struct gw_tag_view view = { NULL, -1, NULL, false };
-	struct gw_pub *e;
-	char error[256], topic[GW_TOPIC_MAX];
+	*t = (struct gw_tag_out){ st, NULL, -1, NULL };
+	if (!(st->config->access & DF1_ACCESS_READ)) {
+		t->reason = "write_only";
+	} else if (!g->line_up) {
+		t->quality = DF1_QUALITY_BAD;
+		t->reason = "line_lost";
+		t->error = g->line_error[0] ? g->line_error : NULL;
+	} else if (st->quality != DF1_QUALITY_GOOD && st->last_error) {
+		err_text(st->last_error, st->sts, st->ext_sts, error, cap);
+		t->error = error;
+	} else if (st->reason == DF1_REASON_NOT_YET_READ && !force) {
+		return false;   /* nothing to say before its first read (and kept through a reload) */
+	}
+	return true;
+}
 
-	if (id < 0 || id >= g->ntags || !gw_mqtt_up(&g->mq) || df1_tag_get(g->h, id, &st) < 0)
+/* Tag id in state st, by every format whose message of it changed (or all when force). */
+static void tag_publish(struct gw *g, int id, const struct df1_tag_state *st, bool force, int64_t now)
+{
+	struct gw_tag_out t;
+	struct gw_pub *e;
+	char error[256];
+
+	if (id < 0 || id >= g->ntags || !gw_mqtt_up(&g->mq) || !tag_out(g, st, force, &t, error, sizeof error))
 		return;
 	e = &g->pubs.v[g->pub_of[id]];
-	if (!(st.config->access & DF1_ACCESS_READ)) {
-		view.reason = "write_only";
-	} else if (!g->line_up) {
-		view.quality = DF1_QUALITY_BAD;
-		view.reason = "line_lost";
-		view.error = g->line_error[0] ? g->line_error : NULL;
-	} else if (st.quality != DF1_QUALITY_GOOD && st.last_error) {
-		err_text(st.last_error, st.sts, st.ext_sts, error, sizeof error);
-		view.error = error;
-	} else if (st.reason == DF1_REASON_NOT_YET_READ && !force) {
-		return;         /* nothing to say before its first read (and kept through a reload) */
-	}
-	gw_buf_reset(&g->key);
-	gw_tag_json(&g->key, &st, &view);
-	if (g->key.oom || !gw_pub_update(e, g->key.p, now, force))
-		return;
-	view.with_ts = true;
-	gw_buf_reset(&g->buf);
-	gw_tag_json(&g->buf, &st, &view);
-	if (g->buf.oom)
-		return;
-	topic_of(g, e->name, NULL, topic, sizeof topic);
-	publish(g, topic, g->buf.p, g->buf.len, true);
+	for (int i = 0; i < g->fmts.n; i++)
+		if (gw_fmt_tag_changed(&g->fmts.v[i], e, &t, &g->msg, &g->key, now, force))
+			publish(g, &g->msg);
 }
 
 static void station_publish(struct gw *g, int stn, bool force, int64_t now);
 
 /* Published at once, from inside df1_poll(): a scan with retries can take
- * seconds, and libmosquitto writes a publication out as it is made. */
+ * seconds, and libmosquitto writes a publication out as it is made. st is
+ * the tag's state as df1_tag_get() would give it. */
 void gw_on_tag(void *user, int id, const struct df1_tag_state *st)
 {
 	struct gw *g = user;
@@ -103,13 +105,13 @@ void gw_on_tag(void *user, int id, const struct df1_tag_state *st)
 
 	if (id < 0 || id >= g->ntags)
 		return;
-	if (!gw_mqtt_up(&g->mq)) {
+	if (!st || !gw_mqtt_up(&g->mq)) {
 		g->dirty[id] = 1;
 		return;
 	}
 	g->dirty[id] = 0;
-	tag_publish(g, id, false, now);
-	if (st && st->config && st->config->station >= 0 && st->config->station < 255)
+	tag_publish(g, id, st, false, now);
+	if (st->config && st->config->station >= 0 && st->config->station < 255)
 		station_publish(g, st->config->station, false, now);
 }
 
@@ -118,10 +120,9 @@ void gw_on_tag(void *user, int id, const struct df1_tag_state *st)
 static void station_publish(struct gw *g, int stn, bool force, int64_t now)
 {
 	struct df1_station_health sh;
+	struct gw_station_out s = { stn, NULL, NULL, &sh, 0 };
 	struct gw_pub *e;
-	char name[32], topic[GW_TOPIC_MAX], error[700], ts[40];
-	const char *state;
-	bool have_err;
+	char name[32], error[700];
 
 	snprintf(name, sizeof name, "station/%d", stn);
 	e = gw_pubs_get(&g->pubs, name, true);
@@ -129,35 +130,18 @@ static void station_publish(struct gw *g, int stn, bool force, int64_t now)
 		return;
 	if (g->line_up && sh.state == DF1_STATION_UNKNOWN && !force)
 		return;         /* not polled yet (a reload, a reopened line): nothing new */
-	state = g->line_up ? df1_station_state_name(sh.state) : "offline";
-	have_err = !g->line_up ? g->line_error[0] != '\0' : sh.last_error != 0 && sh.state != DF1_STATION_OK;
-	if (!g->line_up)
-		snprintf(error, sizeof error, "%s", g->line_error);
-	else if (have_err)
+	s.state = g->line_up ? df1_station_state_name(sh.state) : "offline";
+	if (!g->line_up) {
+		s.error = g->line_error[0] ? g->line_error : NULL;
+	} else if (sh.last_error != 0 && sh.state != DF1_STATION_OK) {
 		err_text(sh.last_error, 0, 0, error, sizeof error);
-	gw_buf_reset(&g->key);
-	gw_buf_printf(&g->key, "{\"station\":%d,\"state\":\"%s\",\"error\":", stn, state);
-	if (have_err)
-		gw_json_text(&g->key, error, strlen(error));
-	else
-		gw_buf_puts(&g->key, "null");
-	if (g->key.oom || !gw_pub_update(e, g->key.p, now, force))
-		return;
-	gw_buf_reset(&g->buf);
-	gw_buf_add(&g->buf, g->key.p, g->key.len);
-	gw_buf_printf(&g->buf, ",\"tags\":%d,\"attempts\":%llu,\"failures\":%llu,\"consecutive_failures\":%d,"
-	              "\"last_good\":", sh.tags, (unsigned long long)sh.attempts,
-	              (unsigned long long)sh.failures, sh.consecutive_failures);
-	if (sh.last_good_ms > 0) {
-		gw_rfc3339(gw_wall_ms() - (now - sh.last_good_ms), ts, sizeof ts);
-		gw_buf_printf(&g->buf, "\"%s\"}", ts);
-	} else {
-		gw_buf_puts(&g->buf, "null}");
+		s.error = error;
 	}
-	if (g->buf.oom)
-		return;
-	topic_of(g, name, NULL, topic, sizeof topic);
-	publish(g, topic, g->buf.p, g->buf.len, true);
+	if (sh.last_good_ms > 0)
+		s.last_good_wall_ms = gw_wall_ms() - (now - sh.last_good_ms);
+	for (int i = 0; i < g->fmts.n; i++)
+		if (gw_fmt_station_changed(&g->fmts.v[i], e, &s, &g->msg, &g->key, now, force))
+			publish(g, &g->msg);
 }
 
 void gw_publish_changes(struct gw *g, bool force)
@@ -169,9 +153,11 @@ void gw_publish_changes(struct gw *g, bool force)
 	force = force || g->republish;
 	g->republish = false;
 	for (int id = 0; id < g->ntags; id++) {
-		if (force || g->dirty[id]) {
+		struct df1_tag_state st;
+
+		if ((force || g->dirty[id]) && df1_tag_get(g->h, id, &st) == 0) {
 			g->dirty[id] = 0;
-			tag_publish(g, id, force, now);
+			tag_publish(g, id, &st, force, now);
 		}
 	}
 	for (int stn = 0; stn < 255; stn++)
@@ -179,12 +165,27 @@ void gw_publish_changes(struct gw *g, bool force)
 			station_publish(g, stn, force, now);
 }
 
-void gw_publish_clear(struct gw *g, const char *name)
+void gw_publish_gone(struct gw *g, const struct gw_pub *e)
 {
-	char topic[GW_TOPIC_MAX];
+	if (strncmp(e->name, "tag/", 4) != 0)
+		return;
+	for (int i = 0; i < g->fmts.n; i++) {
+		const struct gw_fmt *f = &g->fmts.v[i];
 
-	topic_of(g, name, NULL, topic, sizeof topic);
-	publish(g, topic, "", 0, true);
+		if (e->key[f->slot] && f->ops->tag_gone(f, e->name + 4, &g->msg) == 0)
+			publish(g, &g->msg);
+	}
+}
+
+void gw_publish_offline(struct gw *g)
+{
+	for (int i = 0; i < g->fmts.n; i++) {
+		const struct gw_fmt *f = &g->fmts.v[i];
+
+		/* said on the way out, not printed with -v */
+		if (f->ops->status(f, false, &g->msg) == 0)
+			gw_mqtt_publish(&g->mq, g->msg.topic, g->msg.body.p, g->msg.body.len, g->msg.retain);
+	}
 }
 
 void gw_on_connected(void *user)
@@ -192,10 +193,12 @@ void gw_on_connected(void *user)
 	struct gw *g = user;
 	char topic[GW_TOPIC_MAX];
 
-	if (!g->once) {
-		topic_of(g, "status", NULL, topic, sizeof topic);
-		publish(g, topic, "online", 6, true);
-		topic_of(g, "tag/+/set", NULL, topic, sizeof topic);
+	for (int i = 0; i < g->fmts.n && !g->once; i++) {
+		const struct gw_fmt *f = &g->fmts.v[i];
+
+		if (f->ops->status(f, true, &g->msg) == 0)
+			publish(g, &g->msg);
+		f->ops->set_pattern(f, topic, sizeof topic);
 		if (gw_mqtt_subscribe(&g->mq, topic) < 0 && !g->cli.quiet)
 			fprintf(stderr, "%s: cannot subscribe to %s\n", GW_PROG, topic);
 	}
@@ -207,13 +210,16 @@ void gw_on_connected(void *user)
 
 struct gw_wr {
 	struct gw *g;
+	const struct gw_fmt *f;      /* the format it came in: its result goes out the same way */
 	char tag[80];
-	char id[GW_ID_MAX + 1];
+	char id[GW_WRITE_ID_MAX + 1];
 };
 
-static void result_publish(struct gw *g, const char *tag, const char *id, int err, const char *detail)
+static void result_publish(struct gw *g, const struct gw_fmt *f, const char *tag, const char *id, int err,
+                           const char *detail)
 {
-	char topic[GW_TOPIC_MAX], name[96], text[1024];
+	struct gw_result_out r = { tag, id, err == 0, NULL, false };
+	char text[1024];
 
 	if (err) {
 		char base[256];
@@ -223,15 +229,13 @@ static void result_publish(struct gw *g, const char *tag, const char *id, int er
 			snprintf(text, sizeof text, "%s: %s", base, detail);
 		else
 			snprintf(text, sizeof text, "%s", base);
+		r.error = text;
+		r.unconfirmed = gw_write_unconfirmed(err);
 	}
 	if (!g->cli.quiet && err && g->cli.verbose)
 		fprintf(stderr, "%s: write %s%s%s: %s\n", GW_PROG, tag, *id ? " id " : "", id, text);
-	snprintf(name, sizeof name, "tag/%s", tag);
-	topic_of(g, name, "/result", topic, sizeof topic);
-	gw_buf_reset(&g->buf);
-	gw_result_json(&g->buf, id, err == 0, err ? text : NULL, err ? gw_write_unconfirmed(err) : false);
-	if (!g->buf.oom)
-		publish(g, topic, g->buf.p, g->buf.len, false);
+	if (f->ops->result(f, &r, &g->msg) == 0)
+		publish(g, &g->msg);
 }
 
 static void write_done(void *user, int tag_id, int write_id, int result)
@@ -240,104 +244,115 @@ static void write_done(void *user, int tag_id, int write_id, int result)
 
 	(void)tag_id;
 	(void)write_id;
-	result_publish(w->g, w->tag, w->id, result, NULL);
+	result_publish(w->g, w->f, w->tag, w->id, result, NULL);
 	if (w->g->writes_pending)
 		w->g->writes_pending--;
 	free(w);
 }
 
-/* The tag name of <prefix>/tag/<name>/set, into name; false if topic is not one. */
-static bool set_topic_name(const struct gw *g, const char *topic, char *name, size_t cap)
+/* The values write w of tag name asks for, into vals (*n), checked as far as
+ * the gateway can before the line: not retained, not seen before, a tag that
+ * can be written, values that fit it, the line up. false when it goes no
+ * further (its result published, or a redelivery said with -v). */
+static bool write_check(struct gw *g, const struct gw_fmt *f, const char *name, const struct gw_write_in *w,
+                        bool retain, int *id, struct df1_value *vals, size_t cap, size_t *n)
 {
-	size_t pl = strlen(g->prefix), tl = strlen(topic), nl;
+	struct df1_tag_state st;
+	char err[700];
+	int r;
 
-	if (tl < pl + 5 + 4 || strncmp(topic, g->prefix, pl) != 0 || strncmp(topic + pl, "/tag/", 5) != 0 ||
-	    strcmp(topic + tl - 4, "/set") != 0)
+	if (retain) {
+		/* a retained .../set would write again at every subscription */
+		result_publish(g, f, name, w->id, DF1_E_INVAL,
+		               "a retained message is not a write: publish .../set without the retain flag");
 		return false;
-	nl = tl - pl - 5 - 4;
-	if (nl == 0 || nl >= cap)
+	}
+	if (w->id[0]) {
+		if (gw_ids_seen(&g->ids, w->id)) {
+			if (g->cli.verbose && !g->cli.quiet)
+				fprintf(stderr, "%s: write %s id %s: seen before, not executed again\n", GW_PROG, name, w->id);
+			return false;
+		}
+		gw_ids_add(&g->ids, w->id);
+	}
+	*id = g->h ? df1_tag_find(g->h, name) : -1;
+	if (*id < 0 || df1_tag_get(g->h, *id, &st) < 0) {
+		snprintf(err, sizeof err, "no tag \"%.64s\" in %s", name, g->map_path);
+		result_publish(g, f, name, w->id, DF1_E_INVAL, err);
 		return false;
-	memcpy(name, topic + pl + 5, nl);
-	name[nl] = '\0';
-	return strchr(name, '/') == NULL;
+	}
+	if (!(st.config->access & DF1_ACCESS_WRITE)) {
+		result_publish(g, f, name, w->id, DF1_E_INVAL, "read-only tag (Command Read in the mapping file)");
+		return false;
+	}
+	r = f->ops->write_values(f, w, st.config, &st, vals, cap, n, err, sizeof err);
+	if (r < 0) {
+		result_publish(g, f, name, w->id, r, err);
+		return false;
+	}
+	if (!g->line_up) {
+		result_publish(g, f, name, w->id, DF1_E_NOT_OPEN, g->line_error[0] ? g->line_error : NULL);
+		return false;
+	}
+	return true;
+}
+
+/* A write that came in format f's topic for tag name: checked, then queued
+ * with df1_tag_write(); one result either way. */
+static void write_take(struct gw *g, const struct gw_fmt *f, const char *name, const void *payload, int len,
+                       bool retain)
+{
+	struct gw_write_in in;
+	struct df1_value vals[1000];
+	struct gw_wr *w;
+	char err[700];
+	size_t n;
+	int id, r;
+
+	if (f->ops->write_parse(f, payload, (size_t)(len < 0 ? 0 : len), &in, err, sizeof err) < 0) {
+		result_publish(g, f, name, "", DF1_E_INVAL, err);
+		return;
+	}
+	if (!write_check(g, f, name, &in, retain, &id, vals, sizeof vals / sizeof vals[0], &n)) {
+		f->ops->write_free(&in);
+		return;
+	}
+	w = calloc(1, sizeof *w);
+	if (!w) {
+		result_publish(g, f, name, in.id, DF1_E_NOMEM, NULL);
+		f->ops->write_free(&in);
+		return;
+	}
+	w->g = g;
+	w->f = f;
+	snprintf(w->tag, sizeof w->tag, "%s", name);
+	snprintf(w->id, sizeof w->id, "%s", in.id);
+	f->ops->write_free(&in);
+	r = df1_tag_write(g->h, id, vals, n, write_done, w);
+	if (r < 0) {
+		result_publish(g, f, name, w->id, r, NULL);
+		free(w);
+		return;
+	}
+	g->writes_pending++;
 }
 
 void gw_on_message(void *user, const char *topic, const void *payload, int len, bool retain)
 {
 	struct gw *g = user;
-	struct gw_set s;
-	struct df1_tag_state st;
-	struct df1_value vals[1000];
-	struct gw_wr *w;
-	char name[80], err[700];
-	size_t n;
-	int id, r;
+	char name[80];
 
-	if (!set_topic_name(g, topic, name, sizeof name))
-		return;
-	if (g->cli.verbose && !g->cli.quiet)
-		fprintf(stderr, "%s: < %s%s %.*s\n", GW_PROG, topic, retain ? " (retained)" : "", len,
-		        (const char *)payload);
-	if (gw_set_parse(payload, (size_t)(len < 0 ? 0 : len), &s, err, sizeof err) < 0) {
-		result_publish(g, name, "", DF1_E_INVAL, err);
-		return;
-	}
-	if (retain) {
-		/* a retained .../set would write again at every subscription */
-		result_publish(g, name, s.id, DF1_E_INVAL,
-		               "a retained message is not a write: publish .../set without the retain flag");
-		gw_set_free(&s);
+	for (int i = 0; i < g->fmts.n; i++) {
+		const struct gw_fmt *f = &g->fmts.v[i];
+
+		if (!f->ops->set_tag(f, topic, name, sizeof name))
+			continue;
+		if (g->cli.verbose && !g->cli.quiet)
+			fprintf(stderr, "%s: < %s%s %.*s\n", GW_PROG, topic, retain ? " (retained)" : "", len,
+			        (const char *)payload);
+		write_take(g, f, name, payload, len, retain);
 		return;
 	}
-	if (s.id[0]) {
-		if (gw_ids_seen(&g->ids, s.id)) {
-			if (g->cli.verbose && !g->cli.quiet)
-				fprintf(stderr, "%s: write %s id %s: seen before, not executed again\n", GW_PROG, name, s.id);
-			gw_set_free(&s);
-			return;
-		}
-		gw_ids_add(&g->ids, s.id);
-	}
-	id = g->h ? df1_tag_find(g->h, name) : -1;
-	if (id < 0 || df1_tag_get(g->h, id, &st) < 0) {
-		snprintf(err, sizeof err, "no tag \"%.64s\" in %s", name, g->map_path);
-		result_publish(g, name, s.id, DF1_E_INVAL, err);
-		gw_set_free(&s);
-		return;
-	}
-	if (!(st.config->access & DF1_ACCESS_WRITE)) {
-		result_publish(g, name, s.id, DF1_E_INVAL, "read-only tag (Command Read in the mapping file)");
-		gw_set_free(&s);
-		return;
-	}
-	r = gw_value_from_json(s.value, st.config, &st, vals, sizeof vals / sizeof vals[0], &n, err, sizeof err);
-	if (r < 0) {
-		result_publish(g, name, s.id, r, err);
-		gw_set_free(&s);
-		return;
-	}
-	if (!g->line_up) {
-		result_publish(g, name, s.id, DF1_E_NOT_OPEN, g->line_error[0] ? g->line_error : NULL);
-		gw_set_free(&s);
-		return;
-	}
-	w = calloc(1, sizeof *w);
-	if (!w) {
-		result_publish(g, name, s.id, DF1_E_NOMEM, NULL);
-		gw_set_free(&s);
-		return;
-	}
-	w->g = g;
-	snprintf(w->tag, sizeof w->tag, "%s", name);
-	snprintf(w->id, sizeof w->id, "%s", s.id);
-	gw_set_free(&s);
-	r = df1_tag_write(g->h, id, vals, n, write_done, w);
-	if (r < 0) {
-		result_publish(g, name, w->id, r, NULL);
-		free(w);
-		return;
-	}
-	g->writes_pending++;
 }
 
 void gw_tag_config_text(const struct df1_tag_config *c, char *out, size_t cap)

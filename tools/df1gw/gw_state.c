@@ -15,7 +15,7 @@ void gw_pubs_init(struct gw_pubs *p)
 static void pub_clear(struct gw_pub *e)
 {
 	free(e->name);
-	free(e->key);
+	gw_pub_forget(e);
 	free(e->config);
 }
 
@@ -78,12 +78,24 @@ int gw_pub_set(char **field, const char *s)
 	return 0;
 }
 
-bool gw_pub_update(struct gw_pub *e, const char *key, int64_t now, bool force)
+bool gw_pub_update(struct gw_pub *e, int slot, const char *key, int64_t now, bool force)
 {
-	if (!force && e->key && strcmp(e->key, key) == 0)
+	char **k = &e->key[slot];
+
+	if (!force && *k && strcmp(*k, key) == 0)
 		return false;
-	if (gw_pub_set(&e->key, key) < 0)
-		e->key = NULL;
+	if (gw_pub_set(k, key) < 0) {
+		free(*k);
+		*k = NULL;
+	}
 	e->last_ms = now;
 	return true;
+}
+
+void gw_pub_forget(struct gw_pub *e)
+{
+	for (int i = 0; i < GW_PUB_KEYS; i++) {
+		free(e->key[i]);
+		e->key[i] = NULL;
+	}
 }

@@ -83,8 +83,9 @@ static enum df1_file_type value_type(const struct df1_tag_config *c)
 	return c->addr.sub != DF1_ADDR_NONE ? DF1_FT_N : c->addr.type;
 }
 
-void gw_tag_json(struct gw_buf *b, const struct df1_tag_state *st, const struct gw_tag_view *view)
+struct gw_span gw_tag_json(struct gw_buf *b, const struct df1_tag_state *st, const struct gw_tag_view *view)
 {
+	struct gw_span ts_at = { 0, 0 };
 	const struct df1_tag_config *c = st->config;
 	int q = view && view->quality >= 0 ? view->quality : (int)st->quality;
 	const char *reason = view && view->reason ? view->reason : df1_reason_name(st->reason);
@@ -111,18 +112,21 @@ void gw_tag_json(struct gw_buf *b, const struct df1_tag_state *st, const struct 
 		gw_json_text(b, view->error, strlen(view->error));
 	}
 	if (!view || view->with_ts) {
+		ts_at.at = b->len;
 		if (st->last_good_wall_ms > 0) {
 			gw_rfc3339(st->last_good_wall_ms, ts, sizeof ts);
 			gw_buf_printf(b, ",\"ts\":\"%s\"", ts);
 		} else {
 			gw_buf_puts(b, ",\"ts\":null");
 		}
+		ts_at.len = b->len - ts_at.at;
 	}
 	if (df1_addr_format(&c->addr, addr, sizeof addr) < 0)
 		snprintf(addr, sizeof addr, "?");
 	gw_buf_puts(b, ",\"address\":");
 	gw_json_text(b, addr, strlen(addr));
 	gw_buf_printf(b, ",\"station\":%d}", c->station);
+	return ts_at;
 }
 
 /* ---- .../set ---- */

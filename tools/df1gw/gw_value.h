@@ -28,8 +28,9 @@ struct gw_tag_view {
 void gw_value_json(struct gw_buf *b, const struct df1_value *v, enum df1_file_type t);
 /* {"value":...,"quality":"GOOD","reason":"none","ts":"2026-...Z","address":"N7:0",
  *  "station":1}, "error" after "reason" when view->error is set; "value" null
- * before the first read, an array when count > 1. */
-void gw_tag_json(struct gw_buf *b, const struct df1_tag_state *st, const struct gw_tag_view *view);
+ * before the first read, an array when count > 1. Returns where ,"ts":...
+ * went in b (len 0: left out): the rest is the change key. */
+struct gw_span gw_tag_json(struct gw_buf *b, const struct df1_tag_state *st, const struct gw_tag_view *view);
 
 /* The values a .../set payload v (without its {"value":..,"id":..} wrapper)
  * asks to write to tag c: a scalar (element 0) or, for Count > 1, an array of

@@ -9,8 +9,6 @@
 void print_counters(struct mon *m, bool final)
 {
 	FILE *f = stdout;
-	bool first = true;
-	const struct df1_catalog_entry *e;
 
 	if (!m->h)
 		return;
@@ -28,27 +26,7 @@ void print_counters(struct mon *m, bool final)
 		fprintf(f, "{\"t\":%.3f,\"final\":%s,\"counters\":[", mon_elapsed(m), final ? "true" : "false");
 		break;
 	}
-	for (size_t i = 0; (e = df1_catalog_at(i)) != NULL; i++) {
-		int id = e->id;
-		uint64_t v = 0;
-
-		if (e->severity != DF1_SEV_COUNTER || df1_counter(m->h, id, &v) < 0)
-			continue;
-		switch (m->cli.format) {
-		case CLI_FMT_INFLUX: /* refused without --map */
-		case CLI_FMT_PLAIN:
-			fprintf(f, "%d %s %llu\n", id, e->mnemonic, (unsigned long long)v);
-			break;
-		case CLI_FMT_CSV:
-			fprintf(f, "%.3f,%d,%s,%llu\n", mon_elapsed(m), id, e->mnemonic, (unsigned long long)v);
-			break;
-		case CLI_FMT_JSON:
-			fprintf(f, "%s{\"id\":%d,\"mnemonic\":\"%s\",\"value\":%llu}", first ? "" : ",", id,
-			        e->mnemonic, (unsigned long long)v);
-			break;
-		}
-		first = false;
-	}
+	cli_print_counters(f, m->h, m->cli.format, mon_elapsed(m));
 	if (m->cli.format == CLI_FMT_JSON)
 		fputs("]}\n", f);
 	m->counter_prints++;
