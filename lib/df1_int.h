@@ -86,7 +86,25 @@ struct station_state {
 };
 
 struct server_state;             /* lib/server/server.c */
-struct link_eip;                 /* lib/eip/eip_link.c: an eip:// target's session */
+
+/* A link of its own, for a scheme whose target does not carry DF1 frames
+ * (eip://, lib/eip/eip_link.c): the scheme table (lib/scheme.c) names it, the
+ * handle keeps it, and the link layer's entry points (lib/link/link.c) hand
+ * each command to it instead of running DF1 over the port. Such a link is a
+ * client: it neither serves nor pipelines, and has no duplex. */
+struct own_link_ops {
+	const char *scheme;          /* "eip://", for messages */
+	/* Open target: set up h->own_link_data and open the port h->port (set by
+	 * df1_open from the scheme's row). 0 or DF1_E_* (nothing left open). */
+	int (*open)(struct df1 *h, const char *target);
+	/* Take leave of the peer while the port is still open; free h->own_link_data. */
+	void (*close)(struct df1 *h);
+	/* One command (DST SRC CMD STS TNS FNC ...), TNS stamped: the reply's app
+	 * bytes as the DF1 link gives them, length, or DF1_E_*. */
+	int (*transact)(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap);
+	/* The peer's liveness (df1_link_test): 0 or DF1_E_*. */
+	int (*test)(struct df1 *h);
+};
 
 /* The responder's state (lib/link/link.h): owned by the server (lib/server/server.c),
  * lent to the link layer for the length of a link_serve() call. */
@@ -120,7 +138,8 @@ struct df1 {
 	int64_t rx_due_us;           /* line_baud: when the bytes read so far arrived on the line */
 	int64_t scan_epoch_ms;       /* DF1_OPT_SCAN_TIME_MS: the first scan began (df1_open) */
 	struct link_pipe pipe;       /* full-duplex commands in flight (lib/link/pipe.c) */
-	struct link_eip *eip;        /* eip:// target: the EtherNet/IP session, else NULL */
+	const struct own_link_ops *own_link; /* a scheme's own link (eip://), else NULL */
+	void *own_link_data;         /* its state (lib/eip/eip_link.c: the session) */
 
 	uint64_t counters[CNT_COUNT];
 

@@ -11,7 +11,7 @@
  */
 #include "df1_int.h"
 #include "link/link.h"
-#include "eip/eip_link.h"
+#include "scheme.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -20,7 +20,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 #include <sys/random.h>
 #include <time.h>
 #include <unistd.h>
@@ -549,7 +548,7 @@ int df1_set_option(df1_t *h, enum df1_option opt, int value)
 	if (opt == DF1_OPT_LISTEN_ONLY && h->port && *flag != (value != 0))
 		return df1_fail(h, DF1_E_INVAL, -1, "option LISTEN_ONLY is set before df1_open(): "
 		                "%s is open", h->port_name);
-	if (opt == DF1_OPT_EIP_CONNECTED && h->eip && *flag != (value != 0))
+	if (opt == DF1_OPT_EIP_CONNECTED && h->own_link && *flag != (value != 0))
 		return df1_fail(h, DF1_E_INVAL, -1, "option EIP_CONNECTED is set before df1_open(): "
 		                "%s is open", h->port_name);
 	*flag = value != 0;
@@ -615,6 +614,8 @@ static void handle_port_reset(struct df1 *h)
 	h->port = NULL;
 	h->port_data = NULL;
 	h->fd = -1;
+	h->own_link = NULL;
+	h->own_link_data = NULL;
 }
 
 /* After a backend's open: r is its result. A backend that fails has closed
@@ -633,7 +634,7 @@ static int handle_opened(struct df1 *h, const struct port_ops *ops, int r)
 
 int df1_open(df1_t *h, const char *target)
 {
-	const struct port_ops *ops;
+	const struct scheme_row *s;
 
 	if (!h)
 		return DF1_E_INVAL;
@@ -643,11 +644,14 @@ int df1_open(df1_t *h, const char *target)
 		return df1_fail(h, DF1_E_INVAL, -1, "handle is already open on %s", h->port_name);
 	df1_clear_error(h);
 	handle_port_reset(h);
-	/* a URI scheme is case-insensitive (RFC 3986 3.1): "TCP://" too */
-	if (strncasecmp(target, "eip:", 4) == 0)
-		return handle_opened(h, &port_tcp_ops, link_eip_open(h, target));
-	ops = strncasecmp(target, "tcp:", 4) == 0 ? &port_tcp_ops : &port_termios_ops;
-	return handle_opened(h, ops, ops->open(h, target));
+	s = scheme_find(target); /* lib/scheme.c; "TCP://" too (RFC 3986 3.1) */
+	if (s->link) {
+		/* the scheme's own link opens its port (h->port) under it */
+		h->port = s->port;
+		h->own_link = s->link;
+		return handle_opened(h, s->port, s->link->open(h, target));
+	}
+	return handle_opened(h, s->port, s->port->open(h, target));
 }
 
 int df1_open_fd(df1_t *h, int fd, bool take_ownership)
@@ -667,8 +671,8 @@ void df1_close(df1_t *h)
 {
 	if (!h || !h->port)
 		return;
-	if (h->eip)
-		link_eip_close(h); /* UnRegisterSession (Forward Close) while the socket is open */
+	if (h->own_link)
+		h->own_link->close(h); /* eip://: UnRegisterSession while the socket is open */
 	h->port->close(h);
 	handle_port_reset(h);
 	h->rx_len = h->rx_pos = 0;

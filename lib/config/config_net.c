@@ -23,7 +23,9 @@
  *   ENQ_Retries  0-10, default 3                       2558 CRT_BAD_ENQ_RETRIES
  *   Cmd_Timeout  500-5000 ms, default 1000             2559 CRT_BAD_CMD_TIMEOUT
  *   Com_Port     n (1 -> /dev/ttyS0, n -> /dev/ttyS(n-1), 1-256), COMn (the same),
- *                an absolute device path, or tcp://host:port; default 1
+ *                an absolute device path, or tcp://host:port (a scheme of lib/scheme.c
+ *                whose port the DF1 link runs on, its target checked by the backend);
+ *                default 1
  *   Baud         1200 2400 4800 9600 19200 38400 57600 115200, default 9600
  *   Data_Bits    5-8, default 8;  Stop_Bits 1-2, default 1
  *   Parity       None | Even | Odd (or N E O), default None
@@ -34,6 +36,7 @@
  * Slave sets duplex_half (half duplex, multidrop), Peer clears it (full duplex).
  */
 #include "config/config_int.h"
+#include "scheme.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -113,8 +116,23 @@ static void cfg_net_bad_int(struct cfg_load *l, int id, int line, const char *v,
 	}
 }
 
+/* A scheme's target, as df1_open() reads it (lib/scheme.c): "name://rest" for
+ * a scheme whose port the DF1 link runs on and whose backend finds rest well
+ * formed (port_ops.config_ok); written back with the scheme in lower case. */
+static bool cfg_net_scheme(const struct scheme_row *s, const char *v, char *out, size_t cap)
+{
+	size_t n = strlen(s->name);
+
+	if (s->link || !s->port->config_ok || strncmp(v + n, "://", 3) != 0 ||
+	    !s->port->config_ok(v + n + 3) || strlen(v) >= cap)
+		return false;
+	snprintf(out, cap, "%s://%s", s->name, v + n + 3);
+	return true;
+}
+
 static bool cfg_net_port(const char *v, char *out, size_t cap)
 {
+	const struct scheme_row *s;
 	int n;
 
 	if (cfg_all_digits(v) || (cfg_istarts(v, "COM") && cfg_all_digits(v + 3))) {
@@ -123,34 +141,21 @@ static bool cfg_net_port(const char *v, char *out, size_t cap)
 		snprintf(out, cap, "/dev/ttyS%d", n - 1);
 		return true;
 	}
-	if (v[0] == '/') {
-		if (strlen(v) >= cap)
-			return false;
-		strcpy(out, v);
-		return true;
-	}
-	if (cfg_istarts(v, "tcp://")) {
-		const char *host = v + 6, *colon = strrchr(host, ':');
-		int port;
-
-		if (!colon || colon == host || strchr(host, '/') || !cfg_all_digits(colon + 1) ||
-		    !cfg_int(colon + 1, &port) || port < 1 || port > 65535 || strlen(v) >= cap)
-			return false;
-		snprintf(out, cap, "tcp://%s", host);
-		return true;
-	}
-	return false;
+	s = scheme_find(v);
+	if (s->name)
+		return cfg_net_scheme(s, v, out, cap);
+	/* the default row, a device path: an absolute one here */
+	if (v[0] != '/' || strlen(v) >= cap)
+		return false;
+	strcpy(out, v);
+	return true;
 }
 
-static void cfg_net_row(struct cfg_load *l, struct cfg_row *row)
+/* Station, Mode, PLC_Type, Error_Code: what the driver is (catalog IDs 2552-2556). */
+static void cfg_net_driver(struct cfg_load *l, struct cfg_row *row, struct df1_net_config *c)
 {
-	struct df1_net_config *c = &((struct cfg_net_ctx *)l->ctx)->cfg;
 	const char *v;
 	int x, line = row->line;
-
-	if (l->item > 1)
-		return; /* the first data row configures the module */
-	cfg_check_cells(l, row, false);
 
 	v = cfg_value(l, row, NF_STATION);
 	if (*v) {
@@ -191,6 +196,14 @@ static void cfg_net_row(struct cfg_load *l, struct cfg_row *row)
 			            "Invalid Error Code (%s), should be either %s, or %s", "sss", -1, v,
 			            "BCC", "CRC");
 	}
+}
+
+/* NAK_Retries, ENQ_Retries, Cmd_Timeout: how hard it tries (catalog IDs 2557-2559). */
+static void cfg_net_retries(struct cfg_load *l, struct cfg_row *row, struct df1_net_config *c)
+{
+	const char *v;
+	int x, line = row->line;
+
 	v = cfg_value(l, row, NF_NAK_RETRIES);
 	if (*v) {
 		if (cfg_int(v, &x) && x >= 0 && x <= RETRIES_MAX)
@@ -218,6 +231,16 @@ static void cfg_net_row(struct cfg_load *l, struct cfg_row *row)
 			            "Invalid Cmd Timeout (%d) should be in range [%d, %d]", "ddd",
 			            CMD_TIMEOUT_MIN, CMD_TIMEOUT_MAX);
 	}
+}
+
+/* Com_Port and Baud: where the line is and its rate (no catalog IDs). */
+static void cfg_net_where(struct cfg_load *l, struct cfg_row *row, struct df1_net_config *c)
+{
+	static const int bauds[] = { 1200, 2400, 4800, 9600, 19200, 38400, 57600, 115200 };
+	const char *v;
+	int x, line = row->line;
+	bool ok = false;
+
 	v = cfg_value(l, row, NF_COM_PORT);
 	c->port_given = *v != '\0';
 	if (*v && !cfg_net_port(v, c->port, sizeof c->port))
@@ -225,20 +248,25 @@ static void cfg_net_row(struct cfg_load *l, struct cfg_row *row)
 		           "Invalid Com Port (%.64s) should be a port number [1, %d], COMn, a device "
 		           "path (/dev/...) or tcp://host:port", v, COM_PORT_MAX);
 	v = cfg_value(l, row, NF_BAUD);
-	if (*v) {
-		static const int bauds[] = { 1200, 2400, 4800, 9600, 19200, 38400, 57600, 115200 };
-		size_t i;
-		bool ok = false;
+	if (!*v)
+		return;
+	if (cfg_int(v, &x))
+		for (size_t i = 0; i < sizeof bauds / sizeof bauds[0]; i++)
+			ok = ok || x == bauds[i];
+	if (ok)
+		c->baud = x;
+	else
+		cfg_report(l, 0, l->item, line, "Invalid Baud (%.64s) should be one of 1200, 2400, "
+		           "4800, 9600, 19200, 38400, 57600, or 115200", v);
+}
 
-		if (cfg_int(v, &x))
-			for (i = 0; i < sizeof bauds / sizeof bauds[0]; i++)
-				ok = ok || x == bauds[i];
-		if (ok)
-			c->baud = x;
-		else
-			cfg_report(l, 0, l->item, line, "Invalid Baud (%.64s) should be one of 1200, 2400, "
-			           "4800, 9600, 19200, 38400, 57600, or 115200", v);
-	}
+/* Data_Bits, Stop_Bits, Parity, Timeout, TX_Delay, Handshake: the character
+ * frame and the line's timing (no catalog IDs). */
+static void cfg_net_line(struct cfg_load *l, struct cfg_row *row, struct df1_net_config *c)
+{
+	const char *v;
+	int line = row->line;
+
 	v = cfg_value(l, row, NF_DATA_BITS);
 	if (*v)
 		cfg_net_range(l, line, "Data Bits", v, 5, 8, &c->data_bits);
@@ -273,6 +301,21 @@ static void cfg_net_row(struct cfg_load *l, struct cfg_row *row)
 			cfg_report(l, 0, l->item, line,
 			           "Invalid Handshake (%.64s), should be either Yes, or No", v);
 	}
+}
+
+/* The first data row configures the module; every invalid value is reported,
+ * in the order of the fields. */
+static void cfg_net_row(struct cfg_load *l, struct cfg_row *row)
+{
+	struct df1_net_config *c = &((struct cfg_net_ctx *)l->ctx)->cfg;
+
+	if (l->item > 1)
+		return;
+	cfg_check_cells(l, row, false);
+	cfg_net_driver(l, row, c);
+	cfg_net_retries(l, row, c);
+	cfg_net_where(l, row, c);
+	cfg_net_line(l, row, c);
 }
 
 int df1_net_config_load(const char *path, struct df1_net_config *c, df1_config_issue_fn fn,

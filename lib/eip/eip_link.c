@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
- * eip.c - the link over EtherNet/IP, for an "eip://HOST[:PORT][/2]" target
+ * eip_link.c - the link over EtherNet/IP, for an "eip://HOST[:PORT][/2]" target
  * (libdf1(7), df1-eip(7)): each PCCC command goes in a CIP Execute PCCC
  * request (class 67h instance 1), carried by SendRRData, or with
  * DF1_OPT_EIP_CONNECTED by SendUnitData over a Forward Open connection. The
@@ -15,10 +15,12 @@
  * reads (df1_pccc_is_write(), the rule the server's read-only mode uses): any
  * other may have executed, and is reported, never sent twice.
  *
- * Self-contained over the TCP port: no call into core.c, so tests that
- * replace the DF1 link (tests/test_client.c) still link the handle with it.
+ * The eip:// row of the scheme table (lib/scheme.c) names it as that
+ * scheme's own link (eip_link_ops) over the TCP backend, which df1_open() sets
+ * in h->port. Self-contained over that port: no call into lib/link, so tests
+ * that replace the DF1 link (tests/test_client.c) still link the handle with it.
  */
-#include "link/link.h"
+#include "df1_int.h"
 
 #include <poll.h>
 #include <stdio.h>
@@ -403,10 +405,10 @@ static int eip_reopen(struct df1 *h, struct link_eip *e)
 {
 	int r;
 
-	port_tcp_ops.close(h);
+	h->port->close(h);
 	e->broken = false;
 	e->conn_open = false;
-	r = port_tcp_ops.open(h, e->target);
+	r = h->port->open(h, e->target);
 	if (r < 0) {
 		h->fd = -1;
 		e->broken = true;
@@ -445,7 +447,7 @@ static int eip_parse_target(struct df1 *h, struct link_eip *e, const char *targe
 	return 0;
 }
 
-int link_eip_open(struct df1 *h, const char *target)
+static int eip_link_open(struct df1 *h, const char *target)
 {
 	struct link_eip *e;
 	int r;
@@ -469,26 +471,25 @@ int link_eip_open(struct df1 *h, const char *target)
 	if (getrandom(&e->serial, sizeof e->serial, GRND_NONBLOCK) != (ssize_t)sizeof e->serial)
 		e->serial = (uint32_t)df1_now_us() ^ (uint32_t)getpid();
 	e->context = (uint64_t)e->serial << 24;
-	r = port_tcp_ops.open(h, e->target);
+	r = h->port->open(h, e->target);
 	if (r < 0) {
 		free(e);
 		return r;
 	}
-	h->port = &port_tcp_ops;
-	h->eip = e;
+	h->own_link_data = e;
 	r = eip_start(h, e);
 	if (r < 0) {
-		port_tcp_ops.close(h);
-		h->eip = NULL;
+		h->port->close(h);
+		h->own_link_data = NULL;
 		free(e);
 		return r;
 	}
 	return 0;
 }
 
-void link_eip_close(struct df1 *h)
+static void eip_link_close(struct df1 *h)
 {
-	struct link_eip *e = h->eip;
+	struct link_eip *e = h->own_link_data;
 	uint8_t ctx[8];
 
 	if (!e)
@@ -500,7 +501,7 @@ void link_eip_close(struct df1 *h)
 		(void)eip_send_msg(h, e, EIP_CMD_UNREGISTER_SESSION, ctx, NULL, 0,
 		                   eip_deadline(h));
 	}
-	h->eip = NULL;
+	h->own_link_data = NULL;
 	free(e);
 }
 
@@ -694,9 +695,10 @@ static void eip_idle_check(struct df1 *h, struct link_eip *e)
 	}
 }
 
-int link_eip_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap)
+static int eip_link_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply,
+                             size_t cap)
 {
-	struct link_eip *e = h->eip;
+	struct link_eip *e = h->own_link_data;
 	bool sent = false, retried = false, reads = !df1_pccc_is_write(cmd + 2, n - 2);
 	int station = cmd[0], result = 0;
 
@@ -741,9 +743,9 @@ int link_eip_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *repl
 }
 
 /* The peer's liveness: a ListServices request and its reply (df1_link_test). */
-int link_eip_test(struct df1 *h)
+static int eip_link_test(struct df1 *h)
 {
-	struct link_eip *e = h->eip;
+	struct link_eip *e = h->own_link_data;
 	struct eip_hdr hd;
 	uint8_t ctx[8];
 	int r;
@@ -760,3 +762,12 @@ int link_eip_test(struct df1 *h)
 	r = eip_await(h, e, EIP_CMD_LIST_SERVICES, ctx, "ListServices", &hd);
 	return r < 0 ? r : 0;
 }
+
+/* The eip:// scheme's own link (lib/scheme.c): the link layer hands it each command. */
+const struct own_link_ops eip_link_ops = {
+	.scheme = "eip://",
+	.open = eip_link_open,
+	.close = eip_link_close,
+	.transact = eip_link_transact,
+	.test = eip_link_test,
+};

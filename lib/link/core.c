@@ -142,12 +142,13 @@ int64_t link_char_us(const struct df1 *h, int baud)
  * link keeps its own account from the line rate (link_fill ends it when the
  * peer answers: an answer shows our bytes are through, and a pseudo-terminal,
  * which carries them at once, must not let the account run ahead of the
- * clock). TCP (a device server) and other descriptors have no such delay. */
+ * clock). A backend whose bytes take no line time here (not port_ops.paced:
+ * TCP to a device server, other descriptors) has no such delay. */
 static void link_tx_account(struct df1 *h, size_t n)
 {
 	int64_t now = (int64_t)df1_now_us();
 
-	if (h->cfg.line_baud <= 0 && h->port == &port_termios_ops && h->cfg.baud > 0) {
+	if (h->cfg.line_baud <= 0 && h->port && h->port->paced && h->cfg.baud > 0) {
 		int64_t from = h->tx_end_us > now ? h->tx_end_us : now;
 
 		h->tx_end_us = from + (int64_t)n * link_char_us(h, h->cfg.baud);

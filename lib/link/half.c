@@ -73,7 +73,8 @@ static int64_t hd_min_gap_us(const struct df1 *h)
 }
 
 /* How long a poll's answer may take to begin (DF1_OPT_POLL_TIMEOUT_MS; 0:
- * six characters at the line's rate + 20 ms turnaround, + 50 ms on TCP), never
+ * six characters at the line's rate + 20 ms turnaround, + 50 ms of network
+ * slack on a port that has it: port_ops.net_slack, TCP), never
  * more than the ACK timeout. */
 static int64_t hd_poll_answer_ms(const struct df1 *h)
 {
@@ -82,7 +83,7 @@ static int64_t hd_poll_answer_ms(const struct df1 *h)
 
 	if (ms <= 0) {
 		ms = 6 * link_char_us(h, baud) / 1000 + 20;
-		if (h->port == &port_tcp_ops)
+		if (h->port && h->port->net_slack)
 			ms += 50;
 	}
 	return ms < link_timeout_ms(h) ? ms : link_timeout_ms(h);

@@ -3,14 +3,14 @@
  * link.c - the link layer's entry points (lib/link/link.h): check the handle,
  * bring the decoder in line with the settings (link_setup), assign SRC and TNS,
  * and hand the work to the mode: full.c (full-duplex peer) or half.c
- * (half-duplex master and slave). Both of those sit on core.c. An eip://
- * target's handle goes to eip.c instead (EtherNet/IP: no duplex, no line).
+ * (half-duplex master and slave). Both of those sit on core.c. A handle whose
+ * scheme brings its own link (h->own_link: eip://, lib/scheme.c) goes to that
+ * instead (EtherNet/IP: no duplex, no line).
  */
 #include "link/link.h"
 
 #include <string.h>
 
-#include "eip/eip_link.h"
 #include "link/link_int.h"
 
 /* Our SRC and the next TNS in a command (bytes 1, 4-5). */
@@ -36,7 +36,7 @@ int link_transact(struct df1 *h, uint8_t *cmd, size_t cmd_len, uint8_t *reply, s
 	r = link_setup(h);
 	if (r < 0)
 		return r;
-	if (h->cfg.duplex == DF1_HALF_DUPLEX_SLAVE && !h->eip)
+	if (h->cfg.duplex == DF1_HALF_DUPLEX_SLAVE && !h->own_link)
 		return df1_fail(h, DF1_E_NOTSUP, cmd[0], "a half-duplex slave does not send commands");
 	if (h->pipe.capture) {
 		/* link_capture_begin: the command is kept to be submitted, not sent */
@@ -55,8 +55,8 @@ int link_transact(struct df1 *h, uint8_t *cmd, size_t cmd_len, uint8_t *reply, s
 		link_pipe_abandon(h, slot); /* another command after all: that one is not wanted */
 	}
 	link_stamp(h, cmd);
-	if (h->eip)
-		return link_eip_transact(h, cmd, cmd_len, reply, reply_cap);
+	if (h->own_link)
+		return h->own_link->transact(h, cmd, cmd_len, reply, reply_cap);
 	if (h->cfg.duplex == DF1_HALF_DUPLEX_MASTER)
 		return half_transact(h, cmd, cmd_len, reply, reply_cap);
 	if (h->pipe.used > 0)
@@ -102,8 +102,8 @@ int link_test(struct df1 *h, int station)
 	r = link_setup(h);
 	if (r < 0)
 		return r;
-	if (h->eip)
-		return link_eip_test(h);
+	if (h->own_link)
+		return h->own_link->test(h);
 	switch (h->cfg.duplex) {
 	case DF1_HALF_DUPLEX_MASTER:
 		if (station < 0 || station > 254)
@@ -127,9 +127,9 @@ int link_serve(struct df1 *h, struct link_responder *resp, link_handler_fn fn, v
 	r = link_setup(h);
 	if (r < 0)
 		return r;
-	if (h->eip)
-		return df1_fail(h, DF1_E_NOTSUP, -1, "%s: an eip:// target is a client: it does not "
-		                "serve", h->port_name);
+	if (h->own_link)
+		return df1_fail(h, DF1_E_NOTSUP, -1, "%s: an %s target is a client: it does not "
+		                "serve", h->port_name, h->own_link->scheme);
 	/* a half-duplex master has nothing to serve; full duplex is a peer */
 	if (h->cfg.duplex == DF1_HALF_DUPLEX_MASTER)
 		return df1_fail(h, DF1_E_NOTSUP, -1, "a half-duplex master does not serve");

@@ -42,8 +42,8 @@ enum { PIPE_FREE, PIPE_QUEUED, PIPE_TX, PIPE_WAIT, PIPE_DONE };
 
 int link_pipe_depth(const struct df1 *h)
 {
-	/* an eip:// target has no DF1 line: one request at a time over its session */
-	if (h->cfg.duplex != DF1_FULL_DUPLEX || h->cfg.max_outstanding < 1 || h->eip)
+	/* a scheme's own link (eip://) has no DF1 line: one request at a time */
+	if (h->cfg.duplex != DF1_FULL_DUPLEX || h->cfg.max_outstanding < 1 || h->own_link)
 		return 1;
 	return h->cfg.max_outstanding < LINK_PIPE_MAX - 1 ? h->cfg.max_outstanding : LINK_PIPE_MAX - 1;
 }

@@ -150,6 +150,11 @@ ssize_t port_read_fd(struct df1 *h, uint8_t *buf, size_t cap, int64_t deadline_m
 	}
 }
 
+int port_fd_peer(const struct df1 *h)
+{
+	return h->port && h->port->peer ? h->port->peer(h) : -1;
+}
+
 int port_refuse_tx(struct df1 *h)
 {
 	return df1_fail(h, DF1_E_NOTSUP, -1, "%s is listen only: nothing is transmitted",

@@ -13,8 +13,25 @@
 
 struct df1;
 
+/* A backend's vtable and what the link layer needs to know about it: its
+ * capabilities are fields here, so lib/link tests a capability, never which
+ * backend it is (a new scheme: doc/HACKING.md). */
 struct port_ops {
 	const char *name;
+	/* Its bytes take line time: a local UART sends what it was handed at the
+	 * configured baud after what it still holds, so the link keeps its own
+	 * account of when our last byte has left the line (lib/link/core.c
+	 * link_tx_account). */
+	bool paced;
+	/* A network lies between us and the line: answer timers that are sized
+	 * from the line's rate get network slack (lib/link/half.c hd_poll_answer_ms). */
+	bool net_slack;
+	/* A serial line behind a network (a device server): the far end is a DF1
+	 * line with its own baud, which the link cannot see. Nothing in lib/ tests
+	 * it yet; it tells such a port from a local line and from a plain
+	 * descriptor. A scheme with a link of its own (lib/scheme.c) never reads
+	 * the capabilities of the port under it. */
+	bool serial_behind_net;
 	/* Open target (device path or "tcp://host:port"); 0 or DF1_E_*. The backend
 	 * keeps its own state behind h->port_data; on failure it has closed and
 	 * freed everything itself. NULL for the fd backend (port_fd_open). */
@@ -30,6 +47,12 @@ struct port_ops {
 	int (*configure)(struct df1 *h);
 	/* Wait until all output is transmitted (tcdrain); optional. */
 	int (*drain)(struct df1 *h);
+	/* A configuration file's target (lib/config/config_net.c Com_Port): whether
+	 * rest, what follows "scheme://", is well formed; NULL: such targets are
+	 * not accepted there. The default row (a device path) is checked by its caller. */
+	bool (*config_ok)(const char *rest);
+	/* The descriptor of a pty's other side the backend holds, else -1; NULL: none. */
+	int (*peer)(const struct df1 *h);
 };
 
 extern const struct port_ops port_termios_ops;
@@ -54,7 +77,8 @@ int port_refuse_tx(struct df1 *h);
 /* The fd backend opens on a descriptor, not a target: h->fd = fd, its state in
  * h->port_data; own: close fd at close. 0 or DF1_E_* (fd left as it was). */
 int port_fd_open(struct df1 *h, int fd, bool own);
-/* fd backend on a pty master: the slave-side descriptor it holds, else -1. */
+/* fd backend on a pty master: the slave-side descriptor it holds, else -1
+ * (any backend: its peer op, lib/port/port.c). */
 int port_fd_peer(const struct df1 *h);
 /* Record a failed system call: df1_fail(h, code, ...) with the message
  * "<what> <h->port_name>: <strerror(err)>" (sys_errno = err for DF1_E_SYS); returns code. */

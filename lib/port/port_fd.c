@@ -126,9 +126,10 @@ int port_fd_open(struct df1 *h, int fd, bool own)
 	return 0;
 }
 
-int port_fd_peer(const struct df1 *h)
+/* Called through h->port->peer: h->port_data is ours. */
+static int fd_peer(const struct df1 *h)
 {
-	const struct fd_port *fp = h->port == &port_fd_ops ? h->port_data : NULL;
+	const struct fd_port *fp = h->port_data;
 
 	return fp ? fp->peer_fd : -1;
 }
@@ -150,4 +151,5 @@ const struct port_ops port_fd_ops = {
 	.write = fd_write,
 	.configure = NULL,
 	.drain = NULL,
+	.peer = fd_peer,
 };

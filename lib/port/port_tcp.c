@@ -185,6 +185,24 @@ static int tcp_open(struct df1 *h, const char *target)
 	return 0;
 }
 
+/* A configuration file's target (lib/config/config_net.c Com_Port), what
+ * follows "tcp://": HOST:PORT, a decimal port 1..65535, no '/'. Looser than
+ * tcp_parse on a bare IPv6 literal ("a:b:502" passes here; opening it fails). */
+static bool tcp_config_ok(const char *rest)
+{
+	const char *colon = strrchr(rest, ':');
+	long port = 0;
+
+	if (!colon || colon == rest || strchr(rest, '/') || !colon[1])
+		return false;
+	for (const char *d = colon + 1; *d; d++) {
+		if (*d < '0' || *d > '9' || port > 65535)
+			return false;
+		port = port * 10 + (*d - '0');
+	}
+	return port >= 1 && port <= 65535;
+}
+
 static void tcp_close(struct df1 *h)
 {
 	if (h->fd >= 0)
@@ -194,10 +212,13 @@ static void tcp_close(struct df1 *h)
 
 const struct port_ops port_tcp_ops = {
 	.name = "tcp",
+	.net_slack = true,          /* a device server's network: lib/link/half.c */
+	.serial_behind_net = true,  /* raw DF1 to a serial line behind it */
 	.open = tcp_open,
 	.close = tcp_close,
 	.read = port_read_fd,
 	.write = port_send_fd,  /* send(MSG_NOSIGNAL): a gone peer is DF1_E_CLOSED, no SIGPIPE */
 	.configure = NULL, /* serial settings do not apply */
 	.drain = NULL,
+	.config_ok = tcp_config_ok,
 };

@@ -286,6 +286,7 @@ static int termios_drain(struct df1 *h)
 
 const struct port_ops port_termios_ops = {
 	.name = "termios",
+	.paced = true,          /* a UART sends at the baud: lib/link/core.c keeps the account */
 	.open = termios_open,
 	.close = termios_close,
 	.read = port_read_fd,
