@@ -16,10 +16,21 @@
 
 #include "eip/eip_link.h"
 
+/* One line a scheme: X(its name, its port backend, the link of its own or
+ * NULL). The line declares the backend too (port_NAME_ops, in its own file
+ * lib/port/port_NAME.c), so a new scheme is that file plus one line here. */
+#define SCHEME_TABLE(X) \
+	X("tcp", port_tcp, NULL)          /* raw DF1 to a device server */ \
+	X("eip", port_tcp, &eip_link_ops) /* PCCC in EtherNet/IP (df1-eip(7)) */ \
+	/* (a new scheme's line goes above this one) */
+
+#define SCHEME_DECLARE(name, port, link) extern const struct port_ops port##_ops;
+#define SCHEME_ROW(name, port, link) { name, &port##_ops, link },
+SCHEME_TABLE(SCHEME_DECLARE)
+
 const struct scheme_row scheme_rows[] = {
-	{ "tcp", &port_tcp_ops, NULL },         /* raw DF1 to a device server */
-	{ "eip", &port_tcp_ops, &eip_link_ops }, /* PCCC in EtherNet/IP (df1-eip(7)) */
-	{ NULL, &port_termios_ops, NULL },       /* the default: a device path */
+	SCHEME_TABLE(SCHEME_ROW)
+	{ NULL, &port_termios_ops, NULL }, /* the default: a device path */
 };
 
 const struct scheme_row *scheme_find(const char *target)
