@@ -85,7 +85,7 @@ struct station_state {
 	uint32_t last_hash;          /* differs is a new command, not a retransmission */
 };
 
-struct server_state;             /* lib/server/server.c */
+struct server_state;             /* lib/server/server_dispatch.c */
 
 /* A link of its own, for a scheme whose target does not carry DF1 frames
  * (eip://, lib/eip/eip_link.c): the scheme table (lib/scheme.c) names it, the
@@ -106,7 +106,7 @@ struct own_link_ops {
 	int (*test)(struct df1 *h);
 };
 
-/* The responder's state (lib/link/link.h): owned by the server (lib/server/server.c),
+/* The responder's state (lib/link/link.h): owned by the server (lib/server/server_dispatch.c),
  * lent to the link layer for the length of a link_serve() call. */
 struct link_responder;
 
@@ -151,7 +151,7 @@ struct df1 {
 	struct df1_error_detail err;
 
 	/* slave / peer side */
-	struct server_state *srv;    /* the server's (lib/server/server.c): allocated on first use */
+	struct server_state *srv;    /* the server's (lib/server/server_dispatch.c): allocated on first use */
 	struct link_responder *resp; /* the server's responder state while link_serve() runs */
 	void *poll;                  /* poll engine state (lib/poll/) */
 	/* Destructors of the state above, set by the module that allocates it; df1_free()

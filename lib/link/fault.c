@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * fault.c - the fault dice of the serving side (the faults are set with
- * df1_server_set_fault and df1_server_set_seed, lib/server/server.c, into the
+ * df1_server_set_fault and df1_server_set_seed, lib/server/server_api.c, into the
  * responder state; core.c, full.c and half.c decide where each fault acts). Deterministic: xorshift64* from the seed, advanced
  * by each roll of a fault switched on below 1000 per mille and by each burst
  * of noise bytes, so the same seed, faults and traffic inject the same faults.

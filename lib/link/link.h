@@ -38,7 +38,7 @@ struct link_faults {
 #define FAULT_SILENT_ALL DF1_SILENT_ALL
 
 /* Everything a responder keeps between link_serve() calls. The server owns it
- * (lib/server/server.c, server_responder()) and passes it to link_serve(). */
+ * (lib/server/server_dispatch.c, server_responder()) and passes it to link_serve(). */
 struct link_responder {
 	struct link_reply replies[LINK_REPLY_SLOTS];
 	uint32_t seq;

@@ -2,7 +2,7 @@
 /*
  * server_api.c - the responder's public calls (df1_serve(3)): faults, the
  * command queue, the stations served, df1_serve() on the link layer and
- * df1_serve_pccc() without it. The responder itself is lib/server/server.c.
+ * df1_serve_pccc() without it. The responder itself is lib/server/server_dispatch.c.
  */
 #include "server/server.h"
 

@@ -23,9 +23,10 @@ FUZZ_TARGETS += eip
 FUZZ_BINS := $(FUZZ_TARGETS:%=$(FUZZ_B)/bin/fuzz_%)
 FUZZ_LIB_OBJS := $(LIB_SRCS:%.c=$(FUZZ_B)/%.o)
 FUZZ_COMMON_OBJS := $(FUZZ_B)/tests/fuzz/fuzz_file.o
-# df1mon's --read: the pcap/raw reader, its stream and the decoded lines
+# df1mon's --read: the pcap/raw reader, the pcap format, its stream and the decoded lines
 # (and the tools' shared cli code: the decoder takes the link options from it)
-FUZZ_MON_OBJS := $(patsubst %.c,$(FUZZ_B)/%.o,tools/df1mon/mon_read.c tools/df1mon/mon_stream.c \
+FUZZ_MON_OBJS := $(patsubst %.c,$(FUZZ_B)/%.o,tools/df1mon/mon_read.c tools/df1mon/mon_pcap.c \
+	tools/df1mon/mon_stream.c \
 	$(TOOL_COMMON_SRCS))
 FUZZ_EXTRA_mon_read := $(FUZZ_MON_OBJS)
 # the link and the poll engine run against the scripted port of the unit tests

@@ -6,7 +6,7 @@
  * scan) or from a pipe.
  * Input: byte 0 the options (bits 0-1 check CRC/BCC/auto, bit 2 --duplex given,
  * bit 3 half duplex, bit 4 JSON, bit 5 -v, bit 6 through a pipe); the rest is
- * the file. Properties: run_read returns an exit status (0, 1, 2) or goes on,
+ * the file. Properties: mon_run_read returns an exit status (0, 1, 2) or goes on,
  * and never feeds the decoders more bytes than the file holds.
  */
 #include "fuzz.h"
@@ -73,11 +73,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		if (!m.read_file)
 			return 0;
 	}
-	r = run_read(&m);
+	r = mon_run_read(&m);
 	if (pfd[0] >= 0)
 		close(pfd[0]);
 	FUZZ_CHECK(r == CLI_CONTINUE || r == CLI_EXIT_OK || r == CLI_EXIT_FAIL || r == CLI_EXIT_USAGE,
-	           "run_read returned %d", r);
+	           "mon_run_read returned %d", r);
 	FUZZ_CHECK(m.fed <= size, "fed %llu bytes of a %zu-byte file", m.fed, size);
 	FUZZ_CHECK(m.used <= m.fed, "%llu bytes in symbols of %llu fed", m.used, m.fed);
 	return 0;

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
- * fuzz_pccc_command - the responder side (lib/server/server.c): a received command
+ * fuzz_pccc_command - the responder side (lib/server/server_*.c): a received command
  * decoded and run against a data table (df1_table, as df1sim serves it) for
  * each PLC type, and its reply built.
  * Input: byte 0 picks the PLC type (and bit 3 the PLC-5 float order), the rest

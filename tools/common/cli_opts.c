@@ -318,13 +318,115 @@ static int parse_baud(struct cli *c, const char *arg)
 	return cli_bad_value(c, "--baud", arg, "1200, 2400, 4800, 9600, 19200, 38400, 57600 or 115200");
 }
 
-/* One common option. */
-int cli_common_option(struct cli *c, enum cli_opt_id id, const char *arg)
+static int parse_parity(struct cli *c, const char *arg)
+{
+	if (strcasecmp(arg, "none") == 0 || strcasecmp(arg, "n") == 0)
+		c->parity = 'N';
+	else if (strcasecmp(arg, "even") == 0 || strcasecmp(arg, "e") == 0)
+		c->parity = 'E';
+	else if (strcasecmp(arg, "odd") == 0 || strcasecmp(arg, "o") == 0)
+		c->parity = 'O';
+	else
+		return cli_bad_value(c, "--parity", arg, "none, even or odd");
+	return CLI_CONTINUE;
+}
+
+/* --handshake alone is yes. */
+static int parse_handshake(struct cli *c, const char *arg)
 {
 	static const char *const yes[] = { "yes", "y", "on", "1", "true", "rtscts", "rts/cts", NULL };
 	static const char *const no[] = { "no", "n", "off", "0", "false", "none", NULL };
+
+	if (!arg || word_in(arg, yes))
+		c->handshake = true;
+	else if (word_in(arg, no))
+		c->handshake = false;
+	else
+		return cli_bad_value(c, "--handshake", arg, "yes or no");
+	return CLI_CONTINUE;
+}
+
+static int parse_duplex(struct cli *c, const char *arg)
+{
+	if (strcasecmp(arg, "full") == 0)
+		c->half_duplex = false;
+	else if (strcasecmp(arg, "half") == 0)
+		c->half_duplex = true;
+	else
+		return cli_bad_value(c, "--duplex", arg, "full or half");
+	return CLI_CONTINUE;
+}
+
+/* auto only for the tools that read both checks (check_auto). */
+static int parse_check(struct cli *c, const char *arg)
+{
+	if (strcasecmp(arg, "crc") == 0)
+		c->check = DF1_CHECK_CRC;
+	else if (strcasecmp(arg, "bcc") == 0)
+		c->check = DF1_CHECK_BCC;
+	else if (c->tool->check_auto && strcasecmp(arg, "auto") == 0)
+		c->check = DF1_CHECK_AUTO;
+	else
+		return cli_bad_value(c, "--check", arg, c->tool->check_auto ? "crc, bcc or auto" : "crc or bcc");
+	return CLI_CONTINUE;
+}
+
+/* A PLC family by any of its names, among those the tool takes (plc_ok). */
+static int parse_plc(struct cli *c, const char *arg)
+{
+	static const char *const slc[] = { "slc", "slc500", "slc503", "slc504", "slc505", "slc5/03",
+	                                   "slc5/04", "slc5/05", NULL };
+	static const char *const ml[] = { "micrologix", "ml", NULL };
+	static const char *const slc502[] = { "slc502", "slc501", "slc5/02", "slc5/01", NULL };
+	static const char *const plc5[] = { "plc5", "plc-5", NULL };
+	static const char *const plc2[] = { "plc2", "plc-2", NULL };
+	char list[80];
 	int v;
 
+	if (word_in(arg, slc))
+		v = DF1_PLC_SLC;
+	else if (word_in(arg, ml))
+		v = DF1_PLC_MICROLOGIX;
+	else if (word_in(arg, slc502))
+		v = DF1_PLC_SLC502;
+	else if (word_in(arg, plc5))
+		v = DF1_PLC_PLC5;
+	else if (word_in(arg, plc2))
+		v = DF1_PLC_PLC2;
+	else
+		v = -1;
+	if (v < 0 || !plc_ok(c, v)) {
+		plc_list(c, list, sizeof list);
+		return cli_bad_value(c, "--plc", arg, list);
+	}
+	c->plc = (enum df1_plc)v;
+	return CLI_CONTINUE;
+}
+
+/* An output format among those the tool takes (format_ok). */
+static int parse_format(struct cli *c, const char *arg)
+{
+	int v;
+
+	if (strcasecmp(arg, "plain") == 0)
+		v = CLI_FMT_PLAIN;
+	else if (strcasecmp(arg, "csv") == 0)
+		v = CLI_FMT_CSV;
+	else if (strcasecmp(arg, "json") == 0)
+		v = CLI_FMT_JSON;
+	else if (strcasecmp(arg, "influx") == 0)
+		v = CLI_FMT_INFLUX;
+	else
+		v = -1;
+	if (v < 0 || !format_ok(c, (enum cli_format)v))
+		return cli_bad_value(c, "--format", arg, format_list_sep(c, true));
+	c->format = (enum cli_format)v;
+	return CLI_CONTINUE;
+}
+
+/* One common option. */
+int cli_common_option(struct cli *c, enum cli_opt_id id, const char *arg)
+{
 	c->given |= CLI_ACCEPT(id);
 	switch (id) {
 	case CLI_OPT_DEVICE:
@@ -342,73 +444,19 @@ int cli_common_option(struct cli *c, enum cli_opt_id id, const char *arg)
 	case CLI_OPT_BAUD:
 		return parse_baud(c, arg);
 	case CLI_OPT_PARITY:
-		if (strcasecmp(arg, "none") == 0 || strcasecmp(arg, "n") == 0)
-			c->parity = 'N';
-		else if (strcasecmp(arg, "even") == 0 || strcasecmp(arg, "e") == 0)
-			c->parity = 'E';
-		else if (strcasecmp(arg, "odd") == 0 || strcasecmp(arg, "o") == 0)
-			c->parity = 'O';
-		else
-			return cli_bad_value(c, "--parity", arg, "none, even or odd");
-		return CLI_CONTINUE;
+		return parse_parity(c, arg);
 	case CLI_OPT_DATA_BITS:
 		return cli_parse_int(c, "--data-bits", arg, 7, 8, &c->data_bits);
 	case CLI_OPT_STOP_BITS:
 		return cli_parse_int(c, "--stop-bits", arg, 1, 2, &c->stop_bits);
 	case CLI_OPT_HANDSHAKE:
-		if (!arg || word_in(arg, yes))
-			c->handshake = true;
-		else if (word_in(arg, no))
-			c->handshake = false;
-		else
-			return cli_bad_value(c, "--handshake", arg, "yes or no");
-		return CLI_CONTINUE;
+		return parse_handshake(c, arg);
 	case CLI_OPT_DUPLEX:
-		if (strcasecmp(arg, "full") == 0)
-			c->half_duplex = false;
-		else if (strcasecmp(arg, "half") == 0)
-			c->half_duplex = true;
-		else
-			return cli_bad_value(c, "--duplex", arg, "full or half");
-		return CLI_CONTINUE;
+		return parse_duplex(c, arg);
 	case CLI_OPT_CHECK:
-		if (strcasecmp(arg, "crc") == 0)
-			c->check = DF1_CHECK_CRC;
-		else if (strcasecmp(arg, "bcc") == 0)
-			c->check = DF1_CHECK_BCC;
-		else if (c->tool->check_auto && strcasecmp(arg, "auto") == 0)
-			c->check = DF1_CHECK_AUTO;
-		else
-			return cli_bad_value(c, "--check", arg, c->tool->check_auto ? "crc, bcc or auto" : "crc or bcc");
-		return CLI_CONTINUE;
-	case CLI_OPT_PLC: {
-		static const char *const slc[] = { "slc", "slc500", "slc503", "slc504", "slc505", "slc5/03",
-		                                   "slc5/04", "slc5/05", NULL };
-		static const char *const ml[] = { "micrologix", "ml", NULL };
-		static const char *const slc502[] = { "slc502", "slc501", "slc5/02", "slc5/01", NULL };
-		static const char *const plc5[] = { "plc5", "plc-5", NULL };
-		static const char *const plc2[] = { "plc2", "plc-2", NULL };
-		char list[80];
-
-		if (word_in(arg, slc))
-			v = DF1_PLC_SLC;
-		else if (word_in(arg, ml))
-			v = DF1_PLC_MICROLOGIX;
-		else if (word_in(arg, slc502))
-			v = DF1_PLC_SLC502;
-		else if (word_in(arg, plc5))
-			v = DF1_PLC_PLC5;
-		else if (word_in(arg, plc2))
-			v = DF1_PLC_PLC2;
-		else
-			v = -1;
-		if (v < 0 || !plc_ok(c, v)) {
-			plc_list(c, list, sizeof list);
-			return cli_bad_value(c, "--plc", arg, list);
-		}
-		c->plc = (enum df1_plc)v;
-		return CLI_CONTINUE;
-	}
+		return parse_check(c, arg);
+	case CLI_OPT_PLC:
+		return parse_plc(c, arg);
 	case CLI_OPT_TIMEOUT:
 		return cli_parse_int(c, "--timeout", arg, 0, 360000, &c->timeout_ms);
 	case CLI_OPT_CMD_TIMEOUT:
@@ -423,20 +471,7 @@ int cli_common_option(struct cli *c, enum cli_opt_id id, const char *arg)
 		c->rs485 = true;
 		return CLI_CONTINUE;
 	case CLI_OPT_FORMAT:
-		if (strcasecmp(arg, "plain") == 0)
-			v = CLI_FMT_PLAIN;
-		else if (strcasecmp(arg, "csv") == 0)
-			v = CLI_FMT_CSV;
-		else if (strcasecmp(arg, "json") == 0)
-			v = CLI_FMT_JSON;
-		else if (strcasecmp(arg, "influx") == 0)
-			v = CLI_FMT_INFLUX;
-		else
-			v = -1;
-		if (v < 0 || !format_ok(c, (enum cli_format)v))
-			return cli_bad_value(c, "--format", arg, format_list_sep(c, true));
-		c->format = (enum cli_format)v;
-		return CLI_CONTINUE;
+		return parse_format(c, arg);
 	case CLI_OPT_VERBOSE:
 		c->verbose++;
 		return CLI_CONTINUE;

@@ -16,7 +16,7 @@
  *                      every -i interval, counters after each)
  * A mode is an enum mon_mode value, an entry in modes[] (what it accepts), an
  * option in mon_opts[] and its run function, in a file of its own (mon.h
- * lists them); --sniff and its pcap writer are here.
+ * lists them).
  *
  * Decoding modes print one line per symbol on stdout (tools/common/decode.c) and a
  * summary on stderr unless -q. SIGINT/SIGTERM (and --duration) end a live mode
@@ -25,22 +25,11 @@
  * no answer; 2 usage, unreadable input or bad hex. Per mode in df1mon(1).
  */
 #include <errno.h>
-#include <fcntl.h>
 #include <getopt.h>
 #include <math.h>
-#include <netdb.h>
-#include <poll.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/file.h>
-#include <sys/ioctl.h>
-#include <sys/socket.h>
-#include <sys/stat.h>
-#include <termios.h>
-#include <time.h>
-#include <unistd.h>
 
 #include "df1mon/mon.h"
 #include "df1mon/mon_map.h"   /* --map: the poll engine's live table */
@@ -49,365 +38,15 @@
 
 /* The table is mon_map.c's: it also prints the counters (every interval and at
  * exit) when asked, so main does not print them again. */
-static int run_map(struct mon *m)
+static int mon_run_map(struct mon *m)
 {
 	int fmt = m->cli.format == CLI_FMT_CSV      ? MON_MAP_CSV
 	        : m->cli.format == CLI_FMT_JSON   ? MON_MAP_JSON
 	        : m->cli.format == CLI_FMT_INFLUX ? MON_MAP_INFLUX
 	                                          : MON_MAP_PLAIN;
-	int interval_ms = (m->given & GIVEN_INTERVAL) ? (int)ms_of(m->interval_s) : 1000;
+	int interval_ms = (m->given & GIVEN_INTERVAL) ? (int)mon_ms_of(m->interval_s) : 1000;
 
 	return mon_map_run(m->h, m->map_file, fmt, m->once, m->counters, interval_ms, &cli_stop);
-}
-
-/* ---- --sniff: a passive port ---- */
-
-/*
- * A tap is a listen-only libdf1 handle (DF1_OPT_LISTEN_ONLY): a serial device
- * is opened read only (nothing can be transmitted), locked like every libdf1
- * port (so a libdf1 program and df1mon do not steal each other's bytes) and set
- * raw at the line settings, its termios restored when the handle closes, on
- * every exit path; an unknown baud rate is an error, never a fallback.
- * tcp://HOST:PORT is connected with the handle's deadline and shut for sending.
- * Anything else (a FIFO, a file, a character device that is no terminal) goes
- * to the handle with df1_open_fd() and is read as it is; its end ends the sniff. Bytes come from df1_recv_raw() with their
- * time; the taps' descriptors (df1_port_fd) are watched in one poll() with the
- * signal pipe, and used for TIOCMGET (the control lines of a pcap record).
- */
-struct tap {
-	const char *dev;
-	const char *dir;       /* "rx"/"tx" with two taps, else NULL */
-	uint8_t event;         /* RTAC event type of its records */
-	df1_t *h;              /* the listen-only handle, NULL until made */
-	int fd;                /* df1_port_fd(h) once open, else -1 */
-	bool file;             /* a FIFO or a file: its end is the end of the input */
-	bool modem;            /* TIOCMGET works */
-	bool eof;
-	struct stream st;
-	unsigned long long bytes;
-};
-
-#define RTAC_DATA_TX_END 0x03
-#define RTAC_DATA_RX_END 0x04
-
-/* A failed library call on tap t: the usual "tool: DEV: [tag] text" line. */
-static int tap_fail(const struct mon *m, const struct tap *t, int r)
-{
-	return cli_report(m->cli.name, t->dev, -1, t->h, r);
-}
-
-static int tap_open(struct mon *m, struct tap *t)
-{
-	const struct cli *c = &m->cli;
-	struct stat st;
-	bool plain;
-	int r, fd;
-
-	t->fd = -1;
-	r = df1_new(&t->h);
-	if (r < 0) {
-		t->h = NULL;
-		fprintf(stderr, "%s: %s: %s\n", c->name, df1_errname(r), df1_strerror(r));
-		return CLI_EXIT_FAIL;
-	}
-	if ((r = df1_set_option(t->h, DF1_OPT_LISTEN_ONLY, 1)) < 0 ||
-	    (r = df1_set_serial(t->h, c->baud, c->data_bits, c->parity, c->stop_bits)) < 0 ||
-	    (r = df1_set_timeout_ms(t->h, c->timeout_ms)) < 0)
-		return tap_fail(m, t, r);
-	fd = cli_signal_fd();
-	if (fd >= 0 && (r = df1_set_cancel_fd(t->h, fd)) < 0) /* Ctrl-C ends a TCP connect */
-		return tap_fail(m, t, r);
-	/* a terminal (or tcp://) is the library's port; anything else that exists
-	 * (a FIFO, a file, a character device that is no terminal) is read as it is */
-	plain = strncmp(t->dev, "tcp:", 4) != 0 && stat(t->dev, &st) == 0 && !S_ISCHR(st.st_mode);
-	if (!plain) {
-		r = df1_open(t->h, t->dev);
-		if (r == DF1_E_NODEV && strncmp(t->dev, "tcp:", 4) != 0 && stat(t->dev, &st) == 0)
-			plain = true;  /* it is there, but not a serial port */
-		else if (r < 0)
-			return tap_fail(m, t, r);
-	}
-	if (plain) {
-		fd = open(t->dev, O_RDONLY | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
-		if (fd < 0) {
-			fprintf(stderr, "%s: %s: %s\n", c->name, t->dev, strerror(errno));
-			return CLI_EXIT_FAIL;
-		}
-		r = df1_open_fd(t->h, fd, true);
-		if (r < 0) {
-			close(fd);
-			return tap_fail(m, t, r);
-		}
-		t->file = true;
-	}
-	t->fd = df1_port_fd(t->h);
-	if (t->fd < 0)
-		return tap_fail(m, t, t->fd);
-	t->modem = !t->file && isatty(t->fd);
-	return CLI_CONTINUE;
-}
-
-static void tap_close(struct tap *t)
-{
-	df1_free(t->h); /* closes the port: a serial device gets its termios back */
-	t->h = NULL;
-	t->fd = -1;
-}
-
-/* RTAC control-line bits from the modem lines (0 when unknown). */
-static uint8_t tap_lines(struct tap *t)
-{
-	int bits = 0;
-	uint8_t v = 0;
-
-	if (!t->modem)
-		return 0;
-	if (ioctl(t->fd, TIOCMGET, &bits) < 0) {
-		t->modem = false;
-		return 0;
-	}
-	if (bits & TIOCM_CTS) v |= 0x01;
-	if (bits & TIOCM_CD) v |= 0x02;
-	if (bits & TIOCM_DSR) v |= 0x04;
-	if (bits & TIOCM_RTS) v |= 0x08;
-	if (bits & TIOCM_DTR) v |= 0x10;
-	if (bits & TIOCM_RI) v |= 0x20;
-	return v;
-}
-
-/* ---- pcap writer: link type 250, a 12-byte RTAC header per record ---- */
-
-static void put_le32(uint8_t *p, uint32_t v)
-{
-	p[0] = (uint8_t)v;
-	p[1] = (uint8_t)(v >> 8);
-	p[2] = (uint8_t)(v >> 16);
-	p[3] = (uint8_t)(v >> 24);
-}
-
-static void put_be32(uint8_t *p, uint32_t v)
-{
-	p[0] = (uint8_t)(v >> 24);
-	p[1] = (uint8_t)(v >> 16);
-	p[2] = (uint8_t)(v >> 8);
-	p[3] = (uint8_t)v;
-}
-
-#define PCAP_SNAPLEN 65535
-#define SNIFF_CHUNK 4096
-
-static bool pcap_header(FILE *f)
-{
-	uint8_t h[24];
-
-	put_le32(h, 0xA1B2C3D4);               /* microsecond timestamps */
-	h[4] = 2; h[5] = 0; h[6] = 4; h[7] = 0; /* version 2.4 */
-	put_le32(h + 8, 0);                    /* thiszone */
-	put_le32(h + 12, 0);                   /* sigfigs */
-	put_le32(h + 16, PCAP_SNAPLEN);
-	put_le32(h + 20, LINKTYPE_RTAC_SERIAL);
-	return fwrite(h, 1, sizeof h, f) == sizeof h && fflush(f) == 0;
-}
-
-/* One record: pcap record header, RTAC header (BE seconds, BE microseconds,
- * event type, control lines, 2 footer bytes), the bytes; flushed at once so an
- * interrupted capture is a valid file. */
-static bool pcap_record(FILE *f, int64_t sec, int32_t usec, uint8_t event, uint8_t lines,
-                        const uint8_t *b, size_t n)
-{
-	uint8_t rec[16 + RTAC_HDR + SNIFF_CHUNK];
-	size_t len = RTAC_HDR + n;
-
-	if (n > SNIFF_CHUNK)
-		return false;
-	put_le32(rec, (uint32_t)sec);
-	put_le32(rec + 4, (uint32_t)usec);
-	put_le32(rec + 8, (uint32_t)len);
-	put_le32(rec + 12, (uint32_t)len);
-	put_be32(rec + 16, (uint32_t)sec);
-	put_be32(rec + 20, (uint32_t)usec);
-	rec[24] = event;
-	rec[25] = lines;
-	rec[26] = 0;
-	rec[27] = 0;
-	memcpy(rec + 28, b, n);
-	return fwrite(rec, 1, 16 + len, f) == 16 + len && fflush(f) == 0;
-}
-
-/* -vv: the bytes of each chunk on stderr with the time since the start. */
-static void sniff_trace(const struct mon *m, const struct tap *t, const uint8_t *b, size_t n)
-{
-	double el = mon_elapsed(m);
-	char hex[3 * 32 + 1];
-
-	for (size_t i = 0; i < n; i += 32) {
-		size_t k = n - i < 32 ? n - i : 32;
-		cli_hex(b + i, k, hex, sizeof hex);
-		fprintf(stderr, "%s: %.6f %s %s\n", m->cli.name, el, t->dir ? t->dir : "rx", hex);
-	}
-}
-
-static int run_sniff(struct mon *m)
-{
-	struct tap taps[2];
-	int ntaps = m->sniff_b ? 2 : 1, status = CLI_CONTINUE;
-	FILE *pcap = NULL;
-	bool pcap_stdout = m->pcap_path && strcmp(m->pcap_path, "-") == 0;
-	struct timebase tb = { 0 };
-	unsigned long records = 0;
-	unsigned long long bytes = 0;
-	int64_t s0;
-	int32_t u0;
-
-	memset(taps, 0, sizeof taps);
-	taps[0].fd = taps[1].fd = -1;
-	taps[0].h = taps[1].h = NULL;
-	if (!m->cli.device || !*m->cli.device)
-		return cli_usage_error(&m->cli, "no device: use -d DEV, -N FILE or set DF1_DEVICE");
-	taps[0].dev = m->cli.device;
-	taps[0].event = RTAC_DATA_RX_END;
-	if (ntaps == 2) {
-		taps[0].dir = "rx";
-		taps[1].dev = m->sniff_b;
-		taps[1].dir = "tx";
-		taps[1].event = RTAC_DATA_TX_END;
-		m->dx.show_dir = true;
-	}
-	m->dx.show_time = true;
-	for (int i = 0; i < ntaps && status == CLI_CONTINUE; i++) {
-		status = tap_open(m, &taps[i]);
-		if (status == CLI_CONTINUE)
-			status = stream_init(m, &taps[i].st, taps[i].dir);
-	}
-	if (status == CLI_CONTINUE && m->pcap_path) {
-		pcap = pcap_stdout ? stdout : fopen(m->pcap_path, "wb");
-		if (!pcap || !pcap_header(pcap)) {
-			fprintf(stderr, "%s: %s: %s\n", m->cli.name, m->pcap_path, strerror(errno));
-			status = CLI_EXIT_FAIL;
-		}
-	}
-	if (status == CLI_CONTINUE && pcap_stdout) {
-		/* stdout carries the capture: the symbol lines go nowhere */
-		m->out = fopen("/dev/null", "w");
-		if (!m->out) {
-			fprintf(stderr, "%s: /dev/null: %s\n", m->cli.name, strerror(errno));
-			status = CLI_EXIT_FAIL;
-		}
-	}
-	wall_now(&s0, &u0);
-	tb.set = true;
-	tb.sec = s0;
-	tb.usec = u0;
-	if (status == CLI_CONTINUE && m->cli.verbose >= 1) {
-		for (int i = 0; i < ntaps; i++)
-			fprintf(stderr, "%s: sniffing %s%s%s at %d %d%c%d, listen only; Ctrl-C to stop\n",
-			        m->cli.name, taps[i].dev, taps[i].dir ? " as " : "",
-			        taps[i].dir ? taps[i].dir : "", m->cli.baud, m->cli.data_bits, m->cli.parity,
-			        m->cli.stop_bits);
-		if (m->pcap_path)
-			fprintf(stderr, "%s: writing %s\n", m->cli.name,
-			        pcap_stdout ? "the capture to stdout" : m->pcap_path);
-	}
-
-	while (status == CLI_CONTINUE && !cli_stop) {
-		struct pollfd p[3];
-		int np = 0, idx[3], sfd = cli_signal_fd(), open_taps = 0;
-
-		for (int i = 0; i < ntaps; i++) {
-			if (taps[i].eof)
-				continue;
-			open_taps++;
-			idx[np] = i;
-			p[np++] = (struct pollfd){ .fd = taps[i].fd, .events = POLLIN };
-		}
-		if (!open_taps)
-			break;
-		if (sfd >= 0) {
-			idx[np] = -1;
-			p[np++] = (struct pollfd){ .fd = sfd, .events = POLLIN };
-		}
-		if (poll(p, (nfds_t)np, -1) < 0) {
-			if (errno == EINTR)
-				continue;
-			fprintf(stderr, "%s: poll: %s\n", m->cli.name, strerror(errno));
-			status = CLI_EXIT_FAIL;
-			break;
-		}
-		for (int k = 0; k < np && status == CLI_CONTINUE && !cli_stop; k++) {
-			struct tap *t;
-			uint8_t buf[SNIFF_CHUNK];
-			struct timespec when;
-			int n;
-			int64_t sec;
-			int32_t usec;
-
-			if (idx[k] < 0 || !(p[k].revents & (POLLIN | POLLHUP | POLLERR)))
-				continue;
-			t = &taps[idx[k]];
-			n = df1_recv_raw(t->h, buf, sizeof buf, 0, &when);
-			if (n == 0 || n == DF1_E_INTR)
-				continue;   /* nothing after all, or a signal: the loop looks at cli_stop */
-			if (n < 0) {
-				if (n == DF1_E_CLOSED && t->file) {
-					t->eof = true;   /* the end of a FIFO or file */
-					if (m->cli.verbose >= 1)
-						fprintf(stderr, "%s: %s: end of input\n", m->cli.name, t->dev);
-					continue;
-				}
-				tap_fail(m, t, n);
-				status = CLI_EXIT_FAIL;
-				break;
-			}
-			sec = (int64_t)when.tv_sec;
-			usec = (int32_t)(when.tv_nsec / 1000);
-			records++;
-			bytes += (unsigned long long)n;
-			t->bytes += (unsigned long long)n;
-			if (pcap && !pcap_record(pcap, sec, usec, t->event, tap_lines(t), buf, (size_t)n)) {
-				fprintf(stderr, "%s: %s: %s\n", m->cli.name, pcap_stdout ? "stdout" : m->pcap_path,
-				        strerror(errno ? errno : EIO));
-				status = CLI_EXIT_FAIL;
-				break;
-			}
-			if (m->cli.verbose >= 2 && !m->cli.quiet)
-				sniff_trace(m, t, buf, (size_t)n);
-			stream_mark(&t->st, sec, usec);
-			stream_feed(m, &t->st, &tb, buf, (size_t)n);
-			if (fflush(m->out ? m->out : stdout) != 0 || ferror(m->out ? m->out : stdout)) {
-				/* a closed pipe: stop; main reports stdout's error (exit 1) */
-				goto done;
-			}
-			if (m->frame_limit && m->dx.frames >= m->frame_limit)
-				goto done;
-		}
-	}
-done:
-	for (int i = 0; i < ntaps; i++) {
-		/* the end of a FIFO or file is the end of the input, as for --read */
-		if (taps[i].st.dec && !(m->frame_limit && m->dx.frames >= m->frame_limit))
-			stream_finish_cut(m, &taps[i].st, &tb, !taps[i].eof);
-		tap_close(&taps[i]);
-		stream_free(&taps[i].st);
-	}
-	if (pcap && !pcap_stdout && fclose(pcap) != 0 && status == CLI_CONTINUE) {
-		fprintf(stderr, "%s: %s: %s\n", m->cli.name, m->pcap_path, strerror(errno));
-		status = CLI_EXIT_FAIL;
-	}
-	if (m->out && m->out != stdout) {
-		fclose(m->out);
-		m->out = NULL;
-	}
-	if (!m->cli.quiet && records) {
-		if (interrupted())
-			fprintf(stderr, "%s: stopped by %s\n", m->cli.name, signal_name(cli_stop_signal()));
-		if (pcap)
-			fprintf(stderr, "%s: %llu bytes in %lu record%s written to %s\n", m->cli.name, bytes,
-			        records, records == 1 ? "" : "s", pcap_stdout ? "stdout" : m->pcap_path);
-	} else if (!m->cli.quiet && interrupted()) {
-		fprintf(stderr, "%s: stopped by %s; nothing received\n", m->cli.name,
-		        signal_name(cli_stop_signal()));
-	}
-	return status;
 }
 
 /* ======================================================================
@@ -430,13 +69,13 @@ struct mon_mode_def {
 };
 
 static const struct mon_mode_def modes[MODE_COUNT_] = {
-	[MODE_DECODE] = { "--decode", run_decode, 0 },
-	[MODE_READ] = { "--read", run_read, 0 },
-	[MODE_SNIFF] = { "--sniff", run_sniff, LIVE | TAKES_COUNT },
-	[MODE_PING] = { "--ping", run_ping, LIVE | TALKS | TAKES_COUNT | TAKES_INTERVAL | TAKES_COUNTERS | TAKES_CSV },
-	[MODE_WHO] = { "--who", run_who, LIVE | TALKS | TAKES_COUNTERS | TAKES_CSV },
-	[MODE_MAP] = { "--map", run_map, LIVE | TALKS | TAKES_INTERVAL | TAKES_COUNTERS | TAKES_CSV },
-	[MODE_COUNTERS] = { "--counters", run_counters, LIVE | TALKS | TAKES_COUNT | TAKES_INTERVAL | TAKES_CSV },
+	[MODE_DECODE] = { "--decode", mon_run_decode, 0 },
+	[MODE_READ] = { "--read", mon_run_read, 0 },
+	[MODE_SNIFF] = { "--sniff", mon_run_sniff, LIVE | TAKES_COUNT },
+	[MODE_PING] = { "--ping", mon_run_ping, LIVE | TALKS | TAKES_COUNT | TAKES_INTERVAL | TAKES_COUNTERS | TAKES_CSV },
+	[MODE_WHO] = { "--who", mon_run_who, LIVE | TALKS | TAKES_COUNTERS | TAKES_CSV },
+	[MODE_MAP] = { "--map", mon_run_map, LIVE | TALKS | TAKES_INTERVAL | TAKES_COUNTERS | TAKES_CSV },
+	[MODE_COUNTERS] = { "--counters", mon_run_counters, LIVE | TALKS | TAKES_COUNT | TAKES_INTERVAL | TAKES_CSV },
 };
 
 static const struct cli_extra_opt mon_opts[] = {
@@ -600,7 +239,7 @@ static int check_combination(struct mon *m)
 	if (m->mode == MODE_WHO) {
 		int r;
 		if (m->who_range) {
-			r = parse_range(m, m->who_range);
+			r = mon_parse_range(m, m->who_range);
 			if (r != CLI_CONTINUE)
 				return r;
 		} else if (m->cli.half_duplex) {
@@ -665,9 +304,11 @@ int main(int argc, char **argv)
 	decode_ctx_init(&m.dx, m.cli.format);
 	m.dx.verbose = m.cli.verbose;
 	if (d->flags & LIVE) {
+		long dur_ms = mon_ms_of(m.duration_s) > 0 ? mon_ms_of(m.duration_s) : 1;
+
 		cli_signals_install();
-		m.t0_us = mono_us();
-		if ((m.given & GIVEN_DURATION) && cli_stop_after_ms(ms_of(m.duration_s) > 0 ? ms_of(m.duration_s) : 1) < 0) {
+		m.t0_us = mon_mono_us();
+		if ((m.given & GIVEN_DURATION) && cli_stop_after_ms(dur_ms) < 0) {
 			fprintf(stderr, "%s: --duration: %s\n", m.cli.name, strerror(errno));
 			cli_cleanup(&m.cli);
 			return CLI_EXIT_FAIL;
@@ -675,7 +316,7 @@ int main(int argc, char **argv)
 	}
 	if (d->flags & TALKS) {
 		/* --who over eip:// asks ListIdentity on a socket of its own */
-		if (m.mode == MODE_WHO && who_is_eip(&m))
+		if (m.mode == MODE_WHO && mon_who_is_eip(&m))
 			r = cli_configure(&m.cli, &m.h);
 		else
 			r = cli_open(&m.cli, &m.h);
@@ -692,7 +333,7 @@ int main(int argc, char **argv)
 	r = d->run(&m);
 	/* --counters with another talking mode: the table at exit (--map prints its own) */
 	if (m.h && m.counters && m.mode != MODE_COUNTERS && m.mode != MODE_MAP)
-		print_counters(&m, true);
+		mon_print_counters(&m, true);
 	if (m.h) {
 		cli_close(&m.cli, m.h);   /* restores the port's settings */
 		m.h = NULL;

@@ -2,12 +2,14 @@
 /*
  * mon - what the files of df1mon share: the modes, the state of a run
  * (struct mon), the byte streams the decoding modes feed, and each file's
- * entry points. df1mon.c holds main, the option table and --sniff; the other
- * modes have a file each:
+ * entry points. df1mon.c holds main, the option table and --map's call; the
+ * other modes have a file each:
  *
  *   mon_stream.c    one byte stream through a decoder, symbols printed
  *   mon_decode.c    --decode: hex arguments or stdin lines
  *   mon_read.c      --read: a pcap (RTAC serial) or a raw byte dump
+ *   mon_pcap.c      the pcap format: headers read, captures written
+ *   mon_sniff.c     --sniff: the taps, -w's capture, the decode loop
  *   mon_live.c      clocks, waits and stop reasons of the live modes
  *   mon_counters.c  the counter table, --counters alone
  *   mon_ping.c      --ping
@@ -91,9 +93,41 @@ struct mon {
 	unsigned counter_prints;   /* counter tables printed */
 };
 
+/* ---- mon_pcap.c: the pcap format (read by --read, written by --sniff -w) ---- */
+
+#define PCAP_HDR 24        /* the file header */
+#define PCAP_REC_HDR 16    /* a record's header */
 /* pcap link type 250 (RTAC serial) and its 12-byte header before the bytes */
 #define LINKTYPE_RTAC_SERIAL 250
 #define RTAC_HDR 12
+#define RTAC_DATA_TX_END 0x03  /* the event types of the records written */
+#define RTAC_DATA_RX_END 0x04
+#define MON_PCAP_DATA_MAX 4096 /* the most bytes a record written holds */
+
+struct pcap_fmt {
+	bool swapped;   /* fields are big-endian */
+	bool nsec;      /* nanosecond timestamps */
+	uint32_t linktype;
+};
+
+/* The start of a file (n bytes): 1 pcap (*f set, but its linktype), 0 not a
+ * pcap (a raw dump), -1 pcapng. */
+int mon_pcap_detect(const uint8_t *b, size_t n, struct pcap_fmt *f);
+/* The link type in a pcap's PCAP_HDR-byte header. */
+uint32_t mon_pcap_linktype(const uint8_t *hdr, const struct pcap_fmt *f);
+/* A record's PCAP_REC_HDR-byte header: its time (microseconds; 0 if out of
+ * range) and the bytes it holds in the file. */
+void mon_pcap_rec_hdr(const uint8_t *hdr, const struct pcap_fmt *f, uint32_t *sec, int32_t *usec,
+                      uint32_t *incl);
+/* A record's direction from its RTAC event type: 1 transmit, 0 receive. */
+int mon_rtac_dir(uint8_t event);
+/* The file header of a capture written; false on a write error. */
+bool mon_pcap_write_header(FILE *f);
+/* One record (n <= MON_PCAP_DATA_MAX): pcap record header, RTAC header (BE
+ * seconds, BE microseconds, event type, control lines, 2 footer bytes), the
+ * bytes; flushed at once so an interrupted capture is a valid file. */
+bool mon_pcap_write_record(FILE *f, int64_t sec, int32_t usec, uint8_t event, uint8_t lines,
+                           const uint8_t *b, size_t n);
 
 /* ---- mon_stream.c: one byte stream (one direction of a capture, or one --decode chunk) ---- */
 
@@ -122,40 +156,41 @@ struct timebase {
 	int32_t usec;
 };
 
-int stream_init(struct mon *m, struct stream *s, const char *dir);
-void stream_free(struct stream *s);
-void stream_mark(struct stream *s, int64_t sec, int32_t usec);
-void stream_feed(struct mon *m, struct stream *s, const struct timebase *tb,
-                 const uint8_t *p, size_t n);
+int mon_stream_init(struct mon *m, struct stream *s, const char *dir);
+void mon_stream_free(struct stream *s);
+void mon_stream_mark(struct stream *s, int64_t sec, int32_t usec);
+void mon_stream_feed(struct mon *m, struct stream *s, const struct timebase *tb,
+                     const uint8_t *p, size_t n);
 /* End of the input: a symbol still under way is reported (cut: only a verdict on
  * the bytes that were there; a sniff stopped by a signal, -c or --duration). */
-void stream_finish_cut(struct mon *m, struct stream *s, const struct timebase *tb, bool cut);
-void stream_finish(struct mon *m, struct stream *s, const struct timebase *tb);
+void mon_stream_finish_cut(struct mon *m, struct stream *s, const struct timebase *tb, bool cut);
+void mon_stream_finish(struct mon *m, struct stream *s, const struct timebase *tb);
 
 /* ---- the modes ---- */
 
-int run_decode(struct mon *m);      /* mon_decode.c */
-int run_read(struct mon *m);        /* mon_read.c */
-int run_counters(struct mon *m);    /* mon_counters.c */
-int run_ping(struct mon *m);        /* mon_ping.c */
-int run_who(struct mon *m);         /* mon_who.c */
-bool who_is_eip(const struct mon *m);  /* mon_who.c: an eip:// device */
+int mon_run_decode(struct mon *m);            /* mon_decode.c */
+int mon_run_read(struct mon *m);              /* mon_read.c */
+int mon_run_sniff(struct mon *m);             /* mon_sniff.c */
+int mon_run_counters(struct mon *m);          /* mon_counters.c */
+int mon_run_ping(struct mon *m);              /* mon_ping.c */
+int mon_run_who(struct mon *m);               /* mon_who.c */
+bool mon_who_is_eip(const struct mon *m);     /* mon_who.c: an eip:// device */
 /* --who's operand "N" or "LO-HI" (0..254) into m->who_lo, who_hi; exit 2 if bad. */
-int parse_range(struct mon *m, const char *arg);
+int mon_parse_range(struct mon *m, const char *arg);
 /* Every counter of the seed table in ID order, in the -f format; final: the one at exit. */
-void print_counters(struct mon *m, bool final);
+void mon_print_counters(struct mon *m, bool final);
 
 /* ---- mon_live.c: clocks, waits, stop reasons ---- */
 
-int64_t mono_us(void);                       /* CLOCK_MONOTONIC, microseconds */
-void wall_now(int64_t *sec, int32_t *usec);  /* CLOCK_REALTIME */
+int64_t mon_mono_us(void);                    /* CLOCK_MONOTONIC, microseconds */
+void mon_wall_now(int64_t *sec, int32_t *usec); /* CLOCK_REALTIME */
 /* stdout cannot take more (a closed pipe): end the loop; main reports it, exit 1. */
-bool out_broken(void);
-double mon_elapsed(const struct mon *m);     /* seconds since the live mode started */
+bool mon_out_broken(void);
+double mon_elapsed(const struct mon *m);      /* seconds since the live mode started */
 /* Wait ms milliseconds, or until a signal (or --duration) stops us: false then. */
 bool mon_sleep(long ms);
-const char *signal_name(int sig);            /* "--duration" for SIGALRM */
-bool interrupted(void);                      /* stopped by a signal, not by --duration */
-long ms_of(double seconds);
+const char *mon_signal_name(int sig);         /* "--duration" for SIGALRM */
+bool mon_interrupted(void);                   /* stopped by a signal, not by --duration */
+long mon_ms_of(double seconds);
 
 #endif

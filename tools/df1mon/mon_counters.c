@@ -6,7 +6,7 @@
 #include "df1mon/mon.h"
 
 /* Every counter of the seed table in ID order (2525-2551, 2560, 2561). */
-void print_counters(struct mon *m, bool final)
+void mon_print_counters(struct mon *m, bool final)
 {
 	FILE *f = stdout;
 
@@ -36,7 +36,7 @@ void print_counters(struct mon *m, bool final)
 /* --counters alone: a link test, then the counters; with -i or -c, again every
  * interval until -c N tables, --duration or a signal. Exit 0 if every link test
  * was answered. */
-int run_counters(struct mon *m)
+int mon_run_counters(struct mon *m)
 {
 	long count = (m->given & GIVEN_COUNT) ? m->count : (m->given & GIVEN_INTERVAL) ? 0 : 1;
 	double interval = (m->given & GIVEN_INTERVAL) ? m->interval_s : 1.0;
@@ -58,13 +58,13 @@ int run_counters(struct mon *m)
 		}
 		if (count && k >= count)
 			break;
-		print_counters(m, false);
-		if (out_broken() || !mon_sleep(ms_of(interval)))
+		mon_print_counters(m, false);
+		if (mon_out_broken() || !mon_sleep(mon_ms_of(interval)))
 			break;
 	}
-	print_counters(m, true);
-	if (interrupted() && !m->cli.quiet)
+	mon_print_counters(m, true);
+	if (mon_interrupted() && !m->cli.quiet)
 		fprintf(stderr, "%s: stopped by %s after %lu link test%s\n", m->cli.name,
-		        signal_name(cli_stop_signal()), tests, tests == 1 ? "" : "s");
+		        mon_signal_name(cli_stop_signal()), tests, tests == 1 ? "" : "s");
 	return (tests > 0 && failed == 0) ? CLI_EXIT_OK : CLI_EXIT_FAIL;
 }

@@ -12,13 +12,13 @@
 static int decode_chunk(struct mon *m, const uint8_t *b, size_t n)
 {
 	struct stream s;
-	int r = stream_init(m, &s, NULL);
+	int r = mon_stream_init(m, &s, NULL);
 
 	if (r != CLI_CONTINUE)
 		return r;
-	stream_feed(m, &s, NULL, b, n);
-	stream_finish(m, &s, NULL);
-	stream_free(&s);
+	mon_stream_feed(m, &s, NULL, b, n);
+	mon_stream_finish(m, &s, NULL);
+	mon_stream_free(&s);
 	return CLI_CONTINUE;
 }
 
@@ -30,7 +30,7 @@ static int bad_hex(const struct mon *m, const char *where, const char *text, siz
 
 #define CHUNK_MAX 65536
 
-int run_decode(struct mon *m)
+int mon_run_decode(struct mon *m)
 {
 	uint8_t *buf = malloc(CHUNK_MAX);
 	char where[64];

@@ -9,7 +9,7 @@
 #include <signal.h>
 #include <time.h>
 
-int64_t mono_us(void)
+int64_t mon_mono_us(void)
 {
 	struct timespec ts;
 
@@ -17,7 +17,7 @@ int64_t mono_us(void)
 	return (int64_t)ts.tv_sec * 1000000 + ts.tv_nsec / 1000;
 }
 
-void wall_now(int64_t *sec, int32_t *usec)
+void mon_wall_now(int64_t *sec, int32_t *usec)
 {
 	struct timespec ts;
 
@@ -28,7 +28,7 @@ void wall_now(int64_t *sec, int32_t *usec)
 
 /* stdout cannot take more (a closed pipe: SIGPIPE is ignored): end the loop;
  * main reports it and exits 1. */
-bool out_broken(void)
+bool mon_out_broken(void)
 {
 	return fflush(stdout) != 0 || ferror(stdout);
 }
@@ -36,17 +36,17 @@ bool out_broken(void)
 /* Seconds since the live mode started. */
 double mon_elapsed(const struct mon *m)
 {
-	return (double)(mono_us() - m->t0_us) / 1e6;
+	return (double)(mon_mono_us() - m->t0_us) / 1e6;
 }
 
 /* Wait ms milliseconds, or until a signal (or --duration) stops us: false then. */
 bool mon_sleep(long ms)
 {
-	int64_t end = mono_us() + (int64_t)ms * 1000;
+	int64_t end = mon_mono_us() + (int64_t)ms * 1000;
 	int fd = cli_signal_fd();
 
 	while (!cli_stop) {
-		int64_t left = end - mono_us();
+		int64_t left = end - mon_mono_us();
 		struct pollfd p = { .fd = fd, .events = POLLIN };
 
 		if (left <= 0)
@@ -56,18 +56,18 @@ bool mon_sleep(long ms)
 	return false;
 }
 
-const char *signal_name(int sig)
+const char *mon_signal_name(int sig)
 {
 	return sig == SIGALRM && cli_stopped_by_timer() ? "--duration" : cli_signal_name(sig);
 }
 
 /* A stop by a signal (not by --duration's timer): reported as an interruption. */
-bool interrupted(void)
+bool mon_interrupted(void)
 {
 	return cli_stop && !cli_stopped_by_timer();
 }
 
-long ms_of(double seconds)
+long mon_ms_of(double seconds)
 {
 	return (long)llround(seconds * 1000.0);
 }

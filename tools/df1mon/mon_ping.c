@@ -112,7 +112,7 @@ static void ping_summary(const struct mon *m, unsigned long sent, unsigned long 
 
 /* Each probe: df1_link_test (DLE ENQ, or a poll in half duplex), then a 06/00
  * echo of PING_BYTES bytes; a probe is answered when both are. */
-int run_ping(struct mon *m)
+int mon_run_ping(struct mon *m)
 {
 	long count = (m->given & GIVEN_COUNT) ? m->count : 4;
 	double interval = (m->given & GIVEN_INTERVAL) ? m->interval_s : 1.0;
@@ -127,11 +127,11 @@ int run_ping(struct mon *m)
 		int64_t t0, t1, t2;
 		int r;
 
-		if (seq > 1 && (out_broken() || !mon_sleep(ms_of(interval))))
+		if (seq > 1 && (mon_out_broken() || !mon_sleep(mon_ms_of(interval))))
 			break;
-		t0 = mono_us();
+		t0 = mon_mono_us();
 		r = df1_link_test(m->h, m->cli.station);
-		t1 = mono_us();
+		t1 = mon_mono_us();
 		if (r == DF1_E_INTR || cli_stop)
 			break;
 		sent++;
@@ -141,7 +141,7 @@ int run_ping(struct mon *m)
 			continue;
 		}
 		r = df1_echo(m->h, m->cli.station, data, sizeof data);
-		t2 = mono_us();
+		t2 = mon_mono_us();
 		if (r == DF1_E_INTR || cli_stop) {
 			sent--;
 			break;
@@ -157,7 +157,7 @@ int run_ping(struct mon *m)
 		fflush(stdout);
 	}
 	ping_summary(m, sent, recvd, &lk, &ec);
-	if (interrupted() && !m->cli.quiet)
-		fprintf(stderr, "%s: stopped by %s\n", m->cli.name, signal_name(cli_stop_signal()));
+	if (mon_interrupted() && !m->cli.quiet)
+		fprintf(stderr, "%s: stopped by %s\n", m->cli.name, mon_signal_name(cli_stop_signal()));
 	return (sent > 0 && recvd == sent) ? CLI_EXIT_OK : CLI_EXIT_FAIL;
 }

@@ -14,7 +14,8 @@
  * Direction columns (rx/tx) appear when a capture holds both directions. For a
  * regular file a first pass over the record headers decides, so the output is
  * the same from the first line; on a pipe they appear from the record where
- * the second direction is first seen.
+ * the second direction is first seen. The pcap format itself (headers, RTAC
+ * event types) is mon_pcap.c's.
  */
 #include "df1mon/mon.h"
 
@@ -25,52 +26,6 @@
 #include <unistd.h>
 
 #define READ_CHUNK 65536
-#define PCAP_HDR 24
-#define REC_HDR 16
-
-struct pcap_fmt {
-	bool swapped;   /* fields are big-endian */
-	bool nsec;      /* nanosecond timestamps */
-	uint32_t linktype;
-};
-
-static uint32_t rd32(const uint8_t *p, bool be)
-{
-	if (be)
-		return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3];
-	return (uint32_t)p[3] << 24 | (uint32_t)p[2] << 16 | (uint32_t)p[1] << 8 | p[0];
-}
-
-/* 1 pcap, 0 not a pcap (a raw dump), -1 pcapng */
-static int pcap_detect(const uint8_t *b, size_t n, struct pcap_fmt *f)
-{
-	uint32_t le, be;
-
-	if (n < 4)
-		return 0;
-	le = rd32(b, false);
-	be = rd32(b, true);
-	memset(f, 0, sizeof *f);
-	if (le == 0x0A0D0D0A)
-		return -1;
-	if (le == 0xA1B2C3D4 || le == 0xA1B23C4D) {
-		f->nsec = le == 0xA1B23C4D;
-		return 1;
-	}
-	if (be == 0xA1B2C3D4 || be == 0xA1B23C4D) {
-		f->swapped = true;
-		f->nsec = be == 0xA1B23C4D;
-		return 1;
-	}
-	return 0;
-}
-
-/* RTAC serial event types (the byte after the 8-byte timestamp): 01/03 transmit
- * start/end, 02/04 receive start/end; anything else goes with receive. */
-static int rtac_dir(uint8_t event)
-{
-	return (event == 0x01 || event == 0x03) ? 1 : 0;
-}
 
 /* The input: a file descriptor read in chunks. */
 struct input {
@@ -110,7 +65,7 @@ struct pcap_run {
 	struct stream st[2];
 	struct timebase tb;
 	enum rec_state rs;
-	uint8_t hdr[REC_HDR];    /* the record header so far */
+	uint8_t hdr[PCAP_REC_HDR]; /* the record header so far */
 	uint8_t rt[RTAC_HDR];    /* the RTAC header so far */
 	size_t nhdr, nrt;
 	unsigned long long hdr_at; /* file offset of the record header under way */
@@ -145,16 +100,16 @@ static void rec_payload(struct mon *m, struct pcap_run *r, const uint8_t *p, siz
 		return;
 	if (!r->marked) {
 		r->marked = true;
-		stream_mark(s, r->sec, r->usec);
+		mon_stream_mark(s, r->sec, r->usec);
 	}
-	stream_feed(m, s, &r->tb, p, n);
+	mon_stream_feed(m, s, &r->tb, p, n);
 }
 
 /* The record's data starts (its RTAC header, if any, is complete). */
 static void rec_begin_payload(struct mon *m, struct pcap_run *r)
 {
 	if (r->rtac) {
-		r->dir = rtac_dir(r->rt[8]);
+		r->dir = mon_rtac_dir(r->rt[8]);
 		if (!r->scan)
 			live_dir(m, r, r->dir);
 	}
@@ -187,17 +142,12 @@ static void pcap_chunk(struct mon *m, struct pcap_run *r, const uint8_t *p, size
 		case R_HDR:
 			if (r->nhdr == 0)
 				r->hdr_at = off;
-			k = REC_HDR - r->nhdr < n ? REC_HDR - r->nhdr : n;
+			k = PCAP_REC_HDR - r->nhdr < n ? PCAP_REC_HDR - r->nhdr : n;
 			memcpy(r->hdr + r->nhdr, p, k);
 			r->nhdr += k;
-			if (r->nhdr == REC_HDR) {
-				uint32_t frac = rd32(r->hdr + 4, r->pf.swapped);
+			if (r->nhdr == PCAP_REC_HDR) {
 				r->rec++;
-				r->sec = rd32(r->hdr, r->pf.swapped);
-				r->incl = rd32(r->hdr + 8, r->pf.swapped);
-				r->usec = (int32_t)(r->pf.nsec ? frac / 1000 : frac);
-				if (r->usec < 0 || r->usec > 999999)
-					r->usec = 0;
+				mon_pcap_rec_hdr(r->hdr, &r->pf, &r->sec, &r->usec, &r->incl);
 				r->left = r->incl;
 				r->got = 0;
 				r->nrt = 0;
@@ -310,10 +260,10 @@ static int run_read_pcap(struct mon *m, struct input *in, size_t have, const str
 	r.nhdr = 0;
 	r.rec = 0;
 	r.short_recs = 0;
-	if (stream_init(m, &r.st[0], both ? "rx" : NULL) != CLI_CONTINUE)
+	if (mon_stream_init(m, &r.st[0], both ? "rx" : NULL) != CLI_CONTINUE)
 		return CLI_EXIT_FAIL;
-	if (stream_init(m, &r.st[1], both ? "tx" : NULL) != CLI_CONTINUE) {
-		stream_free(&r.st[0]);
+	if (mon_stream_init(m, &r.st[1], both ? "tx" : NULL) != CLI_CONTINUE) {
+		mon_stream_free(&r.st[0]);
 		return CLI_EXIT_FAIL;
 	}
 	if (both)
@@ -334,10 +284,10 @@ static int run_read_pcap(struct mon *m, struct input *in, size_t have, const str
 	}
 	if (status == CLI_CONTINUE)
 		status = pcap_eof(m, in->path, &r);
-	stream_finish(m, &r.st[0], &r.tb);
-	stream_finish(m, &r.st[1], &r.tb);
-	stream_free(&r.st[0]);
-	stream_free(&r.st[1]);
+	mon_stream_finish(m, &r.st[0], &r.tb);
+	mon_stream_finish(m, &r.st[1], &r.tb);
+	mon_stream_free(&r.st[0]);
+	mon_stream_free(&r.st[1]);
 	if (r.short_recs && !m->cli.quiet)
 		fprintf(stderr, "%s: %s: %lu records shorter than the RTAC header skipped\n", m->cli.name,
 		        in->path, r.short_recs);
@@ -348,25 +298,25 @@ static int run_read_pcap(struct mon *m, struct input *in, size_t have, const str
 static int run_read_raw(struct mon *m, struct input *in, size_t have)
 {
 	struct stream s;
-	int r = stream_init(m, &s, NULL);
+	int r = mon_stream_init(m, &s, NULL);
 	ssize_t k = (ssize_t)have;
 
 	if (r != CLI_CONTINUE)
 		return r;
 	while (k > 0) {
-		stream_feed(m, &s, NULL, in->buf, (size_t)k);
+		mon_stream_feed(m, &s, NULL, in->buf, (size_t)k);
 		if (fflush(stdout) != 0 || ferror(stdout))
 			break;
 		k = input_read(in);
 	}
 	if (k < 0)
 		r = CLI_EXIT_USAGE;
-	stream_finish(m, &s, NULL);
-	stream_free(&s);
+	mon_stream_finish(m, &s, NULL);
+	mon_stream_free(&s);
 	return r;
 }
 
-int run_read(struct mon *m)
+int mon_run_read(struct mon *m)
 {
 	static struct input in;
 	struct pcap_fmt pf;
@@ -398,11 +348,11 @@ int run_read(struct mon *m)
 		}
 		have += (size_t)k;
 		in.at += (unsigned long long)k;
-		if (k == 0 || have >= PCAP_HDR || (have >= 4 && pcap_detect(in.buf, have, &pf) == 0))
+		if (k == 0 || have >= PCAP_HDR || (have >= 4 && mon_pcap_detect(in.buf, have, &pf) == 0))
 			break;
 	}
 	if (r == CLI_CONTINUE) {
-		kind = pcap_detect(in.buf, have, &pf);
+		kind = mon_pcap_detect(in.buf, have, &pf);
 		if (kind < 0) {
 			fprintf(stderr, "%s: %s: pcapng is not supported; convert it with: editcap -F pcap %s OUT.pcap\n",
 			        m->cli.name, in.path, in.path);
@@ -412,7 +362,7 @@ int run_read(struct mon *m)
 				fprintf(stderr, "%s: %s: truncated pcap header\n", m->cli.name, in.path);
 				r = CLI_EXIT_USAGE;
 			} else {
-				pf.linktype = rd32(in.buf + 20, pf.swapped) & 0x0FFFFFFF;
+				pf.linktype = mon_pcap_linktype(in.buf, &pf);
 				r = run_read_pcap(m, &in, have, &pf);
 			}
 		} else {

@@ -7,7 +7,7 @@
 
 #include <string.h>
 
-int stream_init(struct mon *m, struct stream *s, const char *dir)
+int mon_stream_init(struct mon *m, struct stream *s, const char *dir)
 {
 	int r;
 
@@ -28,13 +28,13 @@ int stream_init(struct mon *m, struct stream *s, const char *dir)
 	return CLI_CONTINUE;
 }
 
-void stream_free(struct stream *s)
+void mon_stream_free(struct stream *s)
 {
 	df1_decoder_free(s->dec);
 	s->dec = NULL;
 }
 
-void stream_mark(struct stream *s, int64_t sec, int32_t usec)
+void mon_stream_mark(struct stream *s, int64_t sec, int32_t usec)
 {
 	unsigned i = (s->head + s->nring) % RING;
 
@@ -123,7 +123,7 @@ static void print_symbol(struct mon *m, struct stream *s, const struct timebase 
 	decode_print(&m->dx, m->out ? m->out : stdout, NULL, &w, sym);
 }
 
-void stream_feed(struct mon *m, struct stream *s, const struct timebase *tb,
+void mon_stream_feed(struct mon *m, struct stream *s, const struct timebase *tb,
                  const uint8_t *p, size_t n)
 {
 	size_t pos = 0;
@@ -150,7 +150,7 @@ void stream_feed(struct mon *m, struct stream *s, const struct timebase *tb,
  * frame with a bad BCC, as it would be if a DLE followed. With cut (a sniff
  * stopped by a signal, -c or --duration) only that BCC verdict is given: a symbol
  * the stop cut short is not an error of the line. */
-void stream_finish_cut(struct mon *m, struct stream *s, const struct timebase *tb, bool cut)
+void mon_stream_finish_cut(struct mon *m, struct stream *s, const struct timebase *tb, bool cut)
 {
 	static const uint8_t probe[2] = { 0x10, 0x02 };
 	/* a DLE the input ended on is the probe's DLE already: DLE DLE would be a
@@ -197,7 +197,7 @@ void stream_finish_cut(struct mon *m, struct stream *s, const struct timebase *t
 	df1_decoder_reset(s->dec);
 }
 
-void stream_finish(struct mon *m, struct stream *s, const struct timebase *tb)
+void mon_stream_finish(struct mon *m, struct stream *s, const struct timebase *tb)
 {
-	stream_finish_cut(m, s, tb, false);
+	mon_stream_finish_cut(m, s, tb, false);
 }

@@ -11,7 +11,7 @@
 #include <strings.h>
 
 /* "N" or "LO-HI", 0..254. */
-int parse_range(struct mon *m, const char *arg)
+int mon_parse_range(struct mon *m, const char *arg)
 {
 	char *end;
 	long lo, hi;
@@ -78,7 +78,7 @@ static void who_line(const struct mon *m, int stn, const struct df1_diag_status 
 	fflush(stdout);
 }
 
-/* What run_who gathers from df1_discover's calls. */
+/* What mon_run_who gathers from df1_discover's calls. */
 struct who_scan {
 	struct mon *m;
 	int found, last, calls;
@@ -104,7 +104,7 @@ static int who_station(void *user, const struct df1_discover_result *r)
 			cli_error_text(m->h, r->error, text, sizeof text);
 			fprintf(stderr, "%s: station %d: %s\n", m->cli.name, r->station, text);
 		}
-		return out_broken();
+		return mon_out_broken();
 	}
 	if (r->identified) {
 		who_line(m, r->station, &r->status, NULL);
@@ -115,10 +115,10 @@ static int who_station(void *user, const struct df1_discover_result *r)
 	w->found++;
 	if (w->ll + 8 < sizeof w->list)
 		w->ll += (size_t)snprintf(w->list + w->ll, sizeof w->list - w->ll, " %d", r->station);
-	return out_broken();
+	return mon_out_broken();
 }
 
-bool who_is_eip(const struct mon *m)
+bool mon_who_is_eip(const struct mon *m)
 {
 	return m->cli.device && strncasecmp(m->cli.device, "eip:", 4) == 0;
 }
@@ -190,21 +190,21 @@ static int run_who_eip(struct mon *m)
  * line), then a diagnostic status with DST = each station of the range; a
  * point-to-point peer may answer whatever the DST, which the summary says.
  */
-int run_who(struct mon *m)
+int mon_run_who(struct mon *m)
 {
 	bool half = m->cli.half_duplex;
 	struct who_scan w;
 	char text[320];
 	int r = 0;
 
-	if (who_is_eip(m))
+	if (mon_who_is_eip(m))
 		return run_who_eip(m);
 	memset(&w, 0, sizeof w);
 	w.m = m;
 	w.last = -1;
 	if (m->cli.format == CLI_FMT_CSV)
 		puts("station,type_code,processor,series,revision,mode,mode_text,bulletin,error");
-	if (!cli_stop && !out_broken())
+	if (!cli_stop && !mon_out_broken())
 		r = df1_discover(m->h, m->who_lo, m->who_hi, who_station, &w);
 	if (r < 0 && r != DF1_E_INTR && !cli_stop) {
 		if (!m->cli.quiet) {
@@ -218,9 +218,9 @@ int run_who(struct mon *m)
 			return CLI_EXIT_FAIL;
 	}
 	if (!m->cli.quiet) {
-		if (interrupted())
+		if (mon_interrupted())
 			fprintf(stderr, "%s: stopped by %s after station %d\n", m->cli.name,
-			        signal_name(cli_stop_signal()), w.last);
+			        mon_signal_name(cli_stop_signal()), w.last);
 		fprintf(stderr, "%s: stations %d-%d (%s duplex): %d answered%s%s\n", m->cli.name, m->who_lo,
 		        m->who_hi, half ? "half" : "full", w.found, w.found ? ":" : "", w.list);
 		if (!half && w.found > 1)

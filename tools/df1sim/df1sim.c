@@ -752,14 +752,106 @@ static int sim_build(struct sim *s, const struct opts *o)
 	return 0;
 }
 
+/* The handle: its settings, the signals (its cancel descriptor), --eip's
+ * server. *hp is set once made, for main to free. 0 or an exit status. */
+static int sim_start(struct sim *s, const struct opts *o, df1_t **hp)
+{
+	df1_t *h;
+	int status, r;
+
+	r = df1_new(hp);
+	if (r < 0) {
+		msg("%s", df1_strerror(r));
+		return CLI_EXIT_FAIL;
+	}
+	h = *hp;
+	status = setup_handle(h, o, s);
+	if (status)
+		return status;
+	if (cli_signals_install_mute() < 0) {
+		msg("pipe: %s", strerror(errno));
+		return CLI_EXIT_FAIL;
+	}
+	df1_set_cancel_fd(h, cli_signal_fd());
+	s->h = h;
+	if (o->eip)
+		return sim_eip_open(s, o, h);
+	return 0;
+}
+
+/* Where the link is served: the pty (--pty), the device or the TCP listener
+ * (--listen: its socket in *lfd); its name for the messages and the ready line
+ * in shown. Nothing with --eip alone. 0 or an exit status. */
+static int sim_open_where(df1_t *h, const struct opts *o, struct sim_pty *pty, char *shown, size_t cap,
+                          int *lfd)
+{
+	char err[600];
+	int status, r;
+
+	if (o->pty) {
+		status = sim_pty_create(pty, o->pty, err, sizeof err);
+		if (status) {
+			msg("%s", err);
+			return status;
+		}
+		r = df1_open_fd(h, pty->master, true);
+		if (r < 0)
+			return report(h, o->pty, r);
+		pty->master = -1;       /* the handle owns it now */
+		snprintf(shown, cap, "%s", o->pty);
+	} else if (o->device) {
+		r = df1_open(h, o->device);
+		if (r < 0)
+			return report(h, o->device, r);
+		snprintf(shown, cap, "%s", o->device);
+	} else if (o->listen) {
+		enum sim_listen_scope scope;
+
+		*lfd = sim_listen_open(o->listen, shown, cap, &scope, err, sizeof err);
+		if (*lfd < 0) {
+			msg("%s", err);
+			return -*lfd;
+		}
+		/* a listener other hosts can reach is what the user asked for: say so */
+		if (scope == SIM_LISTEN_ALL)
+			msg("listening on %s: every interface, reachable from other hosts", shown);
+		else if (scope == SIM_LISTEN_OTHER)
+			msg("listening on %s: not loopback, reachable from other hosts", shown);
+	}
+	return 0;
+}
+
+/* Serve until a stop signal (or the end of the device's input): the TCP
+ * listener's clients, --eip alone, or the open link. The exit status. */
+static int sim_serve(df1_t *h, struct sim *s, const struct opts *o, int lfd, const char *shown)
+{
+	int status, r;
+
+	if (lfd >= 0) {
+		status = serve_tcp(h, s, lfd, shown);
+	} else if (!o->where) {
+		status = serve_eip_only(h, s);
+	} else {
+		r = serve_open(h, s);
+		status = r < 0 ? report(h, shown, r) : 0;
+	}
+	if (s->log.error) {
+		msg("--log %s: a command could not be logged: %s", o->log, strerror(s->log.error));
+		status = CLI_EXIT_FAIL;
+	} else if (status == 0 && cli_stop && o->cli.verbose) {
+		msg("stopped by signal");
+	}
+	return status;
+}
+
 int main(int argc, char **argv)
 {
 	static struct sim sim;
 	struct opts o;
 	struct sim_pty pty = { -1, -1, "", NULL, false };
-	char shown[300], err[600];
+	char shown[300];
 	df1_t *h = NULL;
-	int status, r, lfd = -1;
+	int status, lfd = -1;
 
 	status = parse_args(argc, argv, &o);
 	if (status != CLI_CONTINUE)
@@ -771,65 +863,12 @@ int main(int argc, char **argv)
 		return CLI_EXIT_FAIL;
 	}
 	status = sim_build(&sim, &o);
+	if (!status)
+		status = sim_start(&sim, &o, &h);
+	if (!status)
+		status = sim_open_where(h, &o, &pty, shown, sizeof shown, &lfd);
 	if (status)
 		goto out;
-	r = df1_new(&h);
-	if (r < 0) {
-		msg("%s", df1_strerror(r));
-		status = CLI_EXIT_FAIL;
-		goto out;
-	}
-	status = setup_handle(h, &o, &sim);
-	if (status)
-		goto out;
-	if (cli_signals_install_mute() < 0) {
-		msg("pipe: %s", strerror(errno));
-		status = CLI_EXIT_FAIL;
-		goto out;
-	}
-	df1_set_cancel_fd(h, cli_signal_fd());
-	sim.h = h;
-	if (o.eip) {
-		status = sim_eip_open(&sim, &o, h);
-		if (status)
-			goto out;
-	}
-
-	if (o.pty) {
-		status = sim_pty_create(&pty, o.pty, err, sizeof err);
-		if (status) {
-			msg("%s", err);
-			goto out;
-		}
-		r = df1_open_fd(h, pty.master, true);
-		if (r < 0) {
-			status = report(h, o.pty, r);
-			goto out;
-		}
-		pty.master = -1;        /* the handle owns it now */
-		snprintf(shown, sizeof shown, "%s", o.pty);
-	} else if (o.device) {
-		r = df1_open(h, o.device);
-		if (r < 0) {
-			status = report(h, o.device, r);
-			goto out;
-		}
-		snprintf(shown, sizeof shown, "%s", o.device);
-	} else if (o.listen) {
-		enum sim_listen_scope scope;
-
-		lfd = sim_listen_open(o.listen, shown, sizeof shown, &scope, err, sizeof err);
-		if (lfd < 0) {
-			msg("%s", err);
-			status = -lfd;
-			goto out;
-		}
-		/* a listener other hosts can reach is what the user asked for: say so */
-		if (scope == SIM_LISTEN_ALL)
-			msg("listening on %s: every interface, reachable from other hosts", shown);
-		else if (scope == SIM_LISTEN_OTHER)
-			msg("listening on %s: not loopback, reachable from other hosts", shown);
-	}
 	/* the ready line a script waits for: one that cannot be written is an error */
 	errno = 0;
 	if ((o.where && printf("%s\n", shown) < 0) ||
@@ -838,21 +877,7 @@ int main(int argc, char **argv)
 		status = CLI_EXIT_FAIL;
 		goto out;
 	}
-
-	if (lfd >= 0) {
-		status = serve_tcp(h, &sim, lfd, shown);
-	} else if (!o.where) {
-		status = serve_eip_only(h, &sim);
-	} else {
-		r = serve_open(h, &sim);
-		status = r < 0 ? report(h, shown, r) : 0;
-	}
-	if (sim.log.error) {
-		msg("--log %s: a command could not be logged: %s", o.log, strerror(sim.log.error));
-		status = CLI_EXIT_FAIL;
-	} else if (status == 0 && cli_stop && o.cli.verbose) {
-		msg("stopped by signal");
-	}
+	status = sim_serve(h, &sim, &o, lfd, shown);
 out:
 	if (h) {
 		df1_close(h);

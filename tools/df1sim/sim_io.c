@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
- * cli_sim.c - the code of a tool that serves (tools/df1sim/sim_io.h): the
- * pseudo-terminal and TCP transports of a simulator, the --log command log,
- * fault probabilities. Moved out of df1sim.c unchanged in behaviour: its
- * messages and exit statuses are df1sim's.
+ * sim_io - df1sim's transports (a pseudo-terminal behind a symbolic link, a
+ * TCP listener), its --log command log and the fault probabilities of its
+ * options (the interface: sim_io.h). The messages and exit statuses are
+ * df1sim's (df1sim(1)).
  */
 #include "df1sim/sim_io.h"
 

@@ -1,15 +1,14 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
- * cli_sim - the code of a tool that serves, beside tools/common/cli.h (df1sim, and
- * any later responder such as a gateway; its signals are cli.h's
- * cli_signals_install_mute): the transports a simulator
- * serves on (a pseudo-terminal behind a symbolic link, a TCP listener); the
- * --log command log (one line per command answered, from the frame trace);
- * fault probabilities (numbers are cli.h's cli_long_in, cli_parse_int).
- * Tools use only include/df1.h.
+ * sim_io - df1sim's input and output beside the simulated PLC of df1sim.c:
+ * the transports it serves on (a pseudo-terminal behind a symbolic link, a
+ * TCP listener), its --log command log (one line per command answered, from
+ * the frame trace) and the fault probabilities of its options (numbers are
+ * cli.h's cli_long_in, cli_parse_int; its signals cli.h's
+ * cli_signals_install_mute). Uses only include/df1.h and tools/common/cli.h.
  */
-#ifndef DF1_TOOLS_CLI_SIM_H
-#define DF1_TOOLS_CLI_SIM_H
+#ifndef DF1_TOOLS_SIM_IO_H
+#define DF1_TOOLS_SIM_IO_H
 
 #include <signal.h>
 #include <stdbool.h>
