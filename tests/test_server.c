@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
- * test_server - the responder's command handling (lib/server/server.c): command app
+ * test_server - the responder's command handling (lib/server/server_*.c): command app
  * bytes from tests/data/vectors.txt (derived SLC/PLC-5 vectors, KE PLC-2 and word
  * range vectors) go through server_handle() with a small in-test data table;
  * replies are checked byte for byte where the spec has them, and the data
