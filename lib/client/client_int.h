@@ -140,6 +140,30 @@ struct io {
 	int len;                /* IO_STRING: length read */
 };
 
+/* A span read in progress, packet by packet: the family's *_read_cmd builds
+ * the next packet's command, *_read_take decodes its reply (elements.c runs
+ * them around one transaction each). */
+struct rd {
+	size_t per;             /* elements per packet */
+	size_t done;            /* elements read so far */
+	size_t k;               /* elements asked by the packet built last */
+	int code;               /* SLC: the file type code */
+	int alen;               /* PLC-5: bytes of the address at addr */
+	uint8_t addr[DF1_ADDR_ASCII_MAX + 8];
+};
+
+/* A read whose first packet the caller runs itself (pipelining, client.h):
+ * RD_BUILD stops once that packet's command is in cmd; RD_TAKE takes rc and
+ * reply (what the link returned for it) instead of sending it. */
+enum rd_first_mode { RD_BUILD = 1, RD_TAKE };
+struct rd_first {
+	enum rd_first_mode mode;
+	uint8_t *cmd;           /* RD_BUILD: cap bytes */
+	size_t cap;
+	int rc;                 /* RD_TAKE: reply length or DF1_E_* */
+	const uint8_t *reply;
+};
+
 /* transact.c */
 bool client_is_word_type(enum df1_file_type t);
 bool client_is_tcr(enum df1_file_type t);
@@ -152,6 +176,8 @@ int client_check(struct df1 *h, int station);
 void client_derive(const struct df1_addr *a, int element, int sub, struct df1_addr *out);
 void span_at(const struct span *s, size_t i, struct df1_addr *out);
 size_t client_limit(const struct df1 *h, const struct span *s, bool write);
+int client_reply(struct df1 *h, int station, const char *what, const uint8_t *cmd, int rc,
+                 const uint8_t *reply, const uint8_t **data, size_t *dlen);
 int client_transact(struct df1 *h, int station, const char *what, uint8_t *cmd, size_t clen,
                     uint8_t *reply, size_t rcap, const uint8_t **data, size_t *dlen);
 int client_op_transact(struct df1 *h, int station, const char *op, uint8_t *cmd, size_t clen,
@@ -164,17 +190,29 @@ int io_gather(struct df1 *h, int station, const char *what, struct io *io, size_
 
 /* slc.c */
 int slc_type_code(struct df1 *h, int station, const char *what, enum df1_file_type t);
-int slc_read(struct df1 *h, int station, const char *what, const struct span *s, struct io *io);
+int slc_read_begin(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd);
+int slc_read_cmd(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd,
+                 uint8_t *cmd, size_t cap);
+int slc_read_take(struct df1 *h, int station, const char *what, const struct span *s, struct io *io,
+                  struct rd *rd, const uint8_t *d, size_t dlen);
 int slc_write(struct df1 *h, int station, const char *what, const struct span *s, struct io *io);
 
 /* plc5.c */
 int plc5_addr(struct df1 *h, int station, const char *what, const struct df1_addr *a,
               uint8_t *out, size_t cap);
-int plc5_read(struct df1 *h, int station, const char *what, const struct span *s, struct io *io);
+int plc5_read_begin(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd);
+int plc5_read_cmd(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd,
+                  uint8_t *cmd, size_t cap);
+int plc5_read_take(struct df1 *h, int station, const char *what, const struct span *s, struct io *io,
+                   struct rd *rd, const uint8_t *d, size_t dlen);
 int plc5_write(struct df1 *h, int station, const char *what, const struct span *s, struct io *io);
 
 /* plc2.c */
-int plc2_read(struct df1 *h, int station, const char *what, const struct span *s, struct io *io);
+int plc2_read_begin(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd);
+int plc2_read_cmd(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd,
+                  uint8_t *cmd, size_t cap);
+int plc2_read_take(struct df1 *h, int station, const char *what, const struct span *s, struct io *io,
+                   struct rd *rd, const uint8_t *d, size_t dlen);
 int plc2_write(struct df1 *h, int station, const char *what, const struct span *s, struct io *io);
 
 /* elements.c */
@@ -184,6 +222,11 @@ int client_write_bits(struct df1 *h, int station, const char *what, enum df1_plc
                       const struct df1_addr *a, size_t n, const bool *bits, const struct df1_value *vals);
 int client_read_elems(struct df1 *h, int station, const char *what, enum df1_plc plc,
                       const struct df1_addr *a, size_t n, struct io *io);
+/* client_read_elems with its first packet run by the caller (first); RD_BUILD
+ * returns the command's length. */
+int client_read_elems_first(struct df1 *h, int station, const char *what, enum df1_plc plc,
+                            const struct df1_addr *a, size_t n, struct io *io,
+                            const struct rd_first *first);
 int client_write_elems(struct df1 *h, int station, const char *what, enum df1_plc plc,
                        const struct df1_addr *a, size_t n, struct io *io);
 
