@@ -279,6 +279,45 @@ static void test_decode_link_error(void **state)
 	assert_int_equal(h->err.station, 1);
 }
 
+/* A read of two packets (DF1_OPT_MAX_PACKET 10): the first reply is decoded,
+ * the second packet goes as an ordinary transaction, as in the ordinary read. */
+static void test_decode_continues(void **state)
+{
+	struct df1 *h = *state;
+	struct df1_addr a = addr("N7:0");
+	uint8_t cmd[FRAME_MAX_DATA], first[16] = { 0x00, 0x01, 0x4F, 0x00, 0x09, 0x00 };
+	uint8_t second[16] = { 0x00, 0x01, 0x4F, 0x00, 0x01, 0x00 }, wire[FRAME_MAX_WIRE], buf[20];
+	const uint8_t want2[] = { 0x01, 0x00, 0x0F, 0x00, 0x01, 0x00, 0xA2, 0x0A, 0x07, 0x89, 0x05, 0x00 };
+	struct vec sent;
+	const uint8_t *w;
+	size_t wn;
+
+	h->cfg.max_packet = 10;
+	assert_int_equal(client_read_raw_cmd(h, 1, DF1_PLC_SLC, &a, 20, cmd, sizeof cmd), 12);
+	assert_int_equal(cmd[7], 10);           /* the first packet asks 10 bytes */
+	for (int i = 0; i < 10; i++) {
+		first[6 + i] = (uint8_t)i;
+		second[6 + i] = (uint8_t)(10 + i);
+	}
+	mock_port_feed(ACK, 2);
+	wn = frame_encode_full(DF1_CHECK_CRC, second, sizeof second, wire, sizeof wire);
+	mock_port_feed(wire, wn);
+	assert_int_equal(client_read_raw_reply(h, 1, DF1_PLC_SLC, &a, buf, 20, (int)sizeof first, first),
+	                 20);
+	for (int i = 0; i < 20; i++)
+		assert_int_equal(buf[i], i);
+	/* the second packet on the wire: N7:5, 10 bytes, TNS 1 */
+	w = mock_port_write_at(0, &wn);
+	memset(&sent, 0, sizeof sent);
+	for (size_t i = 2; !(w[i] == 0x10 && w[i + 1] == 0x03); i++) {
+		if (w[i] == 0x10)
+			i++;
+		sent.app[sent.na++] = w[i];
+	}
+	assert_int_equal(sent.na, sizeof want2);
+	assert_memory_equal(sent.app, want2, sizeof want2);
+}
+
 /* ------------------------------------------------------------------------
  * Through the link: put, wait, decode as the poll engine does
  * ------------------------------------------------------------------------ */
@@ -385,6 +424,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_decode_plc2, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_decode_short_reply, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_decode_link_error, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_decode_continues, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_pipelined_read, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_pipelined_error_as_ordinary, setup, teardown),
 	};
