@@ -11,7 +11,11 @@
  *   slc.c         SLC 5/03+, MicroLogix, SLC 5/01-5/02 reads and writes (0F/A2, 0F/AA)
  *   plc5.c        PLC-5 typed reads and writes (0F/68, 0F/67)
  *   plc2.c        PLC-2 reads and writes (01, 08)
- *   elements.c    spans dispatched by PLC type, bits, element reads and writes
+ *   elements.c    spans dispatched by PLC type (a read packet by packet: the
+ *                 family builds each command, one transaction, the family takes
+ *                 its reply; the first packet may be the caller's: client.h's
+ *                 client_read_raw_cmd / client_read_raw_reply), bits, element
+ *                 reads and writes
  *   api.c         the public read and write calls, and client.h's internal ones
  *   diag.c        any PCCC command, diagnostic status, echo, link test, change mode
  *   read_multi.c  df1_read_multi()
