@@ -69,10 +69,6 @@ struct link_pipe {
 	uint32_t seq;
 	int tx;                      /* slot + 1 whose frame waits for its ACK, 0: none */
 	int used;                    /* slots not FREE */
-	int replay;                  /* slot + 1 the next link_transact takes, 0: none */
-	bool capture;                /* link_transact only copies the command (to cap) */
-	size_t cap_len;
-	uint8_t cap[FRAME_MAX_DATA];
 };
 
 /* Last message accepted from a station: duplicate and stale detection. */

@@ -4,7 +4,7 @@
  * port: several commands on the line, each reply matched to its slot by SRC
  * and full TNS whatever the order it comes in, NAK and timeouts ending only
  * their own slot, stale replies dropped, a frame sent only after the previous
- * one was ACKed, and the capture / replay path the poll engine uses.
+ * one was ACKed, and the put / wait calls the poll engine uses.
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -74,9 +74,7 @@ static int submit(struct df1 *h, uint8_t stn, uint8_t elem)
 	size_t n = read_cmd(cmd, stn, elem);
 	int slot;
 
-	link_capture_begin(h);
-	assert_true(link_transact(h, cmd, n, NULL, 0) < 0); /* captured, not sent */
-	slot = link_capture_submit(h);
+	slot = link_pipe_put(h, cmd, n); /* queued, not sent yet */
 	assert_true(slot >= 0);
 	return slot;
 }
@@ -298,9 +296,9 @@ static void test_wrong_cmd_its_own(void **state)
 	assert_int_equal(link_pipe_wait(h, a, out, sizeof out), DF1_E_BAD_FUNCTION);
 }
 
-/* Replay: link_transact takes the slot of the same command (the client's own
+/* Wait: the slot's reply as link_transact would return it (the client's own
  * checks run on it); another command goes through the pipeline behind. */
-static void test_replay_and_sync_behind(void **state)
+static void test_wait_and_sync_behind(void **state)
 {
 	struct df1 *h = *state;
 	uint8_t cmd[16], out[64];
@@ -309,9 +307,7 @@ static void test_replay_and_sync_behind(void **state)
 
 	mock_port_feed(ACK, 2);
 	feed_reply(1, 1, 0x4F, 42);
-	n = read_cmd(cmd, 1, 0);
-	link_replay(h, a);
-	assert_value(link_transact(h, cmd, n, out, sizeof out), out, 1, 42);
+	assert_value(link_pipe_wait(h, a, out, sizeof out), out, 1, 42);
 	assert_int_equal(link_pipe_used(h), 0);
 	/* the pipeline empty: the old path, byte for byte as before */
 	mock_port_feed(ACK, 2);
@@ -383,7 +379,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_stale_dropped, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_reply_before_ack, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_wrong_cmd_its_own, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_replay_and_sync_behind, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_wait_and_sync_behind, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_flush_abandoned, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_depth_half_duplex, setup, teardown),
 	};

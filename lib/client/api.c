@@ -289,9 +289,11 @@ int df1_write_bit(df1_t *h, int station, const char *addr, bool value)
 	return rc < 0 ? rc : 0;
 }
 
-/* Raw: nbytes = whole elements as on the wire (2 bytes per element for a sub-element). */
+/* Raw: nbytes = whole elements as on the wire (2 bytes per element for a
+ * sub-element). A read may have its first packet run by the caller (first). */
 static int client_raw_parsed(struct df1 *h, int station, enum df1_plc plc, const struct df1_addr *ap,
-                             const char *what, const uint8_t *in, uint8_t *out, size_t nbytes)
+                             const char *what, const uint8_t *in, uint8_t *out, size_t nbytes,
+                             const struct rd_first *first)
 {
 	struct df1_addr a = *ap;
 	struct io io = { .kind = IO_RAW, .in = in, .out = out };
@@ -310,8 +312,10 @@ static int client_raw_parsed(struct df1 *h, int station, enum df1_plc plc, const
 	if (in)
 		rc = client_write_elems(h, station, what, plc, &a, nbytes / esize, &io);
 	else
-		rc = client_read_elems(h, station, what, plc, &a, nbytes / esize, &io);
-	return rc < 0 ? rc : (int)nbytes;
+		rc = client_read_elems_first(h, station, what, plc, &a, nbytes / esize, &io, first);
+	if (rc < 0 || (first && first->mode == RD_BUILD))
+		return rc;
+	return (int)nbytes;
 }
 
 static int client_raw(df1_t *h, int station, const char *addr, const uint8_t *in, uint8_t *out,
@@ -323,11 +327,12 @@ static int client_raw(df1_t *h, int station, const char *addr, const uint8_t *in
 
 	if (rc < 0)
 		return rc;
-	return client_raw_parsed(h, station, h->cfg.plc, &a, what, in, out, nbytes);
+	return client_raw_parsed(h, station, h->cfg.plc, &a, what, in, out, nbytes, NULL);
 }
 
-int client_read_raw_at(struct df1 *h, int station, enum df1_plc plc, const struct df1_addr *a,
-                       uint8_t *buf, size_t nbytes)
+/* client_read_raw_at with its first packet run by the caller (first: NULL none). */
+static int client_read_raw_first(struct df1 *h, int station, enum df1_plc plc, const struct df1_addr *a,
+                                 uint8_t *buf, size_t nbytes, const struct rd_first *first)
 {
 	char what[ATEXT_MAX];
 	int rc = client_check(h, station);
@@ -337,7 +342,32 @@ int client_read_raw_at(struct df1 *h, int station, enum df1_plc plc, const struc
 	if (!a)
 		return df1_fail(h, DF1_E_INVAL, station, "no address");
 	client_atext(a, what, sizeof what);
-	return client_raw_parsed(h, station, plc, a, what, NULL, buf, nbytes);
+	return client_raw_parsed(h, station, plc, a, what, NULL, buf, nbytes, first);
+}
+
+int client_read_raw_at(struct df1 *h, int station, enum df1_plc plc, const struct df1_addr *a,
+                       uint8_t *buf, size_t nbytes)
+{
+	return client_read_raw_first(h, station, plc, a, buf, nbytes, NULL);
+}
+
+int client_read_raw_cmd(struct df1 *h, int station, enum df1_plc plc, const struct df1_addr *a,
+                        size_t nbytes, uint8_t *cmd, size_t cap)
+{
+	uint8_t scratch[1];     /* not written: nothing is read */
+	struct rd_first f = { .mode = RD_BUILD, .cmd = cmd, .cap = cap };
+
+	if (!cmd)
+		return h ? df1_fail(h, DF1_E_INVAL, station, "no command buffer") : DF1_E_INVAL;
+	return client_read_raw_first(h, station, plc, a, scratch, nbytes, &f);
+}
+
+int client_read_raw_reply(struct df1 *h, int station, enum df1_plc plc, const struct df1_addr *a,
+                          uint8_t *buf, size_t nbytes, int rc, const uint8_t *reply)
+{
+	struct rd_first f = { .mode = RD_TAKE, .rc = rc, .reply = reply };
+
+	return client_read_raw_first(h, station, plc, a, buf, nbytes, &f);
 }
 
 int df1_read_raw(df1_t *h, int station, const char *addr, uint8_t *buf, size_t nbytes)

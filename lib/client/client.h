@@ -21,4 +21,19 @@ int client_write_at(struct df1 *h, int station, enum df1_plc plc,
 int client_read_raw_at(struct df1 *h, int station, enum df1_plc plc,
                                  const struct df1_addr *a, uint8_t *buf, size_t nbytes);
 
+/* Pipelining (lib/poll/scan.c): client_read_raw_at in two halves around the
+ * link's pipeline (link_pipe_put, link_pipe_wait), one implementation with it.
+ * client_read_raw_cmd builds the read's (first) command, DST SRC CMD STS TNS
+ * FNC ... as link_transact takes it (the link sets SRC and TNS), and sends
+ * nothing; it returns the command's length or DF1_E_* (recorded as
+ * client_read_raw_at records it). client_read_raw_reply takes that command's
+ * outcome, rc and reply as link_pipe_wait returned them, and finishes the read
+ * exactly as client_read_raw_at does: the same checks, error detail and
+ * counters, the bytes in buf, and the further packets (if the reply held fewer
+ * elements than asked) as ordinary transactions; nbytes or DF1_E_*. */
+int client_read_raw_cmd(struct df1 *h, int station, enum df1_plc plc, const struct df1_addr *a,
+                        size_t nbytes, uint8_t *cmd, size_t cap);
+int client_read_raw_reply(struct df1 *h, int station, enum df1_plc plc, const struct df1_addr *a,
+                          uint8_t *buf, size_t nbytes, int rc, const uint8_t *reply);
+
 #endif

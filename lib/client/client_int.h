@@ -11,7 +11,11 @@
  *   slc.c         SLC 5/03+, MicroLogix, SLC 5/01-5/02 reads and writes (0F/A2, 0F/AA)
  *   plc5.c        PLC-5 typed reads and writes (0F/68, 0F/67)
  *   plc2.c        PLC-2 reads and writes (01, 08)
- *   elements.c    spans dispatched by PLC type, bits, element reads and writes
+ *   elements.c    spans dispatched by PLC type (a read packet by packet: the
+ *                 family builds each command, one transaction, the family takes
+ *                 its reply; the first packet may be the caller's: client.h's
+ *                 client_read_raw_cmd / client_read_raw_reply), bits, element
+ *                 reads and writes
  *   api.c         the public read and write calls, and client.h's internal ones
  *   diag.c        any PCCC command, diagnostic status, echo, link test, change mode
  *   read_multi.c  df1_read_multi()
@@ -140,6 +144,30 @@ struct io {
 	int len;                /* IO_STRING: length read */
 };
 
+/* A span read in progress, packet by packet: the family's *_read_cmd builds
+ * the next packet's command, *_read_take decodes its reply (elements.c runs
+ * them around one transaction each). */
+struct rd {
+	size_t per;             /* elements per packet */
+	size_t done;            /* elements read so far */
+	size_t k;               /* elements asked by the packet built last */
+	int code;               /* SLC: the file type code */
+	int alen;               /* PLC-5: bytes of the address at addr */
+	uint8_t addr[DF1_ADDR_ASCII_MAX + 8];
+};
+
+/* A read whose first packet the caller runs itself (pipelining, client.h):
+ * RD_BUILD stops once that packet's command is in cmd; RD_TAKE takes rc and
+ * reply (what the link returned for it) instead of sending it. */
+enum rd_first_mode { RD_BUILD = 1, RD_TAKE };
+struct rd_first {
+	enum rd_first_mode mode;
+	uint8_t *cmd;           /* RD_BUILD: cap bytes */
+	size_t cap;
+	int rc;                 /* RD_TAKE: reply length or DF1_E_* */
+	const uint8_t *reply;
+};
+
 /* transact.c */
 bool client_is_word_type(enum df1_file_type t);
 bool client_is_tcr(enum df1_file_type t);
@@ -152,6 +180,8 @@ int client_check(struct df1 *h, int station);
 void client_derive(const struct df1_addr *a, int element, int sub, struct df1_addr *out);
 void span_at(const struct span *s, size_t i, struct df1_addr *out);
 size_t client_limit(const struct df1 *h, const struct span *s, bool write);
+int client_reply(struct df1 *h, int station, const char *what, const uint8_t *cmd, int rc,
+                 const uint8_t *reply, const uint8_t **data, size_t *dlen);
 int client_transact(struct df1 *h, int station, const char *what, uint8_t *cmd, size_t clen,
                     uint8_t *reply, size_t rcap, const uint8_t **data, size_t *dlen);
 int client_op_transact(struct df1 *h, int station, const char *op, uint8_t *cmd, size_t clen,
@@ -164,17 +194,29 @@ int io_gather(struct df1 *h, int station, const char *what, struct io *io, size_
 
 /* slc.c */
 int slc_type_code(struct df1 *h, int station, const char *what, enum df1_file_type t);
-int slc_read(struct df1 *h, int station, const char *what, const struct span *s, struct io *io);
+int slc_read_begin(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd);
+int slc_read_cmd(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd,
+                 uint8_t *cmd, size_t cap);
+int slc_read_take(struct df1 *h, int station, const char *what, const struct span *s, struct io *io,
+                  struct rd *rd, const uint8_t *d, size_t dlen);
 int slc_write(struct df1 *h, int station, const char *what, const struct span *s, struct io *io);
 
 /* plc5.c */
 int plc5_addr(struct df1 *h, int station, const char *what, const struct df1_addr *a,
               uint8_t *out, size_t cap);
-int plc5_read(struct df1 *h, int station, const char *what, const struct span *s, struct io *io);
+int plc5_read_begin(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd);
+int plc5_read_cmd(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd,
+                  uint8_t *cmd, size_t cap);
+int plc5_read_take(struct df1 *h, int station, const char *what, const struct span *s, struct io *io,
+                   struct rd *rd, const uint8_t *d, size_t dlen);
 int plc5_write(struct df1 *h, int station, const char *what, const struct span *s, struct io *io);
 
 /* plc2.c */
-int plc2_read(struct df1 *h, int station, const char *what, const struct span *s, struct io *io);
+int plc2_read_begin(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd);
+int plc2_read_cmd(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd,
+                  uint8_t *cmd, size_t cap);
+int plc2_read_take(struct df1 *h, int station, const char *what, const struct span *s, struct io *io,
+                   struct rd *rd, const uint8_t *d, size_t dlen);
 int plc2_write(struct df1 *h, int station, const char *what, const struct span *s, struct io *io);
 
 /* elements.c */
@@ -184,6 +226,11 @@ int client_write_bits(struct df1 *h, int station, const char *what, enum df1_plc
                       const struct df1_addr *a, size_t n, const bool *bits, const struct df1_value *vals);
 int client_read_elems(struct df1 *h, int station, const char *what, enum df1_plc plc,
                       const struct df1_addr *a, size_t n, struct io *io);
+/* client_read_elems with its first packet run by the caller (first); RD_BUILD
+ * returns the command's length. */
+int client_read_elems_first(struct df1 *h, int station, const char *what, enum df1_plc plc,
+                            const struct df1_addr *a, size_t n, struct io *io,
+                            const struct rd_first *first);
 int client_write_elems(struct df1 *h, int station, const char *what, enum df1_plc plc,
                        const struct df1_addr *a, size_t n, struct io *io);
 

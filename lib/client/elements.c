@@ -14,20 +14,90 @@ static int span_check(struct df1 *h, int station, const char *what, const struct
 	return 0;
 }
 
-static int span_read(struct df1 *h, int station, const char *what, const struct span *s, struct io *io)
+static int rd_begin(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd)
 {
+	memset(rd, 0, sizeof *rd);
+	switch (s->plc) {
+	case DF1_PLC_PLC5:
+		return plc5_read_begin(h, station, what, s, rd);
+	case DF1_PLC_PLC2:
+		return plc2_read_begin(h, station, what, s, rd);
+	default:
+		return slc_read_begin(h, station, what, s, rd);
+	}
+}
+
+static int rd_cmd(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd,
+                  uint8_t *cmd, size_t cap)
+{
+	switch (s->plc) {
+	case DF1_PLC_PLC5:
+		return plc5_read_cmd(h, station, what, s, rd, cmd, cap);
+	case DF1_PLC_PLC2:
+		return plc2_read_cmd(h, station, what, s, rd, cmd, cap);
+	default:
+		return slc_read_cmd(h, station, what, s, rd, cmd, cap);
+	}
+}
+
+static int rd_take(struct df1 *h, int station, const char *what, const struct span *s, struct io *io,
+                   struct rd *rd, const uint8_t *d, size_t dlen)
+{
+	switch (s->plc) {
+	case DF1_PLC_PLC5:
+		return plc5_read_take(h, station, what, s, io, rd, d, dlen);
+	case DF1_PLC_PLC2:
+		return plc2_read_take(h, station, what, s, io, rd, d, dlen);
+	default:
+		return slc_read_take(h, station, what, s, io, rd, d, dlen);
+	}
+}
+
+/* A span read, packet by packet: each command built, sent, its reply taken.
+ * first (NULL: none) says how the caller runs the first packet: RD_BUILD
+ * returns its command's length there; RD_TAKE takes its outcome. */
+static int span_read_first(struct df1 *h, int station, const char *what, const struct span *s,
+                           struct io *io, const struct rd_first *first)
+{
+	uint8_t cmd[FRAME_MAX_DATA], reply[FRAME_MAX_DATA];
+	struct rd rd;
 	int rc = span_check(h, station, what, s);
 
 	if (rc < 0)
 		return rc;
-	switch (s->plc) {
-	case DF1_PLC_PLC5:
-		return plc5_read(h, station, what, s, io);
-	case DF1_PLC_PLC2:
-		return plc2_read(h, station, what, s, io);
-	default:
-		return slc_read(h, station, what, s, io);
+	rc = rd_begin(h, station, what, s, &rd);
+	if (rc < 0)
+		return rc;
+	while (rd.done < s->count) {
+		const uint8_t *d;
+		size_t dlen;
+		int n = rd_cmd(h, station, what, s, &rd, cmd, sizeof cmd);
+
+		if (n < 0)
+			return n;
+		if (first && first->mode == RD_BUILD) {
+			if ((size_t)n > first->cap)
+				return client_fail(h, DF1_E_NOSPACE, station, what, "command of %d bytes", n);
+			memcpy(first->cmd, cmd, (size_t)n);
+			return n;
+		}
+		if (first)
+			rc = client_reply(h, station, what, cmd, first->rc, first->reply, &d, &dlen);
+		else
+			rc = client_transact(h, station, what, cmd, (size_t)n, reply, sizeof reply, &d, &dlen);
+		first = NULL;
+		if (rc < 0)
+			return rc;
+		rc = rd_take(h, station, what, s, io, &rd, d, dlen);
+		if (rc < 0)
+			return rc;
 	}
+	return 0;
+}
+
+static int span_read(struct df1 *h, int station, const char *what, const struct span *s, struct io *io)
+{
+	return span_read_first(h, station, what, s, io, NULL);
 }
 
 static int span_write(struct df1 *h, int station, const char *what, const struct span *s, struct io *io)
@@ -288,8 +358,9 @@ static int client_plan(struct df1 *h, int station, const char *what, enum df1_pl
 	return client_fail(h, DF1_E_ADDR_SYNTAX, station, what, "no sub-elements in this file type");
 }
 
-int client_read_elems(struct df1 *h, int station, const char *what, enum df1_plc plc,
-                      const struct df1_addr *a, size_t n, struct io *io)
+int client_read_elems_first(struct df1 *h, int station, const char *what, enum df1_plc plc,
+                            const struct df1_addr *a, size_t n, struct io *io,
+                            const struct rd_first *first)
 {
 	struct span s;
 	bool per_element;
@@ -298,8 +369,16 @@ int client_read_elems(struct df1 *h, int station, const char *what, enum df1_plc
 	if (rc < 0)
 		return rc;
 	io->base = 0;
-	rc = span_read(h, station, what, &s, io);
-	return rc < 0 ? rc : (int)n;
+	rc = span_read_first(h, station, what, &s, io, first);
+	if (rc < 0 || (first && first->mode == RD_BUILD))
+		return rc;
+	return (int)n;
+}
+
+int client_read_elems(struct df1 *h, int station, const char *what, enum df1_plc plc,
+                      const struct df1_addr *a, size_t n, struct io *io)
+{
+	return client_read_elems_first(h, station, what, plc, a, n, io, NULL);
 }
 
 /* Check every value before anything is sent. */

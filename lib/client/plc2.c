@@ -21,36 +21,41 @@ static int plc2_check(struct df1 *h, int station, const char *what, const struct
 	return 0;
 }
 
-int plc2_read(struct df1 *h, int station, const char *what, const struct span *s, struct io *io)
+int plc2_read_begin(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd)
 {
-	uint8_t cmd[FRAME_MAX_DATA], reply[FRAME_MAX_DATA];
+	rd->per = client_limit(h, s, false) / 2;
+	return plc2_check(h, station, what, s);
+}
+
+/* The next packet: 01 for as many words as fit. */
+int plc2_read_cmd(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd,
+                  uint8_t *cmd, size_t cap)
+{
 	struct pccc_hdr hd = { (uint8_t)station, (uint8_t)h->cfg.station, 0 };
-	size_t per = client_limit(h, s, false) / 2, done = 0;
-	int rc = plc2_check(h, station, what, s);
+	int n;
 
-	if (rc < 0)
-		return rc;
-	while (done < s->count) {
-		size_t k = s->count - done < per ? s->count - done : per, dlen;
-		const uint8_t *d;
-		int n;
+	rd->k = s->count - rd->done < rd->per ? s->count - rd->done : rd->per;
+	n = pccc_enc_plc2_read(cmd, cap, &hd, plc2_address(h, (size_t)s->a.element + rd->done),
+	                       (uint8_t)(rd->k * 2));
+	if (n < 0)
+		return client_fail(h, n, station, what, "cannot encode the read (%s)", df1_strerror(n));
+	return n;
+}
 
-		n = pccc_enc_plc2_read(cmd, sizeof cmd, &hd, plc2_address(h, (size_t)s->a.element + done),
-		                       (uint8_t)(k * 2));
-		if (n < 0)
-			return client_fail(h, n, station, what, "cannot encode the read (%s)", df1_strerror(n));
-		rc = client_transact(h, station, what, cmd, (size_t)n, reply, sizeof reply, &d, &dlen);
+/* Its reply's data: exactly the words asked. */
+int plc2_read_take(struct df1 *h, int station, const char *what, const struct span *s, struct io *io,
+                   struct rd *rd, const uint8_t *d, size_t dlen)
+{
+	(void)s;
+	if (dlen != rd->k * 2)
+		return client_bad_reply(h, station, what, "reply has %zu data bytes, asked %zu", dlen, rd->k * 2);
+	for (size_t i = 0; i < rd->k; i++) {
+		int rc = io_put(h, station, what, io, rd->done + i, d + i * 2, 2);
+
 		if (rc < 0)
 			return rc;
-		if (dlen != k * 2)
-			return client_bad_reply(h, station, what, "reply has %zu data bytes, asked %zu", dlen, k * 2);
-		for (size_t i = 0; i < k; i++) {
-			rc = io_put(h, station, what, io, done + i, d + i * 2, 2);
-			if (rc < 0)
-				return rc;
-		}
-		done += k;
 	}
+	rd->done += rd->k;
 	return 0;
 }
 

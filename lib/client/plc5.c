@@ -47,85 +47,110 @@ static size_t plc5_reply_full(size_t alen, const struct pccc_typed *td)
 	return plc5_typed_per_packet(alen, td->type_id, td->elem_size);
 }
 
-int plc5_read(struct df1 *h, int station, const char *what, const struct span *s, struct io *io)
+int plc5_read_begin(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd)
 {
-	uint8_t cmd[FRAME_MAX_DATA], reply[FRAME_MAX_DATA], addr[DF1_ADDR_ASCII_MAX + 8];
-	struct pccc_hdr hd = { (uint8_t)station, (uint8_t)h->cfg.station, 0 };
-	size_t per, done = 0, plan = s->esize;
-	int alen = plc5_addr(h, station, what, &s->a, addr, sizeof addr);
+	size_t plan = s->esize;
 
-	if (alen < 0)
-		return alen;
+	rd->alen = plc5_addr(h, station, what, &s->a, rd->addr, sizeof rd->addr);
+	if (rd->alen < 0)
+		return rd->alen;
 	/* the reply: address + type/data + data <= 240 (plc_limits.h); strings
 	 * one per packet: the reply is 3x LEN characters (RTA); timers of a PLC-5
 	 * said to send 5 words are planned at that size */
 	if (s->a.type == DF1_FT_T && plc5_whole_tcr(s) && h->cfg.plc5_timer_words == 5)
 		plan = PCCC_TCR5_BYTES;
-	per = plc_per_packet(DF1_PLC_PLC5, false, s->a.type, plan, (size_t)alen, h->cfg.max_packet);
-	if (per == 0)
+	rd->per = plc_per_packet(DF1_PLC_PLC5, false, s->a.type, plan, (size_t)rd->alen, h->cfg.max_packet);
+	if (rd->per == 0)
 		return client_fail(h, DF1_E_NOTSUP, station, what, "a %zu-byte element exceeds the packet size", s->esize);
-	while (done < s->count) {
-		size_t k = s->count - done < per ? s->count - done : per, dlen;
-		struct pccc_typed td;
-		const uint8_t *d;
-		int n, rc;
+	return 0;
+}
 
-		n = pccc_enc_plc5_typed_read(cmd, sizeof cmd, &hd, (uint16_t)done, (uint16_t)s->count,
-		                             addr, (size_t)alen, (uint16_t)k);
-		if (n < 0)
-			return client_fail(h, n, station, what, "cannot encode the read (%s)", df1_strerror(n));
-		rc = client_transact(h, station, what, cmd, (size_t)n, reply, sizeof reply, &d, &dlen);
+/* The next packet: 0F/68 for as many elements as fit. */
+int plc5_read_cmd(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd,
+                  uint8_t *cmd, size_t cap)
+{
+	struct pccc_hdr hd = { (uint8_t)station, (uint8_t)h->cfg.station, 0 };
+	int n;
+
+	rd->k = s->count - rd->done < rd->per ? s->count - rd->done : rd->per;
+	n = pccc_enc_plc5_typed_read(cmd, cap, &hd, (uint16_t)rd->done, (uint16_t)s->count, rd->addr,
+	                             (size_t)rd->alen, (uint16_t)rd->k);
+	if (n < 0)
+		return client_fail(h, n, station, what, "cannot encode the read (%s)", df1_strerror(n));
+	return n;
+}
+
+/* RTA's form of one string: 39 LEN characters -> the 84-byte element. */
+static int plc5_take_string(struct df1 *h, int station, const char *what, struct io *io,
+                            struct rd *rd, const struct pccc_typed *td)
+{
+	uint8_t el[84];
+	char text[DF1_STRING_MAX + 1];
+	int rc;
+
+	memcpy(text, td->data, td->elem_size);
+	text[td->elem_size] = '\0';
+	if (value_put_string(el, text) < 0)
+		return client_bad_reply(h, station, what, "bad string reply");
+	put_le16(el, (uint16_t)td->elem_size);
+	rc = io_put(h, station, what, io, rd->done, el, sizeof el);
+	if (rc < 0)
+		return rc;
+	rd->done += rd->k;
+	return 0;
+}
+
+/* The reply's element size and count against what was asked: fewer than asked
+ * only as a full reply of larger elements (5-word timers); then the next
+ * packets ask for what such a reply holds. */
+static int plc5_take_size(struct df1 *h, int station, const char *what, const struct span *s,
+                          struct rd *rd, const struct pccc_typed *td)
+{
+	if (td->elem_size != s->esize && !(plc5_whole_tcr(s) && td->elem_size == PCCC_TCR5_BYTES))
+		return client_bad_reply(h, station, what,
+		                plc5_whole_tcr(s) ? "reply elements have %u bytes, expected %zu or %d"
+		                                  : "reply elements have %u bytes, expected %zu",
+		                (unsigned)td->elem_size, s->esize, PCCC_TCR5_BYTES);
+	if (td->count != rd->k) {
+		size_t full = plc5_reply_full((size_t)rd->alen, td);
+
+		if (td->count == 0 || td->count > rd->k || td->elem_size == s->esize || td->count != full)
+			return client_bad_reply(h, station, what, "reply has %zu elements, asked %zu",
+			                        td->count, rd->k);
+		rd->k = td->count;
+	}
+	if (td->elem_size != s->esize) {
+		size_t full = plc5_reply_full((size_t)rd->alen, td);
+
+		if (full > 0 && full < rd->per)
+			rd->per = full;
+	}
+	return 0;
+}
+
+/* Its reply's data: a type/data parameter and the elements it describes. */
+int plc5_read_take(struct df1 *h, int station, const char *what, const struct span *s, struct io *io,
+                   struct rd *rd, const uint8_t *d, size_t dlen)
+{
+	struct pccc_typed td;
+	int rc = pccc_dec_typed(d, dlen, &td);
+
+	if (rc < 0)
+		return client_bad_reply(h, station, what, "bad type/data parameter (%s)", df1_strerror(rc));
+	if (!plc5_type_ok(s, td.type_id))
+		return client_bad_reply(h, station, what, "reply holds type %u, asked type %u", td.type_id, plc5_elem_type(s));
+	if (s->a.type == DF1_FT_ST && s->esize == 84 && td.elem_size != 84 && !td.is_array &&
+	    rd->k == 1 && td.elem_size <= DF1_STRING_MAX)
+		return plc5_take_string(h, station, what, io, rd, &td);
+	rc = plc5_take_size(h, station, what, s, rd, &td);
+	if (rc < 0)
+		return rc;
+	for (size_t i = 0; i < rd->k; i++) {
+		rc = io_put(h, station, what, io, rd->done + i, td.data + i * td.elem_size, s->esize);
 		if (rc < 0)
 			return rc;
-		rc = pccc_dec_typed(d, dlen, &td);
-		if (rc < 0)
-			return client_bad_reply(h, station, what, "bad type/data parameter (%s)", df1_strerror(rc));
-		if (!plc5_type_ok(s, td.type_id))
-			return client_bad_reply(h, station, what, "reply holds type %u, asked type %u", td.type_id, plc5_elem_type(s));
-		if (s->a.type == DF1_FT_ST && s->esize == 84 && td.elem_size != 84 && !td.is_array &&
-		    k == 1 && td.elem_size <= DF1_STRING_MAX) {
-			/* RTA's form of one string: 39 LEN characters -> the 84-byte element */
-			uint8_t el[84];
-			char text[DF1_STRING_MAX + 1];
-
-			memcpy(text, td.data, td.elem_size);
-			text[td.elem_size] = '\0';
-			if (value_put_string(el, text) < 0)
-				return client_bad_reply(h, station, what, "bad string reply");
-			put_le16(el, (uint16_t)td.elem_size);
-			rc = io_put(h, station, what, io, done, el, sizeof el);
-			if (rc < 0)
-				return rc;
-			done += k;
-			continue;
-		}
-		if (td.elem_size != s->esize && !(plc5_whole_tcr(s) && td.elem_size == PCCC_TCR5_BYTES))
-			return client_bad_reply(h, station, what,
-			                plc5_whole_tcr(s) ? "reply elements have %u bytes, expected %zu or %d"
-			                                  : "reply elements have %u bytes, expected %zu",
-			                (unsigned)td.elem_size, s->esize, PCCC_TCR5_BYTES);
-		if (td.count != k) {
-			size_t full = plc5_reply_full((size_t)alen, &td);
-
-			/* fewer than asked only as a full reply of larger elements */
-			if (td.count == 0 || td.count > k || td.elem_size == s->esize || td.count != full)
-				return client_bad_reply(h, station, what, "reply has %zu elements, asked %zu",
-				                        td.count, k);
-			k = td.count;
-		}
-		if (td.elem_size != s->esize) {
-			size_t full = plc5_reply_full((size_t)alen, &td);
-
-			if (full > 0 && full < per)
-				per = full;     /* the next packets ask for what such a reply holds */
-		}
-		for (size_t i = 0; i < k; i++) {
-			rc = io_put(h, station, what, io, done + i, td.data + i * td.elem_size, s->esize);
-			if (rc < 0)
-				return rc;
-		}
-		done += k;
 	}
+	rd->done += rd->k;
 	return 0;
 }
 

@@ -41,39 +41,48 @@ static int slc_begin(struct df1 *h, int station, const char *what, const struct 
 	return code;
 }
 
-int slc_read(struct df1 *h, int station, const char *what, const struct span *s, struct io *io)
+int slc_read_begin(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd)
 {
-	uint8_t cmd[FRAME_MAX_DATA], reply[FRAME_MAX_DATA];
-	struct pccc_hdr hd = { (uint8_t)station, (uint8_t)h->cfg.station, 0 };
-	size_t per, done = 0;
-	int code = slc_begin(h, station, what, s, false, &per);
+	int code = slc_begin(h, station, what, s, false, &rd->per);
 
 	if (code < 0)
 		return code;
-	while (done < s->count) {
-		size_t k = s->count - done < per ? s->count - done : per;
-		size_t want = k * s->esize, dlen;
-		const uint8_t *d;
-		unsigned elem, sub;
-		int n, rc;
+	rd->code = code;
+	return 0;
+}
 
-		slc_fields(s, done, &elem, &sub);
-		n = pccc_enc_slc_read(cmd, sizeof cmd, &hd, PCCC_FNC_SLC_READ3, (uint8_t)want,
-		                      (unsigned)s->a.file, (uint8_t)code, elem, sub);
-		if (n < 0)
-			return client_fail(h, n, station, what, "cannot encode the read (%s)", df1_strerror(n));
-		rc = client_transact(h, station, what, cmd, (size_t)n, reply, sizeof reply, &d, &dlen);
+/* The next packet: 0F/A2 for as many elements as fit. */
+int slc_read_cmd(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd,
+                 uint8_t *cmd, size_t cap)
+{
+	struct pccc_hdr hd = { (uint8_t)station, (uint8_t)h->cfg.station, 0 };
+	unsigned elem, sub;
+	int n;
+
+	rd->k = s->count - rd->done < rd->per ? s->count - rd->done : rd->per;
+	slc_fields(s, rd->done, &elem, &sub);
+	n = pccc_enc_slc_read(cmd, cap, &hd, PCCC_FNC_SLC_READ3, (uint8_t)(rd->k * s->esize),
+	                      (unsigned)s->a.file, (uint8_t)rd->code, elem, sub);
+	if (n < 0)
+		return client_fail(h, n, station, what, "cannot encode the read (%s)", df1_strerror(n));
+	return n;
+}
+
+/* Its reply's data: exactly the bytes asked, element by element. */
+int slc_read_take(struct df1 *h, int station, const char *what, const struct span *s, struct io *io,
+                  struct rd *rd, const uint8_t *d, size_t dlen)
+{
+	size_t want = rd->k * s->esize;
+
+	if (dlen != want)
+		return client_bad_reply(h, station, what, "reply has %zu data bytes, asked %zu", dlen, want);
+	for (size_t i = 0; i < rd->k; i++) {
+		int rc = io_put(h, station, what, io, rd->done + i, d + i * s->esize, s->esize);
+
 		if (rc < 0)
 			return rc;
-		if (dlen != want)
-			return client_bad_reply(h, station, what, "reply has %zu data bytes, asked %zu", dlen, want);
-		for (size_t i = 0; i < k; i++) {
-			rc = io_put(h, station, what, io, done + i, d + i * s->esize, s->esize);
-			if (rc < 0)
-				return rc;
-		}
-		done += k;
 	}
+	rd->done += rd->k;
 	return 0;
 }
 

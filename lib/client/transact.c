@@ -113,17 +113,14 @@ size_t client_limit(const struct df1 *h, const struct span *s, bool write)
  * One transaction
  * ------------------------------------------------------------------------ */
 
-/* Send an app message, check the reply (CMD|40h, STS); data/dlen point into reply. */
-int client_transact(struct df1 *h, int station, const char *what, uint8_t *cmd, size_t clen,
-                    uint8_t *reply, size_t rcap, const uint8_t **data, size_t *dlen)
+/* The outcome of command cmd as link_transact (or link_pipe_wait) returned
+ * it: rc the reply's length (its bytes in reply) or DF1_E_*. Checks the reply
+ * (CMD|40h, STS); data/dlen point into reply. */
+int client_reply(struct df1 *h, int station, const char *what, const uint8_t *cmd, int rc,
+                 const uint8_t *reply, const uint8_t **data, size_t *dlen)
 {
 	struct pccc_msg m;
-	int rc;
 
-	cmd[0] = (uint8_t)station;
-	cmd[1] = (uint8_t)h->cfg.station;
-	df1_clear_error(h);     /* so client_fail_at can tell whether the link recorded one */
-	rc = link_transact(h, cmd, clen, reply, rcap);
 	if (rc < 0)
 		return client_fail_at(h, rc, station, what);
 	rc = pccc_decode(reply, (size_t)rc, &m);
@@ -138,6 +135,19 @@ int client_transact(struct df1 *h, int station, const char *what, uint8_t *cmd, 
 	*data = m.data;
 	*dlen = m.len;
 	return 0;
+}
+
+/* Send an app message, check the reply (client_reply). */
+int client_transact(struct df1 *h, int station, const char *what, uint8_t *cmd, size_t clen,
+                    uint8_t *reply, size_t rcap, const uint8_t **data, size_t *dlen)
+{
+	int rc;
+
+	cmd[0] = (uint8_t)station;
+	cmd[1] = (uint8_t)h->cfg.station;
+	df1_clear_error(h);     /* so client_fail_at can tell whether the link recorded one */
+	rc = link_transact(h, cmd, clen, reply, rcap);
+	return client_reply(h, station, what, cmd, rc, reply, data, dlen);
 }
 
 /* client_transact for an operation that has no address (echo, diagnostic

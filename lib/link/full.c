@@ -36,132 +36,160 @@ static int full_reject(struct df1 *h, const struct df1_symbol *s)
  * Full duplex: master transaction
  * ------------------------------------------------------------------------ */
 
+/* One command of ours on the line (full_transact). */
+struct full_cmd {
+	const uint8_t *cmd;
+	uint8_t wire[FRAME_MAX_WIRE];
+	size_t wn;
+	int stn, naks, enqs;
+	int64_t reply_wait;          /* max(timeout_ms, cmd_timeout_ms), from the ACK */
+	int64_t deadline;            /* ACK timer, then reply timer */
+	bool acked;
+};
+
+/* The timer ran out: no reply after the ACK, or no ACK: ENQ (doc/PROTOCOL.md 1.6 rule 4)
+ * until the limit. 0 (go on) or DF1_E_*. */
+static int full_cmd_timeout(struct df1 *h, struct full_cmd *t)
+{
+	int r;
+
+	if (t->acked) {
+		df1_count(h, DF1_ID_CNT_COMMAND_TIMEOUTS);
+		df1_log(h, DF1_ID_ERR_COMMAND_TIMEOUT);
+		return df1_fail(h, DF1_E_TIMEOUT, t->stn, "no reply from station %d", t->stn);
+	}
+	if (t->enqs >= h->cfg.enq_retries) {
+		df1_count(h, DF1_ID_CNT_ENQ_LIMIT_EXCEEDED);
+		df1_log(h, DF1_ID_NTC_ENQ_LIMIT_EXCEEDED, h->cfg.enq_retries);
+		return df1_fail(h, DF1_E_ENQ_LIMIT, t->stn,
+		                "no ACK from station %d after %d ENQ", t->stn, t->enqs);
+	}
+	t->enqs++;
+	df1_count(h, DF1_ID_CNT_ENQ_RETRIES);
+	df1_log(h, DF1_ID_NTC_ENQ_RETRY, t->enqs, DF1_ID_ERR_COMMAND_TIMEOUT);
+	r = link_send_sym(h, DF1_ENQ);
+	if (r < 0)
+		return r;
+	t->deadline = link_after_tx_ms(h, link_timeout_ms(h));
+	return 0;
+}
+
+/* A NAK: the command again, until the limit. 0 or DF1_E_*. */
+static int full_cmd_nak(struct df1 *h, struct full_cmd *t)
+{
+	int r;
+
+	df1_count(h, DF1_ID_CNT_NAKS_RCVD);
+	if (t->acked) {
+		/* no frame of ours is waiting for a response */
+		df1_log(h, DF1_ID_ERR_RCVD_NAK_SYMBOL);
+		return 0;
+	}
+	df1_log(h, DF1_ID_NTC_RCVD_NAK_SYMBOL);
+	if (t->naks >= h->cfg.nak_retries) {
+		df1_count(h, DF1_ID_CNT_NAK_LIMIT_EXCEEDED);
+		df1_log(h, DF1_ID_NTC_NAK_LIMIT_EXCEEDED, h->cfg.nak_retries);
+		return df1_fail(h, DF1_E_NAK_LIMIT, t->stn,
+		                "station %d answered NAK %d times", t->stn, t->naks + 1);
+	}
+	t->naks++;
+	df1_count(h, DF1_ID_CNT_NAK_RETRIES);
+	df1_log(h, DF1_ID_NTC_NAK_RETRY, t->naks, DF1_ID_NTC_RCVD_NAK_SYMBOL);
+	r = link_send_raw(h, t->wire, t->wn);
+	if (r < 0)
+		return r;
+	df1_count(h, DF1_ID_CNT_MSG_PACKETS_SENT);
+	t->deadline = link_after_tx_ms(h, link_timeout_ms(h));
+	return 0;
+}
+
+/* A frame with a good check: a duplicate is ACKed again; anything else is
+ * ACKed and taken: 1 when it is our reply (its length in *len), 0 go on, DF1_E_*. */
+static int full_cmd_frame(struct df1 *h, const struct full_cmd *t, const struct df1_symbol *s,
+                          uint8_t *reply, size_t cap, size_t *len)
+{
+	int r;
+
+	if (link_is_dup(h, s->data[1], s->data, s->len)) {
+		r = link_send_sym(h, DF1_ACK);
+		if (r < 0)
+			return r;
+		df1_count(h, DF1_ID_CNT_MSG_PACKETS_RCVD);
+		df1_count(h, DF1_ID_CNT_DUPLICATE_MSGS_RCVD);
+		df1_log(h, DF1_ID_NTC_DUPLICATE_MSG_RCVD, (int)s->data[1]);
+		return 0;
+	}
+	/* in a poll engine's scan, with our next command in one write
+	 * (alone before any wait, or when df1_poll returns) */
+	r = h->hold_reply_ack ? link_send_sym_held(h, DF1_ACK) : link_send_sym(h, DF1_ACK);
+	if (r < 0)
+		return r;
+	link_remember(h, s->data[1], s->data, s->len);
+	return link_take_reply(h, t->cmd, s, reply, cap, len);
+}
+
+/* One symbol while our command is on the line: 1 when it is our reply, 0 go on, DF1_E_*. */
+static int full_cmd_symbol(struct df1 *h, struct full_cmd *t, const struct df1_symbol *s,
+                           uint8_t *reply, size_t cap, size_t *len)
+{
+	switch (s->kind) {
+	case DF1_SYM_ACK:
+		df1_count(h, DF1_ID_CNT_ACKS_RCVD);
+		if (!t->acked) {
+			t->acked = true;
+			t->deadline = df1_now_ms() + t->reply_wait;
+		}
+		return 0;
+	case DF1_SYM_NAK:
+		return full_cmd_nak(h, t);
+	case DF1_SYM_ENQ:
+		/* the peer asks for our last response */
+		return link_send_sym(h, h->last_response);
+	case DF1_SYM_FRAME:
+		if (s->master_msg) {
+			link_noise(h); /* no half-duplex framing on a full-duplex link */
+			return 0;
+		}
+		if (!s->check_ok)
+			return full_reject(h, s);
+		return full_cmd_frame(h, t, s, reply, cap, len);
+	case DF1_SYM_ERROR:
+		return full_reject(h, s);
+	default: /* EOT, poll: not full-duplex symbols */
+		link_noise(h);
+		return 0;
+	}
+}
+
 int full_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap)
 {
-	uint8_t wire[FRAME_MAX_WIRE];
-	size_t wn = frame_encode_full(link_tx_check(h), cmd, n, wire, sizeof wire);
-	int stn = cmd[0], naks = 0, enqs = 0, r;
-	int64_t reply_wait = link_timeout_ms(h);
-	int64_t deadline;
-	bool acked = false;
+	struct full_cmd t = { .cmd = cmd, .stn = cmd[0] };
+	int r;
 
-	if (wn == 0)
-		return df1_fail(h, DF1_E_INVAL, stn, "command of %zu bytes does not fit a frame", n);
-	if (h->cfg.cmd_timeout_ms > reply_wait)
-		reply_wait = h->cfg.cmd_timeout_ms;
-	r = link_send_raw(h, wire, wn);
+	t.wn = frame_encode_full(link_tx_check(h), cmd, n, t.wire, sizeof t.wire);
+	if (t.wn == 0)
+		return df1_fail(h, DF1_E_INVAL, t.stn, "command of %zu bytes does not fit a frame", n);
+	t.reply_wait = link_timeout_ms(h);
+	if (h->cfg.cmd_timeout_ms > t.reply_wait)
+		t.reply_wait = h->cfg.cmd_timeout_ms;
+	r = link_send_raw(h, t.wire, t.wn);
 	if (r < 0)
 		return r;
 	df1_count(h, DF1_ID_CNT_MSG_PACKETS_SENT);
 	df1_count(h, DF1_ID_CNT_CMD_MSGS_SENT);
-	deadline = link_after_tx_ms(h, link_timeout_ms(h));
+	t.deadline = link_after_tx_ms(h, link_timeout_ms(h));
 	for (;;) {
 		struct df1_symbol s;
 		size_t len = 0;
 
-		r = link_read_symbol(h, deadline, &s);
+		r = link_read_symbol(h, t.deadline, &s);
 		if (r < 0)
 			return r;
-		if (r == 0) {
-			if (acked) {
-				df1_count(h, DF1_ID_CNT_COMMAND_TIMEOUTS);
-				df1_log(h, DF1_ID_ERR_COMMAND_TIMEOUT);
-				return df1_fail(h, DF1_E_TIMEOUT, stn, "no reply from station %d", stn);
-			}
-			/* ACK timeout: ask for the response again (doc/PROTOCOL.md 1.6 rule 4) */
-			if (enqs >= h->cfg.enq_retries) {
-				df1_count(h, DF1_ID_CNT_ENQ_LIMIT_EXCEEDED);
-				df1_log(h, DF1_ID_NTC_ENQ_LIMIT_EXCEEDED, h->cfg.enq_retries);
-				return df1_fail(h, DF1_E_ENQ_LIMIT, stn,
-				                "no ACK from station %d after %d ENQ", stn, enqs);
-			}
-			enqs++;
-			df1_count(h, DF1_ID_CNT_ENQ_RETRIES);
-			df1_log(h, DF1_ID_NTC_ENQ_RETRY, enqs, DF1_ID_ERR_COMMAND_TIMEOUT);
-			r = link_send_sym(h, DF1_ENQ);
-			if (r < 0)
-				return r;
-			deadline = link_after_tx_ms(h, link_timeout_ms(h));
-			continue;
-		}
-		switch (s.kind) {
-		case DF1_SYM_ACK:
-			df1_count(h, DF1_ID_CNT_ACKS_RCVD);
-			if (!acked) {
-				acked = true;
-				deadline = df1_now_ms() + reply_wait;
-			}
-			break;
-		case DF1_SYM_NAK:
-			df1_count(h, DF1_ID_CNT_NAKS_RCVD);
-			if (acked) {
-				/* no frame of ours is waiting for a response */
-				df1_log(h, DF1_ID_ERR_RCVD_NAK_SYMBOL);
-				break;
-			}
-			df1_log(h, DF1_ID_NTC_RCVD_NAK_SYMBOL);
-			if (naks >= h->cfg.nak_retries) {
-				df1_count(h, DF1_ID_CNT_NAK_LIMIT_EXCEEDED);
-				df1_log(h, DF1_ID_NTC_NAK_LIMIT_EXCEEDED, h->cfg.nak_retries);
-				return df1_fail(h, DF1_E_NAK_LIMIT, stn,
-				                "station %d answered NAK %d times", stn, naks + 1);
-			}
-			naks++;
-			df1_count(h, DF1_ID_CNT_NAK_RETRIES);
-			df1_log(h, DF1_ID_NTC_NAK_RETRY, naks, DF1_ID_NTC_RCVD_NAK_SYMBOL);
-			r = link_send_raw(h, wire, wn);
-			if (r < 0)
-				return r;
-			df1_count(h, DF1_ID_CNT_MSG_PACKETS_SENT);
-			deadline = link_after_tx_ms(h, link_timeout_ms(h));
-			break;
-		case DF1_SYM_ENQ:
-			/* the peer asks for our last response */
-			r = link_send_sym(h, h->last_response);
-			if (r < 0)
-				return r;
-			break;
-		case DF1_SYM_FRAME:
-			if (s.master_msg) {
-				link_noise(h); /* no half-duplex framing on a full-duplex link */
-				break;
-			}
-			if (!s.check_ok) {
-				r = full_reject(h, &s);
-				if (r < 0)
-					return r;
-				break;
-			}
-			if (link_is_dup(h, s.data[1], s.data, s.len)) {
-				r = link_send_sym(h, DF1_ACK);
-				if (r < 0)
-					return r;
-				df1_count(h, DF1_ID_CNT_MSG_PACKETS_RCVD);
-				df1_count(h, DF1_ID_CNT_DUPLICATE_MSGS_RCVD);
-				df1_log(h, DF1_ID_NTC_DUPLICATE_MSG_RCVD, (int)s.data[1]);
-				break;
-			}
-			/* in a poll engine's scan, with our next command in one write
-			 * (alone before any wait, or when df1_poll returns) */
-			r = h->hold_reply_ack ? link_send_sym_held(h, DF1_ACK) : link_send_sym(h, DF1_ACK);
-			if (r < 0)
-				return r;
-			link_remember(h, s.data[1], s.data, s.len);
-			r = link_take_reply(h, cmd, &s, reply, cap, &len);
-			if (r < 0)
-				return r;
-			if (r == 1)
-				return (int)len;
-			break;
-		case DF1_SYM_ERROR:
-			r = full_reject(h, &s);
-			if (r < 0)
-				return r;
-			break;
-		default: /* EOT, poll: not full-duplex symbols */
-			link_noise(h);
-			break;
-		}
+		r = r == 0 ? full_cmd_timeout(h, &t) : full_cmd_symbol(h, &t, &s, reply, cap, &len);
+		if (r < 0)
+			return r;
+		if (r == 1)
+			return (int)len;
 	}
 }
 

@@ -38,22 +38,6 @@ int link_transact(struct df1 *h, uint8_t *cmd, size_t cmd_len, uint8_t *reply, s
 		return r;
 	if (h->cfg.duplex == DF1_HALF_DUPLEX_SLAVE && !h->own_link)
 		return df1_fail(h, DF1_E_NOTSUP, cmd[0], "a half-duplex slave does not send commands");
-	if (h->pipe.capture) {
-		/* link_capture_begin: the command is kept to be submitted, not sent */
-		if (h->pipe.cap_len == 0) { /* the first: a call's later commands are its own */
-			memcpy(h->pipe.cap, cmd, cmd_len);
-			h->pipe.cap_len = cmd_len;
-		}
-		return df1_fail(h, DF1_E_NOTSUP, cmd[0], "command captured");
-	}
-	if (h->pipe.replay) {
-		int slot = h->pipe.replay - 1;
-
-		h->pipe.replay = 0;
-		if (link_pipe_is(h, slot, cmd, cmd_len))
-			return link_pipe_wait(h, slot, reply, reply_cap);
-		link_pipe_abandon(h, slot); /* another command after all: that one is not wanted */
-	}
 	link_stamp(h, cmd);
 	if (h->own_link)
 		return h->own_link->transact(h, cmd, cmd_len, reply, reply_cap);
@@ -68,29 +52,20 @@ int link_transact(struct df1 *h, uint8_t *cmd, size_t cmd_len, uint8_t *reply, s
  * Pipelining (full duplex): see pipe.c
  * ------------------------------------------------------------------------ */
 
-void link_capture_begin(struct df1 *h)
-{
-	h->pipe.capture = true;
-	h->pipe.cap_len = 0;
-}
-
-int link_capture_submit(struct df1 *h)
+int link_pipe_put(struct df1 *h, uint8_t *cmd, size_t cmd_len)
 {
 	int r;
 
-	h->pipe.capture = false;
-	if (h->pipe.cap_len == 0)
-		return -1;
+	if (!h || !cmd || cmd_len < FRAME_MIN_DATA || cmd_len > FRAME_MAX_DATA)
+		return h ? df1_fail(h, DF1_E_INVAL, -1, "invalid command (%zu bytes)", cmd_len)
+		         : DF1_E_INVAL;
 	r = link_setup(h);
 	if (r < 0)
 		return r;
-	link_stamp(h, h->pipe.cap);
-	return link_pipe_submit(h, h->pipe.cap, h->pipe.cap_len);
-}
-
-void link_replay(struct df1 *h, int slot)
-{
-	h->pipe.replay = slot >= 0 && slot < LINK_PIPE_MAX ? slot + 1 : 0;
+	if (link_pipe_depth(h) <= 1)
+		return df1_fail(h, DF1_E_NOTSUP, cmd[0], "no pipeline: one command at a time");
+	link_stamp(h, cmd);
+	return link_pipe_submit(h, cmd, cmd_len);
 }
 
 int link_test(struct df1 *h, int station)

@@ -57,24 +57,24 @@ struct link_responder {
 int link_transact(struct df1 *h, uint8_t *cmd, size_t cmd_len, uint8_t *reply, size_t reply_cap);
 
 /* Pipelining (full duplex, DF1_OPT_MAX_OUTSTANDING; lib/link/pipe.c). A caller
- * that knows its next commands (the poll engine's scan) captures each one: between
- * link_capture_begin and link_capture_submit the next link_transact only keeps its
- * command (and fails); link_capture_submit gives it a TNS and a slot (>= 0; -1:
- * nothing was captured) and the link sends it when the line allows. link_replay
- * names the slot the next link_transact takes instead of sending its command: the
- * caller's own code then checks the reply as it would any other. Other
- * link_transact calls go through the pipeline while slots are in use. */
+ * that knows its next commands (the poll engine's scan) puts each one on the
+ * pipeline: link_pipe_put gives it SRC and the next TNS (written into cmd, as
+ * link_transact does) and a slot (>= 0, or DF1_E_*; DF1_E_NOTSUP when the
+ * handle has no pipeline: link_pipe_depth 1), and the link sends it when the
+ * line allows. link_pipe_wait waits for the slot's outcome: the reply's
+ * length (its app bytes in reply) or DF1_E_* with the slot's error detail;
+ * the slot is free again. Other link_transact calls go through the pipeline
+ * while slots are in use. */
 int link_pipe_depth(const struct df1 *h);      /* commands outstanding: 1 unless full duplex */
 int link_pipe_pending(const struct df1 *h);    /* slots queued or on the line */
 int link_pipe_used(const struct df1 *h);       /* slots in use (results not taken included) */
-void link_capture_begin(struct df1 *h);
+int link_pipe_put(struct df1 *h, uint8_t *cmd, size_t cmd_len);
+int link_pipe_wait(struct df1 *h, int slot, uint8_t *reply, size_t cap);
 /* Send at once what is held to go out with our next transmission (an ACK:
  * link_int.h's link_send_sym_held); 0 or DF1_E_*. The poll engine calls it when
  * df1_poll() returns: a master holds the ACK of a block's reply for the next
  * block's command while h->hold_reply_ack is set. */
 int link_tx_flush(struct df1 *h);
-int link_capture_submit(struct df1 *h);
-void link_replay(struct df1 *h, int slot);
 /* The result of slot is not wanted: dropped when it is in. */
 void link_pipe_abandon(struct df1 *h, int slot);
 /* Every slot abandoned, and their outcomes waited for. */

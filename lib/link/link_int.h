@@ -73,8 +73,6 @@ int full_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms
 
 /* pipelining (pipe.c) */
 int link_pipe_submit(struct df1 *h, const uint8_t *cmd, size_t n);
-bool link_pipe_is(const struct df1 *h, int slot, const uint8_t *cmd, size_t n);
-int link_pipe_wait(struct df1 *h, int slot, uint8_t *reply, size_t cap);
 int pipe_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap);
 
 /* half duplex (half.c) */

@@ -115,17 +115,6 @@ int link_pipe_submit(struct df1 *h, const uint8_t *cmd, size_t n)
 	return (int)(p - h->pipe.slot);
 }
 
-/* Is slot's command this one (apart from SRC and TNS, which the link set)? */
-bool link_pipe_is(const struct df1 *h, int slot, const uint8_t *cmd, size_t n)
-{
-	const struct link_pipe_slot *p = &h->pipe.slot[slot];
-
-	if (p->state == PIPE_FREE || p->abandoned || p->cmd_len != n || p->cmd[0] != cmd[0] ||
-	    p->cmd[2] != cmd[2] || p->cmd[3] != cmd[3])
-		return false;
-	return memcmp(p->cmd + 6, cmd + 6, n - 6) == 0;
-}
-
 void link_pipe_abandon(struct df1 *h, int slot)
 {
 	struct link_pipe_slot *p;
@@ -133,8 +122,6 @@ void link_pipe_abandon(struct df1 *h, int slot)
 	if (slot < 0 || slot >= LINK_PIPE_MAX)
 		return;
 	p = &h->pipe.slot[slot];
-	if (h->pipe.replay == slot + 1)
-		h->pipe.replay = 0;
 	if (p->state == PIPE_QUEUED || p->state == PIPE_DONE)
 		pipe_free_slot(h, p);
 	else if (p->state != PIPE_FREE)
@@ -404,8 +391,7 @@ void link_pipe_reset(struct df1 *h)
 {
 	for (int i = 0; i < LINK_PIPE_MAX; i++)
 		h->pipe.slot[i].state = PIPE_FREE;
-	h->pipe.used = h->pipe.tx = h->pipe.replay = 0;
-	h->pipe.capture = false;
+	h->pipe.used = h->pipe.tx = 0;
 }
 
 int link_pipe_flush(struct df1 *h)

@@ -77,10 +77,10 @@
  *
  * Pipelining (full duplex, DF1_OPT_MAX_OUTSTANDING N > 1): before a block's
  * transaction the scan submits it and the due blocks after it (in scan order,
- * across stations) until N are on the link's pipeline; each command is built
- * by the client exactly as for the read itself (the link captures it), so the
- * read that follows takes its slot's reply and checks it as any other
- * (link_replay). Only whole-element block reads of stations that are not
+ * across stations) until N are on the link's pipeline; the client builds each
+ * command (client_read_raw_cmd) and the link puts it in a slot (link_pipe_put);
+ * the read that follows waits for its slot's reply (link_pipe_wait) and the
+ * client decodes it as its own read does (client_read_raw_reply). Only whole-element block reads of stations that are not
  * FAILING or OFFLINE go ahead; reads alone, retries, writes and probes are
  * ordinary transactions, queued behind what is already submitted. A station
  * that fails still has its other blocks skipped: what was sent ahead for them

@@ -8,6 +8,17 @@
 
 enum read_result { R_DONE, R_SPLIT, R_FAILED };
 
+/* The address of a block read: its first element, whole elements. */
+static void poll_block_addr(const struct pblock *b, struct df1_addr *a)
+{
+	memset(a, 0, sizeof *a);
+	a->type = b->type;
+	a->file = b->file;
+	a->element = b->first;
+	a->sub = DF1_ADDR_NONE;
+	a->bit = DF1_ADDR_NONE;
+}
+
 static int poll_block_io(struct df1 *h, struct poll_engine *e, const struct pblock *b)
 {
 	struct df1_addr a;
@@ -18,12 +29,7 @@ static int poll_block_io(struct df1 *h, struct poll_engine *e, const struct pblo
 		memset(e->vals, 0, (size_t)t->cfg.count * sizeof *e->vals);
 		return client_read_at(h, b->station, b->plc, &t->cfg.addr, e->vals, (size_t)t->cfg.count);
 	}
-	memset(&a, 0, sizeof a);
-	a.type = b->type;
-	a.file = b->file;
-	a.element = b->first;
-	a.sub = DF1_ADDR_NONE;
-	a.bit = DF1_ADDR_NONE;
+	poll_block_addr(b, &a);
 	return client_read_raw_at(h, b->station, b->plc, &a, e->raw, (size_t)b->count * b->esize);
 }
 
@@ -41,18 +47,21 @@ static bool poll_pipe_candidate(const struct poll_engine *e, const struct pblock
 	return b->scan_read != e->scan_no && b->due_ms <= start;
 }
 
-/* The client builds the block's command; the link keeps it and submits it. */
+/* The client builds the block's command, the link's pipeline takes it. A
+ * command that cannot be built or put goes nowhere: the block's read then
+ * runs as an ordinary transaction and meets the same failure itself. */
 static void poll_pipe_put(struct df1 *h, struct poll_engine *e, struct pblock *b)
 {
-	struct df1_error_detail saved = h->err;
+	uint8_t cmd[FRAME_MAX_DATA];
+	struct df1_addr a;
+	int n;
 
-	link_capture_begin(h);
-	(void)poll_block_io(h, e, b);
-	b->pipe_slot = link_capture_submit(h);
+	poll_block_addr(b, &a);
+	n = client_read_raw_cmd(h, b->station, b->plc, &a, (size_t)b->count * b->esize, cmd, sizeof cmd);
+	b->pipe_slot = n < 0 ? -1 : link_pipe_put(h, cmd, (size_t)n);
 	if (b->pipe_slot < 0)
 		b->pipe_slot = -1;
 	b->pipe_scan = e->scan_no;
-	h->err = saved;
 }
 
 /* Before block bi's transaction: it and the due blocks after it, up to the depth. */
@@ -76,15 +85,18 @@ static void poll_pipe_fill(struct df1 *h, struct poll_engine *e, size_t bi, int6
 /* The read of block b takes the reply of what was submitted for it, if anything. */
 static int poll_block_read(struct df1 *h, struct poll_engine *e, struct pblock *b)
 {
-	int rc;
+	uint8_t reply[FRAME_MAX_DATA];
+	struct df1_addr a;
+	int slot = b->pipe_slot, rc;
 
-	if (b->pipe_scan == e->scan_no && b->pipe_slot >= 0) {
-		link_replay(h, b->pipe_slot);
-		b->pipe_slot = -1;
-	}
-	rc = poll_block_io(h, e, b);
-	link_replay(h, -1);
-	return rc;
+	if (b->pipe_scan != e->scan_no || slot < 0)
+		return poll_block_io(h, e, b);
+	b->pipe_slot = -1;
+	df1_clear_error(h);     /* as client_transact before link_transact */
+	rc = link_pipe_wait(h, slot, reply, sizeof reply);
+	poll_block_addr(b, &a);
+	return client_read_raw_reply(h, b->station, b->plc, &a, e->raw, (size_t)b->count * b->esize, rc,
+	                             reply);
 }
 
 /* The end of a scan (or its abort): nothing submitted ahead is left behind. */
