@@ -1,6 +1,6 @@
 #!/bin/sh
 # SPDX-License-Identifier: MPL-2.0
-# Runs every cmocka test binary and every tests/it_*.sh integration script.
+# Runs every cmocka test binary and every tests/integration/*.sh script.
 # Last line: "N passed, N failed"; exit status non-zero if anything failed.
 B=${B:-build}
 export B
@@ -21,7 +21,7 @@ for t in "$B"/tests/test_*; do
 		tail -n 40 "$log_dir/$name.log"
 	fi
 done
-for t in tests/it_*.sh; do
+for t in tests/integration/*.sh; do
 	[ -f "$t" ] || continue
 	name=$(basename "$t" .sh)
 	if timeout 600 sh "$t" > "$log_dir/$name.log" 2>&1; then

@@ -6,7 +6,7 @@
 # Expected values come from the df1sim --data file below and the issue's
 # payload rules, never from df1gw's own output. Waits are bounded loops
 # (mosquitto_sub -W, wait_for), never sleeps that hope.
-. tests/lib.sh
+. tests/support/lib.sh
 
 MOSQ=${MOSQUITTO:-/usr/sbin/mosquitto}
 if [ ! -x "$MOSQ" ] || ! command -v mosquitto_sub >/dev/null 2>&1; then

@@ -1,7 +1,7 @@
 #!/bin/sh
 # SPDX-License-Identifier: MPL-2.0
 # it_df1gw_eip.sh - df1gw --eip, the EtherNet/IP bridge, end to end with real
-# processes: EtherNet/IP clients (tests/tools/eipgw_probe.py and eip_probe.py,
+# processes: EtherNet/IP clients (tests/support/eipgw_probe.py and eip_probe.py,
 # raw sockets, messages built from df1-eip(7); pycomm3's SLCDriver when it is
 # installed) -> df1gw --eip on loopback TCP -> a pseudo-terminal -> df1sim,
 # whose --log is the record of what reached the PLC. Full and half duplex,
@@ -9,12 +9,12 @@
 # once, --eip-allow, --eip-read-only, a silent controller, and MQTT publishing
 # (Debian's mosquitto) on the same line at once. Waits are bounded loops.
 # Run from the repository root with DF1_BIN=<build/bin>.
-. tests/lib.sh
+. tests/support/lib.sh
 
 GW="$BIN/df1gw"
-PROBE="python3 tests/tools/eipgw_probe.py"
-EPROBE="python3 tests/tools/eip_probe.py"
-PYC="python3 tests/tools/eip_pycomm3.py"
+PROBE="python3 tests/support/eipgw_probe.py"
+EPROBE="python3 tests/support/eip_probe.py"
+PYC="python3 tests/support/eip_pycomm3.py"
 # ListIdentity names the bridge and the processor behind it (df1sim's diagnostic
 # status: an SLC 5/04 by default)
 NAME="libdf1 DF1 bridge SLC 5/04"

@@ -4,7 +4,7 @@
 # Run from the repository root; DF1_BIN is the directory of the built tools.
 # Data: tests/data/serial-tap-*.pcap (copies of the shared captures) and
 # tests/data/vectors.txt (doc/PROTOCOL.md 7).
-. tests/lib.sh
+. tests/support/lib.sh
 
 MON="$BIN/df1mon"
 DATA=tests/data

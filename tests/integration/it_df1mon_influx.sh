@@ -2,16 +2,16 @@
 # SPDX-License-Identifier: MPL-2.0
 # it_df1mon_influx - df1mon --map -f influx against df1sim on a pseudo-terminal:
 # every readable tag one InfluxDB line per scan, read back with an independent
-# line-protocol parser (tests/tools/influx_parse.py) and compared with the
+# line-protocol parser (tests/support/influx_parse.py) and compared with the
 # values df1sim was given (--data): integer, float, bit, array, timer, string
 # and long fields with their line-protocol types; names that need escaping or
 # are reserved; a station that does not answer (quality only, no stale value);
 # write-only tags left out; --counters; misuse refused (exit 2).
 # Run from the repository root with DF1_BIN=<build/bin>; bounded waits only.
-. tests/lib.sh
+. tests/support/lib.sh
 
 MON="$BIN/df1mon"
-PARSE="python3 tests/tools/influx_parse.py"
+PARSE="python3 tests/support/influx_parse.py"
 command -v python3 >/dev/null 2>&1 || { echo "SKIP: no python3"; exit 0; }
 unset DF1_DEVICE
 

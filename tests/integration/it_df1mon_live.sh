@@ -4,11 +4,11 @@
 # --counters (alone, with -i/-c, after a transaction, csv/json, Ctrl-C),
 # --ping (answered, silent station), --who (half duplex stations, full duplex
 # peer), -v/-vv traces, --map wiring, --sniff through a FIFO (the pty side of
-# --sniff is tests/test_df1mon_sniff.c) with -w and --read of the capture, and
+# --sniff is tests/unit/df1mon/test_df1mon_sniff.c) with -w and --read of the capture, and
 # bad option combinations (exit 2).
 # Run from the repository root with DF1_BIN=<build/bin>; bounded waits only,
 # no timing assertions.
-. tests/lib.sh
+. tests/support/lib.sh
 
 MON="$BIN/df1mon"
 [ -x "$MON" ] || { echo "no $MON"; exit 1; }

@@ -5,7 +5,7 @@
 # and CRC, several stations, elements above 254, reads split across packets and
 # reads joined into blocks (counted with -v, which reports counter 2527, and
 # with df1sim --log). Run from the repository root; DF1_BIN = the built tools.
-. tests/lib.sh
+. tests/support/lib.sh
 R="$BIN/df1read"
 for t in df1read df1sim; do
 	[ -x "$BIN/$t" ] || { echo "no $BIN/$t"; exit 1; }

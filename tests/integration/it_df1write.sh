@@ -6,7 +6,7 @@
 # failure part-way, half and full duplex, BCC and CRC, several stations, elements
 # above 254, writes split across packets, SIGTERM part-way.
 # Run from the repository root; DF1_BIN = the built tools.
-. tests/lib.sh
+. tests/support/lib.sh
 W="$BIN/df1write"
 R="$BIN/df1read"
 for t in df1write df1read df1sim; do

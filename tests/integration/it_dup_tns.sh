@@ -10,7 +10,7 @@
 # unconfirmed), and the table must show run 1's write and not run 2's.
 # DF1_TEST_FIRST_TNS (df1_new(3)) gives both runs the same first TNS.
 # Run from the repository root; DF1_BIN = the built tools.
-. tests/lib.sh
+. tests/support/lib.sh
 W="$BIN/df1write"
 R="$BIN/df1read"
 for t in df1write df1read df1sim; do

@@ -7,7 +7,7 @@
 # messaging (--eip-connected), df1mon --ping/--who/--map and the poll engine
 # over eip://. df1sim --log has one line per PCCC command it served: every
 # write is executed exactly once. Run from the repository root.
-. tests/lib.sh
+. tests/support/lib.sh
 R="$BIN/df1read"
 W="$BIN/df1write"
 MON="$BIN/df1mon"

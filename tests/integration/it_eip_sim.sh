@@ -1,16 +1,16 @@
 #!/bin/sh
 # SPDX-License-Identifier: MPL-2.0
 # it_eip_sim - df1sim --eip: PCCC over EtherNet/IP from its data table, checked
-# by two clients that are not libdf1's: tests/tools/eip_probe.py (raw sockets,
+# by two clients that are not libdf1's: tests/support/eip_probe.py (raw sockets,
 # every message built from the layouts of df1-eip(7)) and pycomm3's SLCDriver
-# from PyPI (tests/tools/eip_pycomm3.py; SKIP, counted as passed, when it is
+# from PyPI (tests/support/eip_pycomm3.py; SKIP, counted as passed, when it is
 # not installed). What the EtherNet/IP side writes the DF1 side reads back
 # with df1read, and the reverse; df1sim's --log shows each write once.
 # Run from the repository root with DF1_BIN=<build/bin>.
-. tests/lib.sh
+. tests/support/lib.sh
 
-PROBE="python3 tests/tools/eip_probe.py"
-PYC="python3 tests/tools/eip_pycomm3.py"
+PROBE="python3 tests/support/eip_probe.py"
+PYC="python3 tests/support/eip_pycomm3.py"
 NAME="libdf1 df1sim MicroLogix 1400"
 
 # The EtherNet/IP address df1sim prints after its device line (eip://ADDR:PORT).

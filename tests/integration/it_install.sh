@@ -8,7 +8,7 @@
 # tree, linked both with the shared library (LD_LIBRARY_PATH into the stage) and
 # statically, and reads N7:0..9 from df1sim. Finally make uninstall removes it.
 # Run from the repository root.
-. tests/lib.sh
+. tests/support/lib.sh
 STAGE="$T/stage"
 BUILD="$T/build"
 MAKE=${MAKE:-make}

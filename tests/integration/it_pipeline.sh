@@ -8,9 +8,9 @@
 # beyond the one held are NAKed, retried, and every tag still ends GOOD; the
 # one-shot tools take --outstanding too; half duplex reads the same with it;
 # out-of-range values are usage errors.
-# (The writes under faults: tests/test_pipeline_sim.c.) Run from the repository
+# (The writes under faults: tests/unit/poll/test_pipeline_sim.c.) Run from the repository
 # root; DF1_BIN = the built tools.
-. tests/lib.sh
+. tests/support/lib.sh
 MON="$BIN/df1mon"
 R="$BIN/df1read"
 for t in df1mon df1read df1sim; do

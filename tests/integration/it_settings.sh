@@ -10,7 +10,7 @@
 # elements, members, named bits, writes. Expected values come from the --data
 # file and the spec, packet counts from df1sim's --log. Bad values: exit 2 naming
 # the option and what it takes. Run from the repository root.
-. tests/lib.sh
+. tests/support/lib.sh
 R="$BIN/df1read"
 W="$BIN/df1write"
 M="$BIN/df1mon"

@@ -7,7 +7,7 @@
 # to it is loaded (a bad one ends it with status 2 and the file:line message).
 # The binary is built by `make tests` ($B/examples/table_slave).
 # Run from the repository root with B=<build dir> and DF1_BIN=<build/bin>.
-. tests/lib.sh
+. tests/support/lib.sh
 EX=${B:-build}/examples/table_slave
 [ -x "$EX" ] || { bad "$EX not built (make tests)"; finish; }
 

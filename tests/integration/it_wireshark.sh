@@ -3,7 +3,7 @@
 # it_wireshark - the DF1 dissector (contrib/wireshark/df1.lua) under tshark.
 #
 # Independent expectations: df1mon --read of the same file (field by field, by
-# tests/wireshark_helper.py compare), the spec's vectors (frames built by the
+# tests/support/wireshark_helper.py compare), the spec's vectors (frames built by the
 # helper from tests/data/vectors.txt and from the CRC/BCC rules of doc/PROTOCOL.md 1.4/1.5), and
 # the facts of the captures (doc/PROTOCOL.md 7.2). Files:
 #   - both captures in $DF1_SHARED/captures;
@@ -19,7 +19,7 @@
 # the README's recipe, and make install-wireshark. tshark runs with -2: frames
 # cut by a capture's end and links to later replies need the whole file read.
 # Skips (exit 0, a SKIP line) without tshark or python3.
-. tests/lib.sh
+. tests/support/lib.sh
 
 if ! command -v tshark >/dev/null 2>&1; then
 	echo "SKIP: tshark is not installed (apt-get install tshark): the dissector is not tested"
@@ -33,12 +33,12 @@ fi
 LUA=contrib/wireshark/df1.lua
 # Lua as root: Debian's init.lua sets run_user_scripts_when_superuser = true
 # (CI runs as root); say so clearly if a tshark will not load the script
-python3 tests/wireshark_helper.py pcap "$T/probe.pcap" "10 06"
+python3 tests/support/wireshark_helper.py pcap "$T/probe.pcap" "10 06"
 if [ "$(env HOME="$T" tshark -X lua_script:$LUA -r "$T/probe.pcap" -T fields -e df1.symbol 2>/dev/null)" != ACK ]; then
 	bad "tshark does not load $LUA (Lua disabled, or not run as superuser: see init.lua)"
 	finish
 fi
-H=tests/wireshark_helper.py
+H=tests/support/wireshark_helper.py
 SHARED=${DF1_SHARED:-../shared}
 CAP="$SHARED/captures"
 US=$(printf '\037')

@@ -1,6 +1,6 @@
 #!/bin/sh
 # SPDX-License-Identifier: MPL-2.0
-# lint-layers.sh - which lib/ or tools/ source calls (or references) what
+# tests/lint/lint-layers.sh - which lib/ or tools/ source calls (or references) what
 # another source defines, read from the objects' symbol tables (nm), and
 # whether any files or layer folders call each other in a loop, or any lib/ or
 # tools/ headers include each other in a loop. Run after `make`; B=build by
@@ -9,7 +9,7 @@
 B=${B:-build}
 VERBOSE=0
 [ "${1:-}" = "-v" ] && VERBOSE=1
-cd "$(dirname "$0")/.." || exit 2
+cd "$(dirname "$0")/../.." || exit 2
 python3 - "$B" "$VERBOSE" <<'PY'
 import subprocess, sys, glob, os
 b, verbose = sys.argv[1], sys.argv[2] == "1"

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MPL-2.0
-"""eip_probe.py - a small EtherNet/IP client of its own for tests/it_eip_sim.sh.
+"""eip_probe.py - a small EtherNet/IP client of its own for tests/integration/it_eip_sim.sh.
 
     eip_probe.py HOST:PORT CHECK [ARGS...]
 

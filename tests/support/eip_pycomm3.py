@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MPL-2.0
 """eip_pycomm3.py - pycomm3's SLCDriver (PyPI) as an independent EtherNet/IP
-client for tests/it_eip_sim.sh: RegisterSession, Forward Open, Execute PCCC in
+client for tests/integration/it_eip_sim.sh: RegisterSession, Forward Open, Execute PCCC in
 SendUnitData, Forward Close, as pycomm3 sends them.
 
     eip_pycomm3.py available                 exit 0 if pycomm3 imports

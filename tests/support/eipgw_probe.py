@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MPL-2.0
-"""eipgw_probe.py - EtherNet/IP checks of df1gw --eip for tests/it_df1gw_eip.sh,
-on the raw-socket client of tests/tools/eip_probe.py (its messages are built
+"""eipgw_probe.py - EtherNet/IP checks of df1gw --eip for tests/integration/it_df1gw_eip.sh,
+on the raw-socket client of tests/support/eip_probe.py (its messages are built
 from the layouts of df1-eip(7), not from libdf1's code).
 
     eipgw_probe.py HOST:PORT CHECK [ARGS...]

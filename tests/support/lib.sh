@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MPL-2.0
-# tests/lib.sh - shared helpers for the integration tests (POSIX sh).
+# tests/support/lib.sh - shared helpers for the integration tests (POSIX sh).
 #
-#   . tests/lib.sh          (from the repository root; DF1_BIN = the built tools)
+#   . tests/support/lib.sh          (from the repository root; DF1_BIN = the built tools)
 #
 # Gives:
 #   $BIN $T                the tools' directory; a private temporary directory,

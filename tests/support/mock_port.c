@@ -2,7 +2,7 @@
 /*
  * mock_port - a scripted struct port_ops for link-level tests (see mock_port.h).
  */
-#include "mock_port.h"
+#include "support/mock_port.h"
 
 #include <stdarg.h>
 #include <stddef.h>

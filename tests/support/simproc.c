@@ -2,7 +2,7 @@
 /*
  * simproc - df1sim as a separate process (see simproc.h).
  */
-#include "simproc.h"
+#include "support/simproc.h"
 
 #include <errno.h>
 #include <fcntl.h>

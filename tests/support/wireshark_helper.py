@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MPL-2.0
-"""Helpers of tests/it_wireshark.sh (the DF1 dissector, contrib/wireshark/df1.lua).
+"""Helpers of tests/integration/it_wireshark.sh (the DF1 dissector, contrib/wireshark/df1.lua).
 
   wireshark_helper.py fields
         the tshark -e fields `compare` reads, one per line

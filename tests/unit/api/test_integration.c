@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_integration - the public API against df1sim running as a separate
- * process (tests/simproc.c), over real pseudo-terminals (df1_open on the pty
+ * process (tests/support/simproc.c), over real pseudo-terminals (df1_open on the pty
  * path: the termios backend) and over TCP (df1sim --listen).
  *
  * Covered: full and half duplex, CRC and BCC, one and several stations; every
@@ -47,7 +47,7 @@
 #include <unistd.h>
 
 #include "df1.h"
-#include "simproc.h"
+#include "support/simproc.h"
 
 /* ------------------------------------------------------------------------
  * Data table additions (df1sim --data) and what the table then holds

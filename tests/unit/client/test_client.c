@@ -8,7 +8,7 @@
  * out of libdf1.a (nothing else this test uses refers to link.o: checked with
  * nm). Should handle.o or another member this test needs ever call a function
  * only link.o defines, the link fails with "multiple definition of
- * link_transact"; then mock at the port instead (tests/mock_port.h).
+ * link_transact"; then mock at the port instead (tests/support/mock_port.h).
  * The mock link assigns SRC and TNS (from h->next_tns) like the real one,
  * records every command, and answers either from a script (canned replies,
  * link errors) or from a small simulated data table (SLC A2/AA/AB, PLC-5
@@ -29,7 +29,7 @@
 #include "df1_int.h"
 #include "proto/frame.h"
 #include "link/link.h"
-#include "mock_port.h"
+#include "support/mock_port.h"
 #include "proto/pccc.h"
 #include "proto/value.h"
 

@@ -33,8 +33,8 @@
 #include <unistd.h>
 
 #include "df1_int.h"
-#include "mock_port.h"
-#include "simproc.h"
+#include "support/mock_port.h"
+#include "support/simproc.h"
 
 /* What the callback saw. */
 #define SEEN_MAX 256

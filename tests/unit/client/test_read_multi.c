@@ -2,7 +2,7 @@
 /*
  * test_read_multi - df1_read_multi(): the planner's fewest-transactions rule
  * (pure), the argument checks, and reads against df1sim as a separate process
- * (tests/simproc.c) over a pseudo-terminal, transactions counted in df1sim's
+ * (tests/support/simproc.c) over a pseudo-terminal, transactions counted in df1sim's
  * --log (one line per command it answered). Expectations come from the spec's
  * packet limits (doc/PROTOCOL.md 6: SLC 5/03+ 236 data bytes a read = 118
  * words, SLC 5/01-5/02 82 bytes = 41 words) and df1sim's documented initial
@@ -24,7 +24,7 @@
 #include "df1.h"
 #include "proto/plc_limits.h"
 #include "client/block_plan.h"
-#include "simproc.h"
+#include "support/simproc.h"
 
 /* ------------------------------------------------------------------------
  * The planner's fewest-transactions rule (pure)

@@ -228,7 +228,7 @@ static void test_config_com_port_accepts(void **state)
 	}
 }
 
-/* Refused with the message and catalog ID 0 of tests/test_config.c. */
+/* Refused with the message and catalog ID 0 of tests/unit/config/test_config.c. */
 static void test_config_com_port_refuses(void **state)
 {
 	static const char *const bad[] = {

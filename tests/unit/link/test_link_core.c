@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_link - the link layer (lib/link/: core.c, full.c, half.c) against a scripted
- * port (tests/mock_port.c): full-duplex master and responder, half-duplex
+ * port (tests/support/mock_port.c): full-duplex master and responder, half-duplex
  * master and slave, the Active Station List, duplicates and stale replies,
  * counters by seed ID, fault injection; and master <-> responder pairs where
  * the responder is a second handle run by the mock while the master waits.
@@ -21,7 +21,7 @@
 #include "link/link.h"
 #include "link/link_int.h"
 #include "server/server.h"
-#include "mock_port.h"
+#include "support/mock_port.h"
 
 /* SLC 0F/A2 read N7:0, 20 bytes, to station 1 (TNS filled in by the link) */
 static const char *A2_CMD = "01 00 0F 00 00 00 A2 14 07 89 00 00";

@@ -16,7 +16,7 @@
 #include "df1_int.h"
 #include "link/link.h"
 #include "link/link_int.h"
-#include "mock_port.h"
+#include "support/mock_port.h"
 
 static const uint8_t ACK[2] = { 0x10, 0x06 };
 static const uint8_t NAK[2] = { 0x10, 0x15 };

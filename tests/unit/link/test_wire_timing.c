@@ -33,7 +33,7 @@
 
 #include "df1.h"
 #include "link/half_repoll.h"
-#include "simproc.h"
+#include "support/simproc.h"
 
 static uint64_t cnt(df1_t *h, int id)
 {

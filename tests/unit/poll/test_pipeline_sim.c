@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * test_pipeline_sim - the poll engine pipelined (DF1_OPT_MAX_OUTSTANDING 4)
- * against df1sim as a separate process on a real pty (tests/simproc.c), full
+ * against df1sim as a separate process on a real pty (tests/support/simproc.c), full
  * duplex: the values read are the data table's and the same as with N = 1;
  * under NAK, dropped-ACK and corrupt-reply faults every queued write ends once
  * and is executed exactly once when reported done (at most once otherwise, never
@@ -17,7 +17,7 @@
 #include <string.h>
 
 #include "df1.h"
-#include "simproc.h"
+#include "support/simproc.h"
 
 #define STATIONS 2
 #define READS 6                 /* per station: blocks of their own (far apart) */

@@ -2,7 +2,7 @@
 /*
  * test_poll - the poll engine (lib/poll/): the pure block planner, the API
  * without I/O, and the engine against df1sim as a separate process
- * (tests/simproc.c) over pseudo-terminals:
+ * (tests/support/simproc.c) over pseudo-terminals:
  *  - coalescing: 40 tags in two files take two reads (df1sim --log), the SLC
  *    5/02 82-byte limit;
  *  - a tag on a missing element / file is isolated by splitting, the others
@@ -46,7 +46,7 @@
 #include "df1.h"
 #include "proto/plc_limits.h"
 #include "client/block_plan.h"
-#include "simproc.h"
+#include "support/simproc.h"
 
 /* Allocation counter (test_scans_allocate_nothing): the process's malloc,
  * calloc and realloc come here, glibc's allocator behind them. Not under

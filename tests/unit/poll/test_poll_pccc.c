@@ -2,7 +2,7 @@
 /*
  * test_poll_pccc - df1_pccc_is_write() over the command list of
  * doc/PROTOCOL.md 4, and df1_poll_submit_pccc() against df1sim as a separate
- * process (tests/simproc.c) over a pseudo-terminal:
+ * process (tests/support/simproc.c) over a pseudo-terminal:
  *  - the argument checks, and the bounded queue (DF1_E_BUSY at
  *    DF1_PCCC_QUEUE_MAX waiting commands);
  *  - a diagnostic status (06/03) comes back with the requester's TNS, CMD 46,
@@ -28,7 +28,7 @@
 #include <time.h>
 
 #include "df1.h"
-#include "simproc.h"
+#include "support/simproc.h"
 
 static int64_t now_ms(void)
 {
