@@ -7,54 +7,16 @@
 # stderr and skipped; --counters adds the counter table; a live csv run has
 # one record per tag per scan; on a terminal (script(1)) the table is redrawn
 # every scan. Run from the repository root with DF1_BIN=<build/bin>. Skips
-# (passes) when this df1mon was built without --map.
+# (SKIP, exit 0) when this df1mon was built without --map.
 set -u
 
-BIN=${DF1_BIN:-$(pwd)/build/bin}
+. tests/support/lib.sh
 SIM="$BIN/df1sim"
 MON="$BIN/df1mon"
-T=$(mktemp -d "${TMPDIR:-/tmp}/it_poll.XXXXXX") || exit 1
-fails=0
-pid=
-dog=
-
-cleanup() {
-	[ -n "$pid" ] && kill "$pid" 2>/dev/null
-	[ -n "$dog" ] && kill "$dog" 2>/dev/null
-	exec 3<&- 2>/dev/null
-	rm -rf "$T"
-}
-trap cleanup EXIT
-
-ok() { echo "ok   $1"; }
-fail() { echo "FAIL $1"; fails=$((fails + 1)); }
-
-# start ARGS...: df1sim in the background; waits for its ready line (10 s watchdog).
-start() {
-	rm -f "$T/out"
-	mkfifo "$T/out" || exit 1
-	"$SIM" "$@" > "$T/out" 2> "$T/simerr" &
-	pid=$!
-	( sleep 10; kill "$pid" 2>/dev/null ) &
-	dog=$!
-	exec 3< "$T/out"
-	line=
-	IFS= read -r line <&3 || line=
-	kill "$dog" 2>/dev/null
-	wait "$dog" 2>/dev/null
-	dog=
-}
-
-stop() {
-	kill -s TERM "$pid" 2>/dev/null
-	wait "$pid"
-	pid=
-	exec 3<&-
-}
 
 [ -x "$SIM" ] && [ -x "$MON" ] || { echo "FAIL tools not built in $BIN"; exit 1; }
 if ! "$MON" --help 2>&1 | grep -q -- '--map'; then
-	echo "skip: df1mon has no --map"
+	skip "df1mon has no --map"
 	exit 0
 fi
 
@@ -76,8 +38,8 @@ Syntax,Read,INT,1,SLC,Q7:0,1,500
 EOF
 printf 'Tag,Command,Type,Station,PLC_Type,Address\nBad,Read,INT,999,SLC,N7:0\n' > "$T/none.csv"
 
-start --pty "$T/plc" --duplex half --station 1,2 --silent 2
-[ "$line" = "$T/plc" ] || { echo "FAIL df1sim did not start: '$line'"; cat "$T/simerr"; exit 1; }
+sim_run --pty "$T/plc" --duplex half --station 1,2 --silent 2
+[ "$SIM_LINE" = "$T/plc" ] || { echo "FAIL df1sim did not start: '$SIM_LINE'"; cat "$T/sim.err"; exit 1; }
 D="-d $T/plc --duplex half -o 100"
 
 # 1. plain, one scan, every tag GOOD: exit 0
@@ -88,7 +50,7 @@ if [ "$rc" -eq 0 ] && grep -q '^Speed .* 5 .*GOOD' "$T/o" && grep -q '^Levels .*
 	&& grep -q '^scan 1:' "$T/o" && ! grep -q "$(printf '\033')" "$T/o"; then
 	ok "plain one-shot: values, qualities, exit 0, no ANSI on a pipe"
 else
-	fail "plain one-shot (rc=$rc)"; cat "$T/o" "$T/e"
+	bad "plain one-shot (rc=$rc)"; cat "$T/o" "$T/e"
 fi
 
 # 2. a tag on a missing file: BAD plc_error, exit 1
@@ -97,7 +59,7 @@ rc=$?
 if [ "$rc" -eq 1 ] && grep -q '^Missing .*BAD plc_error' "$T/o" && grep -q '^Speed .*GOOD' "$T/o"; then
 	ok "bad tag: BAD plc_error, the others GOOD, exit 1"
 else
-	fail "bad tag (rc=$rc)"; cat "$T/o" "$T/e"
+	bad "bad tag (rc=$rc)"; cat "$T/o" "$T/e"
 fi
 
 # 3. a silent station: its tag BAD comm_failure after one scan, exit 1
@@ -106,7 +68,7 @@ rc=$?
 if [ "$rc" -eq 1 ] && grep -q '^Far .*BAD comm_failure' "$T/o" && grep -q '^Speed .*GOOD' "$T/o"; then
 	ok "silent station: BAD comm_failure, exit 1"
 else
-	fail "silent station (rc=$rc)"; cat "$T/o" "$T/e"
+	bad "silent station (rc=$rc)"; cat "$T/o" "$T/e"
 fi
 
 # 4. csv: the header, one row per tag
@@ -116,7 +78,7 @@ if [ "$rc" -eq 0 ] && [ "$(head -n 1 "$T/o")" = "t,scan,tag,station,address,valu
 	&& [ "$(grep -c ',1,' "$T/o")" -ge 5 ] && grep -q ',Levels,1,F8:0,0\.5 1\.5 2\.5,GOOD,none,' "$T/o"; then
 	ok "csv one-shot"
 else
-	fail "csv one-shot (rc=$rc)"; cat "$T/o" "$T/e"
+	bad "csv one-shot (rc=$rc)"; cat "$T/o" "$T/e"
 fi
 
 # 5. json: one object per tag
@@ -127,7 +89,7 @@ if [ "$rc" -eq 0 ] && [ "$(wc -l < "$T/o")" -eq 5 ] \
 	&& grep -q '"tag":"Setpoint".*"value":null' "$T/o"; then
 	ok "json one-shot"
 else
-	fail "json one-shot (rc=$rc)"; cat "$T/o" "$T/e"
+	bad "json one-shot (rc=$rc)"; cat "$T/o" "$T/e"
 fi
 
 # 6. --counters: the seed counter table and the scan statistics
@@ -136,7 +98,7 @@ rc=$?
 if [ "$rc" -eq 0 ] && grep -q '^2525 CNT_MSG_PACKETS_SENT [1-9]' "$T/o" && grep -q 'transactions per scan' "$T/o"; then
 	ok "--counters"
 else
-	fail "--counters (rc=$rc)"; cat "$T/o" "$T/e"
+	bad "--counters (rc=$rc)"; cat "$T/o" "$T/e"
 fi
 
 # 7. rows with problems are reported and skipped; the rest is polled
@@ -146,16 +108,16 @@ if [ "$rc" -eq 0 ] && grep -q '2501' "$T/e" && grep -q '2503' "$T/e" && grep -q 
 	&& ! grep -q '^Broken' "$T/o"; then
 	ok "bad rows reported on stderr and skipped"
 else
-	fail "bad rows (rc=$rc)"; cat "$T/o" "$T/e"
+	bad "bad rows (rc=$rc)"; cat "$T/o" "$T/e"
 fi
 
 # 8. configuration errors: exit 2
 "$MON" $D --map "$T/nonexistent.csv" -1 > "$T/o" 2> "$T/e"
 rc=$?
-if [ "$rc" -eq 2 ] && [ -s "$T/e" ] && [ ! -s "$T/o" ]; then ok "missing file: exit 2"; else fail "missing file (rc=$rc)"; cat "$T/e"; fi
+if [ "$rc" -eq 2 ] && [ -s "$T/e" ] && [ ! -s "$T/o" ]; then ok "missing file: exit 2"; else bad "missing file (rc=$rc)"; cat "$T/e"; fi
 "$MON" $D --map "$T/none.csv" -1 > "$T/o" 2> "$T/e"
 rc=$?
-if [ "$rc" -eq 2 ] && grep -q 'no valid tag' "$T/e"; then ok "no valid tag: exit 2"; else fail "no valid tag (rc=$rc)"; cat "$T/e"; fi
+if [ "$rc" -eq 2 ] && grep -q 'no valid tag' "$T/e"; then ok "no valid tag: exit 2"; else bad "no valid tag (rc=$rc)"; cat "$T/e"; fi
 
 # 9. live csv: one record per tag per scan, every scan; SIGINT ends it with 0
 sed 's/,500$/,100/' "$T/good.csv" > "$T/fast.csv"
@@ -169,7 +131,7 @@ scans=$(awk -F, 'NR > 1 { n[$2]++ } END { bad = 0; for (s in n) { k++; if (n[s] 
 if [ "$rc" -eq 0 ] && [ "$scans" -ge 3 ]; then
 	ok "live csv: $scans scans, 5 records each, exit 0 on SIGINT"
 else
-	fail "live csv (rc=$rc, scans=$scans)"; cat "$T/o" "$T/e"
+	bad "live csv (rc=$rc, scans=$scans)"; cat "$T/o" "$T/e"
 fi
 
 # 10. on a terminal (script(1) gives df1mon a pty): the table is redrawn every scan
@@ -181,12 +143,11 @@ if command -v script > /dev/null 2>&1 && command -v timeout > /dev/null 2>&1 \
 	if [ "$redraws" -ge 3 ] && [ "$stats" -eq "$redraws" ] && grep -q '^2525 CNT_MSG_PACKETS_SENT' "$T/o"; then
 		ok "terminal: $redraws redraws, each with its scan statistics and counters"
 	else
-		fail "terminal (redraws=$redraws, stats=$stats)"; cat -v "$T/o" | tail -20
+		bad "terminal (redraws=$redraws, stats=$stats)"; cat -v "$T/o" | tail -20
 	fi
 else
-	echo "skip terminal redraw: no script(1)"
+	skip "terminal redraw: no script(1)"
 fi
 
-stop
-[ "$fails" -eq 0 ] || { echo "$fails failed"; exit 1; }
-echo "all passed"
+sim_end TERM
+finish

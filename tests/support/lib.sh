@@ -21,12 +21,22 @@
 #                          (the device to give -d) and SIM_PID; its stdout and
 #                          stderr are $T/NAME.out and $T/NAME.err
 #   sim_stop [PID]         stop a df1sim (default $SIM_PID) and wait for it
+#   sim_run [DF1SIM ARGS...]
+#                          start df1sim with exactly these arguments (nothing
+#                          added); SIM_LINE = the first line it prints (read
+#                          from a fifo: returns when written, or empty at EOF
+#                          if it dies first, or after a 10 s watchdog kills a
+#                          df1sim that neither prints nor exits); SIM_PID; its
+#                          stderr is $T/sim.err
+#   sim_end SIGNAL         send SIGNAL to $SIM_PID and wait; returns its exit
+#                          status (the df1sim of sim_run)
 #   lib_reap PID           wait (bounded, 5 s) for a process to end; KILL it if not
 #   wait_for DESC TRIES CMD...
 #                          run CMD every 0.1 s until it succeeds, at most TRIES
 #                          times; count a failure (and return 1) if it never does
 #   json_ok FILE           every line of FILE is a JSON object (starts with {, ends
 #                          with }, balanced braces and unescaped quotes)
+#   skip DESC              print "SKIP: DESC": counted neither passed nor failed
 #   finish                 print "N passed, N failed" and exit 0 only if none failed
 #
 # Waits are bounded loops on a condition, never a sleep that hopes; tests assert
@@ -79,6 +89,8 @@ expect() {
 		sed 's/^/  err: /' "$T/err" | head -5
 	fi
 }
+
+skip() { echo "SKIP: $*"; }
 
 check() { if eval "$2"; then ok; else bad "$1"; fi; }
 
@@ -161,6 +173,32 @@ sim_stop() {
 	grep -v "^$p\$" "$T/.sims" > "$T/.sims.new" 2>/dev/null
 	mv "$T/.sims.new" "$T/.sims"
 	return 0
+}
+
+sim_run() {
+	rm -f "$T/sim.out"
+	mkfifo "$T/sim.out" || exit 1
+	"$BIN/df1sim" "$@" > "$T/sim.out" 2> "$T/sim.err" &
+	SIM_PID=$!
+	echo "$SIM_PID" >> "$T/.sims"
+	( sleep 10; kill "$SIM_PID" 2>/dev/null ) &
+	sim_dog=$!
+	exec 3< "$T/sim.out"
+	SIM_LINE=
+	IFS= read -r SIM_LINE <&3 || SIM_LINE=
+	kill "$sim_dog" 2>/dev/null
+	wait "$sim_dog" 2>/dev/null
+}
+
+sim_end() {
+	kill -s "$1" "$SIM_PID" 2>/dev/null
+	wait "$SIM_PID"
+	sim_rc=$?
+	grep -v "^$SIM_PID\$" "$T/.sims" > "$T/.sims.new" 2>/dev/null
+	mv "$T/.sims.new" "$T/.sims"
+	SIM_PID=
+	exec 3<&-
+	return $sim_rc
 }
 
 json_ok() {
