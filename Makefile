@@ -64,11 +64,22 @@ TOOL_COMMON_SRCS := $(sort $(wildcard tools/common/*.c))
 TOOL_COMMON_LIB := $(B)/libdf1-tools.a
 TOOLS := $(foreach t,$(TOOL_NAMES),$(B)/bin/$(t))
 TOOL_HDRS := $(wildcard tools/*/*.h)
-TEST_SRCS := $(sort $(wildcard tests/test_*.c))
-TEST_BINS := $(TEST_SRCS:tests/%.c=$(B)/tests/%)
-TEST_HELPERS := $(filter-out $(TEST_SRCS),$(wildcard tests/*.c))
+# A unit test is tests/unit/<folder>/test_*.c, <folder> the lib wing or tool
+# it tests (tests/README); its binary is $(B)/tests/test_* (names are unique).
+# tests/support/*.c (mocks, helpers, fixtures) are linked into every test;
+# the tests in tests/unit/df1gw/ also link df1gw's broker-free objects.
+TEST_SRCS := $(sort $(wildcard tests/unit/*/test_*.c))
+TEST_BINS := $(patsubst %.c,$(B)/tests/%,$(notdir $(TEST_SRCS)))
+TEST_HELPERS := $(wildcard tests/support/*.c)
 TEST_HELPER_OBJS := $(TEST_HELPERS:%.c=$(B)/%.o)
-# examples/*.c are built with the tests (tests/it_*.sh run them)
+TEST_DUPS := $(strip $(foreach n,$(sort $(notdir $(TEST_SRCS))),$(if $(word 2,$(filter %/$(n),$(TEST_SRCS))),$(filter %/$(n),$(TEST_SRCS)))))
+ifneq ($(TEST_DUPS),)
+  $(error unit tests with the same name (their binaries would clash): $(TEST_DUPS))
+endif
+ifneq ($(wildcard tests/test_*.c),)
+  $(error $(wildcard tests/test_*.c): a unit test goes to tests/unit/<folder>/ (tests/README))
+endif
+# examples/*.c are built with the tests (tests/integration/*.sh run them)
 EXAMPLE_BINS := $(patsubst examples/%.c,$(B)/examples/%,$(wildcard examples/*.c))
 
 STATIC := $(B)/libdf1.a
@@ -112,7 +123,7 @@ $(B)/lib/%.o: lib/%.c $(LIB_HDRS)
 	$(COMPILE) $(LIB_CPPFLAGS) -c -o $@ $<
 $(B)/tools/%.o: tools/%.c $(wildcard include/*.h) $(TOOL_HDRS)
 	$(COMPILE) $(TOOL_CPPFLAGS) -c -o $@ $<
-$(B)/tests/%.o: tests/%.c $(LIB_HDRS) $(TOOL_HDRS) $(wildcard tests/*.h)
+$(B)/tests/%.o: tests/%.c $(LIB_HDRS) $(TOOL_HDRS) $(wildcard tests/support/*.h)
 	$(COMPILE) $(TEST_CPPFLAGS) -c -o $@ $<
 
 $(B)/pic/lib/%.o: lib/%.c $(LIB_HDRS)
@@ -149,14 +160,18 @@ $(B)/libdf1.pc: libdf1.pc.in include/df1.h
 	$(Q)sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
 	    -e 's|@INCLUDEDIR@|$(INCLUDEDIR)|' -e 's|@VERSION@|$(VERSION)|' $< > $@
 
-# df1gw's unit tests link its broker-free objects: an explicit rule, so that
-# they are prerequisites (a pattern rule without a recipe would not add them)
-$(filter $(B)/tests/test_gw_%,$(TEST_BINS)): $(GW_PURE_OBJS) $(TOOL_COMMON_LIB)
-$(B)/tests/%: $(B)/tests/%.o $(TEST_HELPER_OBJS) $(STATIC)
-	@mkdir -p $(dir $@)
-	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) $(CFLAGS) $(EXTRA) $(LDFLAGS) -o $@ $< $(if $(filter test_gw_%,$*),$(GW_PURE_OBJS) $(TOOL_COMMON_LIB)) \
-		$(TEST_HELPER_OBJS) $(STATIC) $(CMOCKA_LIBS) $(LIBS) -lpthread
+# each test binary from its object under tests/unit/<folder>/; df1gw's unit
+# tests also link its broker-free objects
+define TEST_RULE
+$(B)/tests/$(notdir $(1:.c=)): $(B)/$(1:.c=.o) $(TEST_HELPER_OBJS) $(STATIC) \
+		$(if $(filter tests/unit/df1gw/%,$(1)),$(GW_PURE_OBJS) $(TOOL_COMMON_LIB))
+	@mkdir -p $$(dir $$@)
+	@$$(if $$(Q),echo "  LD      $$@")
+	$$(Q)$$(CC) $$(CFLAGS) $$(EXTRA) $$(LDFLAGS) -o $$@ $$< \
+		$(if $(filter tests/unit/df1gw/%,$(1)),$$(GW_PURE_OBJS) $$(TOOL_COMMON_LIB)) \
+		$$(TEST_HELPER_OBJS) $$(STATIC) $$(CMOCKA_LIBS) $$(LIBS) -lpthread
+endef
+$(foreach t,$(TEST_SRCS),$(eval $(call TEST_RULE,$(t))))
 
 $(B)/examples/%: examples/%.c $(wildcard include/*.h) $(STATIC)
 	$(COMPILE) $(LDFLAGS) -o $@ $< $(STATIC) $(LIBS) -lpthread
@@ -164,8 +179,10 @@ $(B)/examples/%: examples/%.c $(wildcard include/*.h) $(STATIC)
 tests: all $(TEST_BINS) $(EXAMPLE_BINS)
 
 # Run every test binary and shell test; the runner's last line is "N passed, N failed".
+# It is given the binaries this tree builds, so a stale one left in $(B)/tests
+# (a test renamed or split) is not run.
 test-run: tests
-	@B=$(B) $(TEST_ENV) sh tests/run-tests.sh
+	@B=$(B) TEST_BINS="$(sort $(TEST_BINS))" $(TEST_ENV) sh tests/run-tests.sh
 
 deps:
 	@sh scripts/deps.sh
@@ -181,14 +198,14 @@ check-exports: $(SHARED)
 	echo "exports: only df1_* symbols"
 
 lint-man:
-	@sh tests/lint-man.sh
+	@sh tests/lint/lint-man.sh
 
 # The layers of doc/ARCHITECTURE.md 2 kept: no two files or layers that call each other,
 # no bare catalog ID in code (DF1_ID_* names), no source file over 1000 lines.
 CODE_SRCS = $(wildcard include/*.h) $(wildcard lib/*.[ch] lib/*/*.[ch] tools/*.[ch] tools/*/*.[ch])
 lint-code: all
-	@B=$(B) sh tests/lint-layers.sh
-	@python3 tests/lint-ids.py $(CODE_SRCS) && echo "catalog IDs: named in code"
+	@B=$(B) sh tests/lint/lint-layers.sh
+	@python3 tests/lint/lint-ids.py $(CODE_SRCS) && echo "catalog IDs: named in code"
 	@long=$$(wc -l $(CODE_SRCS) | awk '$$2 != "total" && $$1 > 1000 { print $$2 " (" $$1 " lines)" }'); \
 	if [ -n "$$long" ]; then echo "source files over 1000 lines: $$long"; exit 1; fi; \
 	echo "source files: none over 1000 lines"

@@ -7,7 +7,7 @@
  *
  * The table lives at the hub, not in lib/port: a row names lib/eip's link,
  * and lib/eip sits on lib/port, so lib/port naming it would close a loop of
- * layers (tests/lint-layers.sh).
+ * layers (tests/lint/lint-layers.sh).
  */
 #include "scheme.h"
 

@@ -3,7 +3,7 @@
 # Creates the alias pages of section 3. Every function named in the NAME
 # section of a group page (man3/df1_read.3: "df1_read, df1_read_addr, ... \-")
 # gets man3/<function>.3 as a symbolic link to its group page, so that
-# `man df1_read_float` finds it and tests/lint-man.sh finds a page for every
+# `man df1_read_float` finds it and tests/lint/lint-man.sh finds a page for every
 # DF1_API function of include/df1.h.
 #
 # To document new functions: add them to the NAME line and SYNOPSIS of a group

@@ -1,7 +1,9 @@
 #!/bin/sh
 # SPDX-License-Identifier: MPL-2.0
-# Runs every cmocka test binary and every tests/it_*.sh integration script.
-# Last line: "N passed, N failed"; exit status non-zero if anything failed.
+# Runs every cmocka test binary (those TEST_BINS names, as make test-run
+# gives them; without it every $B/tests/test_*) and every
+# tests/integration/*.sh script. Last line: "N passed, N failed"; exit status
+# non-zero if anything failed.
 B=${B:-build}
 export B
 export DF1_BIN="$(cd "$B" && pwd)/bin"
@@ -11,7 +13,7 @@ failed=0
 failures=""
 log_dir="$B/test-logs"
 mkdir -p "$log_dir"
-for t in "$B"/tests/test_*; do
+for t in ${TEST_BINS:-"$B"/tests/test_*}; do
 	[ -x "$t" ] || continue
 	name=$(basename "$t")
 	if "$t" > "$log_dir/$name.log" 2>&1; then
@@ -21,7 +23,7 @@ for t in "$B"/tests/test_*; do
 		tail -n 40 "$log_dir/$name.log"
 	fi
 done
-for t in tests/it_*.sh; do
+for t in tests/integration/*.sh; do
 	[ -f "$t" ] || continue
 	name=$(basename "$t" .sh)
 	if timeout 600 sh "$t" > "$log_dir/$name.log" 2>&1; then

@@ -13,7 +13,7 @@
  * PLC-5 address) and the gap it
  * bridges costs no more wire bytes than one more read transaction would
  * (gap_max bytes). Greedy packing from the left gives the fewest blocks for
- * these two rules (checked against an exhaustive search in tests/test_poll.c).
+ * these two rules (checked against an exhaustive search in tests/unit/poll/test_poll.c).
  *
  * gap_max = POLL_GAP_FEWEST_TX plans for the fewest transactions instead
  * (df1_read_multi(3)): items that overlap or touch are always one block, and a

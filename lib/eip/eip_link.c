@@ -18,7 +18,7 @@
  * The eip:// row of the scheme table (lib/scheme.c) names it as that
  * scheme's own link (eip_link_ops) over the TCP backend, which df1_open() sets
  * in h->port. Self-contained over that port: no call into lib/link, so tests
- * that replace the DF1 link (tests/test_client.c) still link the handle with it.
+ * that replace the DF1 link (tests/unit/client/test_client.c) still link the handle with it.
  */
 #include "df1_int.h"
 

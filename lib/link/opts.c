@@ -2,7 +2,7 @@
 /*
  * opts.c - the frame decoder options (FRAME_OPT_*) that the link settings
  * imply. Its own file: the handle sets up its decoder with it at df1_new()
- * without pulling in the link layer's code (tests/test_client.c replaces all
+ * without pulling in the link layer's code (tests/unit/client/test_client.c replaces all
  * of link.h but this).
  */
 #include "link/link.h"

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MPL-2.0
-"""Test fixtures: df1sim as a separate process, as tests/simproc.c and tests/lib.sh start it.
+"""Test fixtures: df1sim as a separate process, as tests/support/simproc.c and tests/support/lib.sh start it.
 
 DF1_BIN names the directory of the tools (default: the tree's build/bin);
 LIBDF1_PATH the library (default: the tree's build/ when it holds one).

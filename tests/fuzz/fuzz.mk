@@ -30,8 +30,8 @@ FUZZ_MON_OBJS := $(patsubst %.c,$(FUZZ_B)/%.o,tools/df1mon/mon_read.c tools/df1m
 	$(TOOL_COMMON_SRCS))
 FUZZ_EXTRA_mon_read := $(FUZZ_MON_OBJS)
 # the link and the poll engine run against the scripted port of the unit tests
-FUZZ_EXTRA_link := $(FUZZ_B)/tests/mock_port.o $(FUZZ_B)/tests/fuzz/fuzz_peer.o
-FUZZ_EXTRA_poll := $(FUZZ_B)/tests/mock_port.o $(FUZZ_B)/tests/fuzz/fuzz_peer.o
+FUZZ_EXTRA_link := $(FUZZ_B)/tests/support/mock_port.o $(FUZZ_B)/tests/fuzz/fuzz_peer.o
+FUZZ_EXTRA_poll := $(FUZZ_B)/tests/support/mock_port.o $(FUZZ_B)/tests/fuzz/fuzz_peer.o
 FUZZ_LIBS_link := $(CMOCKA_LIBS)
 FUZZ_LIBS_poll := $(CMOCKA_LIBS)
 # the dictionary of each target (tests/fuzz/*.dict, concatenated)
@@ -54,7 +54,7 @@ $(FUZZ_B)/lib/%.o: lib/%.c $(LIB_HDRS)
 	$(FUZZ_COMPILE) -c -o $@ $<
 $(FUZZ_B)/tools/%.o: tools/%.c $(wildcard include/*.h) $(TOOL_HDRS)
 	$(FUZZ_COMPILE) -c -o $@ $<
-$(FUZZ_B)/tests/%.o: tests/%.c $(LIB_HDRS) $(wildcard tests/*.h) $(wildcard tests/fuzz/*.h)
+$(FUZZ_B)/tests/%.o: tests/%.c $(LIB_HDRS) $(wildcard tests/support/*.h) $(wildcard tests/fuzz/*.h)
 	$(FUZZ_COMPILE) -c -o $@ $<
 
 $(FUZZ_B)/libdf1.a: $(FUZZ_LIB_OBJS)

@@ -8,7 +8,7 @@
 
 #include "proto/frame.h"
 #include "link/link.h"
-#include "mock_port.h"
+#include "support/mock_port.h"
 
 static struct {
 	struct df1 *h;

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * fuzz_peer - a hostile responder on the scripted port of the unit tests
- * (tests/mock_port.c) for the link and poll targets: after each transmission
+ * (tests/support/mock_port.c) for the link and poll targets: after each transmission
  * of the master it answers with the next chunk of the fuzz input. Reads find
  * an expired deadline when nothing is queued (virtual time: no waiting).
  *

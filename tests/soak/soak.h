@@ -3,7 +3,7 @@
  * soak - transactions through df1sim (a real process on a pty) with every
  * fault it offers, full and half duplex, BCC and CRC, checked against a
  * shadow of what was written and against df1sim's --log (README "Soak").
- * Only the public API (include/df1.h) and tests/simproc.h.
+ * Only the public API (include/df1.h) and tests/support/simproc.h.
  *
  * One lane per link setting, each a thread with its own df1sim and handle:
  *   lane.c    the mix of operations and their checks;
@@ -21,7 +21,7 @@
 #include <sys/types.h>
 
 #include "df1.h"
-#include "../simproc.h"
+#include "../support/simproc.h"
 
 /* link settings of every lane: short timers so that faults cost little time */
 #define SOAK_TIMEOUT_MS 50

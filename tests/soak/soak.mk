@@ -6,7 +6,7 @@
 SOAK_TRANSACTIONS ?= 200000
 SOAK_SEED ?= 1
 SOAK_SRCS := $(wildcard tests/soak/*.c)
-SOAK_OBJS := $(SOAK_SRCS:%.c=$(B)/%.o) $(B)/tests/simproc.o
+SOAK_OBJS := $(SOAK_SRCS:%.c=$(B)/%.o) $(B)/tests/support/simproc.o
 
 .PHONY: soak
 $(B)/soak/soak: $(SOAK_OBJS) $(STATIC)
