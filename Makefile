@@ -206,6 +206,7 @@ CODE_SRCS = $(wildcard include/*.h) $(wildcard lib/*.[ch] lib/*/*.[ch] tools/*.[
 lint-code: all
 	@B=$(B) sh tests/lint/lint-layers.sh
 	@python3 tests/lint/lint-ids.py $(CODE_SRCS) && echo "catalog IDs: named in code"
+	@sh tests/lint/lint-spdx.sh
 	@long=$$(wc -l $(CODE_SRCS) | awk '$$2 != "total" && $$1 > 1000 { print $$2 " (" $$1 " lines)" }'); \
 	if [ -n "$$long" ]; then echo "source files over 1000 lines: $$long"; exit 1; fi; \
 	echo "source files: none over 1000 lines"
