@@ -278,13 +278,91 @@ static int rm_finish(struct rm_call *c, size_t n)
 	return (int)n;
 }
 
+/* Check every request (a bad one gets its result and the error detail). */
+static void rm_check_all(struct rm_call *c, size_t n)
+{
+	for (size_t i = 0; i < n; i++) {
+		int rc = rm_check(c->h, &c->reqs[i]);
+
+		if (rc < 0) {
+			df1_fail(c->h, rc, c->station, "%s", df1_strerror(rc));
+			rm_fail(c, i, rc);
+		}
+	}
+}
+
+/* The planner's items: one per valid request a block can serve (its tag the
+ * request's index). Returns how many. */
+static size_t rm_items(const struct rm_call *c, size_t n, struct poll_item *items)
+{
+	struct df1 *h = c->h;
+	size_t k = 0;
+
+	for (size_t i = 0; i < n; i++) {
+		const struct df1_read_req *r = &c->reqs[i];
+		const struct df1_addr *a = &r->addr;
+		struct poll_item *it;
+		int lo = 0, hi = 0;
+		size_t es;
+
+		if (r->result < 0 || rm_layout(r, &lo, &hi) == RM_ALONE || hi > 999)
+			continue;       /* past element 999: the client refuses it alone */
+		es = (size_t)df1_file_type_element_size(a->type);
+		it = &items[k++];
+		it->station = c->station;
+		it->plc = h->cfg.plc;
+		it->type = a->type;
+		it->file = a->file;
+		it->first = lo;
+		it->count = hi - lo + 1;
+		it->cost = (int)es;
+		it->limit = plc_read_limit(h->cfg.plc, a->type, es, a->file, lo, h->cfg.max_packet);
+		it->tag = (int)i;
+	}
+	return k;
+}
+
+/* The nb blocks in the order of their first request (insertion sort: few)
+ * into order[]. Returns the largest block's count (at least 1). */
+static size_t rm_order(const struct poll_block *blocks, size_t nb, const struct poll_item *items,
+                       size_t *order)
+{
+	size_t maxcount = 1;
+
+	for (size_t b = 0; b < nb; b++) {
+		size_t j = b, key = rm_block_key(&blocks[b], items);
+
+		while (j > 0 && rm_block_key(&blocks[order[j - 1]], items) > key) {
+			order[j] = order[j - 1];
+			j--;
+		}
+		order[j] = b;
+		if ((size_t)blocks[b].count > maxcount)
+			maxcount = (size_t)blocks[b].count;
+	}
+	return maxcount;
+}
+
+/* The blocks in order, then the addresses read alone (every planned one has
+ * its result by then), until a failure that ends the call. */
+static void rm_read_all(struct rm_call *c, size_t n, const struct poll_block *blocks, size_t nb,
+                        const size_t *order, const struct poll_item *items, struct df1_value *vals)
+{
+	for (size_t b = 0; b < nb; b++)
+		if (!rm_read_block(c, &blocks[order[b]], items, vals))
+			return;
+	for (size_t i = 0; i < n; i++)
+		if (c->reqs[i].result == 0 && !rm_read_alone(c, i))
+			return;
+}
+
 int df1_read_multi(df1_t *h, int station, struct df1_read_req *reqs, size_t n, unsigned flags,
                    unsigned *reads)
 {
 	struct rm_call c;
 	struct poll_item *items;
 	struct poll_block *blocks;
-	size_t *order, k = 0, maxcount = 1;
+	size_t *order, k, maxcount;
 	struct df1_value *vals;
 	void *mem;
 	int nb;
@@ -302,14 +380,7 @@ int df1_read_multi(df1_t *h, int station, struct df1_read_req *reqs, size_t n, u
 	c.station = station;
 	c.reqs = reqs;
 	c.stop = flags & DF1_READ_MULTI_STOP;
-	for (size_t i = 0; i < n; i++) {
-		int rc = rm_check(h, &reqs[i]);
-
-		if (rc < 0) {
-			df1_fail(h, rc, station, "%s", df1_strerror(rc));
-			rm_fail(&c, i, rc);
-		}
-	}
+	rm_check_all(&c, n);
 	if (c.stop && c.first_rc < 0)
 		return rm_finish(&c, n);        /* nothing sent */
 
@@ -320,27 +391,7 @@ int df1_read_multi(df1_t *h, int station, struct df1_read_req *reqs, size_t n, u
 	blocks = mem;
 	order = (size_t *)(blocks + n);
 	items = (struct poll_item *)(order + n);
-	for (size_t i = 0; i < n; i++) {
-		struct df1_read_req *r = &reqs[i];
-		const struct df1_addr *a = &r->addr;
-		struct poll_item *it;
-		int lo = 0, hi = 0;
-		size_t es;
-
-		if (r->result < 0 || rm_layout(r, &lo, &hi) == RM_ALONE || hi > 999)
-			continue;       /* past element 999: the client refuses it alone */
-		es = (size_t)df1_file_type_element_size(a->type);
-		it = &items[k++];
-		it->station = station;
-		it->plc = h->cfg.plc;
-		it->type = a->type;
-		it->file = a->file;
-		it->first = lo;
-		it->count = hi - lo + 1;
-		it->cost = (int)es;
-		it->limit = plc_read_limit(h->cfg.plc, a->type, es, a->file, lo, h->cfg.max_packet);
-		it->tag = (int)i;
-	}
+	k = rm_items(&c, n, items);
 	/* a PLC-5 typed packet carries an address and a type/data parameter whose
 	 * sizes vary: what a gap would save is not known, so only ranges that
 	 * overlap or touch are joined there */
@@ -348,32 +399,14 @@ int df1_read_multi(df1_t *h, int station, struct df1_read_req *reqs, size_t n, u
 	               blocks, k ? k : 1);
 	if (nb < 0)
 		nb = 0;         /* cannot happen: one block per item at most */
-	/* blocks in the order of their first request (insertion sort: few) */
-	for (size_t b = 0; b < (size_t)nb; b++) {
-		size_t j = b, key = rm_block_key(&blocks[b], items);
-
-		while (j > 0 && rm_block_key(&blocks[order[j - 1]], items) > key) {
-			order[j] = order[j - 1];
-			j--;
-		}
-		order[j] = b;
-		if ((size_t)blocks[b].count > maxcount)
-			maxcount = (size_t)blocks[b].count;
-	}
+	maxcount = rm_order(blocks, (size_t)nb, items, order);
 	/* one block's values at a time */
 	vals = calloc(maxcount, sizeof *vals);
 	if (!vals) {
 		free(mem);
 		return df1_fail(h, DF1_E_NOMEM, station, "%s", df1_strerror(DF1_E_NOMEM));
 	}
-	for (size_t b = 0; b < (size_t)nb; b++)
-		if (!rm_read_block(&c, &blocks[order[b]], items, vals))
-			goto out;
-	/* then the addresses read alone (every planned one has its result now) */
-	for (size_t i = 0; i < n; i++)
-		if (reqs[i].result == 0 && !rm_read_alone(&c, i))
-			goto out;
-out:
+	rm_read_all(&c, n, blocks, (size_t)nb, order, items, vals);
 	free(vals);
 	free(mem);
 	if (reads)

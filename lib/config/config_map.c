@@ -47,39 +47,33 @@ struct cfg_map_ctx {
 	int loaded;
 };
 
-static void cfg_map_row(struct cfg_load *l, struct cfg_row *row)
+/* Tag, Command, Type: what the tag is called and what it does (no catalog IDs). */
+static void cfg_map_name(struct cfg_load *l, struct cfg_row *row, struct df1_tag_config *t)
 {
-	struct cfg_map_ctx *m = l->ctx;
-	struct df1_tag_config t;
-	const char *v, *addr;
+	const char *v;
 	char u[16];
-	int item = l->item, line = row->line, before = l->issues, rc, x;
-	long lv;
-
-	memset(&t, 0, sizeof t);
-	if (cfg_check_cells(l, row, true) > 0)
-		return;         /* a NUL byte: the cells are not what they seem */
+	int item = l->item, line = row->line;
 
 	v = cfg_value(l, row, MF_TAG);
 	if (!*v)
 		cfg_report(l, 0, item, line, "Item: %d, missing Tag", item);
-	else if (strlen(v) >= sizeof t.name)
+	else if (strlen(v) >= sizeof t->name)
 		cfg_report(l, 0, item, line, "Item: %d, Tag (%.64s) is too long (max %d characters)",
-		           item, v, (int)sizeof t.name - 1);
+		           item, v, (int)sizeof t->name - 1);
 	else
-		strcpy(t.name, v);
+		strcpy(t->name, v);
 
 	v = cfg_value(l, row, MF_COMMAND);
-	t.access = DF1_ACCESS_READ;
+	t->access = DF1_ACCESS_READ;
 	if (*v) {
 		if (!cfg_squash(v, " _-/", u, sizeof u))
 			u[0] = '\0';
 		if (strcmp(u, "READ") == 0)
-			t.access = DF1_ACCESS_READ;
+			t->access = DF1_ACCESS_READ;
 		else if (strcmp(u, "WRITE") == 0)
-			t.access = DF1_ACCESS_WRITE;
+			t->access = DF1_ACCESS_WRITE;
 		else if (strcmp(u, "READWRITE") == 0 || strcmp(u, "RW") == 0)
-			t.access = DF1_ACCESS_READWRITE;
+			t->access = DF1_ACCESS_READWRITE;
 		else
 			cfg_report(l, 0, item, line,
 			           "Item: %d, Invalid Command (%.64s) should be one of Read, Write, or "
@@ -87,15 +81,22 @@ static void cfg_map_row(struct cfg_load *l, struct cfg_row *row)
 	}
 
 	v = cfg_value(l, row, MF_TYPE);
-	if (strlen(v) >= sizeof t.type)
+	if (strlen(v) >= sizeof t->type)
 		cfg_report(l, 0, item, line, "Item: %d, Type (%.64s) is too long (max %d characters)",
-		           item, v, (int)sizeof t.type - 1);
+		           item, v, (int)sizeof t->type - 1);
 	else
-		strcpy(t.type, v);
+		strcpy(t->type, v);
+}
+
+/* Station, PLC_Type: which PLC (catalog IDs 2501, 2502). */
+static void cfg_map_plc(struct cfg_load *l, struct cfg_row *row, struct df1_tag_config *t)
+{
+	const char *v;
+	int item = l->item, line = row->line, x;
 
 	v = cfg_value(l, row, MF_STATION);
 	if (cfg_int(v, &x) && x >= 0 && x < STATION_LIMIT)
-		t.station = x;
+		t->station = x;
 	else if (cfg_int(v, &x))
 		cfg_catalog(l, DF1_ID_ERR_BAD_STATION, item, line,
 		            "Item: %d, Invalid station number (%d) must be less than %d", "ddd", -1, item,
@@ -106,41 +107,72 @@ static void cfg_map_row(struct cfg_load *l, struct cfg_row *row)
 		            v, STATION_LIMIT);
 
 	v = cfg_value(l, row, MF_PLC_TYPE);
-	if (cfg_plc(v, &t.plc) < 0)
+	if (cfg_plc(v, &t->plc) < 0)
 		cfg_catalog(l, DF1_ID_ERR_BAD_PLC_TYPE, item, line,
 		            "Item: %d, Invalid or Unsupported PLC Type (%s) should be one of %s, %s, %s, %s",
 		            "dsssss", -1, item, v, PLC_CHOICES);
+}
+
+/* Count, Address: which elements (catalog IDs 2503, 2504). */
+static void cfg_map_where(struct cfg_load *l, struct cfg_row *row, struct df1_tag_config *t)
+{
+	const char *v, *addr;
+	int item = l->item, line = row->line, rc;
+	long lv;
 
 	v = cfg_value(l, row, MF_COUNT);
-	t.count = 1;
+	t->count = 1;
 	if (*v && !cfg_long(v, &lv))
 		cfg_report(l, 0, item, line, "Item: %d, Invalid Count (%.64s) should be a number of "
 		           "elements [1, %d]", item, v, COUNT_MAX);
 	else if (*v)
-		t.count = lv < INT_MIN ? INT_MIN : lv > INT_MAX ? INT_MAX : (int)lv;
+		t->count = lv < INT_MIN ? INT_MIN : lv > INT_MAX ? INT_MAX : (int)lv;
 
 	addr = cfg_value(l, row, MF_ADDRESS);
-	rc = df1_addr_parse(addr, &t.addr);
+	rc = df1_addr_parse(addr, &t->addr);
 	if (rc == DF1_E_ADDR_SYNTAX || rc == DF1_E_INVAL)
 		cfg_catalog(l, DF1_ID_ERR_ADDRESS_SYNTAX, item, line,
 		            "Item: %d, Invalid Address Syntax (%s)", "ds", -1, item,
 		            addr);
-	else if (rc < 0 || t.count < 1 || t.count > COUNT_MAX ||
-	         t.addr.element + t.count - 1 > ELEMENT_MAX)
+	else if (rc < 0 || t->count < 1 || t->count > COUNT_MAX ||
+	         t->addr.element + t->count - 1 > ELEMENT_MAX)
 		cfg_catalog(l, DF1_ID_ERR_ADDRESS_RANGE, item, line,
 		            "Item: %d, Address is out of range (%s, len=%d)", "dsd",
-		            -1, item, addr, t.count);
+		            -1, item, addr, t->count);
+}
 
-	v = cfg_value(l, row, MF_SCAN_MS);
-	t.scan_ms = 1000;
-	if (*v) {
-		/* 0: every scan (df1_tag_add) */
-		if (cfg_long(v, &lv) && lv >= 0 && lv <= SCAN_MS_MAX)
-			t.scan_ms = (int)lv;
-		else
-			cfg_report(l, 0, item, line, "Item: %d, Invalid Scan_Ms (%.64s) should be in range "
-			           "[0, %ld]", item, v, SCAN_MS_MAX);
-	}
+/* Scan_Ms: how often (no catalog ID). */
+static void cfg_map_scan(struct cfg_load *l, struct cfg_row *row, struct df1_tag_config *t)
+{
+	const char *v = cfg_value(l, row, MF_SCAN_MS);
+	long lv;
+
+	t->scan_ms = 1000;
+	if (!*v)
+		return;
+	/* 0: every scan (df1_tag_add) */
+	if (cfg_long(v, &lv) && lv >= 0 && lv <= SCAN_MS_MAX)
+		t->scan_ms = (int)lv;
+	else
+		cfg_report(l, 0, l->item, row->line, "Item: %d, Invalid Scan_Ms (%.64s) should be "
+		           "in range [0, %ld]", l->item, v, SCAN_MS_MAX);
+}
+
+/* One data row: every invalid value is reported, in the order of the fields;
+ * a valid row goes to row_fn (not in strict mode's checking pass). */
+static void cfg_map_row(struct cfg_load *l, struct cfg_row *row)
+{
+	struct cfg_map_ctx *m = l->ctx;
+	struct df1_tag_config t;
+	int before = l->issues, rc;
+
+	memset(&t, 0, sizeof t);
+	if (cfg_check_cells(l, row, true) > 0)
+		return;         /* a NUL byte: the cells are not what they seem */
+	cfg_map_name(l, row, &t);
+	cfg_map_plc(l, row, &t);
+	cfg_map_where(l, row, &t);
+	cfg_map_scan(l, row, &t);
 
 	if (l->issues != before || !m->deliver)
 		return;

@@ -264,124 +264,179 @@ static int hd_failed(struct df1 *h, uint8_t stn, int code)
 	return code;
 }
 
-int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap)
-{
+/* One command of ours on the line (half_transact). */
+struct hd_cmd {
+	const uint8_t *cmd;
 	uint8_t wire[FRAME_MAX_WIRE];
-	uint8_t stn = cmd[0];
-	size_t wn = frame_encode_master(link_tx_check(h), stn, h->cfg.hd_bcc_stx, cmd, n, wire,
-	                                sizeof wire);
-	int64_t cmd_deadline, wait = h->cfg.cmd_timeout_ms > 0 ? h->cfg.cmd_timeout_ms
-	                                                        : link_timeout_ms(h);
-	int64_t ack_us, poll_at_us, poll_us = 0;
+	size_t wn;
+	uint8_t stn;
+	int enqs, cause;
+	int64_t wait;                /* Cmd_Timeout, from the ACK */
+	int64_t deadline;            /* ms: the ACK plus wait */
+	int64_t ack_us;              /* the ACK */
+	int64_t poll_at_us, poll_us; /* the next poll, the last one sent */
 	struct repoll_est *lat;
-	int tries = 0, enqs = 0, cause = 0, r;
+};
 
-	if (wn == 0)
-		return df1_fail(h, DF1_E_INVAL, stn, "command of %zu bytes does not fit a frame", n);
-	if (!h->stations[stn].active) {
-		r = hd_probe(h, stn);
-		if (r < 0)
-			return r;
-	}
+/* 1. the master message, until the slave ACKs it: 0 or DF1_E_*. */
+static int hd_cmd_send(struct df1 *h, struct hd_cmd *t)
+{
+	int tries = 0, r;
 
-	/* 1. the master message, until the slave ACKs it */
 	for (;;) {
-		r = link_send_raw(h, wire, wn);
+		r = link_send_raw(h, t->wire, t->wn);
 		if (r < 0)
 			return r;
 		df1_count(h, DF1_ID_CNT_MSG_PACKETS_SENT);
 		if (tries == 0)
 			df1_count(h, DF1_ID_CNT_CMD_MSGS_SENT);
-		r = hd_wait_ack(h, link_after_tx_ms(h, link_timeout_ms(h)), &cause);
+		r = hd_wait_ack(h, link_after_tx_ms(h, link_timeout_ms(h)), &t->cause);
 		if (r < 0)
 			return r;
 		if (r == 1)
-			break;
+			return 0;
 		if (tries >= h->cfg.nak_retries) {
 			df1_count(h, DF1_ID_CNT_NAK_LIMIT_EXCEEDED);
 			df1_log(h, DF1_ID_NTC_NAK_LIMIT_EXCEEDED, h->cfg.nak_retries);
-			return hd_failed(h, stn, df1_fail(h, DF1_E_NAK_LIMIT, stn,
-			                 "station %d did not ACK the command (%d tries)", stn, tries + 1));
+			return hd_failed(h, t->stn, df1_fail(h, DF1_E_NAK_LIMIT, t->stn,
+			                 "station %d did not ACK the command (%d tries)", t->stn,
+			                 tries + 1));
 		}
 		tries++;
 		df1_count(h, DF1_ID_CNT_NAK_RETRIES);
-		df1_log(h, DF1_ID_NTC_NAK_RETRY, tries, cause);
+		df1_log(h, DF1_ID_NTC_NAK_RETRY, tries, t->cause);
 	}
+}
+
+/* Cmd_Timeout ran out: DF1_E_*. */
+static int hd_cmd_timeout(struct df1 *h, struct hd_cmd *t)
+{
+	int r = link_send_sym(h, DF1_NAK); /* end the slave's processing (doc/REQUIREMENTS.md 004) */
+
+	if (r < 0)
+		return r;
+	df1_count(h, DF1_ID_CNT_COMMAND_TIMEOUTS);
+	df1_log(h, DF1_ID_ERR_COMMAND_TIMEOUT);
+	return hd_failed(h, t->stn, df1_fail(h, DF1_E_TIMEOUT, t->stn,
+	                 "no reply from station %d within %lld ms", t->stn, (long long)t->wait));
+}
+
+/* A poll when one is due (polled), else the pause before it: the end of the
+ * read for what comes (*dl, at most Cmd_Timeout). 0 or DF1_E_*. */
+static int hd_cmd_poll(struct df1 *h, struct hd_cmd *t, int64_t now_us, bool polled, int64_t *dl)
+{
+	int r;
+
+	if (polled) {
+		t->poll_us = now_us;
+		r = hd_send_poll(h, t->stn);
+		if (r < 0)
+			return r;
+		/* a slave that suppresses DLE EOT sends nothing at all: a short
+		 * wait for the first byte, then a poll again (DF1_OPT_POLL_TIMEOUT_MS) */
+		*dl = link_after_tx_ms(h, hd_poll_answer_ms(h));
+	} else {
+		/* the pause before the next poll is a read: anything arriving is handled */
+		*dl = (t->poll_at_us + 999) / 1000;
+	}
+	if (*dl > t->deadline)
+		*dl = t->deadline;
+	return 0;
+}
+
+/* An answer with no valid message: a poll again now, until the ENQ retry
+ * limit. 0 or DF1_E_*. */
+static int hd_cmd_bad(struct df1 *h, struct hd_cmd *t, int64_t now_us)
+{
+	if (t->enqs >= h->cfg.enq_retries) {
+		df1_count(h, DF1_ID_CNT_ENQ_LIMIT_EXCEEDED);
+		df1_log(h, DF1_ID_NTC_ENQ_LIMIT_EXCEEDED, h->cfg.enq_retries);
+		return hd_failed(h, t->stn, df1_fail(h, DF1_E_ENQ_LIMIT, t->stn,
+		                 "no valid answer to %d polls of station %d", t->enqs + 1, t->stn));
+	}
+	t->enqs++;
+	df1_count(h, DF1_ID_CNT_ENQ_RETRIES);
+	df1_log(h, DF1_ID_NTC_ENQ_RETRY, t->enqs, t->cause);
+	t->poll_at_us = now_us;
+	return 0;
+}
+
+/* What came in the read (enum hd_answer a) after a poll (polled) or in the
+ * pause: 1 our reply, 0 go on (poll_at_us set), DF1_E_*. */
+static int hd_cmd_answer(struct df1 *h, struct hd_cmd *t, int a, bool polled)
+{
+	int64_t now_us = (int64_t)df1_now_us();
+
+	switch (a) {
+	case ANS_REPLY:
+		h->stations[t->stn].active = true;
+		/* the reply was ready when the poll that drew it went out (not
+		 * when it had arrived: its own wire time is no latency) */
+		repoll_learn(t->lat, t->poll_us - t->ack_us);
+		return 1;
+	case ANS_TIMEOUT:
+		if (!polled)
+			return 0; /* the pause ended: poll now */
+		/* a poll nobody answered: not ready yet, as an EOT */
+		__attribute__((fallthrough));
+	case ANS_EOT:
+		/* the message is outstanding: poll again when it is likely ready */
+		t->poll_at_us = now_us + repoll_next_us(t->lat, now_us - t->ack_us, hd_min_gap_us(h),
+		                                        HD_REPOLL_MAX_GAP_US);
+		return 0;
+	case ANS_SKIP:
+		t->poll_at_us = now_us;
+		return 0;
+	case ANS_BAD:
+	default:
+		return hd_cmd_bad(h, t, now_us);
+	}
+}
+
+int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap)
+{
+	struct hd_cmd t = { .cmd = cmd, .stn = cmd[0] };
+	int r;
+
+	t.wn = frame_encode_master(link_tx_check(h), t.stn, h->cfg.hd_bcc_stx, cmd, n, t.wire,
+	                           sizeof t.wire);
+	t.wait = h->cfg.cmd_timeout_ms > 0 ? h->cfg.cmd_timeout_ms : link_timeout_ms(h);
+	if (t.wn == 0)
+		return df1_fail(h, DF1_E_INVAL, t.stn, "command of %zu bytes does not fit a frame", n);
+	if (!h->stations[t.stn].active) {
+		r = hd_probe(h, t.stn);
+		if (r < 0)
+			return r;
+	}
+	r = hd_cmd_send(h, &t);
+	if (r < 0)
+		return r;
 
 	/* 2. polls until the reply, the ENQ retry limit or Cmd_Timeout; the
 	 * first when the reply is likely ready (repoll.h), the next ones after
 	 * each EOT or unanswered poll when it is likely ready then */
-	ack_us = (int64_t)df1_now_us();
-	cmd_deadline = df1_now_ms() + wait;
-	lat = &h->stations[stn].reply_latency;
-	poll_at_us = ack_us + repoll_first_us(lat);
+	t.ack_us = (int64_t)df1_now_us();
+	t.deadline = df1_now_ms() + t.wait;
+	t.lat = &h->stations[t.stn].reply_latency;
+	t.poll_at_us = t.ack_us + repoll_first_us(t.lat);
 	for (;;) {
 		int64_t now = df1_now_ms(), now_us = (int64_t)df1_now_us(), dl;
-		bool polled = poll_at_us <= now_us;
+		bool polled = t.poll_at_us <= now_us;
 		size_t len = 0;
-		int a;
 
-		if (now >= cmd_deadline) {
-			r = link_send_sym(h, DF1_NAK); /* end the slave's processing (doc/REQUIREMENTS.md 004) */
-			if (r < 0)
-				return r;
-			df1_count(h, DF1_ID_CNT_COMMAND_TIMEOUTS);
-			df1_log(h, DF1_ID_ERR_COMMAND_TIMEOUT);
-			return hd_failed(h, stn, df1_fail(h, DF1_E_TIMEOUT, stn,
-			                 "no reply from station %d within %lld ms", stn, (long long)wait));
-		}
-		if (polled) {
-			poll_us = now_us;
-			r = hd_send_poll(h, stn);
-			if (r < 0)
-				return r;
-			/* a slave that suppresses DLE EOT sends nothing at all: a short
-			 * wait for the first byte, then a poll again (DF1_OPT_POLL_TIMEOUT_MS) */
-			dl = link_after_tx_ms(h, hd_poll_answer_ms(h));
-		} else {
-			/* the pause before the next poll is a read: anything arriving is handled */
-			dl = (poll_at_us + 999) / 1000;
-		}
-		if (dl > cmd_deadline)
-			dl = cmd_deadline;
-		a = hd_answer(h, stn, cmd, dl, reply, cap, &len, &cause);
-		if (a < 0)
-			return a;
-		now_us = (int64_t)df1_now_us();
-		switch (a) {
-		case ANS_REPLY:
-			h->stations[stn].active = true;
-			/* the reply was ready when the poll that drew it went out (not
-			 * when it had arrived: its own wire time is no latency) */
-			repoll_learn(lat, poll_us - ack_us);
+		if (now >= t.deadline)
+			return hd_cmd_timeout(h, &t);
+		r = hd_cmd_poll(h, &t, now_us, polled, &dl);
+		if (r < 0)
+			return r;
+		r = hd_answer(h, t.stn, cmd, dl, reply, cap, &len, &t.cause);
+		if (r < 0)
+			return r;
+		r = hd_cmd_answer(h, &t, r, polled);
+		if (r < 0)
+			return r;
+		if (r == 1)
 			return (int)len;
-		case ANS_TIMEOUT:
-			if (!polled)
-				break; /* the pause ended: poll now */
-			/* a poll nobody answered: not ready yet, as an EOT */
-			__attribute__((fallthrough));
-		case ANS_EOT:
-			/* the message is outstanding: poll again when it is likely ready */
-			poll_at_us = now_us + repoll_next_us(lat, now_us - ack_us, hd_min_gap_us(h),
-			                                     HD_REPOLL_MAX_GAP_US);
-			break;
-		case ANS_SKIP:
-			poll_at_us = now_us;
-			break;
-		case ANS_BAD:
-		default:
-			if (enqs >= h->cfg.enq_retries) {
-				df1_count(h, DF1_ID_CNT_ENQ_LIMIT_EXCEEDED);
-				df1_log(h, DF1_ID_NTC_ENQ_LIMIT_EXCEEDED, h->cfg.enq_retries);
-				return hd_failed(h, stn, df1_fail(h, DF1_E_ENQ_LIMIT, stn,
-				                 "no valid answer to %d polls of station %d", enqs + 1, stn));
-			}
-			enqs++;
-			df1_count(h, DF1_ID_CNT_ENQ_RETRIES);
-			df1_log(h, DF1_ID_NTC_ENQ_RETRY, enqs, cause);
-			poll_at_us = now_us;
-			break;
-		}
 	}
 }
 

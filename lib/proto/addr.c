@@ -262,15 +262,13 @@ static int addr_check_fields(const struct df1_addr *a)
 	return 0;
 }
 
-/* Parse without the '$' and without touching ascii. */
-static int addr_parse_fields(const char *p, struct df1_addr *a)
+/* The file type letters and the file number at *pp (a default file when the
+ * type has one): a->type, *file. 0 or DF1_E_ADDR_SYNTAX. */
+static int addr_type_file(const char **pp, struct df1_addr *a, long *file)
 {
-	const char *type_s = p;
+	const char *p = *pp, *type_s = p;
 	size_t type_n;
-	long file, element = -1, bitnum = -1;
-	struct addr_token sub_tok = { 0 }, bit_tok = { 0 };
-	bool has_sub = false, has_bit = false;
-	int t, rc;
+	int t;
 
 	while (addr_is_alpha(*p))
 		p++;
@@ -282,92 +280,141 @@ static int addr_parse_fields(const char *p, struct df1_addr *a)
 	if (a->type == DF1_FT_NONE)
 		return DF1_E_ADDR_SYNTAX;
 
-	file = addr_digits(&p);
-	if (file < 0) {
+	*file = addr_digits(&p);
+	if (*file < 0) {
 		if (ft_table[a->type].default_file < 0)
 			return DF1_E_ADDR_SYNTAX;
-		file = ft_table[a->type].default_file;
+		*file = ft_table[a->type].default_file;
 	}
+	*pp = p;
+	return 0;
+}
+
+/* What follows the file: ":element[.sub][/bit]" or, for B, "/bitnum". */
+struct addr_rest {
+	long element, bitnum;
+	struct addr_token sub_tok, bit_tok;
+	bool has_sub, has_bit;
+};
+
+/* Tokenise the rest of the text (p after the file) into *r. 0 or DF1_E_*. */
+static int addr_rest_tokens(const char *p, enum df1_file_type type, struct addr_rest *r)
+{
+	int rc;
 
 	if (*p == ':') {
 		p++;
-		element = addr_digits(&p);
-		if (element < 0)
+		r->element = addr_digits(&p);
+		if (r->element < 0)
 			return DF1_E_ADDR_SYNTAX;
 		if (*p == '.') {
 			p++;
-			rc = addr_token(&p, &sub_tok);
+			rc = addr_token(&p, &r->sub_tok);
 			if (rc < 0)
 				return rc;
-			has_sub = true;
+			r->has_sub = true;
 		}
 		if (*p == '/') {
 			p++;
-			rc = addr_token(&p, &bit_tok);
+			rc = addr_token(&p, &r->bit_tok);
 			if (rc < 0)
 				return rc;
-			has_bit = true;
+			r->has_bit = true;
 		}
-	} else if (*p == '/' && a->type == DF1_FT_B) {
+	} else if (*p == '/' && type == DF1_FT_B) {
 		p++;
-		bitnum = addr_digits(&p);
-		if (bitnum < 0)
+		r->bitnum = addr_digits(&p);
+		if (r->bitnum < 0)
 			return DF1_E_ADDR_SYNTAX;
 	} else {
 		return DF1_E_ADDR_SYNTAX;
 	}
 	if (*p != '\0')
 		return DF1_E_ADDR_SYNTAX;
+	return 0;
+}
+
+/* ".sub": a number or a word name, or (PLC-5 spelling) a bit name. 0 or DF1_E_*. */
+static int addr_set_sub(struct df1_addr *a, const struct addr_rest *r)
+{
+	int w, b;
+
+	if (ft_table[a->type].max_sub < 0)
+		return DF1_E_ADDR_SYNTAX;
+	if (r->sub_tok.numeric) {
+		a->sub = (int)r->sub_tok.value;
+		return 0;
+	}
+	w = addr_lookup(addr_word_names(a->type), r->sub_tok.s, r->sub_tok.n);
+	b = addr_lookup(addr_bit_names(a->type), r->sub_tok.s, r->sub_tok.n);
+	if (w >= 0) {
+		a->sub = w;
+	} else if (b >= 0) {
+		/* PLC-5 spelling T4:0.DN: a bit of the control word, nothing may follow */
+		if (r->has_bit)
+			return DF1_E_ADDR_SYNTAX;
+		a->sub = 0;
+		a->bit = b;
+	} else {
+		return DF1_E_ADDR_SYNTAX;
+	}
+	return 0;
+}
+
+/* "/bit": a number or a bit name. 0 or DF1_E_*. */
+static int addr_set_bit(struct df1_addr *a, const struct addr_rest *r)
+{
+	if (ft_table[a->type].max_bit < 0)
+		return DF1_E_ADDR_SYNTAX;
+	if (r->bit_tok.numeric) {
+		a->bit = (int)r->bit_tok.value;
+	} else {
+		int b = addr_lookup(addr_bit_names(a->type), r->bit_tok.s, r->bit_tok.n);
+
+		/* names live in word 0: "T4:0/DN", not "T4:0.ACC/DN" */
+		if (b < 0 || r->has_sub)
+			return DF1_E_ADDR_SYNTAX;
+		a->bit = b;
+	}
+	if (addr_is_tcr(a->type) && a->sub == DF1_ADDR_NONE)
+		a->sub = 0;
+	return 0;
+}
+
+/* Parse without the '$' and without touching ascii. */
+static int addr_parse_fields(const char *p, struct df1_addr *a)
+{
+	struct addr_rest r = { .element = -1, .bitnum = -1 };
+	long file;
+	int rc;
+
+	rc = addr_type_file(&p, a, &file);
+	if (rc < 0)
+		return rc;
+	rc = addr_rest_tokens(p, a->type, &r);
+	if (rc < 0)
+		return rc;
 
 	a->file = (int)file;
 	a->sub = DF1_ADDR_NONE;
 	a->bit = DF1_ADDR_NONE;
-	if (bitnum >= 0) {
-		if (bitnum > MAX_B_BITNUM)
+	if (r.bitnum >= 0) {
+		if (r.bitnum > MAX_B_BITNUM)
 			return DF1_E_ADDR_RANGE;
-		a->element = (int)(bitnum / 16);
-		a->bit = (int)(bitnum % 16);
+		a->element = (int)(r.bitnum / 16);
+		a->bit = (int)(r.bitnum % 16);
 		return addr_check_fields(a);
 	}
-	a->element = (int)element;
-
-	if (has_sub) {
-		if (ft_table[a->type].max_sub < 0)
-			return DF1_E_ADDR_SYNTAX;
-		if (sub_tok.numeric) {
-			a->sub = (int)sub_tok.value;
-		} else {
-			int w = addr_lookup(addr_word_names(a->type), sub_tok.s, sub_tok.n);
-			int b = addr_lookup(addr_bit_names(a->type), sub_tok.s, sub_tok.n);
-
-			if (w >= 0) {
-				a->sub = w;
-			} else if (b >= 0) {
-				/* PLC-5 spelling T4:0.DN: a bit of the control word, nothing may follow */
-				if (has_bit)
-					return DF1_E_ADDR_SYNTAX;
-				a->sub = 0;
-				a->bit = b;
-			} else {
-				return DF1_E_ADDR_SYNTAX;
-			}
-		}
+	a->element = (int)r.element;
+	if (r.has_sub) {
+		rc = addr_set_sub(a, &r);
+		if (rc < 0)
+			return rc;
 	}
-	if (has_bit) {
-		if (ft_table[a->type].max_bit < 0)
-			return DF1_E_ADDR_SYNTAX;
-		if (bit_tok.numeric) {
-			a->bit = (int)bit_tok.value;
-		} else {
-			int b = addr_lookup(addr_bit_names(a->type), bit_tok.s, bit_tok.n);
-
-			/* names live in word 0: "T4:0/DN", not "T4:0.ACC/DN" */
-			if (b < 0 || has_sub)
-				return DF1_E_ADDR_SYNTAX;
-			a->bit = b;
-		}
-		if (addr_is_tcr(a->type) && a->sub == DF1_ADDR_NONE)
-			a->sub = 0;
+	if (r.has_bit) {
+		rc = addr_set_bit(a, &r);
+		if (rc < 0)
+			return rc;
 	}
 	return addr_check_fields(a);
 }

@@ -538,25 +538,24 @@ static bool poll_bcc(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b)
 	return true;
 }
 
-/* One byte; true when a symbol is complete (*keep: b is not consumed). */
-static bool step(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b, bool *to_next,
-                 bool *keep)
+/* A byte between symbols: a DLE starts one, anything else is noise (or the
+ * one tolerated byte after DLE EOT). */
+static void idle_byte(struct frame_decoder *d, uint8_t b)
 {
-	if (d->state == ST_IDLE || d->state == ST_EOT_TRAILER) {
-		if (b == DF1_DLE) {
-			d->state = ST_DLE;
-			d->wire = 1;
-		} else if (d->state == ST_IDLE) {
-			d->noise++;
-		} else {
-			d->state = ST_IDLE; /* the one tolerated byte after DLE EOT */
-		}
-		return false;
+	if (b == DF1_DLE) {
+		d->state = ST_DLE;
+		d->wire = 1;
+	} else if (d->state == ST_IDLE) {
+		d->noise++;
+	} else {
+		d->state = ST_IDLE; /* the one tolerated byte after DLE EOT */
 	}
-	d->wire++;
+}
+
+/* A byte of a half-duplex poll after DLE ENQ (states ST_POLL_*). */
+static bool poll_byte(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b)
+{
 	switch (d->state) {
-	case ST_DLE:
-		return after_dle(d, sym, b);
 	case ST_POLL_STN:
 		if (b == DF1_DLE) {
 			d->state = ST_POLL_STN_DLE;
@@ -571,8 +570,16 @@ static bool step(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b, boo
 		d->stn = DF1_DLE;
 		d->state = ST_POLL_BCC;
 		return false;
-	case ST_POLL_BCC:
+	default: /* ST_POLL_BCC */
 		return poll_bcc(d, sym, b);
+	}
+}
+
+/* A byte after an auto-duplex DLE ENQ, a poll if a poll's shape follows
+ * (states ST_APOLL_*; *keep as step's). */
+static bool apoll_byte(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b, bool *keep)
+{
+	switch (d->state) {
 	case ST_APOLL_STN:
 		if (b == DF1_DLE) {
 			d->state = ST_APOLL_STN_DLE;
@@ -587,11 +594,18 @@ static bool step(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b, boo
 		d->stn = DF1_DLE;
 		d->state = ST_APOLL_BCC;
 		return false;
-	case ST_APOLL_BCC:
+	default: /* ST_APOLL_BCC */
 		if (b == (uint8_t)(0u - d->stn))
 			return poll_bcc(d, sym, b);
 		/* a stuffed STN was DLE DLE: noise, and its second DLE may start a symbol */
 		return auto_enq(d, sym, 1, d->stn == DF1_DLE ? ST_DLE : ST_IDLE, keep);
+	}
+}
+
+/* A byte of a master message's header DLE SOH STN DLE STX (states ST_SOH_*). */
+static bool soh_byte(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b)
+{
+	switch (d->state) {
 	case ST_SOH_STN:
 		if (b == DF1_DLE)
 			d->state = ST_SOH_STN_DLE;
@@ -616,7 +630,7 @@ static bool step(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b, boo
 		}
 		symbol_error(d, sym, DF1_ID_NTC_INVALID_SYMBOL, b, 0, true);
 		return true;
-	case ST_SOH_STX:
+	default: /* ST_SOH_STX */
 		if (b == DF1_STX) {
 			d->crc = crc_step(d->crc, DF1_STX);
 			if (d->opts & FRAME_OPT_HD_BCC_STX)
@@ -630,6 +644,20 @@ static bool step(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b, boo
 		}
 		symbol_error(d, sym, DF1_ID_NTC_INVALID_SYMBOL, b, 0, true);
 		return true;
+	}
+}
+
+/* One byte; true when a symbol is complete (*keep: b is not consumed). The
+ * data states come first: most bytes are a frame's data. */
+static bool step(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b, bool *to_next,
+                 bool *keep)
+{
+	if (d->state == ST_IDLE || d->state == ST_EOT_TRAILER) {
+		idle_byte(d, b);
+		return false;
+	}
+	d->wire++;
+	switch (d->state) {
 	case ST_DATA:
 		if (b == DF1_DLE)
 			d->state = ST_DATA_DLE;
@@ -640,6 +668,21 @@ static bool step(struct frame_decoder *d, struct df1_symbol *sym, uint8_t b, boo
 		return data_dle(d, sym, b);
 	case ST_CHECK:
 		return check_byte(d, sym, b, to_next);
+	case ST_DLE:
+		return after_dle(d, sym, b);
+	case ST_POLL_STN:
+	case ST_POLL_STN_DLE:
+	case ST_POLL_BCC:
+		return poll_byte(d, sym, b);
+	case ST_APOLL_STN:
+	case ST_APOLL_STN_DLE:
+	case ST_APOLL_BCC:
+		return apoll_byte(d, sym, b, keep);
+	case ST_SOH_STN:
+	case ST_SOH_STN_DLE:
+	case ST_SOH_DLE:
+	case ST_SOH_STX:
+		return soh_byte(d, sym, b);
 	default:
 		/* unreachable; recover rather than trust a corrupted state */
 		d->state = ST_IDLE;
