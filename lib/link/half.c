@@ -22,7 +22,7 @@
  *    DF1_E_ENQ_LIMIT. An answer that is neither DLE EOT nor a slave frame (DLE
  *    ACK, DLE NAK, DLE + an invalid byte) is also 2516 NTC_EOT_STX_EXPECTED.
  *    A poll whose answer does not begin within the poll-answer time
- *    (hd_poll_answer_ms, DF1_OPT_POLL_TIMEOUT_MS) counts as an EOT: some
+ *    (half_poll_answer_ms, DF1_OPT_POLL_TIMEOUT_MS) counts as an EOT: some
  *    slaves send nothing when they have nothing, and a whole ACK timeout per
  *    poll would exceed Cmd_Timeout before their reply is ready.
  *  - Poll timing (lib/link/half_repoll.h): the first poll after the ACK and the
@@ -64,7 +64,7 @@
 
 /* The least time between an answer and the next poll: two characters at the
  * line's rate, at least a millisecond (a TCP-attached line is not flooded). */
-static int64_t hd_min_gap_us(const struct df1 *h)
+static int64_t half_min_gap_us(const struct df1 *h)
 {
 	int baud = h->cfg.line_baud > 0 ? h->cfg.line_baud : h->cfg.baud;
 	int64_t g = 2 * link_char_us(h, baud);
@@ -76,7 +76,7 @@ static int64_t hd_min_gap_us(const struct df1 *h)
  * six characters at the line's rate + 20 ms turnaround, + 50 ms of network
  * slack on a port that has it: port_ops.net_slack, TCP), never
  * more than the ACK timeout. */
-static int64_t hd_poll_answer_ms(const struct df1 *h)
+static int64_t half_poll_answer_ms(const struct df1 *h)
 {
 	int baud = h->cfg.line_baud > 0 ? h->cfg.line_baud : h->cfg.baud;
 	int64_t ms = h->cfg.poll_timeout_ms;
@@ -89,7 +89,7 @@ static int64_t hd_poll_answer_ms(const struct df1 *h)
 	return ms < link_timeout_ms(h) ? ms : link_timeout_ms(h);
 }
 
-enum hd_answer {
+enum half_answer {
 	ANS_TIMEOUT = 0, /* nothing within the deadline */
 	ANS_EOT,         /* DLE EOT: nothing to send yet */
 	ANS_REPLY,       /* the reply to our command (copied out) */
@@ -102,9 +102,9 @@ enum hd_answer {
  * ------------------------------------------------------------------------ */
 
 /* The answer to a poll of stn (or what arrives while waiting after an EOT).
- * cmd: the outstanding command, or NULL. Returns enum hd_answer or DF1_E_*;
+ * cmd: the outstanding command, or NULL. Returns enum half_answer or DF1_E_*;
  * *cause is the catalog ID behind ANS_BAD / ANS_TIMEOUT. */
-static int hd_answer(struct df1 *h, uint8_t stn, const uint8_t *cmd, int64_t deadline_ms,
+static int half_answer(struct df1 *h, uint8_t stn, const uint8_t *cmd, int64_t deadline_ms,
                      uint8_t *reply, size_t cap, size_t *len, int *cause)
 {
 	for (;;) {
@@ -174,7 +174,7 @@ static int hd_answer(struct df1 *h, uint8_t stn, const uint8_t *cmd, int64_t dea
 	}
 }
 
-static int hd_send_poll(struct df1 *h, uint8_t stn)
+static int half_send_poll(struct df1 *h, uint8_t stn)
 {
 	uint8_t poll[5];
 	size_t n = frame_encode_poll(stn, poll, sizeof poll);
@@ -188,7 +188,7 @@ static int hd_send_poll(struct df1 *h, uint8_t stn)
 
 /* Wait for the slave's DLE ACK of our master message: 1 ACK, 0 not (NAK or
  * timeout, *cause), DF1_E_*. */
-static int hd_wait_ack(struct df1 *h, int64_t deadline_ms, int *cause)
+static int half_wait_ack(struct df1 *h, int64_t deadline_ms, int *cause)
 {
 	for (;;) {
 		struct df1_symbol s;
@@ -228,26 +228,26 @@ static int hd_wait_ack(struct df1 *h, int64_t deadline_ms, int *cause)
 	}
 }
 
-/* One poll of stn with no command outstanding: enum hd_answer (*cause as
- * hd_answer's) or DF1_E_*. An EOT or a slave message makes stn active. */
-static int hd_poll_once(struct df1 *h, uint8_t stn, int *cause)
+/* One poll of stn with no command outstanding: enum half_answer (*cause as
+ * half_answer's) or DF1_E_*. An EOT or a slave message makes stn active. */
+static int half_poll_once(struct df1 *h, uint8_t stn, int *cause)
 {
 	size_t len = 0;
-	int r = hd_send_poll(h, stn);
+	int r = half_send_poll(h, stn);
 
 	if (r < 0)
 		return r;
-	r = hd_answer(h, stn, NULL, link_after_tx_ms(h, link_timeout_ms(h)), NULL, 0, &len, cause);
+	r = half_answer(h, stn, NULL, link_after_tx_ms(h, link_timeout_ms(h)), NULL, 0, &len, cause);
 	if (r == ANS_EOT || r == ANS_SKIP)
 		h->stations[stn].active = true;
 	return r;
 }
 
 /* The Active Station List probe: one poll. 0 (the station answered) or DF1_E_*. */
-static int hd_probe(struct df1 *h, uint8_t stn)
+static int half_probe(struct df1 *h, uint8_t stn)
 {
 	int cause = 0;
-	int r = hd_poll_once(h, stn, &cause);
+	int r = half_poll_once(h, stn, &cause);
 
 	if (r < 0)
 		return r;
@@ -258,14 +258,14 @@ static int hd_probe(struct df1 *h, uint8_t stn)
 }
 
 /* A link failure of a transaction: the station leaves the active list. */
-static int hd_failed(struct df1 *h, uint8_t stn, int code)
+static int half_failed(struct df1 *h, uint8_t stn, int code)
 {
 	h->stations[stn].active = false;
 	return code;
 }
 
 /* One command of ours on the line (half_transact). */
-struct hd_cmd {
+struct half_cmd {
 	const uint8_t *cmd;
 	uint8_t wire[FRAME_MAX_WIRE];
 	size_t wn;
@@ -279,7 +279,7 @@ struct hd_cmd {
 };
 
 /* 1. the master message, until the slave ACKs it: 0 or DF1_E_*. */
-static int hd_cmd_send(struct df1 *h, struct hd_cmd *t)
+static int half_cmd_send(struct df1 *h, struct half_cmd *t)
 {
 	int tries = 0, r;
 
@@ -290,7 +290,7 @@ static int hd_cmd_send(struct df1 *h, struct hd_cmd *t)
 		df1_count(h, DF1_ID_CNT_MSG_PACKETS_SENT);
 		if (tries == 0)
 			df1_count(h, DF1_ID_CNT_CMD_MSGS_SENT);
-		r = hd_wait_ack(h, link_after_tx_ms(h, link_timeout_ms(h)), &t->cause);
+		r = half_wait_ack(h, link_after_tx_ms(h, link_timeout_ms(h)), &t->cause);
 		if (r < 0)
 			return r;
 		if (r == 1)
@@ -298,7 +298,7 @@ static int hd_cmd_send(struct df1 *h, struct hd_cmd *t)
 		if (tries >= h->cfg.nak_retries) {
 			df1_count(h, DF1_ID_CNT_NAK_LIMIT_EXCEEDED);
 			df1_log(h, DF1_ID_NTC_NAK_LIMIT_EXCEEDED, h->cfg.nak_retries);
-			return hd_failed(h, t->stn, df1_fail(h, DF1_E_NAK_LIMIT, t->stn,
+			return half_failed(h, t->stn, df1_fail(h, DF1_E_NAK_LIMIT, t->stn,
 			                 "station %d did not ACK the command (%d tries)", t->stn,
 			                 tries + 1));
 		}
@@ -309,7 +309,7 @@ static int hd_cmd_send(struct df1 *h, struct hd_cmd *t)
 }
 
 /* Cmd_Timeout ran out: DF1_E_*. */
-static int hd_cmd_timeout(struct df1 *h, struct hd_cmd *t)
+static int half_cmd_timeout(struct df1 *h, struct half_cmd *t)
 {
 	int r = link_send_sym(h, DF1_NAK); /* end the slave's processing (doc/REQUIREMENTS.md 004) */
 
@@ -317,24 +317,24 @@ static int hd_cmd_timeout(struct df1 *h, struct hd_cmd *t)
 		return r;
 	df1_count(h, DF1_ID_CNT_COMMAND_TIMEOUTS);
 	df1_log(h, DF1_ID_ERR_COMMAND_TIMEOUT);
-	return hd_failed(h, t->stn, df1_fail(h, DF1_E_TIMEOUT, t->stn,
+	return half_failed(h, t->stn, df1_fail(h, DF1_E_TIMEOUT, t->stn,
 	                 "no reply from station %d within %lld ms", t->stn, (long long)t->wait));
 }
 
 /* A poll when one is due (polled), else the pause before it: the end of the
  * read for what comes (*dl, at most Cmd_Timeout). 0 or DF1_E_*. */
-static int hd_cmd_poll(struct df1 *h, struct hd_cmd *t, int64_t now_us, bool polled, int64_t *dl)
+static int half_cmd_poll(struct df1 *h, struct half_cmd *t, int64_t now_us, bool polled, int64_t *dl)
 {
 	int r;
 
 	if (polled) {
 		t->poll_us = now_us;
-		r = hd_send_poll(h, t->stn);
+		r = half_send_poll(h, t->stn);
 		if (r < 0)
 			return r;
 		/* a slave that suppresses DLE EOT sends nothing at all: a short
 		 * wait for the first byte, then a poll again (DF1_OPT_POLL_TIMEOUT_MS) */
-		*dl = link_after_tx_ms(h, hd_poll_answer_ms(h));
+		*dl = link_after_tx_ms(h, half_poll_answer_ms(h));
 	} else {
 		/* the pause before the next poll is a read: anything arriving is handled */
 		*dl = (t->poll_at_us + 999) / 1000;
@@ -346,12 +346,12 @@ static int hd_cmd_poll(struct df1 *h, struct hd_cmd *t, int64_t now_us, bool pol
 
 /* An answer with no valid message: a poll again now, until the ENQ retry
  * limit. 0 or DF1_E_*. */
-static int hd_cmd_bad(struct df1 *h, struct hd_cmd *t, int64_t now_us)
+static int half_cmd_bad(struct df1 *h, struct half_cmd *t, int64_t now_us)
 {
 	if (t->enqs >= h->cfg.enq_retries) {
 		df1_count(h, DF1_ID_CNT_ENQ_LIMIT_EXCEEDED);
 		df1_log(h, DF1_ID_NTC_ENQ_LIMIT_EXCEEDED, h->cfg.enq_retries);
-		return hd_failed(h, t->stn, df1_fail(h, DF1_E_ENQ_LIMIT, t->stn,
+		return half_failed(h, t->stn, df1_fail(h, DF1_E_ENQ_LIMIT, t->stn,
 		                 "no valid answer to %d polls of station %d", t->enqs + 1, t->stn));
 	}
 	t->enqs++;
@@ -361,9 +361,9 @@ static int hd_cmd_bad(struct df1 *h, struct hd_cmd *t, int64_t now_us)
 	return 0;
 }
 
-/* What came in the read (enum hd_answer a) after a poll (polled) or in the
+/* What came in the read (enum half_answer a) after a poll (polled) or in the
  * pause: 1 our reply, 0 go on (poll_at_us set), DF1_E_*. */
-static int hd_cmd_answer(struct df1 *h, struct hd_cmd *t, int a, bool polled)
+static int half_cmd_answer(struct df1 *h, struct half_cmd *t, int a, bool polled)
 {
 	int64_t now_us = (int64_t)df1_now_us();
 
@@ -381,7 +381,7 @@ static int hd_cmd_answer(struct df1 *h, struct hd_cmd *t, int a, bool polled)
 		__attribute__((fallthrough));
 	case ANS_EOT:
 		/* the message is outstanding: poll again when it is likely ready */
-		t->poll_at_us = now_us + repoll_next_us(t->lat, now_us - t->ack_us, hd_min_gap_us(h),
+		t->poll_at_us = now_us + repoll_next_us(t->lat, now_us - t->ack_us, half_min_gap_us(h),
 		                                        HD_REPOLL_MAX_GAP_US);
 		return 0;
 	case ANS_SKIP:
@@ -389,13 +389,13 @@ static int hd_cmd_answer(struct df1 *h, struct hd_cmd *t, int a, bool polled)
 		return 0;
 	case ANS_BAD:
 	default:
-		return hd_cmd_bad(h, t, now_us);
+		return half_cmd_bad(h, t, now_us);
 	}
 }
 
 int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap)
 {
-	struct hd_cmd t = { .cmd = cmd, .stn = cmd[0] };
+	struct half_cmd t = { .cmd = cmd, .stn = cmd[0] };
 	int r;
 
 	t.wn = frame_encode_master(link_tx_check(h), t.stn, h->cfg.hd_bcc_stx, cmd, n, t.wire,
@@ -404,11 +404,11 @@ int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 	if (t.wn == 0)
 		return df1_fail(h, DF1_E_INVAL, t.stn, "command of %zu bytes does not fit a frame", n);
 	if (!h->stations[t.stn].active) {
-		r = hd_probe(h, t.stn);
+		r = half_probe(h, t.stn);
 		if (r < 0)
 			return r;
 	}
-	r = hd_cmd_send(h, &t);
+	r = half_cmd_send(h, &t);
 	if (r < 0)
 		return r;
 
@@ -425,14 +425,14 @@ int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 		size_t len = 0;
 
 		if (now >= t.deadline)
-			return hd_cmd_timeout(h, &t);
-		r = hd_cmd_poll(h, &t, now_us, polled, &dl);
+			return half_cmd_timeout(h, &t);
+		r = half_cmd_poll(h, &t, now_us, polled, &dl);
 		if (r < 0)
 			return r;
-		r = hd_answer(h, t.stn, cmd, dl, reply, cap, &len, &t.cause);
+		r = half_answer(h, t.stn, cmd, dl, reply, cap, &len, &t.cause);
 		if (r < 0)
 			return r;
-		r = hd_cmd_answer(h, &t, r, polled);
+		r = half_cmd_answer(h, &t, r, polled);
 		if (r < 0)
 			return r;
 		if (r == 1)
@@ -443,7 +443,7 @@ int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 int half_test(struct df1 *h, uint8_t stn)
 {
 	int cause = 0;
-	int r = hd_poll_once(h, stn, &cause);
+	int r = half_poll_once(h, stn, &cause);
 
 	if (r < 0)
 		return r;
@@ -471,13 +471,13 @@ int half_test(struct df1 *h, uint8_t stn)
  * Slave
  * ------------------------------------------------------------------------ */
 
-static bool hd_serves(const struct df1 *h, uint8_t stn, bool any_added)
+static bool half_serves(const struct df1 *h, uint8_t stn, bool any_added)
 {
 	return any_added ? h->resp->serve_station[stn] : stn == (uint8_t)h->cfg.station;
 }
 
 /* A poll for one of our stations: the oldest queued reply, or DLE EOT. */
-static int hd_slave_poll(struct df1 *h, uint8_t stn)
+static int half_slave_poll(struct df1 *h, uint8_t stn)
 {
 	struct link_reply *t;
 	int r;
@@ -515,7 +515,7 @@ static int hd_slave_poll(struct df1 *h, uint8_t stn)
 }
 
 /* A master message. Returns 1 when the handler ran, 0, or DF1_E_*. */
-static int hd_slave_msg(struct df1 *h, const struct df1_symbol *s, link_handler_fn fn, void *ctx)
+static int half_slave_msg(struct df1 *h, const struct df1_symbol *s, link_handler_fn fn, void *ctx)
 {
 	uint8_t out[FRAME_MAX_DATA];
 	const uint8_t *d = s->data;
@@ -597,14 +597,14 @@ int half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms
 			link_slots_clear(h);
 			break;
 		case DF1_SYM_POLL:
-			if (hd_serves(h, s.station, any_added) && !link_fault_silent(h->resp, s.station))
-				r = hd_slave_poll(h, s.station);
+			if (half_serves(h, s.station, any_added) && !link_fault_silent(h->resp, s.station))
+				r = half_slave_poll(h, s.station);
 			break;
 		case DF1_SYM_FRAME:
 			/* slave messages on the line are other stations' business */
-			if (s.master_msg && hd_serves(h, s.station, any_added) &&
+			if (s.master_msg && half_serves(h, s.station, any_added) &&
 			    !link_fault_silent(h->resp, s.station)) {
-				r = hd_slave_msg(h, &s, fn, ctx);
+				r = half_slave_msg(h, &s, fn, ctx);
 				if (r > 0) {
 					served++;
 					r = 0;
@@ -612,7 +612,7 @@ int half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms
 			}
 			break;
 		case DF1_SYM_ERROR:
-			if (s.has_station && hd_serves(h, s.station, any_added))
+			if (s.has_station && half_serves(h, s.station, any_added))
 				link_log_error(h, &s); /* no answer */
 			break;
 		default:

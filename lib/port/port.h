@@ -24,7 +24,7 @@ struct port_ops {
 	 * link_tx_account). */
 	bool paced;
 	/* A network lies between us and the line: answer timers that are sized
-	 * from the line's rate get network slack (lib/link/half.c hd_poll_answer_ms). */
+	 * from the line's rate get network slack (lib/link/half.c half_poll_answer_ms). */
 	bool net_slack;
 	/* A serial line behind a network (a device server): the far end is a DF1
 	 * line with its own baud, which the link cannot see. Nothing in lib/ tests
