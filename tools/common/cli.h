@@ -6,7 +6,7 @@
  * opening the handle; error reports in the catalog format; -v logging and
  * -vv frame traces on stderr; SIGINT/SIGTERM through a self-pipe; operand
  * addresses (value i of an operand, address errors); and, through cli_text.h,
- * JSON and CSV quoting and hex. The code is in tools/cli_*.c, one file per
+ * JSON and CSV quoting and hex. The code is in tools/common/cli_*.c, one file per
  * part (cli_int.h lists them); cli_handle.c's -vv trace is the one user of
  * tools/common/decode.h, which itself needs only cli_text.h.
  *
