@@ -3,8 +3,8 @@
  * gw - what df1gw's files share: the daemon's state (struct gw), and the
  * northbound work of gw_pub.c (publishing tags and stations, taking writes
  * from .../set) in the payload formats enabled (gw_format.h). df1gw.c owns
- * the loop, the options, the line and the reload; gw_pub.c never calls back
- * into it.
+ * the loop, the line and the reload, gw_options.c the command line; gw_pub.c
+ * never calls back into df1gw.c.
  */
 #ifndef DF1_TOOLS_GW_H
 #define DF1_TOOLS_GW_H
@@ -70,6 +70,10 @@ struct gw {
 	int64_t next_refresh_ms;
 	unsigned writes_pending;
 };
+
+/* The command line into g (gw_options.c): CLI_CONTINUE or the exit status,
+ * having said why. */
+int gw_options_parse(struct gw *g, int argc, char **argv);
 
 /* Monotonic and wall-clock milliseconds. */
 int64_t gw_now_ms(void);

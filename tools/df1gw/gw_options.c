@@ -1,0 +1,233 @@
+/* SPDX-License-Identifier: MPL-2.0 */
+/*
+ * gw_options - df1gw's command line: the option table, what each option sets
+ * in struct gw, the checks between options, and what follows from them (the
+ * password read from its file, the client id, the topic prefix). df1gw.c's
+ * setup() calls gw_options_parse() first and then opens what they name.
+ * A new concern adds its options here and its state to struct gw (gw.h).
+ */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <unistd.h>
+
+#include "df1gw/gw.h"
+
+enum {
+	OPT_MAP = CLI_KEY_EXTRA, OPT_MQTT, OPT_CAFILE, OPT_CERT, OPT_KEY, OPT_CLIENT_ID, OPT_USERNAME,
+	OPT_PASSWORD_FILE, OPT_PASSWORD, OPT_PREFIX, OPT_QOS, OPT_KEEPALIVE, OPT_REFRESH, OPT_ONCE,
+	OPT_WATCHDOG, OPT_EIP, OPT_EIP_STATION, OPT_EIP_ALLOW, OPT_EIP_READ_ONLY, OPT_COUNTERS,
+};
+
+static const struct cli_extra_opt gw_opts[] = {
+	{ "map", required_argument, OPT_MAP, "FILE.csv", "the tags: a mapping CSV (required)" },
+	{ "mqtt", required_argument, OPT_MQTT, "URL", "broker mqtt://HOST[:PORT] or mqtts://HOST[:PORT] (required)" },
+	{ "cafile", required_argument, OPT_CAFILE, "FILE", "mqtts: CA certificates (default: the system's)" },
+	{ "cert", required_argument, OPT_CERT, "FILE", "mqtts: client certificate (PEM)" },
+	{ "key", required_argument, OPT_KEY, "FILE", "mqtts: client private key (PEM)" },
+	{ "client-id", required_argument, OPT_CLIENT_ID, "ID", "MQTT client id (default df1gw-HOSTNAME-LINE)" },
+	{ "username", required_argument, OPT_USERNAME, "NAME", "broker user name" },
+	{ "password-file", required_argument, OPT_PASSWORD_FILE, "FILE",
+	  "broker password: the file's first line (or env DF1GW_PASSWORD)" },
+	{ "password", optional_argument, OPT_PASSWORD, NULL,
+	  "refused: a command line is visible to every user" },
+	{ "prefix", required_argument, OPT_PREFIX, "TOPIC", "topic prefix (default df1/CLIENT-ID)" },
+	{ "qos", required_argument, OPT_QOS, "0|1", "QoS of publications and subscriptions (default 1)" },
+	{ "keepalive", required_argument, OPT_KEEPALIVE, "S", "MQTT keepalive 5-65535 s (default 60)" },
+	{ "refresh", required_argument, OPT_REFRESH, "S",
+	  "republish every tag every S s (default 0: only on change)" },
+	{ "watchdog", required_argument, OPT_WATCHDOG, "MS",
+	  "station offline after MS ms without an answer (default 10000)" },
+	{ "once", no_argument, OPT_ONCE, NULL, "one scan, publish, exit (cron, tests)" },
+	{ "eip", required_argument, OPT_EIP, "[ADDR:]PORT",
+	  "also an EtherNet/IP bridge (PCCC), on 127.0.0.1 unless ADDR is given (44818 is the standard port)" },
+	{ "eip-station", required_argument, OPT_EIP_STATION, "N",
+	  "--eip: the station of requests without a route path (default 1)" },
+	{ "eip-allow", required_argument, OPT_EIP_ALLOW, "CIDR[,CIDR]", "--eip: only these clients" },
+	{ "eip-read-only", no_argument, OPT_EIP_READ_ONLY, NULL,
+	  "--eip: refuse commands that write or change mode (STS 60h)" },
+	{ "counters", no_argument, OPT_COUNTERS, NULL, "the line's and EtherNet/IP counters on stdout at exit" },
+	{ NULL, 0, 0, NULL, NULL },
+};
+
+static int gw_extra(struct cli *c, int key, const char *arg, void *user)
+{
+	struct gw *g = user;
+
+	switch (key) {
+	case OPT_MAP: g->map_path = arg; break;
+	case OPT_MQTT: g->mqtt_url = arg; break;
+	case OPT_CAFILE: g->cafile = arg; break;
+	case OPT_CERT: g->cert = arg; break;
+	case OPT_KEY: g->keyfile = arg; break;
+	case OPT_CLIENT_ID: g->client_id_opt = arg; break;
+	case OPT_USERNAME: g->username = arg; break;
+	case OPT_PASSWORD_FILE: g->password_file = arg; break;
+	case OPT_PASSWORD:
+		fprintf(stderr, "%s: --password: refused: a password on the command line is visible to every "
+		        "user (ps, /proc); use --password-file FILE or the environment variable DF1GW_PASSWORD\n",
+		        c->name);
+		return CLI_EXIT_USAGE;
+	case OPT_PREFIX: g->prefix_opt = arg; break;
+	case OPT_QOS: return cli_parse_int(c, "--qos", arg, 0, 1, &g->qos);
+	case OPT_KEEPALIVE: return cli_parse_int(c, "--keepalive", arg, 5, 65535, &g->keepalive_s);
+	case OPT_REFRESH: return cli_parse_int(c, "--refresh", arg, 0, 86400, &g->refresh_s);
+	case OPT_WATCHDOG: return cli_parse_int(c, "--watchdog", arg, 0, 86400000, &g->watchdog_ms);
+	case OPT_ONCE: g->once = true; break;
+	case OPT_EIP: g->eip.listen = arg; break;
+	case OPT_EIP_STATION: return cli_parse_int(c, "--eip-station", arg, 0, 254, &g->eip.station);
+	case OPT_EIP_ALLOW: g->eip.allow = arg; break;
+	case OPT_EIP_READ_ONLY: g->eip.read_only = true; break;
+	case OPT_COUNTERS: g->counters = true; break;
+	default: return CLI_EXIT_USAGE;
+	}
+	return CLI_CONTINUE;
+}
+
+static const struct cli_tool gw_tool = {
+	.name = GW_PROG,
+	.synopsis = "-d DEV (--map FILE.csv --mqtt mqtt://HOST[:PORT] | --eip [ADDR:]PORT) [OPTIONS]",
+	.summary = "Keep a DF1 line's tags in an MQTT broker, and take writes back; bridge EtherNet/IP to it.",
+	.accepts = (CLI_ACCEPT_LINK & ~CLI_ACCEPT(CLI_OPT_STATION)) | CLI_ACCEPT(CLI_OPT_VERBOSE) |
+	           CLI_ACCEPT(CLI_OPT_QUIET),
+	.common_help = { [CLI_OPT_VERBOSE] = "what is published and received; -vv link events, -vvv frames" },
+	.extra = gw_opts,
+	.on_extra = gw_extra,
+	.help_tail = "\nTopics: PREFIX/tag/NAME (retained JSON), PREFIX/tag/NAME/set (a write),\n"
+	             "PREFIX/tag/NAME/result, PREFIX/station/N, PREFIX/status (online/offline).\n"
+	             "SIGTERM/SIGINT: offline, line closed, exit 0; SIGHUP: reload the mapping file.\n"
+	             "See df1gw(1).\n",
+	.exit_text = "0 stopped by SIGTERM or SIGINT (--once: published, no tag BAD), 1 the broker refused\n"
+	             "the credentials (--once: no broker, no line, a tag BAD), 2 usage or configuration error.",
+};
+
+static int read_password(struct gw *g)
+{
+	const char *env = getenv("DF1GW_PASSWORD");
+	char line[1024];
+	FILE *f;
+
+	if (g->password_file) {
+		f = fopen(g->password_file, "r");
+		if (!f) {
+			fprintf(stderr, "%s: --password-file %s: %s\n", GW_PROG, g->password_file, strerror(errno));
+			return CLI_EXIT_USAGE;
+		}
+		if (!fgets(line, sizeof line, f))
+			line[0] = '\0';
+		fclose(f);
+		line[strcspn(line, "\r\n")] = '\0';
+		g->password = strdup(line);
+	} else if (env) {
+		g->password = strdup(env);
+	}
+	if ((g->password_file || env) && !g->password) {
+		fprintf(stderr, "%s: out of memory\n", GW_PROG);
+		return CLI_EXIT_FAIL;
+	}
+	if (g->password && !g->username) {
+		fprintf(stderr, "%s: a password (%s) needs --username\n", GW_PROG,
+		        g->password_file ? "--password-file" : "DF1GW_PASSWORD");
+		return CLI_EXIT_USAGE;
+	}
+	return 0;
+}
+
+/* df1gw-HOSTNAME-LINE: LINE the device's basename, or HOST_PORT for tcp://. */
+static void default_client_id(struct gw *g)
+{
+	char host[128] = "localhost", line[160];
+	const char *d = g->cli.device, *b;
+
+	if (gethostname(host, sizeof host) < 0 || !host[0])
+		snprintf(host, sizeof host, "localhost");
+	host[sizeof host - 1] = '\0';
+	if (strncasecmp(d, "tcp://", 6) == 0) {
+		snprintf(line, sizeof line, "%s", d + 6);
+		for (char *p = line; *p; p++)
+			if (*p == ':' || *p == '/' || *p == '[' || *p == ']')
+				*p = '_';
+	} else {
+		b = strrchr(d, '/');
+		snprintf(line, sizeof line, "%s", b && b[1] ? b + 1 : d);
+	}
+	snprintf(g->client_id, sizeof g->client_id, "df1gw-%s-%s", host, line);
+}
+
+static int check_prefix(struct gw *g)
+{
+	size_t l;
+
+	if (g->prefix_opt)
+		snprintf(g->prefix, sizeof g->prefix, "%s", g->prefix_opt);
+	else
+		snprintf(g->prefix, sizeof g->prefix, "df1/%s", g->client_id);
+	l = strlen(g->prefix);
+	while (l > 1 && g->prefix[l - 1] == '/')
+		g->prefix[--l] = '\0';
+	if (!l || strpbrk(g->prefix, "+#")) {
+		fprintf(stderr, "%s: --prefix '%s': a topic without '+' or '#'%s\n", GW_PROG, g->prefix,
+		        g->prefix_opt ? "" : " (it comes from the client id: give --prefix)");
+		return CLI_EXIT_USAGE;
+	}
+	return 0;
+}
+
+/* The options: parsed, checked against each other, the password read, the
+ * client id and prefix made. CLI_CONTINUE or the exit status, having said why. */
+int gw_options_parse(struct gw *g, int argc, char **argv)
+{
+	char err[256];
+	int r;
+
+	cli_init(&g->cli, &gw_tool);
+	g->qos = 1;
+	g->keepalive_s = 60;
+	g->watchdog_ms = -1;
+	r = cli_parse(&g->cli, argc, argv, g);
+	if (r != CLI_CONTINUE)
+		return r;
+	if (g->cli.argc > 0)
+		return cli_usage_error(&g->cli, "unexpected operand '%s'", g->cli.argv[0]);
+	if (!g->eip.listen && (g->eip.allow || g->eip.read_only || g->eip.station >= 0))
+		return cli_usage_error(&g->cli, "--eip-station, --eip-allow and --eip-read-only go with --eip");
+	if (!g->map_path && !g->eip.listen)
+		return cli_usage_error(&g->cli, "no tags: give --map FILE.csv (or --eip PORT for a bridge)");
+	if (!g->mqtt_url && !g->eip.listen)
+		return cli_usage_error(&g->cli, "no broker: give --mqtt mqtt://HOST[:PORT] (or --eip PORT for a bridge)");
+	if (g->once && !g->mqtt_url)
+		return cli_usage_error(&g->cli, "--once publishes: it needs --mqtt");
+	if (g->eip.station < 0)
+		g->eip.station = 1;     /* -a is not df1gw's: tags name their stations */
+	if (g->mqtt_url && gw_url_parse(g->mqtt_url, &g->url, err, sizeof err) < 0) {
+		fprintf(stderr, "%s: --mqtt %s: %s\n", GW_PROG, g->mqtt_url, err);
+		return CLI_EXIT_USAGE;
+	}
+	if (!g->mqtt_url && (g->cafile || g->cert || g->keyfile || g->username || g->password_file)) {
+		fprintf(stderr, "%s: --cafile, --cert, --key, --username and --password-file go with --mqtt\n", GW_PROG);
+		return CLI_EXIT_USAGE;
+	}
+	if (g->mqtt_url && !g->url.tls && (g->cafile || g->cert || g->keyfile)) {
+		fprintf(stderr, "%s: --cafile, --cert and --key are for mqtts:// (TLS)\n", GW_PROG);
+		return CLI_EXIT_USAGE;
+	}
+	if (!g->cert != !g->keyfile) {
+		fprintf(stderr, "%s: --cert and --key go together\n", GW_PROG);
+		return CLI_EXIT_USAGE;
+	}
+	if (!g->cli.device || !*g->cli.device) {
+		fprintf(stderr, "%s: no device: use -d DEV, -N FILE or set DF1_DEVICE\n", GW_PROG);
+		return CLI_EXIT_USAGE;
+	}
+	if ((r = read_password(g)) != 0)
+		return r;
+	if (g->client_id_opt)
+		snprintf(g->client_id, sizeof g->client_id, "%s", g->client_id_opt);
+	else
+		default_client_id(g);
+	if ((r = check_prefix(g)) != 0)
+		return r;
+	return CLI_CONTINUE;
+}
