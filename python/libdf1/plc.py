@@ -165,12 +165,15 @@ class Plc:
         Without count: one value (int, float, bool, str, or a Timer, Counter or
         Control); with count: a list of count values (consecutive elements, or
         consecutive bits for a bit address). Larger requests than one packet
-        are split by the library (df1_read(3)).
+        are split by the library (df1_read(3)). A count beyond what the address
+        can hold (elements up to 999, the bits of a T/C/R word) is a
+        Df1ValueError naming the limit, raised before anything is allocated.
         """
         a = _addr(address)
         n = 1 if count is None else count
         if not isinstance(n, int) or n < 1:
             raise Df1ValueError(lib.DF1_E_INVAL, "count %r: 1 or more" % (count,), address=address)
+        _check_count(a, n, address)
         st = self._st(station)
         buf = ffi.new("struct df1_value[]", n)
         with self._lock:
@@ -227,6 +230,7 @@ class Plc:
             if isinstance(item, list):
                 item = tuple(item)          # a dict key
             a = _addr(addr)
+            _check_count(a, count, addr)
             vals = ffi.new("struct df1_value[]", count)
             keep.append(vals)
             # by text, so that the library's error detail names the address as written
@@ -414,6 +418,35 @@ class Plc:
             if map is not None:
                 p.load_map(map, strict=strict)
         return p
+
+
+# Elements 0..999 in a file, I/O words 0..255 in a slot, bits 0..15 of a T/C/R
+# word (df1_addr_parse(3)): the most a read from an address can return.
+_ELEMENTS = 1000
+_SUBS = 256
+
+
+def count_limit(a: Addr) -> int:
+    """How many values a read from a (count elements, or bits for a bit address) can return."""
+    c = a.c
+    tcr = a.type in (lib.DF1_FT_T, lib.DF1_FT_C, lib.DF1_FT_R)
+    if c.bit != lib.DF1_ADDR_NONE:
+        if tcr:
+            return 16 - c.bit
+        wbits = 32 if a.type == lib.DF1_FT_L else 16
+        words = _SUBS - c.sub if c.sub != lib.DF1_ADDR_NONE else _ELEMENTS - c.element
+        return words * wbits - c.bit
+    if c.sub != lib.DF1_ADDR_NONE and not tcr:
+        return _SUBS - c.sub
+    return _ELEMENTS - c.element
+
+
+def _check_count(a: Addr, n: int, address: str) -> None:
+    # before the buffer is allocated: a count of 10**9 is an error, not a MemoryError
+    limit = count_limit(a)
+    if n > limit:
+        raise Df1ValueError(lib.DF1_E_INVAL, "count %d: at most %d %s from %s" %
+                            (n, limit, "bits" if a.is_bit else "elements", address), address=address)
 
 
 def _split_item(item: AddressItem) -> Tuple[str, int, bool]:

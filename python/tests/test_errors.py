@@ -131,3 +131,20 @@ def test_closed_plc(sim):
     with pytest.raises(libdf1.PortError) as ei:
         plc.read("N7:0")
     assert ei.value.name == "DF1_E_NOT_OPEN"
+
+
+@pytest.mark.parametrize("address,count,limit", [
+    ("N7:0", 10 ** 9, 1000), ("N7:990", 11, 10), ("B3:0/5", 10 ** 12, 15995), ("T4:0/DN", 4, 3),
+    ("L10:2/1", 31936, 31935),
+])
+def test_a_count_beyond_the_address_is_refused_before_allocating(sim, address, count, limit):
+    # 10**9 values would be a MemoryError if the buffer came first; the limit is
+    # the address range of df1_addr_parse(3): elements 0..999, bits of a T/C/R word
+    with libdf1.open(sim.target) as plc:
+        plc.counters_reset()
+        with pytest.raises(libdf1.Df1ValueError) as ei:
+            plc.read(address, count)
+        assert "at most %d" % limit in str(ei.value) and ei.value.address == address
+        with pytest.raises(libdf1.Df1ValueError):
+            plc.read_many([(address, count)])
+        assert plc.counters()["CNT_CMD_MSGS_SENT"] == 0
