@@ -54,6 +54,7 @@ expect 2 "--once needs a broker" -- "$GW" -d /dev/null --eip 0 --once
 expect 2 "--eip-station out of range" -- "$GW" -d /dev/null --eip 0 --eip-station 255
 expect 0 "--help names --eip" -- "$GW" --help
 check "--help: --eip-read-only" 'grep -q -- "--eip-read-only" "$T/out"'
+check "--help: --map and --mqtt say when they are needed" 'grep -q -- "--map FILE.csv.*required without --eip" "$T/out" && grep -q -- "--mqtt URL.*required without --eip" "$T/out" && ! grep -q "(required)" "$T/out"'
 
 # ---------------------------------------------------------------------------
 # Full duplex, stations 1 and 3; a pure bridge (no --map, no broker)

@@ -22,8 +22,8 @@ enum {
 };
 
 static const struct cli_extra_opt gw_opts[] = {
-	{ "map", required_argument, OPT_MAP, "FILE.csv", "the tags: a mapping CSV (required)" },
-	{ "mqtt", required_argument, OPT_MQTT, "URL", "broker mqtt://HOST[:PORT] or mqtts://HOST[:PORT] (required)" },
+	{ "map", required_argument, OPT_MAP, "FILE.csv", "the tags: a mapping CSV (required without --eip)" },
+	{ "mqtt", required_argument, OPT_MQTT, "URL", "broker mqtt://HOST[:PORT] or mqtts://HOST[:PORT] (required without --eip, and by --once)" },
 	{ "cafile", required_argument, OPT_CAFILE, "FILE", "mqtts: CA certificates (default: the system's)" },
 	{ "cert", required_argument, OPT_CERT, "FILE", "mqtts: client certificate (PEM)" },
 	{ "key", required_argument, OPT_KEY, "FILE", "mqtts: client private key (PEM)" },
