@@ -10,6 +10,11 @@
  * in work; a process() call takes at most one message per client, so clients
  * are served in turn. A client whose replies are not read stops being read
  * (its output is kept, up to EIP_OUT_MAX, then it is closed).
+ *
+ * Limits (lib/eip/eip_limits.c decides, this file applies): a connection that
+ * registers no session in time, or whose session stays idle, is closed, and a
+ * full table makes room for a new client; a timerfd in the epoll set wakes the
+ * caller at the next deadline.
  */
 #include "df1_int.h"
 
@@ -25,9 +30,11 @@
 #include <sys/epoll.h>
 #include <sys/eventfd.h>
 #include <sys/socket.h>
+#include <sys/timerfd.h>
 #include <unistd.h>
 
 #include "eip/eip_codec.h"
+#include "eip/eip_limits.h"
 #include "eip/eip_session.h"
 
 #define EIP_CLIENTS_DEFAULT 32
@@ -39,6 +46,7 @@
 #define TAG_LISTEN 0x10000u
 #define TAG_UDP 0x10001u
 #define TAG_KICK 0x10002u
+#define TAG_TIMER 0x10003u
 
 struct eip_net {
 	int family;
@@ -62,10 +70,12 @@ struct eip_client {
 	uint32_t request;
 	struct eip_pending pend;
 	uint32_t events;               /* what epoll watches now */
+	struct eip_age age;            /* for the limits */
+	char peer[64];                 /* "ADDR:PORT" for on_close */
 };
 
 struct df1_eip_server {
-	int ep, lfd, ufd, kick;
+	int ep, lfd, ufd, kick, tfd;
 	df1_eip_pccc_fn fn;
 	void *user;
 	bool read_only;
@@ -76,6 +86,11 @@ struct df1_eip_server {
 	struct eip_client *cl;
 	uint32_t next_handle;
 	struct df1_eip_server_stats st;
+	struct eip_limits lim;
+	df1_eip_close_fn on_close;
+	void *close_user;
+	struct df1_eip_server_closes closes;
+	int64_t armed;                 /* the timerfd's deadline now (EIP_NO_DEADLINE: disarmed) */
 	char addr[64];
 	char err[160];
 	uint8_t reply[EIP_SESSION_MSG_MAX];
@@ -494,12 +509,108 @@ static void client_read(struct df1_eip_server *s, struct eip_client *c, int slot
 			client_close(s, c);
 			return;
 		}
-		if (r > 0)
+		if (r > 0) {
 			c->in_len += (size_t)r;
+			c->age.last_ms = df1_now_ms();
+		}
 	}
 	client_step(s, c, slot, handed);
 	if (c->fd >= 0 && client_flush(s, c))
 		watch(s, c, slot);
+}
+
+/* ------------------------------------------------------------------------
+ * Limits: closes for time, eviction, the timer (eip_limits.h)
+ * ------------------------------------------------------------------------ */
+
+static const struct eip_age *age_of(struct eip_client *c)
+{
+	c->age.registered = c->sess.registered;
+	c->age.busy = c->waiting;
+	return &c->age;
+}
+
+static void limit_close(struct df1_eip_server *s, struct eip_client *c, enum df1_eip_close_reason why)
+{
+	if (why == DF1_EIP_CLOSE_NO_SESSION)
+		s->closes.no_session++;
+	else if (why == DF1_EIP_CLOSE_IDLE)
+		s->closes.idle++;
+	else
+		s->closes.evicted++;
+	if (s->on_close)
+		s->on_close(s->close_user, c->peer, why);
+	client_close(s, c);
+}
+
+/* Full table: close the connection eip_age_before() puts first; its slot, or -1. */
+static int evict(struct df1_eip_server *s)
+{
+	int victim = -1;
+
+	if (s->lim.no_evict)
+		return -1;
+	for (int i = 0; i < s->max_clients; i++) {
+		if (s->cl[i].fd < 0 || s->cl[i].waiting)
+			continue;
+		if (victim < 0 || eip_age_before(age_of(&s->cl[i]), age_of(&s->cl[victim])))
+			victim = i;
+	}
+	if (victim >= 0)
+		limit_close(s, &s->cl[victim], DF1_EIP_CLOSE_EVICTED);
+	return victim;
+}
+
+static void arm(struct df1_eip_server *s, int64_t at)
+{
+	struct itimerspec t;
+
+	if (at == s->armed)
+		return;
+	memset(&t, 0, sizeof t);
+	if (at != EIP_NO_DEADLINE) {
+		t.it_value.tv_sec = (time_t)(at / 1000);
+		t.it_value.tv_nsec = (long)(at % 1000) * 1000000L;
+	}
+	if (timerfd_settime(s->tfd, TFD_TIMER_ABSTIME, &t, NULL) == 0)
+		s->armed = at;
+}
+
+/* Close what is due; the timer to the next deadline. */
+static void sweep(struct df1_eip_server *s)
+{
+	int64_t now = df1_now_ms(), next = EIP_NO_DEADLINE;
+
+	for (int i = 0; i < s->max_clients; i++) {
+		struct eip_client *c = &s->cl[i];
+		int why;
+
+		if (c->fd < 0)
+			continue;
+		why = eip_age_due(&s->lim, age_of(c), now, &next);
+		if (why >= 0)
+			limit_close(s, c, (enum df1_eip_close_reason)why);
+	}
+	arm(s, next);
+}
+
+static void peer_text(char *buf, size_t cap, const struct sockaddr_storage *ss)
+{
+	char a[INET6_ADDRSTRLEN] = "?";
+
+	if (ss->ss_family == AF_INET) {
+		const struct sockaddr_in *in = (const struct sockaddr_in *)ss;
+
+		inet_ntop(AF_INET, &in->sin_addr, a, sizeof a);
+		snprintf(buf, cap, "%s:%u", a, ntohs(in->sin_port));
+	} else if (ss->ss_family == AF_INET6) {
+		const struct sockaddr_in6 *in6 = (const struct sockaddr_in6 *)ss;
+
+		inet_ntop(AF_INET6, &in6->sin6_addr, a, sizeof a);
+		snprintf(buf, cap, "[%s]:%u", a, ntohs(in6->sin6_port));
+	} else {
+		snprintf(buf, cap, "?");
+	}
 }
 
 static void accept_clients(struct df1_eip_server *s)
@@ -517,6 +628,8 @@ static void accept_clients(struct df1_eip_server *s)
 				slot = i;
 				break;
 			}
+		if (allowed(s, &ss) && slot < 0)
+			slot = evict(s);        /* room for the new client before refusing it */
 		if (slot < 0 || !allowed(s, &ss)) {
 			s->st.refused_clients++;
 			close(fd);
@@ -532,6 +645,8 @@ static void accept_clients(struct df1_eip_server *s)
 		s->next_handle++;
 		eip_session_init(&c->sess, (s->next_handle << 8) | (uint32_t)(slot + 1));
 		c->id = s->id;
+		c->age.opened_ms = c->age.last_ms = df1_now_ms();
+		peer_text(c->peer, sizeof c->peer, &ss);
 		if (getsockname(fd, (struct sockaddr *)&local, &ll) == 0 && local.ss_family == AF_INET)
 			c->id.sin_addr = ntohl(((struct sockaddr_in *)&local)->sin_addr.s_addr);
 		c->events = EPOLLIN;
@@ -606,7 +721,10 @@ DF1_API int df1_eip_server_new(df1_eip_server_t **out, const struct df1_eip_serv
 	s = calloc(1, sizeof *s);
 	if (!s)
 		return srv_err(NULL, DF1_E_NOMEM, "EtherNet/IP server: out of memory");
-	s->ep = s->lfd = s->ufd = s->kick = -1;
+	s->ep = s->lfd = s->ufd = s->kick = s->tfd = -1;
+	s->lim.register_ms = EIP_REGISTER_MS_DEFAULT;
+	s->lim.idle_ms = EIP_IDLE_MS_DEFAULT;
+	s->armed = EIP_NO_DEADLINE;
 	s->fn = fn;
 	s->user = user;
 	s->read_only = c->read_only;
@@ -631,8 +749,10 @@ DF1_API int df1_eip_server_new(df1_eip_server_t **out, const struct df1_eip_serv
 	if (rc == 0) {
 		s->ep = epoll_create1(EPOLL_CLOEXEC);
 		s->kick = eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
-		if (s->ep < 0 || s->kick < 0 || ep_add(s, s->lfd, TAG_LISTEN, EPOLLIN) != 0 ||
-		    ep_add(s, s->ufd, TAG_UDP, EPOLLIN) != 0 || ep_add(s, s->kick, TAG_KICK, EPOLLIN) != 0)
+		s->tfd = timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC | TFD_NONBLOCK);
+		if (s->ep < 0 || s->kick < 0 || s->tfd < 0 || ep_add(s, s->lfd, TAG_LISTEN, EPOLLIN) != 0 ||
+		    ep_add(s, s->ufd, TAG_UDP, EPOLLIN) != 0 || ep_add(s, s->kick, TAG_KICK, EPOLLIN) != 0 ||
+		    ep_add(s, s->tfd, TAG_TIMER, EPOLLIN) != 0)
 			rc = srv_err(NULL, DF1_E_SYS, "EtherNet/IP server: epoll: %s", strerror(errno));
 	}
 	if (rc != 0) {
@@ -672,10 +792,10 @@ DF1_API int df1_eip_server_process(df1_eip_server_t *s)
 			accept_clients(s);
 		} else if (tag == TAG_UDP) {
 			udp_read(s);
-		} else if (tag == TAG_KICK) {
+		} else if (tag == TAG_KICK || tag == TAG_TIMER) {
 			uint64_t v;
 
-			(void)!read(s->kick, &v, sizeof v);
+			(void)!read(tag == TAG_KICK ? s->kick : s->tfd, &v, sizeof v);
 		} else if (tag < (uint32_t)s->max_clients && s->cl[tag].fd >= 0) {
 			struct eip_client *c = &s->cl[tag];
 
@@ -701,6 +821,7 @@ DF1_API int df1_eip_server_process(df1_eip_server_t *s)
 		    c->in_len >= eip_msg_len(c->in, c->in_len))
 			kick(s);      /* one more whole message: come back */
 	}
+	sweep(s);
 	return handed;
 }
 
@@ -737,6 +858,7 @@ static int answer(df1_eip_server_t *s, uint32_t request, int status, const uint8
 	if (len < 0)
 		return srv_err(s, len, "request %u: reply does not fit", request);
 	c->waiting = false;
+	c->age.last_ms = df1_now_ms();     /* a slow line is not the client's idleness */
 	msg = eip_msg_len(c->in, c->in_len);
 	consume(c, msg <= c->in_len ? msg : c->in_len);
 	client_queue(s, c, s->reply, (size_t)len);
@@ -793,6 +915,30 @@ DF1_API int df1_eip_server_set_identity(df1_eip_server_t *s, const struct df1_ei
 	return 0;
 }
 
+DF1_API int df1_eip_server_set_limits(df1_eip_server_t *s, const struct df1_eip_server_limits *l)
+{
+	if (!s || !l)
+		return DF1_E_INVAL;
+	if (eip_limits_from(&s->lim, l) != 0)
+		return srv_err(s, DF1_E_INVAL, "limits: register_ms %d, idle_ms %d: each 0 (default), -1 (none) "
+		               "or 1-%d", l->register_ms, l->idle_ms, EIP_LIMIT_MS_MAX);
+	s->on_close = l->on_close;
+	s->close_user = l->user;
+	sweep(s);
+	return 0;
+}
+
+DF1_API void df1_eip_server_closes(const df1_eip_server_t *s, struct df1_eip_server_closes *c)
+{
+	if (!c)
+		return;
+	if (!s) {
+		memset(c, 0, sizeof *c);
+		return;
+	}
+	*c = s->closes;
+}
+
 DF1_API const char *df1_eip_server_error(const df1_eip_server_t *s)
 {
 	return s ? s->err : new_err;
@@ -813,6 +959,8 @@ DF1_API void df1_eip_server_free(df1_eip_server_t *s)
 		close(s->ufd);
 	if (s->kick >= 0)
 		close(s->kick);
+	if (s->tfd >= 0)
+		close(s->tfd);
 	if (s->ep >= 0)
 		close(s->ep);
 	free(s);

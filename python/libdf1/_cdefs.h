@@ -602,6 +602,24 @@ struct df1_eip_server_stats {
 	uint64_t read_only_refusals;
 };
 void df1_eip_server_stats(const df1_eip_server_t *s, struct df1_eip_server_stats *st);
+enum df1_eip_close_reason {
+	DF1_EIP_CLOSE_NO_SESSION,
+	DF1_EIP_CLOSE_IDLE,
+	DF1_EIP_CLOSE_EVICTED
+};
+typedef void (*df1_eip_close_fn)(void *user, const char *peer, enum df1_eip_close_reason why);
+struct df1_eip_server_limits {
+	int register_ms;
+	int idle_ms;
+	_Bool no_evict;
+	df1_eip_close_fn on_close;
+	void *user;
+};
+int df1_eip_server_set_limits(df1_eip_server_t *s, const struct df1_eip_server_limits *l);
+struct df1_eip_server_closes {
+	uint64_t no_session, idle, evicted;
+};
+void df1_eip_server_closes(const df1_eip_server_t *s, struct df1_eip_server_closes *c);
 int df1_eip_server_set_identity(df1_eip_server_t *s, const struct df1_eip_identity *id);
 const char *df1_eip_server_error(const df1_eip_server_t *s);
 void df1_eip_server_free(df1_eip_server_t *s);
