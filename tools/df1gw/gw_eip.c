@@ -126,6 +126,27 @@ void gw_eip_identify(struct gw_eip *e, df1_t *h)
 	df1_eip_server_set_identity(e->s, &id);
 }
 
+int gw_eip_limit_ms(int seconds)
+{
+	return seconds < 0 ? 0 : seconds == 0 ? -1 : seconds * 1000;
+}
+
+/* Each connection a limit closed: logged (df1gw(1) EtherNet/IP, "Limits"). */
+static void gw_eip_closed(void *user, const char *peer, enum df1_eip_close_reason why)
+{
+	struct gw_eip *e = user;
+
+	if (e->quiet)
+		return;
+	if (why == DF1_EIP_CLOSE_NO_SESSION)
+		fprintf(stderr, "df1gw: eip: closed %s: no RegisterSession within %d s\n", peer,
+		        e->register_s < 0 ? 5 : e->register_s);
+	else if (why == DF1_EIP_CLOSE_IDLE)
+		fprintf(stderr, "df1gw: eip: closed %s: session idle for %d s\n", peer, e->idle_s < 0 ? 120 : e->idle_s);
+	else
+		fprintf(stderr, "df1gw: eip: closed %s: the longest idle of a full table, for a new client\n", peer);
+}
+
 static bool gw_eip_loopback(const char *a)
 {
 	return strncmp(a, "127.", 4) == 0 || strncmp(a, "[::1]", 5) == 0 ||
@@ -135,6 +156,7 @@ static bool gw_eip_loopback(const char *a)
 int gw_eip_open(struct gw_eip *e, const char *prog, bool quiet)
 {
 	struct df1_eip_server_config c;
+	struct df1_eip_server_limits lim = { 0 };
 	const char *a;
 	int r;
 
@@ -142,11 +164,22 @@ int gw_eip_open(struct gw_eip *e, const char *prog, bool quiet)
 	c.listen = strncmp(e->listen, "tcp://", 6) == 0 ? e->listen + 6 : e->listen;
 	c.allow = e->allow;
 	c.read_only = e->read_only;
+	c.max_clients = e->max_clients;
 	c.identity = gw_identity;
 	r = df1_eip_server_new(&e->s, &c, gw_eip_pccc, e);
 	if (r < 0) {
 		fprintf(stderr, "%s: --eip %s: %s\n", prog, e->listen, df1_eip_server_error(NULL));
 		return r == DF1_E_INVAL ? CLI_EXIT_USAGE : CLI_EXIT_FAIL;
+	}
+	e->quiet = quiet;
+	lim.register_ms = gw_eip_limit_ms(e->register_s);
+	lim.idle_ms = gw_eip_limit_ms(e->idle_s);
+	lim.on_close = gw_eip_closed;
+	lim.user = e;
+	if (df1_eip_server_set_limits(e->s, &lim) < 0) {
+		fprintf(stderr, "%s: --eip: %s\n", prog, df1_eip_server_error(e->s));
+		gw_eip_close(e);
+		return CLI_EXIT_USAGE;
 	}
 	a = df1_eip_server_address(e->s);
 	if (!gw_eip_loopback(a))
@@ -171,10 +204,12 @@ void gw_eip_process(struct gw_eip *e)
 void gw_eip_counters(const struct gw_eip *e, FILE *f)
 {
 	struct df1_eip_server_stats st;
+	struct df1_eip_server_closes cl;
 
 	if (!e->s)
 		return;
 	df1_eip_server_stats(e->s, &st);
+	df1_eip_server_closes(e->s, &cl);
 	fprintf(f, "eip sessions %llu, open %llu, requests %llu, errors %llu, refused clients %llu, "
 	        "read-only refusals %llu, forwarded %llu, answered %llu, no answer %llu, busy %llu\n",
 	        (unsigned long long)st.sessions, (unsigned long long)st.sessions_open,
@@ -182,6 +217,8 @@ void gw_eip_counters(const struct gw_eip *e, FILE *f)
 	        (unsigned long long)st.refused_clients, (unsigned long long)st.read_only_refusals,
 	        (unsigned long long)e->forwarded, (unsigned long long)e->answered,
 	        (unsigned long long)e->no_answer, (unsigned long long)e->busy);
+	fprintf(f, "eip closed without session %llu, idle %llu, evicted %llu\n", (unsigned long long)cl.no_session,
+	        (unsigned long long)cl.idle, (unsigned long long)cl.evicted);
 }
 
 void gw_eip_close(struct gw_eip *e)

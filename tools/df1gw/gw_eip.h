@@ -30,6 +30,9 @@ struct gw_eip {
 	const char *allow;           /* --eip-allow CIDR[,CIDR] */
 	int station;                 /* --eip-station N (-1: the line's -a) */
 	bool read_only;              /* --eip-read-only */
+	int max_clients;             /* --eip-max-clients N (0: the library's 32) */
+	int register_s, idle_s;      /* --eip-register-timeout S, --eip-idle-timeout S (-1: default, 0: none) */
+	bool quiet;                  /* -q: the closes are counted, not logged */
 
 	df1_eip_server_t *s;
 	df1_t *h;                    /* the line (df1gw's handle, changed at a reload) */
@@ -49,6 +52,8 @@ void gw_eip_process(struct gw_eip *e);
  * bridge SLC 5/04", and the product code its type code); the plain bridge
  * identity when it does not answer. One transaction, when the line opens. */
 void gw_eip_identify(struct gw_eip *e, df1_t *h);
+/* Seconds as df1_eip_server_limits takes them (-1 default, 0 none -> ms). */
+int gw_eip_limit_ms(int seconds);
 /* The counters, one line, for --counters. */
 void gw_eip_counters(const struct gw_eip *e, FILE *f);
 /* After the line's handle is freed (its requests ended). NULL-safe. */

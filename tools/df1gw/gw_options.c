@@ -19,6 +19,7 @@ enum {
 	OPT_MAP = CLI_KEY_EXTRA, OPT_MQTT, OPT_CAFILE, OPT_CERT, OPT_KEY, OPT_CLIENT_ID, OPT_USERNAME,
 	OPT_PASSWORD_FILE, OPT_PASSWORD, OPT_PREFIX, OPT_QOS, OPT_KEEPALIVE, OPT_REFRESH, OPT_ONCE,
 	OPT_WATCHDOG, OPT_EIP, OPT_EIP_STATION, OPT_EIP_ALLOW, OPT_EIP_READ_ONLY, OPT_COUNTERS,
+	OPT_EIP_MAX_CLIENTS, OPT_EIP_REGISTER_TIMEOUT, OPT_EIP_IDLE_TIMEOUT,
 };
 
 static const struct cli_extra_opt gw_opts[] = {
@@ -48,6 +49,12 @@ static const struct cli_extra_opt gw_opts[] = {
 	{ "eip-allow", required_argument, OPT_EIP_ALLOW, "CIDR[,CIDR]", "--eip: only these clients" },
 	{ "eip-read-only", no_argument, OPT_EIP_READ_ONLY, NULL,
 	  "--eip: refuse commands that write or change mode (STS 60h)" },
+	{ "eip-max-clients", required_argument, OPT_EIP_MAX_CLIENTS, "N",
+	  "--eip: connections at once, 1-255 (default 32; full: the longest idle makes room)" },
+	{ "eip-register-timeout", required_argument, OPT_EIP_REGISTER_TIMEOUT, "S",
+	  "--eip: close a connection without a session after S s (default 5, 0: never)" },
+	{ "eip-idle-timeout", required_argument, OPT_EIP_IDLE_TIMEOUT, "S",
+	  "--eip: close a session idle for S s (default 120, 0: never)" },
 	{ "counters", no_argument, OPT_COUNTERS, NULL, "the line's and EtherNet/IP counters on stdout at exit" },
 	{ NULL, 0, 0, NULL, NULL },
 };
@@ -80,6 +87,10 @@ static int gw_extra(struct cli *c, int key, const char *arg, void *user)
 	case OPT_EIP_STATION: return cli_parse_int(c, "--eip-station", arg, 0, 254, &g->eip.station);
 	case OPT_EIP_ALLOW: g->eip.allow = arg; break;
 	case OPT_EIP_READ_ONLY: g->eip.read_only = true; break;
+	case OPT_EIP_MAX_CLIENTS: return cli_parse_int(c, "--eip-max-clients", arg, 1, 255, &g->eip.max_clients);
+	case OPT_EIP_REGISTER_TIMEOUT:
+		return cli_parse_int(c, "--eip-register-timeout", arg, 0, 3600, &g->eip.register_s);
+	case OPT_EIP_IDLE_TIMEOUT: return cli_parse_int(c, "--eip-idle-timeout", arg, 0, 3600, &g->eip.idle_s);
 	case OPT_COUNTERS: g->counters = true; break;
 	default: return CLI_EXIT_USAGE;
 	}
@@ -186,6 +197,7 @@ int gw_options_parse(struct gw *g, int argc, char **argv)
 	g->qos = 1;
 	g->keepalive_s = 60;
 	g->watchdog_ms = -1;
+	g->eip.register_s = g->eip.idle_s = -1;
 	r = cli_parse(&g->cli, argc, argv, g);
 	if (r != CLI_CONTINUE)
 		return r;
@@ -193,6 +205,9 @@ int gw_options_parse(struct gw *g, int argc, char **argv)
 		return cli_usage_error(&g->cli, "unexpected operand '%s'", g->cli.argv[0]);
 	if (!g->eip.listen && (g->eip.allow || g->eip.read_only || g->eip.station >= 0))
 		return cli_usage_error(&g->cli, "--eip-station, --eip-allow and --eip-read-only go with --eip");
+	if (!g->eip.listen && (g->eip.max_clients || g->eip.register_s >= 0 || g->eip.idle_s >= 0))
+		return cli_usage_error(&g->cli, "--eip-max-clients, --eip-register-timeout and --eip-idle-timeout "
+		                       "go with --eip");
 	if (!g->map_path && !g->eip.listen)
 		return cli_usage_error(&g->cli, "no tags: give --map FILE.csv (or --eip PORT for a bridge)");
 	if (!g->mqtt_url && !g->eip.listen)

@@ -234,6 +234,8 @@ struct opts {
 	const char *eip;                /* --eip ADDR */
 	const char *eip_allow;          /* --eip-allow CIDR[,CIDR] */
 	bool eip_read_only;             /* --eip-read-only */
+	int eip_max_clients;            /* --eip-max-clients N (0: 32) */
+	int eip_register_s, eip_idle_s; /* --eip-register-timeout S, --eip-idle-timeout S (-1: default) */
 };
 
 enum {
@@ -241,6 +243,7 @@ enum {
 	OPT_PLC5_FLOAT_SWAPPED, OPT_DATA, OPT_DROP_ACK, OPT_CORRUPT, OPT_NAK, OPT_DELAY, OPT_SILENT,
 	OPT_STALE, OPT_NOISE, OPT_SEED, OPT_LOG, OPT_SCAN_TIME, OPT_NO_EOT,
 	OPT_MAX_QUEUE, OPT_EIP, OPT_EIP_ALLOW, OPT_EIP_READ_ONLY,
+	OPT_EIP_MAX_CLIENTS, OPT_EIP_REGISTER_TIMEOUT, OPT_EIP_IDLE_TIMEOUT,
 };
 
 /* -d, --station and -b are df1sim's own: -d is the device served (never
@@ -253,6 +256,12 @@ static const struct cli_extra_opt sim_opts[] = {
 	{ "eip", required_argument, OPT_EIP, "ADDR", "also serve PCCC over EtherNet/IP on ADDR (TCP and UDP)" },
 	{ "eip-allow", required_argument, OPT_EIP_ALLOW, "CIDR[,CIDR]", "--eip: only these clients (default any)" },
 	{ "eip-read-only", no_argument, OPT_EIP_READ_ONLY, NULL, "--eip: refuse commands that write (STS 60)" },
+	{ "eip-max-clients", required_argument, OPT_EIP_MAX_CLIENTS, "N",
+	  "--eip: connections at once, 1-255 (default 32; full: the longest idle makes room)" },
+	{ "eip-register-timeout", required_argument, OPT_EIP_REGISTER_TIMEOUT, "S",
+	  "--eip: close a connection without a session after S s (default 5, 0: never)" },
+	{ "eip-idle-timeout", required_argument, OPT_EIP_IDLE_TIMEOUT, "S",
+	  "--eip: close a session idle for S s (default 120, 0: never)" },
 	{ "station", required_argument, OPT_STATION, "N[,N...]",
 	  "stations served 0-254, ranges A-B allowed (default 1)" },
 	{ "baud", required_argument, 'b', "N", "-d only: baud rate (default 19200)" },
@@ -393,6 +402,10 @@ static int on_option(struct cli *c, int key, const char *arg, void *user)
 	case OPT_EIP: o->eip = arg; break;
 	case OPT_EIP_ALLOW: o->eip_allow = arg; break;
 	case OPT_EIP_READ_ONLY: o->eip_read_only = true; break;
+	case OPT_EIP_MAX_CLIENTS: return cli_parse_int(c, "--eip-max-clients", arg, 1, 255, &o->eip_max_clients);
+	case OPT_EIP_REGISTER_TIMEOUT:
+		return cli_parse_int(c, "--eip-register-timeout", arg, 0, 3600, &o->eip_register_s);
+	case OPT_EIP_IDLE_TIMEOUT: return cli_parse_int(c, "--eip-idle-timeout", arg, 0, 3600, &o->eip_idle_s);
 	default:
 		if (key >= OPT_DROP_ACK && key <= OPT_NOISE)
 			return set_fault(o, key - OPT_DROP_ACK, arg);
@@ -448,6 +461,7 @@ static int parse_args(int argc, char **argv, struct opts *o)
 	o->max_queue = 8;
 	o->baud = 19200;
 	o->data_bits = 8;
+	o->eip_register_s = o->eip_idle_s = -1;
 	r = cli_parse(&o->cli, argc, argv, o);
 	if (r != CLI_CONTINUE)
 		return r;
@@ -458,6 +472,9 @@ static int parse_args(int argc, char **argv, struct opts *o)
 		                                         : "one of --pty PATH, -d DEV, --listen ADDR or --eip ADDR is required");
 	if ((o->eip_allow || o->eip_read_only) && !o->eip)
 		return cli_usage_error(&o->cli, "--eip-allow and --eip-read-only go with --eip");
+	if ((o->eip_max_clients || o->eip_register_s >= 0 || o->eip_idle_s >= 0) && !o->eip)
+		return cli_usage_error(&o->cli, "--eip-max-clients, --eip-register-timeout and --eip-idle-timeout "
+		                       "go with --eip");
 	if (cli_lib_option_set(&o->cli, CLI_OPT_PLC5_FLOAT) && o->cli.lib_value[CLI_OPT_PLC5_FLOAT] &&
 	    o->cli.plc != DF1_PLC_PLC5)
 		return cli_usage_error(&o->cli, "--plc5-float swapped goes with --plc plc5 only");
@@ -600,11 +617,27 @@ static int serve_eip_only(df1_t *h, struct sim *s)
 	return 0;
 }
 
+/* Each connection an --eip limit closed (df1sim(1) --eip-idle-timeout). */
+static void sim_eip_closed(void *user, const char *peer, enum df1_eip_close_reason why)
+{
+	(void)user;
+	msg("eip: closed %s: %s", peer, why == DF1_EIP_CLOSE_NO_SESSION ? "no RegisterSession in time"
+	                                : why == DF1_EIP_CLOSE_IDLE ? "session idle past --eip-idle-timeout"
+	                                : "the longest idle of a full table, for a new client");
+}
+
+/* -1 (default) -> 0, 0 (never) -> -1, seconds -> ms: df1_eip_server_limits. */
+static int sim_eip_ms(int seconds)
+{
+	return seconds < 0 ? 0 : seconds == 0 ? -1 : seconds * 1000;
+}
+
 /* The EtherNet/IP server of --eip [tcp://]ADDR, and the one descriptor the
  * link waits on: the signal pipe and the server's. Prints nothing yet. */
 static int sim_eip_open(struct sim *s, const struct opts *o, df1_t *h)
 {
 	struct df1_eip_server_config c;
+	struct df1_eip_server_limits lim = { 0 };
 	struct epoll_event ev;
 	const char *a;
 	int r;
@@ -615,11 +648,19 @@ static int sim_eip_open(struct sim *s, const struct opts *o, df1_t *h)
 	c.listen = strncmp(spec, "tcp://", 6) == 0 ? spec + 6 : spec;
 	c.allow = o->eip_allow;
 	c.read_only = o->eip_read_only;
+	c.max_clients = o->eip_max_clients;
 	c.identity = sim_identity;
 	r = df1_eip_server_new(&s->eip, &c, sim_eip_pccc, s);
 	if (r < 0) {
 		msg("--eip %s: %s", spec, df1_eip_server_error(NULL));
 		return r == DF1_E_INVAL ? CLI_EXIT_USAGE : CLI_EXIT_FAIL;
+	}
+	lim.register_ms = sim_eip_ms(o->eip_register_s);
+	lim.idle_ms = sim_eip_ms(o->eip_idle_s);
+	lim.on_close = sim_eip_closed;
+	if (df1_eip_server_set_limits(s->eip, &lim) < 0) {
+		msg("--eip: %s", df1_eip_server_error(s->eip));
+		return CLI_EXIT_USAGE;
 	}
 	a = df1_eip_server_address(s->eip);
 	if (strncmp(a, "0.0.0.0:", 8) == 0 || strncmp(a, "[::]:", 5) == 0)
