@@ -20,6 +20,11 @@ FUZZ_CFLAGS = -O1 -g $(FUZZ_SAN) -fsanitize=fuzzer-no-link $(DF1_CFLAGS) -Itests
 
 FUZZ_TARGETS := frame pccc_reply pccc_command addr value net_csv map_csv table_file mon_read link poll
 FUZZ_TARGETS += eip
+# df1gw's .../set payloads: its JSON reader, the values for a tag, the result
+FUZZ_TARGETS += gw_set
+FUZZ_EXTRA_gw_set := $(patsubst %.c,$(FUZZ_B)/%.o,tools/df1gw/gw_json.c tools/df1gw/gw_write.c \
+	tools/df1gw/gw_value.c tools/common/cli_text.c)
+FUZZ_DICT_gw_set := json
 FUZZ_BINS := $(FUZZ_TARGETS:%=$(FUZZ_B)/bin/fuzz_%)
 FUZZ_LIB_OBJS := $(LIB_SRCS:%.c=$(FUZZ_B)/%.o)
 FUZZ_COMMON_OBJS := $(FUZZ_B)/tests/fuzz/fuzz_file.o

@@ -249,6 +249,16 @@ def main():
         for conv in eip_conversations([a[2:] for _, a in apps if len(a) > 6 and not a[2] & 0x40]):
             cp.add("eip", bytes([opt]) + conv)
 
+    # gw_set: [tag: address index | Count index << 4 | current value 64] + a .../set
+    # payload as df1gw(1) documents them, and the hostile ones of its tests
+    sets = [b"5", b"-32768", b"{\"value\": 12, \"id\": \"w1\"}", b"[1, 2, 3]", b"1.5", b"true", b"0",
+            b"\"STRING 1\"", b"{\"PRE\": 500, \"DN\": true}", b"{\"value\": {\"ACC\": 3}, \"id\": 17}",
+            b"1e400", b"[[[[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]]", b"{\"value\": 1, \"value\": 2}",
+            b"{\"value\": 1, \"id\": \"a\\u0000b\"}", b"\"\\u00ff\\u0100\"", b"NaN", b"[1, 2, 3, 4, 5]"]
+    for tag in (0x00, 0x01, 0x02, 0x03, 0x44, 0x15, 0x26, 0x07, 0x08, 0x39):
+        for p in sets:
+            cp.add("gw_set", bytes([tag]) + p)
+
     for t in sorted(cp.count):
         print("seeds: %-13s %d" % (t, cp.count[t]))
 
