@@ -743,7 +743,9 @@ enum df1_access { DF1_ACCESS_READ = 1, DF1_ACCESS_WRITE = 2, DF1_ACCESS_READWRIT
 struct df1_tag_config {
 	char name[64];
 	enum df1_access access;
-	char type[16];          /* Type column as written (informational) */
+	char type[16];          /* Type column as written: "" (the address's own), INT, DINT,
+	                         * LONG, REAL, FLOAT, BOOL, STRING, TIMER, COUNTER, CONTROL
+	                         * (df1_tag_value_kind) */
 	int station;            /* 0..254 */
 	enum df1_plc plc;
 	struct df1_addr addr;
@@ -814,6 +816,13 @@ struct df1_tag_state {
  * fit the file or their word) / DF1_E_NOMEM. Readable tags (DF1_ACCESS_READ
  * bit) are polled; write-only tags only take df1_tag_write(). */
 DF1_API int df1_tag_add(df1_t *h, const struct df1_tag_config *c);
+/* The kind of a tag's values: its Type's (INT int16, DINT/LONG int32,
+ * REAL/FLOAT float, BOOL bit, STRING, TIMER/COUNTER/CONTROL a whole element),
+ * the address's own (df1_addr_value_kind) when Type is empty. Returns the
+ * enum df1_value_kind, or DF1_E_INVAL (not a Type) / DF1_E_TYPE (a Type that
+ * cannot hold the address's values: FLOAT on a bit, INT on L or a whole
+ * timer). @since 0.4 */
+DF1_API int df1_tag_value_kind(const struct df1_tag_config *c);
 /* Add every row of a mapping CSV (df1_map_load). Rows with problems and
  * duplicate names are reported through issue_fn (may be NULL) and skipped; in
  * strict mode any problem adds nothing and returns DF1_E_CONFIG.

@@ -5,8 +5,11 @@
  *
  * Mapping file (doc/REQUIREMENTS.md 004, "Mapping Parameters"): columns Tag, Station, PLC_Type,
  * Address are required (a missing column fails the load); Command (Read, Write,
- * ReadWrite; also RW and "Read/Write"; default Read), Type (informational, up to
- * 15 characters), Count (elements, 1-1000, default 1), Scan_Ms (0-86400000,
+ * ReadWrite; also RW and "Read/Write"; default Read), Type (the kind of the tag's
+ * values, lib/proto/value_type.h: INT, DINT or LONG, REAL or FLOAT, BOOL, STRING,
+ * TIMER, COUNTER, CONTROL, any case; empty: the address's own; one that is not a
+ * Type or cannot hold the address's values is a bad row), Count (elements, 1-1000,
+ * default 1), Scan_Ms (0-86400000,
  * 0 = every scan as df1_tag_add() takes it, default 1000) are optional. Item
  * numbers are 1-based data rows (blank and comment rows not counted). Per row:
  *   Station not 0-254 (or not a number)      2501 ERR_BAD_STATION
@@ -14,7 +17,8 @@
  *   Address malformed                        2503 ERR_ADDRESS_SYNTAX
  *   Address out of range, Count below 1, or element + Count - 1 above 999
  *                                            2504 ERR_ADDRESS_RANGE (len = Count)
- *   Tag missing or longer than 63, Command, Type, Count not a number, Scan_Ms,
+ *   Tag missing or longer than 63, Command, Type (unknown, too long, or not
+ *   fitting the Address), Count not a number, Scan_Ms,
  *   a NUL byte in any cell                   catalog 0, "Item: n, ..." text
  * Bad rows are reported and skipped. In strict mode the file is checked first and
  * row_fn is called only when every row is valid. A row_fn returning a negative
@@ -22,6 +26,8 @@
  * discard the rows it received.
  */
 #include "config/config_int.h"
+
+#include "proto/value_type.h"
 
 #include <limits.h>
 #include <stdio.h>
@@ -141,6 +147,21 @@ static void cfg_map_where(struct cfg_load *l, struct cfg_row *row, struct df1_ta
 		            -1, item, addr, t->count);
 }
 
+/* Type against the Address (no catalog ID; after a valid Address only). */
+static void cfg_map_type(struct cfg_load *l, struct cfg_row *row, const struct df1_tag_config *t)
+{
+	enum df1_value_kind k;
+	const char *why, *addr = cfg_value(l, row, MF_ADDRESS);
+	int rc = value_type_check(t->type, &t->addr, &k, &why);
+
+	if (rc == DF1_E_INVAL)
+		cfg_report(l, 0, l->item, row->line, "Item: %d, Invalid Type (%.64s) should be one of %s, "
+		           "or empty (the address's own)", l->item, t->type, VALUE_TYPE_NAMES);
+	else if (rc < 0)
+		cfg_report(l, 0, l->item, row->line, "Item: %d, Type %.64s does not fit %.64s: %s", l->item,
+		           t->type, addr, why);
+}
+
 /* Scan_Ms: how often (no catalog ID). */
 static void cfg_map_scan(struct cfg_load *l, struct cfg_row *row, struct df1_tag_config *t)
 {
@@ -164,14 +185,17 @@ static void cfg_map_row(struct cfg_load *l, struct cfg_row *row)
 {
 	struct cfg_map_ctx *m = l->ctx;
 	struct df1_tag_config t;
-	int before = l->issues, rc;
+	int before = l->issues, where, rc;
 
 	memset(&t, 0, sizeof t);
 	if (cfg_check_cells(l, row, true) > 0)
 		return;         /* a NUL byte: the cells are not what they seem */
 	cfg_map_name(l, row, &t);
 	cfg_map_plc(l, row, &t);
+	where = l->issues;
 	cfg_map_where(l, row, &t);
+	if (l->issues == where)
+		cfg_map_type(l, row, &t);
 	cfg_map_scan(l, row, &t);
 
 	if (l->issues != before || !m->deliver)

@@ -154,6 +154,7 @@ struct ptag {
 	size_t esize;           /* wire bytes per element of the file */
 	int wbits;              /* HOW_BITS: bits per word */
 	int word;               /* HOW_WORD / T/C/R bits: word of the element */
+	enum df1_value_kind kind; /* of its values: its Type's (proto/value_type.h) */
 	bool isolated;          /* an address error was seen: planned alone */
 	int64_t next_due_ms;
 	struct df1_value *values;

@@ -6,6 +6,8 @@
  */
 #include "poll/poll_int.h"
 
+#include "proto/value_type.h"
+
 enum read_result { R_DONE, R_SPLIT, R_FAILED };
 
 /* The address of a block read: its first element, whole elements. */
@@ -125,10 +127,13 @@ static void poll_block_good(struct df1 *h, struct poll_engine *e, struct pblock 
 		struct ptag *t = e->tags[e->members[m]];
 		int r = b->alone ? 0 : poll_decode(e, t, b, fo);
 
-		if (r < 0)
+		if (r < 0) {
 			poll_tag_bad(e, t, DF1_REASON_PLC_ERROR, r, &h->err);
-		else
-			poll_tag_good(e, t, e->vals, now, wall);
+			continue;
+		}
+		for (int i = 0; i < t->cfg.count; i++)
+			value_type_widen(&e->vals[i], t->kind);     /* as its Type declares */
+		poll_tag_good(e, t, e->vals, now, wall);
 	}
 }
 

@@ -6,6 +6,8 @@
  */
 #include "poll/poll_int.h"
 
+#include "proto/value_type.h"
+
 static bool poll_is_tcr(enum df1_file_type t)
 {
 	return t == DF1_FT_T || t == DF1_FT_C || t == DF1_FT_R;
@@ -167,6 +169,7 @@ static bool poll_names_reserve(struct poll_engine *e)
 static int poll_tag_check(struct df1 *h, const struct df1_tag_config *c, struct ptag *t)
 {
 	char at[64];
+	const char *why;
 	int rc;
 
 	if (c->station < 0 || c->station > 254)
@@ -179,6 +182,12 @@ static int poll_tag_check(struct df1 *h, const struct df1_tag_config *c, struct 
 		return df1_fail(h, DF1_E_INVAL, c->station, "tag %s: negative scan period", c->name);
 	if (!(c->access & DF1_ACCESS_READWRITE) || c->plc < DF1_PLC_SLC || c->plc > DF1_PLC_PLC2)
 		return df1_fail(h, DF1_E_INVAL, c->station, "tag %s: invalid access or PLC type", c->name);
+	rc = value_type_check(memchr(c->type, '\0', sizeof c->type) ? c->type : "?", &c->addr, &t->kind, &why);
+	if (rc < 0) {
+		if (df1_addr_format(&c->addr, at, sizeof at) < 0)
+			snprintf(at, sizeof at, "?");
+		return df1_fail(h, rc, c->station, "tag %s: Type %.15s on %s: %s", c->name, c->type, at, why);
+	}
 	t->cfg = *c;
 	rc = poll_tag_layout(t);
 	if (rc < 0) {
@@ -218,7 +227,7 @@ int df1_tag_add(df1_t *h, const struct df1_tag_config *c)
 		return df1_fail(h, DF1_E_NOMEM, -1, "poll engine: out of memory");
 	}
 	for (int i = 0; i < c->count; i++)
-		t->values[i].kind = df1_addr_value_kind(&c->addr);
+		t->values[i].kind = t->kind;
 	t->readable = (c->access & DF1_ACCESS_READ) != 0;
 	t->writable = (c->access & DF1_ACCESS_WRITE) != 0;
 	t->q = DF1_QUALITY_BAD;
@@ -253,6 +262,18 @@ int df1_tag_add(df1_t *h, const struct df1_tag_config *c)
 	if (t->readable)
 		e->dirty = true;
 	return t->id;
+}
+
+int df1_tag_value_kind(const struct df1_tag_config *c)
+{
+	enum df1_value_kind k;
+	const char *why;
+	int rc;
+
+	if (!c || !memchr(c->type, '\0', sizeof c->type))
+		return DF1_E_INVAL;
+	rc = value_type_check(c->type, &c->addr, &k, &why);
+	return rc < 0 ? rc : (int)k;
 }
 
 int df1_tag_count(const df1_t *h)

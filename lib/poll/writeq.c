@@ -8,6 +8,7 @@
 
 #include "link/link.h"
 #include "proto/pccc.h"
+#include "proto/value_type.h"
 
 static int poll_write_one(struct df1 *h, struct poll_engine *e, struct wnode *w)
 {
@@ -173,28 +174,31 @@ int df1_tag_write(df1_t *h, int id, const struct df1_value *v, size_t n, df1_wri
 	if (!t || !t->writable || n > (size_t)t->cfg.count)
 		return DF1_E_INVAL;
 	vt = t->cfg.addr.sub != DF1_ADDR_NONE ? DF1_FT_N : t->cfg.addr.type;
-	for (size_t i = 0; i < n; i++) {
-		uint8_t scratch[96];
-		int r;
-
-		if (t->cfg.addr.bit != DF1_ADDR_NONE) {
-			if (v[i].kind != DF1_VAL_BIT)
-				return DF1_E_TYPE;
-			continue;
-		}
-		r = value_encode_element(vt, &v[i], scratch, sizeof scratch, VALUE_FLOAT_LE);
-		if (r < 0)
-			return r;
-	}
 	w = malloc(sizeof *w + n * sizeof *v);
 	if (!w)
 		return DF1_E_NOMEM;
 	memset(w, 0, sizeof *w);
+	memcpy(w->v, v, n * sizeof *v);
+	for (size_t i = 0; i < n; i++) {
+		uint8_t scratch[96];
+		int r = 0;
+
+		/* the Type's values (DINT, REAL on a word) back to the address's, range checked */
+		if (w->v[i].kind == t->kind)
+			r = value_type_narrow(&w->v[i], df1_addr_value_kind(&t->cfg.addr));
+		if (r == 0 && t->cfg.addr.bit != DF1_ADDR_NONE)
+			r = w->v[i].kind == DF1_VAL_BIT ? 0 : DF1_E_TYPE;
+		else if (r == 0)
+			r = value_encode_element(vt, &w->v[i], scratch, sizeof scratch, VALUE_FLOAT_LE);
+		if (r < 0) {
+			free(w);
+			return r;
+		}
+	}
 	w->tag = id;
 	w->done = done;
 	w->user = user;
 	w->n = n;
-	memcpy(w->v, v, n * sizeof *v);
 	pthread_mutex_lock(&e->mu);
 	w->wid = wid = e->next_wid;
 	e->next_wid = e->next_wid == INT_MAX ? 1 : e->next_wid + 1;

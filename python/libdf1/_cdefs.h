@@ -510,6 +510,7 @@ struct df1_tag_state {
 	uint64_t reads;
 };
 int df1_tag_add(df1_t *h, const struct df1_tag_config *c);
+int df1_tag_value_kind(const struct df1_tag_config *c);
 int df1_tag_load_map(df1_t *h, const char *path, _Bool strict, df1_config_issue_fn issue_fn, void *user);
 int df1_tag_count(const df1_t *h);
 int df1_tag_find(const df1_t *h, const char *name);

@@ -63,6 +63,8 @@ class Tag:
     scan_ms: int = 1000             # 0: every scan
     station: Optional[int] = None   # default: the Plc's station
     access: str = "read"            # "read", "write" or "readwrite"
+    type: str = ""                  # the mapping file's Type: "" (the address's own), "INT", "DINT",
+    #                                 "REAL", "BOOL", "STRING", "TIMER" ... (df1_tag_value_kind(3))
 
 
 class Change(NamedTuple):
@@ -149,6 +151,10 @@ class Poller:
         ffi.memmove(ffi.addressof(c[0], "addr"), a.c, ffi.sizeof("struct df1_addr"))
         c.count = tag.count
         c.scan_ms = tag.scan_ms
+        tb = tag.type.encode()
+        if len(tb) >= ffi.sizeof(c.type):
+            raise Df1ValueError(lib.DF1_E_INVAL, "Type %r: not a Type" % tag.type, address=tag.address)
+        c.type = tb
         with self._plc._lock:
             tid = self._plc._check(lib.df1_tag_add(self._plc.handle, c), tag.address)
         self._remember(tid, name, a, tag.count)

@@ -32,11 +32,11 @@ Temp,Read,FLOAT,1,SLC,F8:1,,100
 Run,Read,BOOL,1,SLC,B3:0/5,,100
 Stopped,Read,BOOL,1,SLC,B3:0/6,,100
 Speeds,Read,INT,1,SLC,N7:2,3,100
-Tmr,Read,INT,1,SLC,T4:0,,100
+Tmr,Read,TIMER,1,SLC,T4:0,,100
 Text,Read,STRING,1,SLC,ST9:0,,100
 "Line 2, east=x",Read,INT,1,SLC,N7:1,,100
 time,Read,INT,1,SLC,N7:0,,100
-Big,Read,INT,1,SLC,L10:0,,100
+Big,Read,DINT,1,SLC,L10:0,,100
 Cmd,Write,INT,1,SLC,N7:9,,100
 MAP
 

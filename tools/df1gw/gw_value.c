@@ -214,10 +214,28 @@ static int tcr_from_json(const struct gw_jv *v, enum df1_file_type t, struct df1
 	return 0;
 }
 
+/* The address numbers of kind are parsed as: the tag's own, or for a Type
+ * wider than its word (DINT, REAL on N7:0) one of that kind (L, F). */
+static struct df1_addr number_addr(const struct df1_tag_config *c, enum df1_value_kind kind)
+{
+	struct df1_addr a = c->addr;
+
+	if (kind == df1_addr_value_kind(&c->addr))
+		return a;
+	memset(&a, 0, sizeof a);
+	a.type = kind == DF1_VAL_INT32 ? DF1_FT_L : kind == DF1_VAL_FLOAT ? DF1_FT_F : DF1_FT_N;
+	a.file = 9;
+	a.sub = DF1_ADDR_NONE;
+	a.bit = DF1_ADDR_NONE;
+	return a;
+}
+
 static int one_from_json(const struct gw_jv *v, const struct df1_tag_config *c,
                          const struct df1_value *cur, struct df1_value *out, char *err, size_t cap)
 {
-	enum df1_value_kind kind = df1_addr_value_kind(&c->addr);
+	int tk = df1_tag_value_kind(c);     /* its Type's (df1gw(1) Tags: Type) */
+	enum df1_value_kind kind = tk >= 0 ? (enum df1_value_kind)tk : df1_addr_value_kind(&c->addr);
+	struct df1_addr na;
 	size_t len;
 	int r;
 
@@ -229,7 +247,8 @@ static int one_from_json(const struct gw_jv *v, const struct df1_tag_config *c,
 	case DF1_VAL_FLOAT:
 		if (v->type != GW_JNUMBER)
 			return type_error(err, cap, "a number", v);
-		r = df1_value_parse(&c->addr, v->text, out);
+		na = number_addr(c, kind);
+		r = df1_value_parse(&na, v->text, out);
 		if (r < 0) {
 			snprintf(err, cap, "%s does not fit %s", v->text,
 			         kind == DF1_VAL_FLOAT ? "a float" : kind == DF1_VAL_INT32 ? "a 32-bit integer"
