@@ -133,6 +133,38 @@ def test_map_file(tmp_path, sim):
         assert ei.value.catalog_id == 2503
 
 
+def test_type_column(tmp_path, sim):
+    # libdf1(7) "Mapping file": REAL on a word is a float, DINT an int, an empty
+    # Type the address's own; FLOAT on a bit, INT on a whole timer and no Type at
+    # all are bad rows with their item numbers, the same as df1gw and df1mon say
+    m = tmp_path / "typed.csv"
+    m.write_text("Tag,Command,Type,Station,PLC_Type,Address\n"
+                 "Real,Read,REAL,1,SLC,N7:3\n"
+                 "Wide,Read,DINT,1,SLC,N7:4\n"
+                 "Own,Read,,1,SLC,N7:3\n"
+                 "B1,Read,FLOAT,1,SLC,B3:0/5\n"
+                 "T1,Read,INT,1,SLC,T4:0\n"
+                 "W,Read,WHATEVER,1,SLC,N7:0\n")
+    with libdf1.open(sim.target) as plc:
+        poller = plc.poller(map=str(m))
+        assert poller.tags == ["Real", "Wide", "Own"]
+        assert [(i.item, i.catalog_id) for i in poller.issues] == [(4, 0), (5, 0), (6, 0)]
+        assert "Item: 4, Type FLOAT does not fit B3:0/5: a bit is BOOL" in poller.issues[0].text
+        assert "a whole timer is TIMER" in poller.issues[1].text
+        got = {}
+        for ch in poller.changes(timeout=20):
+            got[ch.tag] = ch.value
+            if len(got) == 3:
+                break
+        assert got == {"Real": 3.0, "Wide": 4, "Own": 3}
+        assert isinstance(got["Real"], float) and isinstance(got["Own"], int)
+        with pytest.raises(libdf1.Df1ValueError):
+            poller.add(libdf1.Tag("T4:0", name="acc", type="INT"))
+        with pytest.raises(libdf1.Df1ValueError):
+            poller.add(libdf1.Tag("N7:0", name="junk", type="WHATEVER"))
+        assert poller.add(libdf1.Tag("F8:1", name="f", type="float")) >= 0
+
+
 def test_poll_in_a_thread_write_and_read_from_another(sim):
     # the usual shape: a thread runs the engine; the main thread writes through the
     # queue (waiting on the Future) and reads directly, taking turns on the handle
