@@ -7,9 +7,11 @@
  * format does for every message on <prefix>/tag/<name>/set.
  * Input: byte 0 picks the tag (bits 0-3 its address from the table below,
  * bits 4-5 its Count 1, 2, 4 or 10, bit 6 a current value for T/C/R members
- * not given); the rest is the payload. Properties: the parse gives a value
+ * not given, bit 7 a wider Type where one fits: DINT, or REAL for an even
+ * address index); the rest is the payload. Properties: the parse gives a value
  * or an error text, never both; an id is at most GW_ID_MAX bytes of the
- * payload as written; converted values are 1..Count of the address's kind,
+ * payload as written; converted values are 1..Count of the tag's kind
+ * (df1_tag_value_kind),
  * finite floats, strings of at most 82 bytes; a refusal is DF1_E_TYPE,
  * DF1_E_RANGE or DF1_E_INVAL with its text; the result payload is valid JSON
  * to df1gw's own strict parser.
@@ -49,15 +51,21 @@ static void tag_of(uint8_t o, struct df1_tag_config *c)
 		abort();
 	c->count = df1_addr_value_kind(&c->addr) == DF1_VAL_BIT ? 1 : counts[(o >> 4) & 3];
 	c->scan_ms = 1000;
+	if (o & 128) {
+		snprintf(c->type, sizeof c->type, "%s", (o & 1) ? "DINT" : "REAL");
+		if (df1_tag_value_kind(c) < 0)
+			c->type[0] = '\0';
+	}
 }
 
 static void check_values(const struct df1_tag_config *c, const struct df1_value *v, size_t n)
 {
-	enum df1_value_kind kind = df1_addr_value_kind(&c->addr);
+	int kind = df1_tag_value_kind(c);
 
+	FUZZ_CHECK(kind >= 0, "a tag whose Type does not fit reached the conversion");
 	FUZZ_CHECK(n >= 1 && n <= (size_t)c->count, "%zu values for Count %d", n, c->count);
 	for (size_t i = 0; i < n; i++) {
-		FUZZ_CHECK(v[i].kind == kind, "value %zu of kind %d, the address's is %d", i, v[i].kind, kind);
+		FUZZ_CHECK((int)v[i].kind == kind, "value %zu of kind %d, the tag's is %d", i, v[i].kind, kind);
 		if (kind == DF1_VAL_FLOAT)
 			FUZZ_CHECK(isfinite(v[i].v.f), "value %zu: a float that is not finite", i);
 		if (kind == DF1_VAL_STRING)
@@ -103,7 +111,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	memset(&cur, 0, sizeof cur);
 	memset(curv, 0, sizeof curv);
 	for (int i = 0; i < 10; i++)
-		curv[i].kind = df1_addr_value_kind(&c.addr);
+		curv[i].kind = (enum df1_value_kind)df1_tag_value_kind(&c);
 	cur.config = &c;
 	cur.count = (size_t)c.count;
 	cur.values = curv;

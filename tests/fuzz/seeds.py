@@ -255,7 +255,7 @@ def main():
             b"\"STRING 1\"", b"{\"PRE\": 500, \"DN\": true}", b"{\"value\": {\"ACC\": 3}, \"id\": 17}",
             b"1e400", b"[[[[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]]", b"{\"value\": 1, \"value\": 2}",
             b"{\"value\": 1, \"id\": \"a\\u0000b\"}", b"\"\\u00ff\\u0100\"", b"NaN", b"[1, 2, 3, 4, 5]"]
-    for tag in (0x00, 0x01, 0x02, 0x03, 0x44, 0x15, 0x26, 0x07, 0x08, 0x39):
+    for tag in (0x00, 0x01, 0x02, 0x03, 0x44, 0x15, 0x26, 0x07, 0x08, 0x39, 0x80, 0x91, 0x88):
         for p in sets:
             cp.add("gw_set", bytes([tag]) + p)
 
