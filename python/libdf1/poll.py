@@ -157,6 +157,9 @@ class Poller:
         c.type = tb
         with self._plc._lock:
             tid = self._plc._check(lib.df1_tag_add(self._plc.handle, c), tag.address)
+        k = lib.df1_tag_value_kind(c)
+        if k >= 0:
+            a.kind = k          # writes take values of the Type (REAL on N7:0: a float)
         self._remember(tid, name, a, tag.count)
         return tid
 
@@ -188,7 +191,11 @@ class Poller:
                     continue
                 lib.df1_addr_format(ffi.addressof(st.config, "addr"), buf, 64)
                 name = text(st.config.name) or text(buf)
-                self._remember(tid, name, Addr(text(buf)), st.config.count)
+                a = Addr(text(buf))
+                k = lib.df1_tag_value_kind(st.config)
+                if k >= 0:
+                    a.kind = k
+                self._remember(tid, name, a, st.config.count)
         return rc
 
     def _remember(self, tid: int, name: str, a: Addr, count: int) -> None:

@@ -163,6 +163,14 @@ def test_type_column(tmp_path, sim):
         with pytest.raises(libdf1.Df1ValueError):
             poller.add(libdf1.Tag("N7:0", name="junk", type="WHATEVER"))
         assert poller.add(libdf1.Tag("F8:1", name="f", type="float")) >= 0
+        # a write to a REAL tag on a word: a whole number goes through, 2.5 does not fit
+        poller.add(libdf1.Tag("N7:8", name="w", type="REAL", access="readwrite"))
+        done = poller.write("w", 12.0)
+        while not done.done():
+            poller.poll(0.2)
+        assert done.result(timeout=0) is None and plc.read("N7:8") == 12
+        with pytest.raises(libdf1.Df1ValueError):
+            poller.write("w", 2.5)
 
 
 def test_poll_in_a_thread_write_and_read_from_another(sim):
