@@ -80,7 +80,8 @@ struct df1_eip_server_stats {
 	uint64_t sessions_open;      /* sessions registered now */
 	uint64_t requests;           /* encapsulation messages received (TCP and UDP) */
 	uint64_t errors;             /* replies with an error status, and connections closed for one */
-	uint64_t refused_clients;    /* outside the allow list, or over max_clients */
+	uint64_t refused_clients;    /* outside the allow list, or over max_clients with none to
+	                              * evict (df1_eip_server_set_limits) */
 	uint64_t read_only_refusals; /* PCCC commands refused by read_only */
 };
 DF1_API void df1_eip_server_stats(const df1_eip_server_t *s, struct df1_eip_server_stats *st);
