@@ -49,7 +49,7 @@ done
 # df1gw --eip: 40 idle connections, the default table of 32
 # ---------------------------------------------------------------------------
 sim_start sim --data "$T/plc.txt" --log "$T/sim.log" || finish
-"$GW" -d "$SIM_DEV" --eip 0 --eip-register-timeout 2 --eip-idle-timeout 3 --counters \
+"$GW" -d "$SIM_DEV" --eip 0 --eip-register-timeout 5 --eip-idle-timeout 6 --counters \
 	> "$T/gw.out" 2> "$T/gw.err" &
 GW_PID=$!
 echo "$GW_PID" >> "$T/.sims"
@@ -72,7 +72,7 @@ same "--counters: the 20 sessions closed for idleness" "$IDLE" 20
 same "--counters: 20 without a session, closed or evicted" "$((NOSESS + EVICTED))" 20
 check "--counters: at least one evicted for the new client" '[ "$EVICTED" -ge 1 ]'
 same "each close logged" "$(grep -c '^df1gw: eip: closed 127\.0\.0\.1:[0-9]*: ' "$T/gw.err")" 40
-same "idle closes say so" "$(grep -c 'session idle for 3 s' "$T/gw.err")" 20
+same "idle closes say so" "$(grep -c 'session idle for 6 s' "$T/gw.err")" 20
 sim_stop
 
 # ---------------------------------------------------------------------------
