@@ -117,12 +117,13 @@ class Addr:
 
     __slots__ = ("text", "c", "kind", "type")
 
-    def __init__(self, text_: str):
+    def __init__(self, text_: str, plc: int = lib.DF1_PLC_SLC):
         if not isinstance(text_, str):
             raise AddressError(lib.DF1_E_ADDR_SYNTAX, "an address is a str, not %s" % type(text_).__name__)
         self.text = text_
         self.c = ffi.new("struct df1_addr *")
-        rc = lib.df1_addr_parse(text_.encode("utf-8", "replace"), self.c)
+        # the PLC type's address text: a PLC-3's own (N3:173, B5:173/15, T4.ACC), else the SLC's
+        rc = lib.df1_addr_parse_plc(plc, text_.encode("utf-8", "replace"), self.c)
         if rc < 0:
             raise from_handle(None, rc, address=text_)
         self.kind = lib.df1_addr_value_kind(self.c)
