@@ -40,6 +40,19 @@ expect 2 "no control section on a PLC-3" -- "$W" -d /nonexistent --plc plc3 R6:0
 expect 2 "--plc plc4 is no family" -- "$R" -d /nonexistent --plc plc4 N7:0
 err_has "--plc: the families" "plc3"
 
+# ---- df1mon --decode: the hand-written frames of tests/data/plc3_vectors.txt ----
+for chk in bcc crc; do
+	grep -v '^#' tests/data/plc3_vectors.txt | awk -F' [|] ' -v c=$chk '$2 == c { print $3 }' > "$T/frames.$chk"
+	expect 0 "df1mon --decode PLC-3 frames ($chk)" -- sh -c "exec \"$MON\" --check $chk --decode < \"$T/frames.$chk\""
+	check "decode $chk: every frame good" 'grep -q "frames 14 (good 14, bad 0)" "$T/err"'
+	check "decode $chk: a read named, PLC-3 text" 'grep -Eq "0F/01 +PLC-3 word range read +N3:173 size 2" "$T/out"'
+	check "decode $chk: its reply's value" 'grep -Eq "reply to 0F/01 +N3:173 size 2 .*= 42" "$T/out"'
+	check "decode $chk: an octal bit" 'grep -Eq "0F/02 +PLC-3 bit write +B5:173/15 += 1" "$T/out"'
+	check "decode $chk: a float low word first" 'grep -Eq "reply to 0F/01 +F2:10 size 4 .*= 1.5" "$T/out"'
+	check "decode $chk: a timer bit" 'grep -Eq "0F/02 +PLC-3 bit write +T4/EN += 0" "$T/out"'
+	check "decode $chk: M p.13-6 address" 'grep -Eq "PLC-3 word range read +B260:0 size 2" "$T/out"'
+done
+
 sim_start p3 --plc plc3 --data "$T/data" --log "$LOG" || finish
 D=$SIM_DEV
 
