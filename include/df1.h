@@ -968,7 +968,7 @@ DF1_API int df1_read_multi(df1_t *h, int station, struct df1_read_req *reqs, siz
                            unsigned flags, unsigned *reads);
 /* Data bytes one read or write packet carries for a PLC type, from the
  * library's one packet-limit table (doc/PROTOCOL.md 6): SLC 5/03+ and MicroLogix read
- * 236, write 234; SLC 5/01-5/02 82; PLC-2 244; PLC-5 240 for the whole typed
+ * 236, write 234; SLC 5/01-5/02 82; PLC-2 244; PLC-3 244 / 228; PLC-5 240 for the whole typed
  * packet, address and type/data included (116 integers after N7:0's address). DF1_OPT_MAX_PACKET does not apply
  * (no handle). Returns the bytes, or DF1_E_INVAL for an unknown type. Pure,
  * thread-safe. @since 0.2 */
