@@ -27,6 +27,7 @@ I0:17=0x00FF
 A1:126=0x4142
 T4=PRE=500 ACC=7 EN=1
 C2=PRE=10 ACC=3 CU=1
+B3:0=3
 EOF
 LOG="$T/sim.log"
 logged() { grep -c -F -e "$1" "$LOG" 2>/dev/null || true; }
@@ -122,12 +123,16 @@ level,Read,INT,1,PLC3,N3:173,2
 run,Read,BOOL,1,PLC3,B5:173/12,1
 flow,Read,FLOAT,1,PLC3,F2:10,1
 acc,Read,INT,1,PLC3,T4.ACC,1
+b3,Read,INT,1,PLC3,B3:0,1
+n3,Read,INT,1,PLC3,N3:0,1
 EOF
 expect 0 "df1mon --map -1" -- "$MON" -d "$D" --map "$T/map.csv" -1
 check "df1mon: level" 'grep -Eq "^level +1 N3:173,2 +42,-7 +GOOD" "$T/out"'
 check "df1mon: run" 'grep -Eq "^run +1 B5:173/12 +1 +GOOD" "$T/out"'
 check "df1mon: flow" 'grep -Eq "^flow +1 F2:10 +1.5 +GOOD" "$T/out"'
 check "df1mon: acc" 'grep -Eq "^acc +1 T4.ACC +7 +GOOD" "$T/out"'
+# file 3 of two sections: two files, two blocks (doc/PROTOCOL.md 4.2a)
+check "df1mon: B3 is not N3" 'grep -Eq "^b3 +1 B3:0 +3 +GOOD" "$T/out" && grep -Eq "^n3 +1 N3:0 +0 +GOOD" "$T/out"'
 printf 'Tag,Command,Type,Station,PLC_Type,Address\nbad,Read,INT,1,PLC3,N3:10000\n' > "$T/badmap.csv"
 expect 2 "df1mon: a PLC3 row out of range" -- "$MON" -d "$D" --map "$T/badmap.csv" -1
 err_has "df1mon: 2504" "[2504]"
