@@ -177,8 +177,11 @@ enum df1_file_type {
 	DF1_FT_F,  /* float,    default file 8 */
 	DF1_FT_ST, /* string (84 bytes) */
 	DF1_FT_A,  /* ASCII (2 characters per element) */
-	DF1_FT_L,  /* long integer, MicroLogix */
-	DF1_FT_COUNT_
+	DF1_FT_L,  /* long integer, MicroLogix; a PLC-3's high-order integer section (H) */
+	DF1_FT_COUNT_,            /* the types of df1_addr_parse()'s grammar end here */
+	/* a PLC-3's decimal section, one BCD word a value (@since 0.5): df1_addr_parse_plc()
+	 * with DF1_PLC_PLC3 only */
+	DF1_FT_D = 16
 };
 
 #define DF1_ADDR_NONE (-1)
@@ -258,7 +261,17 @@ enum df1_plc {
 	DF1_PLC_SLC502 = 2,     /* SLC 5/01, 5/02: 82-byte packets */
 	DF1_PLC_PLC5 = 3,       /* 0F/68 67 26 */
 	DF1_PLC_PLC2 = 4,       /* 01 / 08 */
+	DF1_PLC_PLC3 = 5,       /* 0F/01 00 02 word range, PLC-3 logical binary (@since 0.5) */
 };
+
+/* The address text of a PLC type (@since 0.5). DF1_PLC_PLC3: a PLC-3's own text
+ * (libdf1(7) "PLC-3 addresses": "N3:173", "B5:173/15" with an octal bit, "I0:17"
+ * with an octal word, "F2:10", "H8:99", "D7:12", "T4.ACC", "C2/DN"): type O I T C N F
+ * D B A S (H = DF1_FT_L), file 0..999 (T and C: 0), element = word 0..9999 (I/O
+ * 0..07777) or, for T C F H, the structure 0..9999; sub = the T/C word (0 CTL, 1 PRE,
+ * 2 ACC). Any other plc: df1_addr_parse() / df1_addr_format(). Errors as theirs. */
+DF1_API int df1_addr_parse_plc(enum df1_plc plc, const char *text, struct df1_addr *a);
+DF1_API int df1_addr_format_plc(enum df1_plc plc, const struct df1_addr *a, char *buf, size_t cap);
 
 /* Less common link options, set with df1_set_option(). */
 enum df1_option {
@@ -964,7 +977,7 @@ DF1_API int df1_read_multi(df1_t *h, int station, struct df1_read_req *reqs, siz
                            unsigned flags, unsigned *reads);
 /* Data bytes one read or write packet carries for a PLC type, from the
  * library's one packet-limit table (doc/PROTOCOL.md 6): SLC 5/03+ and MicroLogix read
- * 236, write 234; SLC 5/01-5/02 82; PLC-2 244; PLC-5 240 for the whole typed
+ * 236, write 234; SLC 5/01-5/02 82; PLC-2 244; PLC-3 244 / 228; PLC-5 240 for the whole typed
  * packet, address and type/data included (116 integers after N7:0's address). DF1_OPT_MAX_PACKET does not apply
  * (no handle). Returns the bytes, or DF1_E_INVAL for an unknown type. Pure,
  * thread-safe. @since 0.2 */

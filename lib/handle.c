@@ -376,6 +376,7 @@ int df1_set_plc(df1_t *h, enum df1_plc plc)
 	case DF1_PLC_SLC502:
 	case DF1_PLC_PLC5:
 	case DF1_PLC_PLC2:
+	case DF1_PLC_PLC3:
 		h->cfg.plc = plc;
 		return 0;
 	default: {

@@ -68,7 +68,7 @@ static const struct cli_tool read_tool = {
  * ------------------------------------------------------------------------ */
 
 /* Text of value i's address: canonical, "$" kept for PLC-5 logical ASCII. */
-static void addr_text(const struct df1_addr *a, size_t i, char *buf, size_t cap)
+static void addr_text(enum df1_plc plc, const struct df1_addr *a, size_t i, char *buf, size_t cap)
 {
 	struct df1_addr s;
 
@@ -76,8 +76,8 @@ static void addr_text(const struct df1_addr *a, size_t i, char *buf, size_t cap)
 		snprintf(buf, cap, "$%s", a->ascii);
 		return;
 	}
-	if (!cli_addr_step(a, i, &s) || df1_addr_format(&s, buf + (a->ascii[0] ? 1 : 0),
-	                                               cap - (a->ascii[0] ? 1 : 0)) < 0) {
+	if (!cli_addr_step(plc, a, i, &s) || df1_addr_format_plc(plc, &s, buf + (a->ascii[0] ? 1 : 0),
+	                                                         cap - (a->ascii[0] ? 1 : 0)) < 0) {
 		snprintf(buf, cap, "?");
 		return;
 	}
@@ -115,11 +115,11 @@ static int parse_operand(struct rd *r, size_t idx, const char *arg)
 		}
 		it->n = v;
 	}
-	rc = df1_addr_parse(it->text, &it->a);
+	rc = df1_addr_parse_plc(r->cli.plc, it->text, &it->a);
 	if (rc < 0)
 		return cli_address_error(&r->cli, (int)idx + 1, it->text, rc, it->n);
 	/* every value's address must exist: N7:998,5 runs past element 999 */
-	if (!cli_addr_step(&it->a, it->n - 1, &last))
+	if (!cli_addr_step(r->cli.plc, &it->a, it->n - 1, &last))
 		return cli_address_error(&r->cli, (int)idx + 1, it->text, DF1_E_ADDR_RANGE, it->n);
 	return CLI_CONTINUE;
 }
@@ -228,7 +228,7 @@ static int print_all(struct rd *r)
 				fputc('\n', f);
 				continue;
 			}
-			addr_text(&it->a, i, addr, sizeof addr);
+			addr_text(r->cli.plc, &it->a, i, addr, sizeof addr);
 			if (fmt == CLI_FMT_CSV) {
 				cli_csv_field(f, addr);
 				fputc(',', f);

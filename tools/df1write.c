@@ -123,7 +123,7 @@ static int parse_operand(struct wr *w, size_t idx, const char *arg)
 		return cli_address_error(&w->cli, (int)idx + 1, arg, DF1_E_ADDR_SYNTAX, 1);
 	memcpy(it->text, arg, alen);
 	it->text[alen] = '\0';
-	rc = df1_addr_parse(it->text, &it->a);
+	rc = df1_addr_parse_plc(w->cli.plc, it->text, &it->a);
 	if (rc < 0)
 		return cli_address_error(&w->cli, (int)idx + 1, it->text, rc, 1);
 	v = eq + 1;
@@ -137,7 +137,7 @@ static int parse_operand(struct wr *w, size_t idx, const char *arg)
 			if (*p == ',')
 				cap++;
 	}
-	if (!cli_addr_step(&it->a, cap - 1, &last))
+	if (!cli_addr_step(w->cli.plc, &it->a, cap - 1, &last))
 		return cli_address_error(&w->cli, (int)idx + 1, it->text, DF1_E_ADDR_RANGE, cap);
 	it->vals = calloc(cap, sizeof *it->vals);
 	if (!it->vals) {
@@ -159,7 +159,7 @@ static int parse_operand(struct wr *w, size_t idx, const char *arg)
 		}
 		memcpy(text, v, len);
 		text[len] = '\0';
-		cli_addr_step(&it->a, i, &ai);
+		cli_addr_step(w->cli.plc, &it->a, i, &ai);
 		rc = df1_value_parse(&ai, text, &it->vals[i]);
 		if (rc == 0 && it->vals[i].kind != DF1_VAL_STRING && strspn(text, " \t") == len)
 			rc = DF1_E_TYPE;        /* an empty item: "N7:0=1,,3" */

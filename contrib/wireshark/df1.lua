@@ -207,6 +207,14 @@ local BIT_NAMES = {
 		{ "IN", 9 }, { "FD", 8 } },
 }
 local function is_tcr(t) return t == "T" or t == "C" or t == "R" end
+-- A PLC-3's sections by number, its T/C words and bit names (doc/PROTOCOL.md 4.2a)
+local P3_SECTIONS = { [1] = "O", [2] = "I", [3] = "T", [4] = "C", [5] = "N", [6] = "F", [7] = "D",
+	[8] = "B", [9] = "A", [10] = "H", [13] = "S" }
+local P3_WORDS = { [0] = "CTL", "PRE", "ACC" }
+local P3_BITS = {
+	T = { [15] = "EN", [14] = "TT", [13] = "DN" },
+	C = { [15] = "CU", [14] = "CD", [13] = "DN", [12] = "OV", [11] = "UF" },
+}
 local function bit_name(t, bit)
 	for _, nb in ipairs(BIT_NAMES[t] or {}) do if nb[2] == bit then return nb[1] end end
 end
@@ -216,7 +224,28 @@ end
 -- addr: { type = "N" | nil, file, element, sub (nil: none), bit (nil), ascii (nil) }
 
 -- The range and shape rules df1_addr_format checks (lib/proto/addr.c).
+-- A PLC-3's text (lib/proto/addr_plc3.c): octal bits and I/O words, T4.ACC, T4/DN; nil
+-- for fields it has no text for.
+local function format_plc3(a)
+	if a.type == "T" or a.type == "C" then
+		local s = a.type .. a.element
+		if a.bit and a.bit > 15 then return nil end
+		if a.sub and (a.sub ~= 0 or not a.bit) then s = s .. "." .. P3_WORDS[a.sub] end
+		if a.bit then
+			local name = (a.sub or 0) == 0 and P3_BITS[a.type][a.bit]
+			s = s .. "/" .. (name or string.format("%o", a.bit))
+		end
+		return s
+	end
+	if a.sub or ((a.type == "F" or a.type == "H") and a.bit) or (a.bit and a.bit > 15) then return nil end
+	local io = a.type == "O" or a.type == "I"
+	local s = a.type .. a.file .. ":" .. (io and string.format("%o", a.element) or tostring(a.element))
+	if a.bit then s = s .. "/" .. string.format("%o", a.bit) end
+	return s
+end
+
 local function addr_fields_ok(a)
+	if a.plc3 then return format_plc3(a) ~= nil end
 	local fi = a.type and FT[a.type]
 	if not fi then return false end
 	if a.sub and (a.sub < 0 or fi.max_sub < 0) then return false end
@@ -238,6 +267,7 @@ end
 -- binary address (it carries no file type) or one out of the named ranges.
 local function format_addr(a)
 	if a.ascii then return "$" .. a.ascii end
+	if a.plc3 and format_plc3(a) then return format_plc3(a) end
 	if a.type and addr_fields_ok(a) then
 		local s = a.type .. a.file .. ":" .. a.element
 		if is_tcr(a.type) and a.sub == 0 and a.bit then
@@ -315,6 +345,7 @@ end
 -- The file type a command's values decode as (tools/common/decode_typedata.c).
 local function value_file_type(a)
 	if not a or not a.type then return "N" end
+	if a.plc3 and (a.type == "H" or a.type == "D") then return a.type == "H" and "L" or "N" end
 	if is_tcr(a.type) and (a.sub or a.bit) then return "N" end
 	return a.type
 end
@@ -369,6 +400,46 @@ local function plc5_addr(s, i)
 	end
 	if lv[0] ~= 0 then return nil, "address out of range" end
 	return { file = lv[1], element = lv[2], sub = band(mask, 8) ~= 0 and lv[3] or nil }, pos - i
+end
+
+-- Does the address at offset i look like a PLC-3's? Its mask has the word level (bit 5),
+-- which no PLC-5 address has (doc/PROTOCOL.md 4.2a).
+local function is_plc3_addr(s, i)
+	if i >= #s then return false end
+	local mask = u8(s, i)
+	return band(mask, 0x20) ~= 0 and band(mask, 0xC0) == 0
+end
+
+-- PLC-3 logical binary address at offset i: levels 1 area (3, the data table), 2 context,
+-- 3 section, 4 file, 5 structure, 6 word (doc/PROTOCOL.md 4.2a): addr, length | nil, error.
+local function plc3_addr(s, i)
+	local mask = u8(s, i)
+	local lv = { [0] = 3, 0, 0, 0, 0, 0 }
+	local pos = i + 1
+	for lvl = 0, 5 do
+		if band(mask, lshift(1, lvl)) ~= 0 then
+			local v, n = get_field(s, pos)
+			if not v then return nil, "too short" end
+			lv[lvl] = v
+			pos = pos + n
+		end
+	end
+	local t = P3_SECTIONS[lv[2]]
+	if lv[0] ~= 3 or not t or lv[3] > 999 then return nil, "address out of range" end
+	local a = { plc3 = true, type = t, file = lv[3] }
+	if t == "T" or t == "C" then
+		if lv[3] ~= 0 or lv[4] > 9999 or lv[5] > 2 then return nil, "address out of range" end
+		-- word 0: the structure from its start, shown without a member (as df1mon)
+		a.element, a.sub = lv[4], lv[5] ~= 0 and lv[5] or nil
+	elseif t == "F" or t == "H" then
+		if lv[4] > 9999 or lv[5] > 1 then return nil, "address out of range" end
+		a.element, a.sub = lv[4], lv[5] == 1 and 1 or nil
+	else
+		local max = (t == "O" or t == "I") and 4095 or 9999
+		if lv[4] ~= 0 or lv[5] > max then return nil, "address out of range" end
+		a.element = lv[5]
+	end
+	return a, pos - i
 end
 
 -- Type/data parameter (doc/PROTOCOL.md 4.3): type id, size, length | nil.
@@ -573,7 +644,13 @@ local function msg_decode(s)
 			m.pkt_offset, m.total = le16(s, p), le16(s, p + 2)
 			p = p + 4
 		end
-		local a, k = plc5_addr(s, p)
+		local a, k
+		if f <= 0x02 and is_plc3_addr(s, p) then
+			a, k = plc3_addr(s, p)
+			m.name = "PLC-3 " .. m.name
+		else
+			a, k = plc5_addr(s, p)
+		end
 		if not a then m.addr = nil; m.data_off, m.data_len = pos, #s - pos; return m, k end
 		m.addr, m.addr_off, m.addr_len = a, p, k
 		p = p + k
@@ -628,8 +705,8 @@ local function view_values(v, ft, s, i, n)
 end
 
 -- PLC-5 word range data: a float goes high-order word first (doc/PROTOCOL.md 5).
-local function view_word_range(v, ft, s, i, n)
-	if ft == "F" and n >= 4 and n % 4 == 0 then
+local function view_word_range(v, ft, s, i, n, plc3)
+	if not plc3 and ft == "F" and n >= 4 and n % 4 == 0 then
 		local t = {}
 		for k = i, i + n - 1, 4 do
 			t[#t + 1] = s:sub(k + 3, k + 4) .. s:sub(k + 1, k + 2)
@@ -675,7 +752,7 @@ local function view_bit_write(v, m, s)
 		elseif w1 == 0 and b2 then bit = b2 end
 	end
 	if not bit then return end
-	local b = { type = a.type, file = a.file, element = a.element, sub = a.sub, bit = bit }
+	local b = { type = a.type, file = a.file, element = a.element, sub = a.sub, bit = bit, plc3 = a.plc3 }
 	if is_tcr(b.type) and not b.sub then b.sub = 0 end
 	if b.type and not addr_fields_ok(b) then return end
 	v.addr_text = format_addr(b)
@@ -691,7 +768,7 @@ local function view_command_data(v, m, s)
 	if m.cmd == 0x0F and m.has_fnc then
 		local f = m.fnc
 		if f == 0xA9 or f == 0xAA then return view_values(v, ft, s, d, n) end
-		if f == 0x00 then return view_word_range(v, ft, s, d, n) end
+		if f == 0x00 then return view_word_range(v, ft, s, d, n, m.addr and m.addr.plc3) end
 		if f == 0x67 and m.typed_ft then return view_values(v, m.typed_ft, s, d, n) end
 		if f == 0xAB or f == 0x26 or f == 0x02 then
 			v.mask_kind = f == 0xAB and "mask/data" or (f == 0x26 and "and/or" or "set/reset")
@@ -763,7 +840,7 @@ local function view_reply_data(v, m, s)
 	if not d or n <= 0 or m.sts ~= 0 then return end
 	if c and c.cmd == 0x0F and c.has_fnc then
 		if c.fnc == 0xA1 or c.fnc == 0xA2 then return view_values(v, c.ft, s, d, n) end
-		if c.fnc == 0x01 then return view_word_range(v, c.ft, s, d, n) end
+		if c.fnc == 0x01 then return view_word_range(v, c.ft, s, d, n, c.addr and c.addr.plc3) end
 		if c.fnc == 0x68 then
 			local k, ft = typedata_skip(s, d)
 			if k and k <= n then return view_values(v, ft, s, d + k, n - k) end

@@ -13,7 +13,7 @@ static int client_parse(struct df1 *h, int station, const char *text, struct df1
 
 	if (!text)
 		return df1_fail(h, DF1_E_INVAL, station, "no address");
-	rc = df1_addr_parse(text, a);
+	rc = df1_addr_parse_plc(h->cfg.plc, text, a);
 	if (rc < 0)
 		return client_fail(h, rc, station, text, "%s", df1_strerror(rc));
 	return 0;
@@ -31,7 +31,7 @@ static int client_begin(struct df1 *h, int station, const char *text, struct df1
 	rc = client_parse(h, station, text, a);
 	if (rc < 0)
 		return rc;
-	client_atext(a, what, wcap);
+	client_atext(h->cfg.plc, a, what, wcap);
 	return 0;
 }
 
@@ -46,8 +46,8 @@ static int client_count_check(struct df1 *h, int station, const char *what, cons
 
 /* Common start of df1_read_addr / df1_write_addr: checks, and the address's
  * text for messages in what. */
-static int client_addr_begin(struct df1 *h, int station, const struct df1_addr *a, const void *p,
-                             size_t n, char *what, size_t wcap)
+static int client_addr_begin(struct df1 *h, int station, enum df1_plc plc, const struct df1_addr *a,
+                             const void *p, size_t n, char *what, size_t wcap)
 {
 	int rc = client_check(h, station);
 
@@ -55,7 +55,7 @@ static int client_addr_begin(struct df1 *h, int station, const struct df1_addr *
 		return rc;
 	if (!a)
 		return df1_fail(h, DF1_E_INVAL, station, "no address");
-	client_atext(a, what, wcap);
+	client_atext(plc, a, what, wcap);
 	return client_count_check(h, station, what, p, n);
 }
 
@@ -64,7 +64,7 @@ int client_read_at(struct df1 *h, int station, enum df1_plc plc, const struct df
 {
 	char what[ATEXT_MAX];
 	struct io io = { .kind = IO_VALUE, .out = out };
-	int rc = client_addr_begin(h, station, a, out, n, what, sizeof what);
+	int rc = client_addr_begin(h, station, plc, a, out, n, what, sizeof what);
 
 	if (rc < 0)
 		return rc;
@@ -78,7 +78,7 @@ int client_write_at(struct df1 *h, int station, enum df1_plc plc, const struct d
 {
 	char what[ATEXT_MAX];
 	struct io io = { .kind = IO_VALUE, .in = in };
-	int rc = client_addr_begin(h, station, a, in, n, what, sizeof what);
+	int rc = client_addr_begin(h, station, plc, a, in, n, what, sizeof what);
 
 	if (rc < 0)
 		return rc;
@@ -341,7 +341,7 @@ static int client_read_raw_first(struct df1 *h, int station, enum df1_plc plc, c
 		return rc;
 	if (!a)
 		return df1_fail(h, DF1_E_INVAL, station, "no address");
-	client_atext(a, what, sizeof what);
+	client_atext(plc, a, what, sizeof what);
 	return client_raw_parsed(h, station, plc, a, what, NULL, buf, nbytes, first);
 }
 

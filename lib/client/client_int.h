@@ -11,6 +11,7 @@
  *   slc.c         SLC 5/03+, MicroLogix, SLC 5/01-5/02 reads and writes (0F/A2, 0F/AA)
  *   plc5.c        PLC-5 typed reads and writes (0F/68, 0F/67)
  *   plc2.c        PLC-2 reads and writes (01, 08)
+ *   plc3.c        PLC-3 word range reads and writes (0F/01, 0F/00)
  *   elements.c    spans dispatched by PLC type (a read packet by packet: the
  *                 family builds each command, one transaction, the family takes
  *                 its reply; the first packet may be the caller's: client.h's
@@ -59,6 +60,12 @@
  *     common interface file, S:2/8 = 0); 05's blocks address bytes, so bit
  *     writes are refused in word mode. Only 16-bit word files (N B S I O A) and
  *     their bits; no sub-elements.
+ *   PLC-3 (doc/PROTOCOL.md 4.2a): word range read 0F/01 and write 0F/00 with a
+ *     PLC-3 logical binary address (section, file, structure, word), one
+ *     transaction per packet (packet offset 0); bit writes 0F/02 (SET and
+ *     RESET masks, one word). Addresses are the PLC-3 grammar's (T/C: element
+ *     = structure, sub = word; F and H (L) 32-bit values low word first, plain
+ *     little-endian). Read 244 bytes a packet, write 228 (1775-KA).
  *
  * Splitting (doc/PROTOCOL.md 6). Requests larger than one packet are split on element
  * boundaries. Data bytes per packet:
@@ -171,7 +178,7 @@ struct rd_first {
 /* transact.c */
 bool client_is_word_type(enum df1_file_type t);
 bool client_is_tcr(enum df1_file_type t);
-void client_atext(const struct df1_addr *a, char *buf, size_t cap);
+void client_atext(enum df1_plc plc, const struct df1_addr *a, char *buf, size_t cap);
 int client_fail(struct df1 *h, int code, int station, const char *what, const char *fmt, ...)
 	__attribute__((format(printf, 5, 6)));
 int client_bad_reply(struct df1 *h, int station, const char *what, const char *fmt, ...)
@@ -218,6 +225,16 @@ int plc2_read_cmd(struct df1 *h, int station, const char *what, const struct spa
 int plc2_read_take(struct df1 *h, int station, const char *what, const struct span *s, struct io *io,
                    struct rd *rd, const uint8_t *d, size_t dlen);
 int plc2_write(struct df1 *h, int station, const char *what, const struct span *s, struct io *io);
+
+/* plc3.c */
+int plc3_addr(struct df1 *h, int station, const char *what, const struct df1_addr *a,
+              uint8_t *out, size_t cap);
+int plc3_read_begin(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd);
+int plc3_read_cmd(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd,
+                  uint8_t *cmd, size_t cap);
+int plc3_read_take(struct df1 *h, int station, const char *what, const struct span *s, struct io *io,
+                   struct rd *rd, const uint8_t *d, size_t dlen);
+int plc3_write(struct df1 *h, int station, const char *what, const struct span *s, struct io *io);
 
 /* elements.c */
 int client_read_bits(struct df1 *h, int station, const char *what, enum df1_plc plc,

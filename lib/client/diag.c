@@ -115,6 +115,8 @@ int df1_change_mode(df1_t *h, int station, int mode)
 	switch (h->cfg.plc) {
 	case DF1_PLC_PLC2:
 		return df1_fail(h, DF1_E_NOTSUP, station, "change mode: not a PLC-2 command");
+	case DF1_PLC_PLC3:
+		return df1_fail(h, DF1_E_NOTSUP, station, "change mode: not a PLC-3 command");
 	case DF1_PLC_PLC5:
 	case DF1_PLC_SLC502: {
 		uint8_t flag;

@@ -22,6 +22,8 @@ static int rd_begin(struct df1 *h, int station, const char *what, const struct s
 		return plc5_read_begin(h, station, what, s, rd);
 	case DF1_PLC_PLC2:
 		return plc2_read_begin(h, station, what, s, rd);
+	case DF1_PLC_PLC3:
+		return plc3_read_begin(h, station, what, s, rd);
 	default:
 		return slc_read_begin(h, station, what, s, rd);
 	}
@@ -35,6 +37,8 @@ static int rd_cmd(struct df1 *h, int station, const char *what, const struct spa
 		return plc5_read_cmd(h, station, what, s, rd, cmd, cap);
 	case DF1_PLC_PLC2:
 		return plc2_read_cmd(h, station, what, s, rd, cmd, cap);
+	case DF1_PLC_PLC3:
+		return plc3_read_cmd(h, station, what, s, rd, cmd, cap);
 	default:
 		return slc_read_cmd(h, station, what, s, rd, cmd, cap);
 	}
@@ -48,6 +52,8 @@ static int rd_take(struct df1 *h, int station, const char *what, const struct sp
 		return plc5_read_take(h, station, what, s, io, rd, d, dlen);
 	case DF1_PLC_PLC2:
 		return plc2_read_take(h, station, what, s, io, rd, d, dlen);
+	case DF1_PLC_PLC3:
+		return plc3_read_take(h, station, what, s, io, rd, d, dlen);
 	default:
 		return slc_read_take(h, station, what, s, io, rd, d, dlen);
 	}
@@ -111,6 +117,8 @@ static int span_write(struct df1 *h, int station, const char *what, const struct
 		return plc5_write(h, station, what, s, io);
 	case DF1_PLC_PLC2:
 		return plc2_write(h, station, what, s, io);
+	case DF1_PLC_PLC3:
+		return plc3_write(h, station, what, s, io);
 	default:
 		return slc_write(h, station, what, s, io);
 	}
@@ -250,6 +258,16 @@ static int client_mask_word(struct df1 *h, int station, const char *what, enum d
 		break;
 	case DF1_PLC_PLC2:
 		return plc2_bit_write(h, station, what, w, (uint16_t)mask, (uint16_t)data);
+	case DF1_PLC_PLC3:
+		if (wsize != 2)
+			return client_fail(h, DF1_E_NOTSUP, station, what, "PLC-3 bit writes reach 16-bit words");
+		alen = plc3_addr(h, station, what, w, addr, sizeof addr);
+		if (alen < 0)
+			return alen;
+		/* 0F/02: SET mask, then RESET mask (doc/PROTOCOL.md 4.2a) */
+		n = pccc_enc_plc5_bit_write(cmd, sizeof cmd, &hd, addr, (size_t)alen, (uint16_t)data,
+		                            (uint16_t)(mask & ~data));
+		break;
 	default: {
 		uint8_t m[4], v[4];
 

@@ -171,7 +171,7 @@ static void rm_fail(struct rm_call *c, size_t i, int rc)
 		snprintf(c->first.address, sizeof c->first.address, "%s", r->text);
 	else if (r->addr.ascii[0])
 		snprintf(c->first.address, sizeof c->first.address, "$%s", r->addr.ascii);
-	else if (df1_addr_format(&r->addr, c->first.address, sizeof c->first.address) < 0)
+	else if (df1_addr_format_plc(c->h->cfg.plc, &r->addr, c->first.address, sizeof c->first.address) < 0)
 		c->first.address[0] = '\0';
 }
 
@@ -248,7 +248,7 @@ static int rm_check(struct df1 *h, struct df1_read_req *r)
 
 	r->result = 0;
 	if (r->text) {
-		rc = df1_addr_parse(r->text, &r->addr);
+		rc = df1_addr_parse_plc(h->cfg.plc, r->text, &r->addr);
 		if (rc < 0)
 			return rc;
 	}

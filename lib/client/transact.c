@@ -9,7 +9,7 @@
 bool client_is_word_type(enum df1_file_type t)
 {
 	return t == DF1_FT_O || t == DF1_FT_I || t == DF1_FT_S || t == DF1_FT_B ||
-	       t == DF1_FT_N || t == DF1_FT_A;
+	       t == DF1_FT_N || t == DF1_FT_A || t == DF1_FT_D;
 }
 
 bool client_is_tcr(enum df1_file_type t)
@@ -17,9 +17,9 @@ bool client_is_tcr(enum df1_file_type t)
 	return t == DF1_FT_T || t == DF1_FT_C || t == DF1_FT_R;
 }
 
-void client_atext(const struct df1_addr *a, char *buf, size_t cap)
+void client_atext(enum df1_plc plc, const struct df1_addr *a, char *buf, size_t cap)
 {
-	if (df1_addr_format(a, buf, cap) < 0)
+	if (df1_addr_format_plc(plc, a, buf, cap) < 0)
 		snprintf(buf, cap, "%s%d:%d", df1_file_type_name(a->type), a->file, a->element);
 }
 

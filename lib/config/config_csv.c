@@ -223,7 +223,7 @@ static void cfg_trim(char *s)
 	s[n - i] = '\0';
 }
 
-/* 0: ok; DF1_E_NOTSUP: recognised, not supported (PLC-3); DF1_E_CONFIG: unknown. */
+/* 0: ok; DF1_E_CONFIG: unknown. */
 int cfg_plc(const char *s, enum df1_plc *plc)
 {
 	char u[32];
@@ -236,7 +236,7 @@ int cfg_plc(const char *s, enum df1_plc *plc)
 	} else if (strcmp(u, "PLC5") == 0) {
 		*plc = DF1_PLC_PLC5;
 	} else if (strcmp(u, "PLC3") == 0) {
-		return DF1_E_NOTSUP;
+		*plc = DF1_PLC_PLC3;
 	} else if (strcmp(u, "SLC") == 0 || strcmp(u, "SLC500") == 0 || strcmp(u, "SLC503") == 0 ||
 	           strcmp(u, "SLC504") == 0 || strcmp(u, "SLC505") == 0) {
 		*plc = DF1_PLC_SLC;

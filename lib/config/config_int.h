@@ -31,6 +31,7 @@
 #define COUNT_MAX 1000
 #define SCAN_MS_MAX 86400000L
 #define ELEMENT_MAX 999
+#define ELEMENT_MAX_PLC3 9999     /* a PLC-3's words and structures */
 #define PLC_CHOICES "PLC2", "PLC5", "SLC", "MicroLogix"
 
 struct cfg_row {

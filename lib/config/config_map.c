@@ -135,13 +135,14 @@ static void cfg_map_where(struct cfg_load *l, struct cfg_row *row, struct df1_ta
 		t->count = lv < INT_MIN ? INT_MIN : lv > INT_MAX ? INT_MAX : (int)lv;
 
 	addr = cfg_value(l, row, MF_ADDRESS);
-	rc = df1_addr_parse(addr, &t->addr);
+	/* the row's PLC type picks the address text (a PLC-3's own, doc/PROTOCOL.md 4.2a) */
+	rc = df1_addr_parse_plc(t->plc, addr, &t->addr);
 	if (rc == DF1_E_ADDR_SYNTAX || rc == DF1_E_INVAL)
 		cfg_catalog(l, DF1_ID_ERR_ADDRESS_SYNTAX, item, line,
 		            "Item: %d, Invalid Address Syntax (%s)", "ds", -1, item,
 		            addr);
 	else if (rc < 0 || t->count < 1 || t->count > COUNT_MAX ||
-	         t->addr.element + t->count - 1 > ELEMENT_MAX)
+	         t->addr.element + t->count - 1 > (t->plc == DF1_PLC_PLC3 ? ELEMENT_MAX_PLC3 : ELEMENT_MAX))
 		cfg_catalog(l, DF1_ID_ERR_ADDRESS_RANGE, item, line,
 		            "Item: %d, Address is out of range (%s, len=%d)", "dsd",
 		            -1, item, addr, t->count);

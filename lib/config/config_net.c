@@ -12,12 +12,13 @@
  *   Station      0-254, default 5                     2552 CRT_BAD_STATION_ID
  *   Mode         Master | Slave | Peer, default Master 2553 CRT_BAD_DRIVER_MODE
  *                (2554 CRT_UNSUPPORTED_MODE never fires: libdf1 supports all three)
- *   PLC_Type     PLC2 | PLC5 | SLC | MicroLogix, default PLC5
+ *   PLC_Type     PLC2 | PLC3 | PLC5 | SLC | MicroLogix, default PLC5
  *                                                     2555 CRT_BAD_PLC_TYPE
  *                also accepted: "PLC-5" and the like ('-', '_', '/', '.' and spaces
  *                are ignored), SLC500, SLC503-505 (SLC), SLC501/SLC502 ("SLC 5/02":
  *                82-byte packets), ML, MicroLogix1400, ML1100 ... (MicroLogix).
- *                PLC3 is recognised but not supported by libdf1: 2555 too.
+ *                PLC3 (since 0.5): word range commands, doc/PROTOCOL.md 4.2a. The
+ *                2555 message still lists the four of the catalog's format.
  *   Error_Code   BCC | CRC, default CRC                2556 CRT_BAD_ERROR_CODE
  *   NAK_Retries  0-10, default 3                       2557 CRT_BAD_NAK_RETRIES
  *   ENQ_Retries  0-10, default 3                       2558 CRT_BAD_ENQ_RETRIES

@@ -180,7 +180,7 @@ static int poll_tag_check(struct df1 *h, const struct df1_tag_config *c, struct 
 		                c->name, c->count, POLL_COUNT_MAX);
 	if (c->scan_ms < 0)
 		return df1_fail(h, DF1_E_INVAL, c->station, "tag %s: negative scan period", c->name);
-	if (!(c->access & DF1_ACCESS_READWRITE) || c->plc < DF1_PLC_SLC || c->plc > DF1_PLC_PLC2)
+	if (!(c->access & DF1_ACCESS_READWRITE) || c->plc < DF1_PLC_SLC || c->plc > DF1_PLC_PLC3)
 		return df1_fail(h, DF1_E_INVAL, c->station, "tag %s: invalid access or PLC type", c->name);
 	rc = value_type_check(memchr(c->type, '\0', sizeof c->type) ? c->type : "?", &c->addr, &t->kind, &why);
 	if (rc < 0) {
@@ -191,7 +191,7 @@ static int poll_tag_check(struct df1 *h, const struct df1_tag_config *c, struct 
 	t->cfg = *c;
 	rc = poll_tag_layout(t);
 	if (rc < 0) {
-		if (df1_addr_format(&c->addr, at, sizeof at) < 0)
+		if (df1_addr_format_plc(c->plc, &c->addr, at, sizeof at) < 0)
 			snprintf(at, sizeof at, "?");
 		return df1_fail(h, rc, c->station, "tag %s: %s: %s", c->name, at, df1_strerror(rc));
 	}

@@ -71,7 +71,7 @@ struct ft_info {
 	int max_sub;      /* -1: no sub-elements */
 };
 
-static const struct ft_info ft_table[DF1_FT_COUNT_] = {
+static const struct ft_info ft_table[DF1_FT_D + 1] = {
 	[DF1_FT_NONE] = { "?", -1, -1, 0, 0, -1, -1 },
 	[DF1_FT_O] = { "O", 0, 0, 2, 0x8B, 15, MAX_IO_SUB },
 	[DF1_FT_I] = { "I", 1, 1, 2, 0x8C, 15, MAX_IO_SUB },
@@ -85,6 +85,8 @@ static const struct ft_info ft_table[DF1_FT_COUNT_] = {
 	[DF1_FT_ST] = { "ST", -1, -1, 84, 0x8D, -1, -1 },
 	[DF1_FT_A] = { "A", -1, -1, 2, 0x8E, 15, -1 },
 	[DF1_FT_L] = { "L", -1, -1, 4, 0x91, 31, -1 },
+	/* a PLC-3's decimal section only (lib/proto/addr_plc3.c): this grammar refuses it */
+	[DF1_FT_D] = { "D", -1, -1, 2, 0, 15, -1 },
 };
 
 struct name_num {
@@ -111,7 +113,13 @@ static const struct name_num r_bits[] = {
 
 static bool addr_valid_type(enum df1_file_type t)
 {
-	return t > DF1_FT_NONE && t < DF1_FT_COUNT_;
+	return (t > DF1_FT_NONE && t < DF1_FT_COUNT_) || t == DF1_FT_D;
+}
+
+/* Types of this grammar: all but the PLC-3's decimal section. */
+static bool addr_slc_type(enum df1_file_type t)
+{
+	return addr_valid_type(t) && t != DF1_FT_D;
 }
 
 static bool addr_is_tcr(enum df1_file_type t)
@@ -239,7 +247,7 @@ static int addr_check_fields(const struct df1_addr *a)
 {
 	const struct ft_info *fi;
 
-	if (!addr_valid_type(a->type))
+	if (!addr_slc_type(a->type))
 		return DF1_E_ADDR_SYNTAX;
 	fi = &ft_table[a->type];
 	if (a->sub != DF1_ADDR_NONE && (a->sub < 0 || fi->max_sub < 0))
@@ -275,7 +283,7 @@ static int addr_type_file(const char **pp, struct df1_addr *a, long *file)
 	type_n = (size_t)(p - type_s);
 	a->type = DF1_FT_NONE;
 	for (t = DF1_FT_NONE + 1; t < DF1_FT_COUNT_; t++)
-		if (addr_token_is(type_s, type_n, ft_table[t].name))
+		if (addr_slc_type((enum df1_file_type)t) && addr_token_is(type_s, type_n, ft_table[t].name))
 			a->type = (enum df1_file_type)t;
 	if (a->type == DF1_FT_NONE)
 		return DF1_E_ADDR_SYNTAX;

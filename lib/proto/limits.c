@@ -20,6 +20,8 @@ size_t plc_packet_max(enum df1_plc plc, bool write, int max_packet)
 		return PLC_PLC2_MAX;
 	case DF1_PLC_PLC5:
 		return PLC_PLC5_PACKET_MAX;
+	case DF1_PLC_PLC3:
+		return write ? PLC_PLC3_WRITE_MAX : PLC_PLC3_READ_MAX;
 	case DF1_PLC_SLC:
 	case DF1_PLC_MICROLOGIX:
 	default:
@@ -29,7 +31,7 @@ size_t plc_packet_max(enum df1_plc plc, bool write, int max_packet)
 
 int df1_packet_max(enum df1_plc plc, bool write)
 {
-	if ((int)plc < DF1_PLC_SLC || (int)plc > DF1_PLC_PLC2)
+	if ((int)plc < DF1_PLC_SLC || (int)plc > DF1_PLC_PLC3)
 		return DF1_E_INVAL;
 	return (int)plc_packet_max(plc, write, 0);
 }

@@ -12,6 +12,11 @@
  *      PLC-5 00 01 02 26 67 68: as pccc_dec_plc5_addr(). A binary address has no
  *        file type, so type stays DF1_FT_NONE (guessing N from file 7 or from the data
  *        type would mislabel N10 or B3); an ASCII address keeps its text in addr.ascii.
+ *      PLC-3 00 01 02 (a logical binary address whose mask has the word level,
+ *        bit 5, which no PLC-5 address has: doc/PROTOCOL.md 4.2a): name "PLC-3 word
+ *        range read (0F/01)" etc., addr as pccc_plc3_to_addr() (type from the
+ *        section; T/C sub = the word, word 0 left out as above), to be shown
+ *        with df1_addr_format_plc().
  *      PLC-2 01/08 byte addresses are not data-table addresses: has_addr false.
  *  - size: SLC BYTE_SIZE; 68 elements; 01 bytes; PLC-2 01 SIZE; 06/01 SIZE;
  *    00/08/A9/AA/AB and 67 the bytes / elements written; -1 otherwise.
@@ -81,6 +86,47 @@ static int msg_decode_plc5(const struct pccc_msg *p, struct df1_msg *m)
 	return 0;
 }
 
+/* Is the body of 0F/00 01 02 a PLC-3 one? Its address's mask has the word level. */
+static bool msg_is_plc3(const struct pccc_msg *p)
+{
+	size_t at = p->fnc == PCCC_FNC_BIT_WRITE ? 0 : 4;
+
+	return p->len > at && (p->data[at] & 0x20) && !(p->data[at] & 0xC0) && p->data[at] != 0xFF;
+}
+
+/* 0F/01 { OFFSET TOTAL ADDR SIZE }, 0F/00 { OFFSET TOTAL ADDR DATA }, 0F/02 { ADDR SET RESET }. */
+static int msg_decode_plc3(const struct pccc_msg *p, struct df1_msg *m)
+{
+	static const char *const names[3] = {
+		"PLC-3 word range write (0F/00)", "PLC-3 word range read (0F/01)", "PLC-3 bit write (0F/02)",
+	};
+	size_t at = p->fnc == PCCC_FNC_BIT_WRITE ? 0 : 4;
+	struct pccc_plc3_addr l;
+	int k, e;
+
+	m->name = names[p->fnc];
+	k = pccc_dec_plc3_addr(p->data + at, p->len - at, &l);
+	if (k < 0)
+		return k;
+	e = pccc_plc3_to_addr(&l, &m->addr);
+	if (e < 0)
+		return e;
+	if (m->addr.sub == 0)
+		m->addr.sub = DF1_ADDR_NONE;    /* from the structure's start, as SLC word 0 */
+	m->has_addr = true;
+	m->data = p->data + at + (size_t)k;
+	m->data_len = p->len - at - (size_t)k;
+	if (p->fnc == PCCC_FNC_WORD_READ) {
+		if (m->data_len < 1)
+			return DF1_E_TOO_SHORT;
+		m->size = m->data[0];
+		m->data_len = 0;
+	} else if (p->fnc == PCCC_FNC_WORD_WRITE) {
+		m->size = (int)m->data_len;
+	}
+	return 0;
+}
+
 static int msg_decode_command(const struct pccc_msg *p, struct df1_msg *m)
 {
 	switch (p->cmd) {
@@ -112,8 +158,9 @@ static int msg_decode_command(const struct pccc_msg *p, struct df1_msg *m)
 		case PCCC_FNC_SLC_WRITE2: case PCCC_FNC_SLC_WRITE3:
 		case PCCC_FNC_SLC_MASKED:
 			return msg_decode_slc(p, m);
-		case PCCC_FNC_WORD_WRITE: case PCCC_FNC_WORD_READ:
-		case PCCC_FNC_BIT_WRITE: case PCCC_FNC_RMW:
+		case PCCC_FNC_WORD_WRITE: case PCCC_FNC_WORD_READ: case PCCC_FNC_BIT_WRITE:
+			return msg_is_plc3(p) ? msg_decode_plc3(p, m) : msg_decode_plc5(p, m);
+		case PCCC_FNC_RMW:
 		case PCCC_FNC_TYPED_WRITE: case PCCC_FNC_TYPED_READ:
 			return msg_decode_plc5(p, m);
 		default:

@@ -171,6 +171,35 @@ int pccc_enc_plc5_rmw(uint8_t *out, size_t cap, const struct pccc_hdr *h,
 int pccc_enc_plc5_bit_write(uint8_t *out, size_t cap, const struct pccc_hdr *h,
                             const uint8_t *addr, size_t alen, uint16_t set, uint16_t reset);
 
+/* PLC-3 logical binary address (doc/PROTOCOL.md 4.2a; lib/proto/pccc_plc3.c): a mask
+ * byte (bit n set = level n+1 follows, M p.13-6), then the levels present, each as
+ * pccc_put_field(): 1 area (3 = the data table, the default), 2 context (default:
+ * the current one), 3 section, 4 file, 5 structure, 6 word. */
+struct pccc_plc3_addr {
+	unsigned section;       /* 1 O, 2 I, 3 T, 4 C, 5 N, 6 F, 7 D, 8 B, 9 A, 10 H, 12 pointers, 13 S */
+	unsigned file, structure, word;
+};
+#define PCCC_PLC3_AREA_DATA 3
+/* A df1_addr of the PLC-3 grammar (lib/proto/addr_plc3.c) -> its levels: T C F H
+ * (DF1_FT_L) element = structure (T/C word = sub, 0 for a whole structure; F H word
+ * 0), other sections structure 0, word = element. DF1_E_ADDR_RANGE for a type a
+ * PLC-3 does not have (R ST). */
+int pccc_plc3_levels(const struct df1_addr *a, struct pccc_plc3_addr *l);
+/* The encoded levels: section and word always (the last level is always sent,
+ * M p.13-6), file and structure when not 0 (their default). Returns bytes. */
+int pccc_enc_plc3_levels(uint8_t *out, size_t cap, const struct pccc_plc3_addr *l);
+int pccc_enc_plc3_addr(uint8_t *out, size_t cap, const struct df1_addr *a);
+/* Decode; returns bytes consumed. A mask of 0 or without level 6 (the word):
+ * DF1_E_ADDR_SYNTAX; levels 7-8, or an area other than 3: DF1_E_ADDR_RANGE;
+ * truncated: DF1_E_TOO_SHORT. */
+int pccc_dec_plc3_addr(const uint8_t *in, size_t n, struct pccc_plc3_addr *l);
+/* Levels -> the server's view: type, file, element, sub such that the data
+ * starts at element * element_size + sub * 2 (lib/server/server.h): T/C sub =
+ * word 0-2, F/H sub = word 0-1 (1: the upper half). DF1_E_ADDR_RANGE for a
+ * section the data table does not hold (pointers, 11, above 13) or a level out
+ * of its section's range (T/C file not 0, word sections' structure not 0). */
+int pccc_plc3_to_addr(const struct pccc_plc3_addr *l, struct df1_addr *a);
+
 /* PLC-2: 01 unprotected read (byte address, even size), 08 unprotected write. */
 int pccc_enc_plc2_read(uint8_t *out, size_t cap, const struct pccc_hdr *h, uint16_t byte_addr, uint8_t size);
 int pccc_enc_plc2_write(uint8_t *out, size_t cap, const struct pccc_hdr *h, uint16_t byte_addr,

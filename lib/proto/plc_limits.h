@@ -25,6 +25,9 @@
  *     Strings go one per packet (39 LEN chars, RTA).
  *   PLC-5 0F/01 word range read: SIZE <= 244 bytes, even; 0F/00 word range
  *     write: address + data <= 239 (KF2 p.136).
+ *   PLC-3 0F/01: 244 bytes; 0F/00: 239 less the address (1775-KA app. A), so
+ *     228 after the longest logical binary address (mask + 1 + 3 + 3 + 3 bytes);
+ *     elements are whole (T/C 6 bytes, F/H 4, the others 2).
  * T/C/R elements count as their 3 data-table words; a PLC-5 that answers
  * 5-word timers (KF2 p.130 [UNCERTAIN, doc/PROTOCOL.md 8 item 8], DF1_OPT_PLC5_TIMER_WORDS)
  * fits fewer: the client and the responder call plc5_typed_per_packet() with
@@ -47,6 +50,8 @@
 #define PLC_PLC5_PACKET_MAX 240 /* typed: address + type/data + data (KF2 p.129, M p.117) */
 #define PLC_WORD_READ_MAX 244   /* 0F/01 SIZE, bytes (KF2 p.136) */
 #define PLC_WORD_WRITE_MAX 239  /* 0F/00 address + data (KF2 p.136) */
+#define PLC_PLC3_READ_MAX 244   /* PLC-3 0F/01 reply data (1775-KA app. A) */
+#define PLC_PLC3_WRITE_MAX 228  /* PLC-3 0F/00 data: 239 less the longest binary address (11) */
 #define PLC_PACKET_HARD_MAX 244 /* DF1_OPT_MAX_PACKET is clamped here */
 #define PLC_ECHO_MAX 243        /* 06/00 echo data (KF2 p.89) */
 

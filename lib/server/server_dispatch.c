@@ -155,16 +155,25 @@ static void dispatch_typed(struct srv *s, const uint8_t *cmd)
 		srv_plc5_typed_write(s);
 		return;
 	case PCCC_FNC_WORD_READ:
-		srv_plc5_word_read(s);
+		if (s->h->cfg.plc == DF1_PLC_PLC3)
+			srv_plc3_word_read(s);
+		else
+			srv_plc5_word_read(s);
 		return;
 	case PCCC_FNC_WORD_WRITE:
-		srv_plc5_word_write(s);
+		if (s->h->cfg.plc == DF1_PLC_PLC3)
+			srv_plc3_word_write(s);
+		else
+			srv_plc5_word_write(s);
 		return;
 	case PCCC_FNC_RMW:
 		srv_plc5_word_masks(s, true);
 		return;
 	case PCCC_FNC_BIT_WRITE:
-		srv_plc5_word_masks(s, false);
+		if (s->h->cfg.plc == DF1_PLC_PLC3)
+			srv_plc3_bit_write(s);
+		else
+			srv_plc5_word_masks(s, false);
 		return;
 	case PCCC_FNC_CHANGE_MODE: case PCCC_FNC_SET_CPU_MODE:
 		dispatch_mode(s);

@@ -5,7 +5,7 @@
  * the data-table access by byte offset (server_access.c), and each PLC
  * family's commands, called by the dispatch (server_dispatch.c):
  * server_plc5.c (doc/PROTOCOL.md 4.2-4.4), server_slc.c (4.5, 4.6),
- * server_plc2.c (4.7). The wing's interface is server.h.
+ * server_plc2.c (4.7), server_plc3.c (4.2a). The wing's interface is server.h.
  */
 #ifndef LIBDF1_SERVER_INT_H
 #define LIBDF1_SERVER_INT_H
@@ -59,5 +59,8 @@ int srv_plc5_word_write(struct srv *s);          /* 0F/00 */
 int srv_plc5_word_masks(struct srv *s, bool rmw); /* 0F/26 (rmw), 0F/02 */
 int srv_slc(struct srv *s, uint8_t fnc);         /* 0F/A1 A2 A9 AA AB */
 int srv_plc2(struct srv *s);                     /* 01 08 00 05 02 */
+int srv_plc3_word_read(struct srv *s);           /* 0F/01 serving as a PLC-3 */
+int srv_plc3_word_write(struct srv *s);          /* 0F/00 serving as a PLC-3 */
+int srv_plc3_bit_write(struct srv *s);           /* 0F/02 serving as a PLC-3 */
 
 #endif

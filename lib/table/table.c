@@ -104,9 +104,49 @@ bool table_file_grow(struct table_file *f, int elem)
 	return true;
 }
 
-static bool table_type_ok(enum df1_file_type type)
+static bool table_type_ok(const struct df1_table *t, enum df1_file_type type)
 {
+	if (t->plc == DF1_PLC_PLC3)
+		return table_slot(t, type, 0) >= 0;
 	return type > DF1_FT_NONE && type < DF1_FT_COUNT_ && df1_file_type_element_size(type) > 0;
+}
+
+/* The sections of a PLC-3 table by file type (H = L), 0 = none (R, ST). */
+static int table_plc3_section(enum df1_file_type type)
+{
+	switch (type) {
+	case DF1_FT_O: return 1;
+	case DF1_FT_I: return 2;
+	case DF1_FT_T: return 3;
+	case DF1_FT_C: return 4;
+	case DF1_FT_N: return 5;
+	case DF1_FT_F: return 6;
+	case DF1_FT_D: return 7;
+	case DF1_FT_B: return 8;
+	case DF1_FT_A: return 9;
+	case DF1_FT_L: return 10;
+	case DF1_FT_S: return 11;
+	default: return 0;
+	}
+}
+
+int table_slot(const struct df1_table *t, enum df1_file_type type, int number)
+{
+	int sec;
+
+	if (number < 0 || number >= DF1_TABLE_FILES_MAX)
+		return -1;
+	if (t->plc != DF1_PLC_PLC3)
+		return number;
+	sec = table_plc3_section(type);
+	return sec ? sec * DF1_TABLE_FILES_MAX + number : -1;
+}
+
+struct table_file *table_find(const struct df1_table *t, const struct df1_addr *a)
+{
+	int i = table_slot(t, a->type, a->file);
+
+	return i < 0 ? NULL : t->files[i];
 }
 
 /* ------------------------------------------------------------------------
@@ -199,7 +239,7 @@ int table_diag_status(const struct df1_table *t, int station, uint8_t *buf, size
 	d.plc5 = t->proc.plc5;
 	d.type_code = t->proc.code;
 	if (d.plc5) {
-		for (int i = 0; i < DF1_TABLE_FILES_MAX; i++)
+		for (int i = 0; i < TABLE_SLOTS; i++)
 			files += t->files[i] != NULL;
 		/* remote run, remote program, remote test (M p.192) */
 		d.mode = t->mode == TABLE_MODE_RUN ? 6 : t->mode == TABLE_MODE_PROGRAM ? 4 : 5;
@@ -228,13 +268,15 @@ int df1_table_new(struct df1_table **out, enum df1_plc plc)
 	static const char *const default_proc[] = {
 		[DF1_PLC_SLC] = "slc5/04", [DF1_PLC_MICROLOGIX] = "ml1400",
 		[DF1_PLC_SLC502] = "slc5/02", [DF1_PLC_PLC5] = "plc5/40", [DF1_PLC_PLC2] = "slc5/04",
+		/* no PLC-3 diagnostic status layout in the sources (doc/PROTOCOL.md 4.2a) */
+		[DF1_PLC_PLC3] = "slc5/04",
 	};
 	struct df1_table *t;
 
 	if (!out)
 		return DF1_E_INVAL;
 	*out = NULL;
-	if ((unsigned)plc > DF1_PLC_PLC2)
+	if ((unsigned)plc > DF1_PLC_PLC3)
 		return DF1_E_INVAL;
 	t = calloc(1, sizeof *t);
 	if (!t)
@@ -250,7 +292,7 @@ void df1_table_free(struct df1_table *t)
 {
 	if (!t)
 		return;
-	for (int i = 0; i < DF1_TABLE_FILES_MAX; i++)
+	for (int i = 0; i < TABLE_SLOTS; i++)
 		table_file_free(t->files[i]);
 	free(t);
 }
@@ -270,7 +312,7 @@ int df1_table_clone(struct df1_table **out, const struct df1_table *src)
 	t->plc = src->plc;
 	t->mode = src->mode;
 	t->proc = src->proc;
-	for (int i = 0; i < DF1_TABLE_FILES_MAX; i++) {
+	for (int i = 0; i < TABLE_SLOTS; i++) {
 		const struct table_file *s = src->files[i];
 		struct table_file *f;
 
@@ -296,21 +338,23 @@ int df1_table_clone(struct df1_table **out, const struct df1_table *src)
 int df1_table_add_file(struct df1_table *t, enum df1_file_type type, int number, int elements)
 {
 	struct table_file *f;
+	int slot;
 
 	if (!t)
 		return DF1_E_INVAL;
-	if (!table_type_ok(type))
+	if (!table_type_ok(t, type))
 		return table_fail(t, DF1_E_INVAL, "file type %d is not a data-table type", (int)type);
 	if (number < 0 || number >= DF1_TABLE_FILES_MAX)
 		return table_fail(t, DF1_E_INVAL, "file number %d out of range (0-%d)", number,
 		                  DF1_TABLE_FILES_MAX - 1);
+	slot = table_slot(t, type, number);
 	if (elements < 1 || elements > DF1_TABLE_ELEMENTS_MAX)
 		return table_fail(t, DF1_E_INVAL, "%d elements out of range (1-%d)", elements,
 		                  DF1_TABLE_ELEMENTS_MAX);
-	f = t->files[number];
+	f = t->files[slot];
 	if (f && f->type != type && f->provisional) {
 		table_file_free(f);
-		f = t->files[number] = NULL;
+		f = t->files[slot] = NULL;
 	}
 	if (f && f->type != type)
 		return table_fail(t, DF1_E_TYPE, "file %d already holds type %s", number,
@@ -324,7 +368,26 @@ int df1_table_add_file(struct df1_table *t, enum df1_file_type type, int number,
 	f = table_file_new(type, elements);
 	if (!f)
 		return table_fail(t, DF1_E_NOMEM, "out of memory");
-	t->files[number] = f;
+	t->files[slot] = f;
+	return 0;
+}
+
+/* A PLC-3's files: the fixed O0 I0 S0 T0 C0, and a file of each other section
+ * holding the manuals' examples (N3:173, B5:173/15, F2:10, A1:126, D7, H8). */
+static int table_plc3_defaults(struct df1_table *t)
+{
+	static const struct { enum df1_file_type type; int number; } files[] = {
+		{ DF1_FT_O, 0 }, { DF1_FT_I, 0 }, { DF1_FT_S, 0 }, { DF1_FT_T, 0 }, { DF1_FT_C, 0 },
+		{ DF1_FT_N, 3 }, { DF1_FT_B, 5 }, { DF1_FT_F, 2 }, { DF1_FT_A, 1 }, { DF1_FT_D, 7 },
+		{ DF1_FT_L, 8 },
+	};
+
+	for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
+		int r = df1_table_add_file(t, files[i].type, files[i].number, DF1_TABLE_ELEMENTS_DEFAULT);
+
+		if (r < 0)
+			return r;
+	}
 	return 0;
 }
 
@@ -340,6 +403,8 @@ int df1_table_add_default_files(struct df1_table *t)
 
 	if (!t)
 		return DF1_E_INVAL;
+	if (t->plc == DF1_PLC_PLC3)
+		return table_plc3_defaults(t);
 	for (int i = 0; i < 12; i++) {
 		bool fresh = t->files[i] == NULL;
 
@@ -358,7 +423,13 @@ int df1_table_file(const struct df1_table *t, int number, enum df1_file_type *ty
 
 	if (!t)
 		return DF1_E_INVAL;
-	if (number < 0 || number >= DF1_TABLE_FILES_MAX || !(f = t->files[number]))
+	if (number < 0 || number >= DF1_TABLE_FILES_MAX)
+		return DF1_E_ADDR_RANGE;
+	f = t->files[number];
+	/* a PLC-3 table: the first section that has a file of that number */
+	for (int sec = 1; !f && t->plc == DF1_PLC_PLC3 && sec < TABLE_SECTIONS; sec++)
+		f = t->files[sec * DF1_TABLE_FILES_MAX + number];
+	if (!f)
 		return DF1_E_ADDR_RANGE;
 	if (type)
 		*type = f->type;
@@ -450,9 +521,10 @@ void table_get_value(const struct table_file *f, const struct df1_addr *a, struc
 }
 
 /* An address as text for a message: "N7:0", or "file 7" when it has no text form. */
-static const char *table_addr_text(const struct df1_addr *a, char *buf, size_t cap)
+static const char *table_addr_text(const struct df1_table *t, const struct df1_addr *a, char *buf,
+                                   size_t cap)
 {
-	if (df1_addr_format(a, buf, cap) < 0)
+	if (df1_addr_format_plc(t->plc, a, buf, cap) < 0)
 		snprintf(buf, cap, "file %d", a->file);
 	return buf;
 }
@@ -467,25 +539,25 @@ static int table_check_addr(struct df1_table *t, const struct df1_addr *a, size_
 
 	if (a->ascii[0] || a->type == DF1_FT_NONE)
 		return table_fail(t, DF1_E_INVAL, "%s: not a data-table address",
-		                  a->ascii[0] ? a->ascii : table_addr_text(a, text, sizeof text));
-	if (a->file < 0 || a->file >= DF1_TABLE_FILES_MAX || !(f = t->files[a->file]))
+		                  a->ascii[0] ? a->ascii : table_addr_text(t, a, text, sizeof text));
+	if (!(f = table_find(t, a)))
 		return table_fail(t, DF1_E_ADDR_RANGE, "%s: no file %d in the table",
-		                  table_addr_text(a, text, sizeof text), a->file);
+		                  table_addr_text(t, a, text, sizeof text), a->file);
 	if (f->type != a->type)
-		return table_fail(t, DF1_E_TYPE, "%s: file %d holds type %s", table_addr_text(a, text, sizeof text),
+		return table_fail(t, DF1_E_TYPE, "%s: file %d holds type %s", table_addr_text(t, a, text, sizeof text),
 		                  a->file, df1_file_type_name(f->type));
 	if (a->bit != DF1_ADDR_NONE && (a->type == DF1_FT_F || a->type == DF1_FT_ST))
 		return table_fail(t, DF1_E_TYPE, "%s: no bits in this file type",
-		                  table_addr_text(a, text, sizeof text));
+		                  table_addr_text(t, a, text, sizeof text));
 	if (i > (size_t)DF1_TABLE_ELEMENTS_MAX * 32)
 		return table_fail(t, DF1_E_ADDR_RANGE, "%s: %zu values run past the end of file %d",
-		                  table_addr_text(a, text, sizeof text), i + 1, a->file);
+		                  table_addr_text(t, a, text, sizeof text), i + 1, a->file);
 	table_addr_step(a, (int)i, ai);
 	end = (size_t)ai->element * f->esize + (ai->sub != DF1_ADDR_NONE ? (size_t)ai->sub * 2 : 0) +
 	      (df1_addr_value_kind(ai) == DF1_VAL_BIT || ai->sub != DF1_ADDR_NONE ? 2 : f->esize);
 	if (ai->element < 0 || end > (size_t)f->nelem * f->esize)
 		return table_fail(t, DF1_E_ADDR_RANGE, "%s: value %zu lands beyond the end of file %d (%d elements)",
-		                  table_addr_text(a, text, sizeof text), i + 1, a->file, f->nelem);
+		                  table_addr_text(t, a, text, sizeof text), i + 1, a->file, f->nelem);
 	*fp = f;
 	return 0;
 }
@@ -526,10 +598,10 @@ int df1_table_write_addr(struct df1_table *t, const struct df1_addr *a, const st
 			return r;
 		if (in[i].kind != df1_addr_value_kind(&ai))
 			return table_fail(t, DF1_E_TYPE, "%s: value %zu is of another kind than the address",
-			                  table_addr_text(&ai, text, sizeof text), i + 1);
+			                  table_addr_text(t, &ai, text, sizeof text), i + 1);
 		if (in[i].kind == DF1_VAL_STRING && in[i].v.str.len > DF1_STRING_MAX)
 			return table_fail(t, DF1_E_RANGE, "%s: value %zu: a string holds at most %d characters",
-			                  table_addr_text(&ai, text, sizeof text), i + 1, DF1_STRING_MAX);
+			                  table_addr_text(t, &ai, text, sizeof text), i + 1, DF1_STRING_MAX);
 	}
 	for (size_t i = 0; i < n; i++) {
 		struct table_file *f;
@@ -547,7 +619,7 @@ static int table_parse(struct df1_table *t, const char *addr, struct df1_addr *a
 
 	if (!addr)
 		return table_fail(t, DF1_E_INVAL, "invalid argument");
-	r = df1_addr_parse(addr, a);
+	r = df1_addr_parse_plc(t->plc, addr, a);
 	if (r < 0)
 		return table_fail(t, r, "%s: %s", addr, df1_strerror(r));
 	return 0;
@@ -584,7 +656,8 @@ int table_locate(struct df1_table *t, const struct df1_addr *a, size_t nbytes, u
 	struct table_file *f;
 	size_t off, size;
 
-	if (a->file < 0 || a->file >= DF1_TABLE_FILES_MAX || !(f = t->files[a->file]))
+	if (a->type != DF1_FT_NONE ? !(f = table_find(t, a)) :
+	    a->file < 0 || a->file >= DF1_TABLE_FILES_MAX || !(f = t->files[a->file]))
 		return 0x06;            /* address doesn't point to something usable */
 	if (a->type != DF1_FT_NONE && a->type != f->type)
 		return 0x11;            /* illegal data type */

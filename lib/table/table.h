@@ -31,16 +31,29 @@ struct table_processor {
 	bool plc5;              /* EB form */
 };
 
+/* A PLC-3's sections each have their own files 0-999 (its O0, I0, T0, C0 and S0,
+ * its N3 and B3 are different files: doc/PROTOCOL.md 4.2a), so a PLC-3 table keeps
+ * a slot per section and number (table_slot); other tables use slots 0-999. */
+#define TABLE_SECTIONS 12
+#define TABLE_SLOTS (DF1_TABLE_FILES_MAX * TABLE_SECTIONS)
+
 struct df1_table {
 	enum df1_plc plc;
 	int mode;               /* 1 program, 6 run, 7/8 test */
 	struct table_processor proc;
-	struct table_file *files[DF1_TABLE_FILES_MAX];
+	struct table_file *files[TABLE_SLOTS];
 	char err[512];          /* df1_table_error_text() */
 };
 
 /* Record the detail of a failure; returns err. */
 int table_fail(struct df1_table *t, int err, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+
+/* The slot in t->files of file `number` of type `type`: the number, or on a
+ * PLC-3 table section index * DF1_TABLE_FILES_MAX + number; -1 when the number
+ * is out of range or a PLC-3 has no such section (R, ST). */
+int table_slot(const struct df1_table *t, enum df1_file_type type, int number);
+/* The file of a's type and number in t, or NULL. */
+struct table_file *table_find(const struct df1_table *t, const struct df1_addr *a);
 
 /* A file with elements 0..nelem-1 at their initial values, or NULL (no memory). */
 struct table_file *table_file_new(enum df1_file_type type, int nelem);

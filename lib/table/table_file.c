@@ -125,7 +125,7 @@ static bool table_line(struct df1_table *t, char *line, char *err, size_t cap)
 	char *eq = strchr(line, '='), *addr_text = line, *e;
 	struct table_file *f;
 	struct df1_addr a;
-	int n, rc, sub_words;
+	int n, rc, sub_words, slot;
 
 	if (!eq) {
 		snprintf(err, cap, "expected ADDRESS=VALUE[,VALUE...]");
@@ -135,7 +135,7 @@ static bool table_line(struct df1_table *t, char *line, char *err, size_t cap)
 	e = eq;
 	while (e > addr_text && (e[-1] == ' ' || e[-1] == '\t'))
 		*--e = '\0';
-	rc = df1_addr_parse(addr_text, &a);
+	rc = df1_addr_parse_plc(t->plc, addr_text, &a);
 	if (rc < 0) {
 		snprintf(err, cap, "%s: %s", addr_text, df1_strerror(rc));
 		return false;
@@ -153,11 +153,16 @@ static bool table_line(struct df1_table *t, char *line, char *err, size_t cap)
 		snprintf(err, cap, "%s: more than %d values", addr_text, DF1_TABLE_ELEMENTS_MAX);
 		return false;
 	}
-	f = t->files[a.file];
+	slot = table_slot(t, a.type, a.file);
+	if (slot < 0) {
+		snprintf(err, cap, "%s: not a data-table address", addr_text);
+		return false;
+	}
+	f = t->files[slot];
 	if (f && f->type != a.type && f->provisional) {
 		/* e.g. N9, the SLC's common interface file for PLC-2 commands */
 		table_file_free(f);
-		f = t->files[a.file] = NULL;
+		f = t->files[slot] = NULL;
 	}
 	if (f && f->type != a.type) {
 		snprintf(err, cap, "%s: file %d already holds type %s", addr_text, a.file,
@@ -170,7 +175,7 @@ static bool table_line(struct df1_table *t, char *line, char *err, size_t cap)
 		return false;
 	}
 	if (!f) {
-		f = t->files[a.file] = table_file_new(a.type, DF1_TABLE_ELEMENTS_DEFAULT);
+		f = t->files[slot] = table_file_new(a.type, DF1_TABLE_ELEMENTS_DEFAULT);
 		if (!f) {
 			snprintf(err, cap, "out of memory");
 			return false;
@@ -226,7 +231,7 @@ static char *table_strip(char *s)
 
 static void table_swap(struct df1_table *a, struct df1_table *b)
 {
-	for (int i = 0; i < DF1_TABLE_FILES_MAX; i++) {
+	for (int i = 0; i < TABLE_SLOTS; i++) {
 		struct table_file *f = a->files[i];
 
 		a->files[i] = b->files[i];
@@ -333,7 +338,7 @@ static void table_save_value(FILE *fp, enum df1_file_type type, const struct df1
 	}
 }
 
-static void table_save_file(FILE *fp, int number, const struct table_file *f)
+static void table_save_file(FILE *fp, enum df1_plc plc, int number, const struct table_file *f)
 {
 	int per_line = f->type == DF1_FT_ST || f->type == DF1_FT_T || f->type == DF1_FT_C ||
 	               f->type == DF1_FT_R ? 1 : 10;
@@ -346,7 +351,7 @@ static void table_save_file(FILE *fp, int number, const struct table_file *f)
 		char text[DF1_ADDR_ASCII_MAX + 16];
 
 		if (e % per_line == 0) {
-			if (df1_addr_format(&a, text, sizeof text) < 0)
+			if (df1_addr_format_plc(plc, &a, text, sizeof text) < 0)
 				snprintf(text, sizeof text, "%s%d:%d", df1_file_type_name(f->type), number, e);
 			fprintf(fp, "%s%s=", e ? "\n" : "", text);
 		} else {
@@ -391,9 +396,9 @@ int df1_table_save(struct df1_table *t, const char *path)
 	}
 	fprintf(fp, "# libdf1 data table (df1_table_save): ADDRESS=VALUE[,VALUE...] per line,\n"
 	            "# as df1_table_load() and df1sim --data read it\n");
-	for (int i = 0; i < DF1_TABLE_FILES_MAX; i++)
+	for (int i = 0; i < TABLE_SLOTS; i++)
 		if (t->files[i])
-			table_save_file(fp, i, t->files[i]);
+			table_save_file(fp, t->plc, i % DF1_TABLE_FILES_MAX, t->files[i]);
 	errno = 0;
 	if (fflush(fp) != 0 || ferror(fp) || fsync(fileno(fp)) != 0) {
 		saved = errno ? errno : EIO;

@@ -162,7 +162,8 @@ enum df1_file_type {
 	DF1_FT_ST,
 	DF1_FT_A,
 	DF1_FT_L,
-	DF1_FT_COUNT_
+	DF1_FT_COUNT_,
+	DF1_FT_D = 16
 };
 struct df1_addr {
 	enum df1_file_type type;
@@ -225,7 +226,10 @@ enum df1_plc {
 	DF1_PLC_SLC502 = 2,
 	DF1_PLC_PLC5 = 3,
 	DF1_PLC_PLC2 = 4,
+	DF1_PLC_PLC3 = 5,
 };
+int df1_addr_parse_plc(enum df1_plc plc, const char *text, struct df1_addr *a);
+int df1_addr_format_plc(enum df1_plc plc, const struct df1_addr *a, char *buf, size_t cap);
 enum df1_option {
 	DF1_OPT_DUPLICATE_DETECT = 1,
 	DF1_OPT_EMBEDDED_RESPONSES,

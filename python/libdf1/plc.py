@@ -27,7 +27,7 @@ _PLC = {"slc": lib.DF1_PLC_SLC, "slc500": lib.DF1_PLC_SLC, "slc5/03": lib.DF1_PL
         "slc5/04": lib.DF1_PLC_SLC, "slc5/05": lib.DF1_PLC_SLC,
         "micrologix": lib.DF1_PLC_MICROLOGIX, "ml": lib.DF1_PLC_MICROLOGIX,
         "slc502": lib.DF1_PLC_SLC502, "slc5/01": lib.DF1_PLC_SLC502, "slc5/02": lib.DF1_PLC_SLC502,
-        "plc5": lib.DF1_PLC_PLC5, "plc2": lib.DF1_PLC_PLC2}
+        "plc5": lib.DF1_PLC_PLC5, "plc2": lib.DF1_PLC_PLC2, "plc3": lib.DF1_PLC_PLC3}
 _PARITY = {"none": b"N", "n": b"N", "even": b"E", "e": b"E", "odd": b"O", "o": b"O"}
 
 
@@ -54,8 +54,8 @@ def _choice(kind: str, table: Dict[str, Any], value: Any) -> Any:
 
 
 @functools.lru_cache(maxsize=4096)
-def _addr(address: str) -> Addr:
-    return Addr(address)
+def _addr(address: str, plc: int = lib.DF1_PLC_SLC) -> Addr:
+    return Addr(address, plc)
 
 
 @dataclass
@@ -169,7 +169,7 @@ class Plc:
         can hold (elements up to 999, the bits of a T/C/R word) is a
         Df1ValueError naming the limit, raised before anything is allocated.
         """
-        a = _addr(address)
+        a = _addr(address, self.plc_type)
         n = 1 if count is None else count
         if not isinstance(n, int) or n < 1:
             raise Df1ValueError(lib.DF1_E_INVAL, "count %r: 1 or more" % (count,), address=address)
@@ -191,7 +191,7 @@ class Plc:
         a str of up to 82 characters. Every value is checked against the file
         type before anything is sent (Df1ValueError). Returns the values written.
         """
-        a = _addr(address)
+        a = _addr(address, self.plc_type)
         values = _as_list(a, value)
         if not values:
             raise Df1ValueError(lib.DF1_E_INVAL, "no values to write", address=address)
@@ -229,7 +229,7 @@ class Plc:
             addr, count, many = _split_item(item)
             if isinstance(item, list):
                 item = tuple(item)          # a dict key
-            a = _addr(addr)
+            a = _addr(addr, self.plc_type)
             _check_count(a, count, addr)
             vals = ffi.new("struct df1_value[]", count)
             keep.append(vals)
@@ -424,11 +424,16 @@ class Plc:
 # word (df1_addr_parse(3)): the most a read from an address can return.
 _ELEMENTS = 1000
 _SUBS = 256
+_PLC3_WORDS = 10000
 
 
 def count_limit(a: Addr) -> int:
     """How many values a read from a (count elements, or bits for a bit address) can return."""
     c = a.c
+    if a.plc == lib.DF1_PLC_PLC3:
+        # words 0-9999 in a PLC-3 file (doc/PROTOCOL.md 4.2a): the library checks
+        # the exact range; this bound only keeps the buffer from growing first
+        return _PLC3_WORDS
     tcr = a.type in (lib.DF1_FT_T, lib.DF1_FT_C, lib.DF1_FT_R)
     if c.bit != lib.DF1_ADDR_NONE:
         if tcr:

@@ -136,7 +136,7 @@ class Poller:
             addr, _, count = tag.partition(",")
             tag = Tag(address=addr.strip(), name=tag, count=int(count) if count else 1)
         name = tag.name or tag.address
-        a = Addr(tag.address)
+        a = Addr(tag.address, self._plc.plc_type)
         c = ffi.new("struct df1_tag_config *")
         nb = name.encode()
         if len(nb) >= ffi.sizeof(c.name):
@@ -189,9 +189,9 @@ class Poller:
             for tid in range(before, lib.df1_tag_count(h)):
                 if lib.df1_tag_get(h, tid, st) < 0:
                     continue
-                lib.df1_addr_format(ffi.addressof(st.config, "addr"), buf, 64)
+                lib.df1_addr_format_plc(st.config.plc, ffi.addressof(st.config, "addr"), buf, 64)
                 name = text(st.config.name) or text(buf)
-                a = Addr(text(buf))
+                a = Addr(text(buf), st.config.plc)
                 k = lib.df1_tag_value_kind(st.config)
                 if k >= 0:
                     a.kind = k

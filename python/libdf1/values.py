@@ -115,14 +115,16 @@ _TCR = {lib.DF1_FT_T: Timer, lib.DF1_FT_C: Counter, lib.DF1_FT_R: Control}
 class Addr:
     """A parsed address (struct df1_addr) with the value kind it reads as."""
 
-    __slots__ = ("text", "c", "kind", "type")
+    __slots__ = ("text", "c", "kind", "type", "plc")
 
-    def __init__(self, text_: str):
+    def __init__(self, text_: str, plc: int = lib.DF1_PLC_SLC):
         if not isinstance(text_, str):
             raise AddressError(lib.DF1_E_ADDR_SYNTAX, "an address is a str, not %s" % type(text_).__name__)
         self.text = text_
+        self.plc = plc
         self.c = ffi.new("struct df1_addr *")
-        rc = lib.df1_addr_parse(text_.encode("utf-8", "replace"), self.c)
+        # the PLC type's address text: a PLC-3's own (N3:173, B5:173/15, T4.ACC), else the SLC's
+        rc = lib.df1_addr_parse_plc(plc, text_.encode("utf-8", "replace"), self.c)
         if rc < 0:
             raise from_handle(None, rc, address=text_)
         self.kind = lib.df1_addr_value_kind(self.c)

@@ -64,7 +64,7 @@ check "bad network file: stdout empty" '[ ! -s "$T/out" ]'
 # each invalid value alone: its critical ID, exit 2, the tool does not start
 # (the device would be found: DF1_DEVICE is a file that exists)
 : > "$T/notatty"
-for row in "Station 255 2552" "Mode Boss 2553" "PLC_Type PLC3 2555" "Error_Code XOR 2556" \
+for row in "Station 255 2552" "Mode Boss 2553" "PLC_Type PLC4 2555" "Error_Code XOR 2556" \
 	"NAK_Retries 11 2557" "ENQ_Retries x 2558" "Cmd_Timeout 499 2559" "Cmd_Timeout 5001 2559"; do
 	set -- $row
 	printf '%s\n%s\n' "$1" "$2" > "$T/bad_net.csv"

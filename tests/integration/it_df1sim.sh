@@ -252,7 +252,7 @@ for args in "" \
 	"--pty $T/a --duplex quarter" \
 	"--pty $T/a --check sum" \
 	"--pty $T/a --station 255" \
-	"--pty $T/a --plc plc3" \
+	"--pty $T/a --plc plc4" \
 	"--pty $T/a --processor nonesuch" \
 	"--pty $T/a --nak 101" \
 	"--pty $T/a --delay x" \

@@ -138,6 +138,16 @@ same "masked write: B3:0/5 := 1" "$(cat "$T/ab")" "$(printf 'B3:0/5\t1\t2000\t20
 fields "$T/vcrc.pcap" df1.sts df1.ext_sts df1.ext_sts_text -- -Y 'df1.sts == 0xf0' > "$T/ext"
 same "STS F0, EXT STS 06 with its text" "$(cat "$T/ext")" \
 	"$(printf "0xf0\t0x06\taddress doesn't point to something usable")"
+# a PLC-3's frames (tests/data/plc3_vectors.txt, doc/PROTOCOL.md 4.2a): its own address text
+grep -v '^#' tests/data/plc3_vectors.txt | awk -F' [|] ' '$2 == "crc" { print "tx:" $3 }' \
+	| python3 $H pcap "$T/vplc3.pcap" -
+same_as_df1mon "PLC-3 vectors" "$T/vplc3.pcap"
+fields "$T/vplc3.pcap" df1.fnc df1.addr df1.value -- -Y 'df1.tns == 0x0303' > "$T/p3bit"
+same "PLC-3 bit write: an octal bit" "$(head -1 "$T/p3bit")" "$(printf '0x02\tB5:173/15\t1')"
+fields "$T/vplc3.pcap" df1.addr df1.value -- -Y 'df1.tns == 0x0305 && df1.reply == 1' > "$T/p3f"
+same "PLC-3 float low word first" "$(cat "$T/p3f")" "$(printf 'F2:10\t1.5')"
+fields "$T/vplc3.pcap" df1.addr -- -Y 'df1.tns == 0x0304 && df1.reply == 0' > "$T/p3t"
+same "PLC-3 timer member" "$(cat "$T/p3t")" "T4.ACC"
 fields "$T/vhd.pcap" df1.symbol df1.stn df1.master -- > "$T/hd"
 check "polls with their station" 'grep -q "^POLL	1	\$" "$T/hd" && grep -q "^POLL	16	\$" "$T/hd" && grep -q "^POLL	255	\$" "$T/hd"'
 check "master messages with STN" 'grep -q "^FRAME	1	1\$" "$T/hd" && grep -q "^FRAME	16	1\$" "$T/hd"'

@@ -45,7 +45,7 @@ enum cli_opt_id {
 	CLI_OPT_HANDSHAKE,   /* --handshake[=yes|no] */
 	CLI_OPT_DUPLEX,      /* --duplex full|half */
 	CLI_OPT_CHECK,       /* --check crc|bcc (|auto when the tool allows it) */
-	CLI_OPT_PLC,         /* --plc slc|micrologix|slc502|plc5|plc2 */
+	CLI_OPT_PLC,         /* --plc slc|micrologix|slc502|plc5|plc2|plc3 */
 	CLI_OPT_TIMEOUT,     /* -o/--timeout MS */
 	CLI_OPT_CMD_TIMEOUT, /* --cmd-timeout MS */
 	CLI_OPT_NAK_RETRIES, /* --nak-retries N */
@@ -282,7 +282,7 @@ bool cli_is_io(enum df1_file_type t);    /* I, O */
  * elements; bits run on into the next word, except T/C/R bits; I/O words with a
  * word number advance the word. out's ascii is cleared. false if it leaves the
  * address space. */
-bool cli_addr_step(const struct df1_addr *a, size_t i, struct df1_addr *out);
+bool cli_addr_step(enum df1_plc plc, const struct df1_addr *a, size_t i, struct df1_addr *out);
 /* A bad operand address, item counted from 1; err DF1_E_ADDR_RANGE (n values) or
  * any other for syntax:
  *   "df1read: N7:x: [2503] ERR_ADDRESS_SYNTAX: Item: 2, Invalid Address Syntax (N7:x)"

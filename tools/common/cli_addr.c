@@ -14,7 +14,7 @@ bool cli_is_io(enum df1_file_type t)
 	return t == DF1_FT_I || t == DF1_FT_O;
 }
 
-bool cli_addr_step(const struct df1_addr *a, size_t i, struct df1_addr *out)
+bool cli_addr_step(enum df1_plc plc, const struct df1_addr *a, size_t i, struct df1_addr *out)
 {
 	char buf[CLI_ADDR_TEXT_MAX];
 
@@ -40,7 +40,7 @@ bool cli_addr_step(const struct df1_addr *a, size_t i, struct df1_addr *out)
 	} else {
 		out->element = a->element + (int)i;
 	}
-	return df1_addr_format(out, buf, sizeof buf) > 0;
+	return df1_addr_format_plc(plc, out, buf, sizeof buf) > 0;
 }
 
 int cli_address_error(const struct cli *c, int item, const char *text, int err, size_t n)

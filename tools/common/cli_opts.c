@@ -118,7 +118,7 @@ static bool format_ok(const struct cli *c, enum cli_format f)
 	return f == CLI_FMT_PLAIN || (c->tool->formats & CLI_FMT_BIT(f));
 }
 
-static const char *const plc_names[] = { "slc", "micrologix", "slc502", "plc5", "plc2" };
+static const char *const plc_names[] = { "slc", "micrologix", "slc502", "plc5", "plc2", "plc3" };
 #define N_PLCS ((int)(sizeof plc_names / sizeof plc_names[0]))
 
 static bool plc_ok(const struct cli *c, int p)
@@ -126,7 +126,7 @@ static bool plc_ok(const struct cli *c, int p)
 	return p >= 0 && p < N_PLCS && (!c->tool->plcs || (c->tool->plcs & CLI_PLC_BIT(p)));
 }
 
-/* "slc, micrologix, slc502, plc5 or plc2": the families --plc accepts. */
+/* "slc, micrologix, slc502, plc5, plc2 or plc3": the families --plc accepts. */
 static void plc_list(const struct cli *c, char *buf, size_t cap)
 {
 	int n = 0, k = 0;
@@ -380,6 +380,7 @@ static int parse_plc(struct cli *c, const char *arg)
 	static const char *const slc502[] = { "slc502", "slc501", "slc5/02", "slc5/01", NULL };
 	static const char *const plc5[] = { "plc5", "plc-5", NULL };
 	static const char *const plc2[] = { "plc2", "plc-2", NULL };
+	static const char *const plc3[] = { "plc3", "plc-3", NULL };
 	char list[80];
 	int v;
 
@@ -393,6 +394,8 @@ static int parse_plc(struct cli *c, const char *arg)
 		v = DF1_PLC_PLC5;
 	else if (word_in(arg, plc2))
 		v = DF1_PLC_PLC2;
+	else if (word_in(arg, plc3))
+		v = DF1_PLC_PLC3;
 	else
 		v = -1;
 	if (v < 0 || !plc_ok(c, v)) {

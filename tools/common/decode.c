@@ -202,12 +202,21 @@ static void cmd_remember(struct decode_ctx *x, const struct df1_msg *m, const st
 	slot->age = ++x->clock;
 }
 
-static void format_addr(const struct df1_addr *a, char *buf, size_t cap)
+/* A PLC-3 command (df1_msg_decode names them "PLC-3 ..."): its address is in
+ * a PLC-3's text and its floats go low word first (doc/PROTOCOL.md 4.2a). */
+static bool is_plc3(const char *name)
+{
+	return name && strncmp(name, "PLC-3", 5) == 0;
+}
+
+static void format_addr(const struct df1_addr *a, bool plc3, char *buf, size_t cap)
 {
 	if (a->ascii[0]) {
 		snprintf(buf, cap, "$%s", a->ascii);
 		return;
 	}
+	if (plc3 && df1_addr_format_plc(DF1_PLC_PLC3, a, buf, cap) >= 0)
+		return;
 	if (a->type != DF1_FT_NONE && df1_addr_format(a, buf, cap) >= 0)
 		return;
 	/* a PLC-5 binary address carries no file type */
@@ -244,9 +253,10 @@ static void decode_values(struct frame_view *v, enum df1_file_type ft, const uin
 
 /* PLC-5 word range read / write (0F/01, 0F/00): a float goes high-order word
  * first, each word LE (doc/PROTOCOL.md 5): 1.5 is C0 3F 00 00. Other types are plain words. */
-static void decode_word_range(struct frame_view *v, enum df1_file_type ft, const uint8_t *p, size_t n)
+static void decode_word_range(struct frame_view *v, enum df1_file_type ft, const uint8_t *p, size_t n,
+                              bool plc3)
 {
-	if (ft == DF1_FT_F && n >= 4 && n % 4 == 0 && n <= sizeof v->swapped) {
+	if (!plc3 && ft == DF1_FT_F && n >= 4 && n % 4 == 0 && n <= sizeof v->swapped) {
 		for (size_t i = 0; i < n; i += 4) {
 			v->swapped[i] = p[i + 2];
 			v->swapped[i + 1] = p[i + 3];
@@ -322,9 +332,10 @@ static void view_bit_write(struct frame_view *v)
 	if ((a.type == DF1_FT_T || a.type == DF1_FT_C || a.type == DF1_FT_R) && a.sub == DF1_ADDR_NONE)
 		a.sub = 0;
 	a.bit = bit;
-	if (a.type != DF1_FT_NONE && df1_addr_format(&a, buf, sizeof buf) < 0)
+	if (a.type != DF1_FT_NONE &&
+	    df1_addr_format_plc(is_plc3(m->name) ? DF1_PLC_PLC3 : DF1_PLC_SLC, &a, buf, sizeof buf) < 0)
 		return;                         /* a type without bits (F, ST): leave it */
-	format_addr(&a, v->addr, sizeof v->addr);
+	format_addr(&a, is_plc3(m->name), v->addr, sizeof v->addr);
 	v->bit_addr = a;
 	v->has_bit_addr = true;
 	memset(&v->vals[0], 0, sizeof v->vals[0]);
@@ -350,7 +361,7 @@ static void view_command_data(struct frame_view *v, const uint8_t *app)
 			decode_values(v, ft, d, n);
 			return;
 		case 0x00:                         /* word range write */
-			decode_word_range(v, ft, d, n);
+			decode_word_range(v, ft, d, n, is_plc3(m->name));
 			return;
 		case 0x67:                         /* typed write */
 			if (decode_typedata_before(app, d, &ft)) {
@@ -405,7 +416,7 @@ static void view_reply_data(struct frame_view *v)
 			decode_values(v, c->ft, d, n);
 			return;
 		case 0x01:                          /* word range read */
-			decode_word_range(v, c->ft, d, n);
+			decode_word_range(v, c->ft, d, n, is_plc3(c->label));
 			return;
 		case 0x68:
 			k = decode_typedata_skip(d, n, &ft);
@@ -449,7 +460,7 @@ static void build_view(struct decode_ctx *x, const struct df1_symbol *s, bool re
 			snprintf(v->cmdtext, sizeof v->cmdtext, "%02X", m->cmd);
 		if (m->has_addr) {
 			v->has_addr = true;
-			format_addr(&m->addr, v->addr, sizeof v->addr);
+			format_addr(&m->addr, is_plc3(m->name), v->addr, sizeof v->addr);
 		} else if ((m->cmd == 0x01 || m->cmd == 0x08 || m->cmd == 0x00) && s->len >= 8) {
 			/* PLC-2: a byte address, not a data-table address */
 			v->has_addr = true;
@@ -479,7 +490,7 @@ static void build_view(struct decode_ctx *x, const struct df1_symbol *s, bool re
 			snprintf(v->name, sizeof v->name, "reply to %02X", v->orig->cmd);
 		if (v->orig->has_addr) {
 			v->has_addr = true;
-			format_addr(&v->orig->addr, v->addr, sizeof v->addr);
+			format_addr(&v->orig->addr, is_plc3(v->orig->label), v->addr, sizeof v->addr);
 			v->size = v->orig->size;
 		}
 	} else {

@@ -359,7 +359,7 @@ void gw_tag_config_text(const struct df1_tag_config *c, char *out, size_t cap)
 {
 	char addr[80];
 
-	if (df1_addr_format(&c->addr, addr, sizeof addr) < 0)
+	if (df1_addr_format_plc(c->plc, &c->addr, addr, sizeof addr) < 0)
 		snprintf(addr, sizeof addr, "?");
 	snprintf(out, cap, "%d|%s|%d|%d|%s|%d|%d", (int)c->access, c->type, c->station, (int)c->plc, addr,
 	         c->count, c->scan_ms);

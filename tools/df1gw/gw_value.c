@@ -121,7 +121,7 @@ struct gw_span gw_tag_json(struct gw_buf *b, const struct df1_tag_state *st, con
 		}
 		ts_at.len = b->len - ts_at.at;
 	}
-	if (df1_addr_format(&c->addr, addr, sizeof addr) < 0)
+	if (df1_addr_format_plc(c->plc, &c->addr, addr, sizeof addr) < 0)
 		snprintf(addr, sizeof addr, "?");
 	gw_buf_puts(b, ",\"address\":");
 	gw_json_text(b, addr, strlen(addr));

@@ -152,7 +152,7 @@ void mon_influx_tag(FILE *f, const struct df1_tag_state *st, int64_t now_ns)
 
 	if (!(st->config->access & DF1_ACCESS_READ))
 		return;         /* write-only: nothing is read */
-	if (df1_addr_format(&st->config->addr, addr, sizeof addr) < 0)
+	if (df1_addr_format_plc(st->config->plc, &st->config->addr, addr, sizeof addr) < 0)
 		snprintf(addr, sizeof addr, "?");
 	fputs("df1", f);
 	if (st->config->name[0]) {

@@ -93,7 +93,7 @@ static void mm_quality_text(const struct df1_tag_state *st, char *buf, size_t ca
 
 static void mm_addr_text(const struct df1_tag_state *st, char *buf, size_t cap)
 {
-	if (df1_addr_format(&st->config->addr, buf, cap) < 0)
+	if (df1_addr_format_plc(st->config->plc, &st->config->addr, buf, cap) < 0)
 		snprintf(buf, cap, "?");
 	if (st->count > 1) {
 		size_t l = strlen(buf);
@@ -246,7 +246,7 @@ static void mm_records(struct mm *m)
 			mon_influx_tag(f, &st, now_ns);
 			continue;
 		}
-		if (df1_addr_format(&st.config->addr, a, sizeof a) < 0)
+		if (df1_addr_format_plc(st.config->plc, &st.config->addr, a, sizeof a) < 0)
 			snprintf(a, sizeof a, "?");
 		if (m->format == MON_MAP_CSV) {
 			mm_values_text(&st, " ", v, sizeof v);

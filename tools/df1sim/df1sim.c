@@ -427,7 +427,7 @@ static const struct cli_tool sim_tool = {
 	           CLI_ACCEPT(CLI_OPT_DUP_DETECT) | CLI_ACCEPT(CLI_OPT_EMBEDDED) | CLI_ACCEPT(CLI_OPT_NAK_0F) |
 	           CLI_ACCEPT(CLI_OPT_ECHO_DISCARD),
 	.plcs = CLI_PLC_BIT(DF1_PLC_SLC) | CLI_PLC_BIT(DF1_PLC_MICROLOGIX) | CLI_PLC_BIT(DF1_PLC_SLC502) |
-	        CLI_PLC_BIT(DF1_PLC_PLC5),
+	        CLI_PLC_BIT(DF1_PLC_PLC5) | CLI_PLC_BIT(DF1_PLC_PLC3),
 	.common_help = {
 		[CLI_OPT_PARITY] = "-d only: parity (default none)",
 		[CLI_OPT_STOP_BITS] = "-d only: stop bits (default 1)",
@@ -778,6 +778,7 @@ static int sim_build(struct sim *s, const struct opts *o)
 	}
 	if (o->log) {
 		r = sim_cmdlog_open(&s->log, o->log, o->cli.check, o->cli.half_duplex, s->tables, s->stations[0]);
+		s->log.plc = o->cli.plc;
 		if (r == -1) {
 			msg("--log %s: %s", o->log, strerror(errno));
 			return CLI_EXIT_USAGE;

@@ -265,7 +265,8 @@ static void cmdlog_command(struct sim_cmdlog *l, int station, const uint8_t *app
 		} else {
 			if (a.type == DF1_FT_NONE)
 				(void)df1_table_file(cmdlog_table(l, station), a.file, &a.type);
-			if (a.type == DF1_FT_NONE || df1_addr_format(&a, addr, sizeof addr) < 0)
+			if (a.type == DF1_FT_NONE ||
+			    df1_addr_format_plc(l->plc, &a, addr, sizeof addr) < 0)
 				snprintf(addr, sizeof addr, "#%d:%d", a.file, a.element);
 		}
 	}

@@ -59,6 +59,7 @@ struct sim_cmdlog {
 	bool half;
 	struct df1_table *const *tables;
 	int first_station;
+	enum df1_plc plc;               /* the address text of the log (PLC-3's own) */
 	struct {
 		bool used, logged;
 		int station;

@@ -128,7 +128,10 @@ static void test_packet_max(void **state)
 	assert_int_equal(df1_packet_max(DF1_PLC_PLC2, true), 244);
 	assert_int_equal(df1_packet_max(DF1_PLC_PLC5, false), 240);
 	assert_int_equal(df1_packet_max(DF1_PLC_PLC5, true), 240);
-	assert_int_equal(df1_packet_max((enum df1_plc)5, false), DF1_E_INVAL);
+	/* PLC-3 (doc/PROTOCOL.md 4.2a): 244 a read, 239 less the longest address a write */
+	assert_int_equal(df1_packet_max(DF1_PLC_PLC3, false), 244);
+	assert_int_equal(df1_packet_max(DF1_PLC_PLC3, true), 228);
+	assert_int_equal(df1_packet_max((enum df1_plc)6, false), DF1_E_INVAL);
 	assert_int_equal(df1_packet_max((enum df1_plc)-1, true), DF1_E_INVAL);
 }
 

@@ -340,6 +340,8 @@ static void test_config_net_boundary_values_accepted(void **state)
 		{ "Mode", "Peer", NET_OFF(mode), DF1_MODE_PEER },
 		{ "PLC_Type", "PLC2", NET_OFF(plc), DF1_PLC_PLC2 },
 		{ "PLC_Type", "PLC5", NET_OFF(plc), DF1_PLC_PLC5 },
+		{ "PLC_Type", "PLC3", NET_OFF(plc), DF1_PLC_PLC3 },
+		{ "PLC_Type", "PLC-3", NET_OFF(plc), DF1_PLC_PLC3 },
 		{ "PLC_Type", "PLC-5", NET_OFF(plc), DF1_PLC_PLC5 },
 		{ "PLC_Type", "SLC", NET_OFF(plc), DF1_PLC_SLC },
 		{ "PLC_Type", "slc500", NET_OFF(plc), DF1_PLC_SLC },
@@ -459,8 +461,8 @@ static void test_config_net_each_invalid_value_reported_with_id(void **state)
 		  "Invalid Driver Mode (Boss), should be one of Master, Slave, or Peer" },
 		{ "Mode", "Half", 2553,
 		  "Invalid Driver Mode (Half), should be one of Master, Slave, or Peer" },
-		{ "PLC_Type", "PLC3", 2555,
-		  "Invalid or Unsupported PLC Type (PLC3) should be one of PLC2, PLC5, SLC, MicroLogix" },
+		{ "PLC_Type", "PLC4", 2555,
+		  "Invalid or Unsupported PLC Type (PLC4) should be one of PLC2, PLC5, SLC, MicroLogix" },
 		{ "PLC_Type", "PLC6", 2555,
 		  "Invalid or Unsupported PLC Type (PLC6) should be one of PLC2, PLC5, SLC, MicroLogix" },
 		{ "PLC_Type", "ControlLogix", 2555,
@@ -807,7 +809,7 @@ static void test_config_map_each_bad_row_reported_and_skipped(void **state)
 	static const struct map_bad_case want[] = {
 		{ 2, 3, 2501, "Item: 2, Invalid station number (255) must be less than 255", NULL },
 		{ 3, 4, 2501, "Item: 3, Invalid station number (x1) must be less than 255", NULL },
-		{ 4, 6, 2502, "Item: 4, Invalid or Unsupported PLC Type (PLC3) should be one of PLC2, "
+		{ 4, 6, 2502, "Item: 4, Invalid or Unsupported PLC Type (PLC4) should be one of PLC2, "
 		  "PLC5, SLC, MicroLogix", NULL },
 		{ 5, 7, 2503, "Item: 5, Invalid Address Syntax (N7;0)", NULL },
 		{ 6, 8, 2504, "Item: 6, Address is out of range (N7:1000, len=1)", NULL },
@@ -889,6 +891,42 @@ static void test_config_map_address_forms_and_counts(void **state)
 	assert_string_equal(r.issues.v[4].text, "Item: 7, Invalid Address Syntax ()");
 	assert_int_equal(r.issues.v[5].catalog_id, 2504);
 	assert_string_equal(r.issues.v[5].text, "Item: 9, Address is out of range (B3:0/16, len=1)");
+}
+
+/* PLC3 rows take a PLC-3's own address text (doc/PROTOCOL.md 4.2a): octal bits,
+ * T4.ACC structure members, words up to 9999; other rows keep their grammar. */
+static void test_config_map_plc3_rows(void **state)
+{
+	struct map_result r = { 0 };
+	struct df1_addr want;
+	int rc;
+
+	(void)state;
+	rc = map_load_text("Tag,Station,PLC_Type,Address,Count\n"
+	                   "a,1,PLC3,N3:173,1\n"
+	                   "b,1,PLC-3,B5:173/15,1\n"
+	                   "c,1,PLC3,T4.ACC,1\n"
+	                   "d,1,PLC3,N3:9999,1\n"
+	                   "e,1,PLC3,N3:9999,2\n"   /* one past the last word */
+	                   "f,1,PLC3,B5:0/18,1\n"   /* octal bit: no 8 */
+	                   "g,1,SLC,T4.ACC,1\n",    /* not SLC text */
+	                   false, &r);
+	assert_int_equal(rc, 4);
+	assert_int_equal(r.tags.v[0].plc, DF1_PLC_PLC3);
+	assert_int_equal(r.tags.v[0].addr.type, DF1_FT_N);
+	assert_int_equal(r.tags.v[0].addr.file, 3);
+	assert_int_equal(r.tags.v[0].addr.element, 173);
+	assert_int_equal(r.tags.v[1].addr.bit, 13);
+	assert_int_equal(df1_addr_parse_plc(DF1_PLC_PLC3, "T4.ACC", &want), 0);
+	assert_int_equal(r.tags.v[2].addr.type, DF1_FT_T);
+	assert_int_equal(r.tags.v[2].addr.file, 0);
+	assert_int_equal(r.tags.v[2].addr.element, 4);
+	assert_int_equal(r.tags.v[2].addr.sub, 2);
+	assert_int_equal(r.tags.v[3].addr.element, 9999);
+	assert_int_equal(r.issues.n, 3);
+	assert_string_equal(r.issues.v[0].text, "Item: 5, Address is out of range (N3:9999, len=2)");
+	assert_string_equal(r.issues.v[1].text, "Item: 6, Invalid Address Syntax (B5:0/18)");
+	assert_string_equal(r.issues.v[2].text, "Item: 7, Invalid Address Syntax (T4.ACC)");
 }
 
 static void test_config_map_header_problems_fail_the_load(void **state)
@@ -1135,6 +1173,7 @@ int main(void)
 		cmocka_unit_test(test_config_map_valid_file_gives_rows),
 		cmocka_unit_test(test_config_map_each_bad_row_reported_and_skipped),
 		cmocka_unit_test(test_config_map_address_forms_and_counts),
+		cmocka_unit_test(test_config_map_plc3_rows),
 		cmocka_unit_test(test_config_map_header_problems_fail_the_load),
 		cmocka_unit_test(test_config_map_row_fields_limits),
 		cmocka_unit_test(test_config_nul_byte_in_a_cell_is_an_error),

@@ -245,13 +245,14 @@ static void test_handle_plc(void **state)
 	df1_t *h = *state;
 	int p;
 
-	for (p = DF1_PLC_SLC; p <= DF1_PLC_PLC2; p++) {
+	for (p = DF1_PLC_SLC; p <= DF1_PLC_PLC3; p++) {
 		assert_int_equal(df1_set_plc(h, (enum df1_plc)p), 0);
 		assert_int_equal(h->cfg.plc, p);
 	}
-	expect_config(h, df1_set_plc(h, (enum df1_plc)5), 2555,
-	              "Invalid or Unsupported PLC Type (5) should be one of SLC, MicroLogix, PLC5, PLC2");
-	assert_int_equal(h->cfg.plc, DF1_PLC_PLC2);
+	/* 5 is DF1_PLC_PLC3 since 0.5: 6 is the first value that is none */
+	expect_config(h, df1_set_plc(h, (enum df1_plc)6), 2555,
+	              "Invalid or Unsupported PLC Type (6) should be one of SLC, MicroLogix, PLC5, PLC2");
+	assert_int_equal(h->cfg.plc, DF1_PLC_PLC3);
 }
 
 static void test_handle_check(void **state)
