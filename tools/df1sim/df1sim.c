@@ -29,6 +29,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/epoll.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -36,6 +37,7 @@
 #include "df1.h"
 #include "common/cli.h"
 #include "df1sim/sim_io.h"
+#include "df1sim/sim_line.h"   /* --line-settings, --listen rfc2217:// */
 
 #define PROG "df1sim"
 
@@ -68,6 +70,9 @@ struct sim {
 	df1_t *h;                       /* for df1_serve_pccc (PLC type, options) */
 	df1_eip_server_t *eip;          /* --eip */
 	int wait_fd;                    /* epoll of the signal pipe and the server, or -1 */
+	/* --line-settings and --listen rfc2217:// (tools/df1sim/sim_line.c) */
+	struct sim_uart line;           /* baud 0: none given */
+	bool rfc2217;
 };
 
 static struct df1_table *sim_table_for(struct sim *s, int station)
@@ -234,6 +239,9 @@ struct opts {
 	const char *eip;                /* --eip ADDR */
 	const char *eip_allow;          /* --eip-allow CIDR[,CIDR] */
 	bool eip_read_only;             /* --eip-read-only */
+	/* --line-settings, --listen rfc2217:// (tools/df1sim/sim_line.h) */
+	struct sim_uart line;
+	bool rfc2217;
 };
 
 enum {
@@ -241,6 +249,7 @@ enum {
 	OPT_PLC5_FLOAT_SWAPPED, OPT_DATA, OPT_DROP_ACK, OPT_CORRUPT, OPT_NAK, OPT_DELAY, OPT_SILENT,
 	OPT_STALE, OPT_NOISE, OPT_SEED, OPT_LOG, OPT_SCAN_TIME, OPT_NO_EOT,
 	OPT_MAX_QUEUE, OPT_EIP, OPT_EIP_ALLOW, OPT_EIP_READ_ONLY,
+	OPT_LINE_SETTINGS = CLI_KEY_EXTRA + 100, /* tools/df1sim/sim_line.c */
 };
 
 /* -d, --station and -b are df1sim's own: -d is the device served (never
@@ -257,6 +266,8 @@ static const struct cli_extra_opt sim_opts[] = {
 	  "stations served 0-254, ranges A-B allowed (default 1)" },
 	{ "baud", required_argument, 'b', "N", "-d only: baud rate (default 19200)" },
 	{ "data-bits", required_argument, OPT_DATA_BITS, "N", "-d only: data bits 5-8 (default 8)" },
+	{ "line-settings", required_argument, OPT_LINE_SETTINGS, "BAUD[,8E1]",
+	  "the PLC's line: what a master at other settings sends is garbled" },
 	{ "line-baud", required_argument, OPT_LINE_BAUD, "N",
 	  "pace the bytes sent and received as a line at N baud (default 0: off)" },
 	{ "scan-time", required_argument, OPT_SCAN_TIME, "MS",
@@ -393,6 +404,11 @@ static int on_option(struct cli *c, int key, const char *arg, void *user)
 	case OPT_EIP: o->eip = arg; break;
 	case OPT_EIP_ALLOW: o->eip_allow = arg; break;
 	case OPT_EIP_READ_ONLY: o->eip_read_only = true; break;
+	case OPT_LINE_SETTINGS:
+		if (!sim_uart_parse(arg, &o->line))
+			return cli_bad_value(c, "--line-settings", arg, "BAUD or BAUD,DPS such as 9600,8E1 "
+			                     "(data bits 5-8, parity N E O, stop bits 1 or 2)");
+		break;
 	default:
 		if (key >= OPT_DROP_ACK && key <= OPT_NOISE)
 			return set_fault(o, key - OPT_DROP_ACK, arg);
@@ -435,6 +451,28 @@ static const struct cli_tool sim_tool = {
 	             "See df1sim(1).\n",
 };
 
+/* --listen rfc2217://ADDR and --line-settings: where they apply (-d takes the
+ * line's settings as its own serial settings). */
+static int sim_line_check(struct opts *o)
+{
+	if (o->listen && strncasecmp(o->listen, "rfc2217://", 10) == 0) {
+		o->rfc2217 = true;
+		o->listen += 10;
+	}
+	if (!o->line.baud)
+		return CLI_CONTINUE;
+	if (o->listen && !o->rfc2217)
+		return cli_usage_error(&o->cli, "--line-settings goes with --pty, -d or "
+		                       "--listen rfc2217://ADDR (a raw TCP client has no line settings)");
+	if (o->device) {
+		o->baud = o->line.baud;
+		o->data_bits = o->line.data_bits;
+		o->cli.parity = o->line.parity;
+		o->cli.stop_bits = o->line.stop_bits;
+	}
+	return CLI_CONTINUE;
+}
+
 /* CLI_CONTINUE to go on, else an exit status. */
 static int parse_args(int argc, char **argv, struct opts *o)
 {
@@ -456,6 +494,8 @@ static int parse_args(int argc, char **argv, struct opts *o)
 	if (o->where > 1 || (o->where == 0 && !o->eip))
 		return cli_usage_error(&o->cli, o->where ? "give only one of --pty, -d and --listen"
 		                                         : "one of --pty PATH, -d DEV, --listen ADDR or --eip ADDR is required");
+	if (sim_line_check(o) != CLI_CONTINUE)
+		return CLI_EXIT_USAGE;
 	if ((o->eip_allow || o->eip_read_only) && !o->eip)
 		return cli_usage_error(&o->cli, "--eip-allow and --eip-read-only go with --eip");
 	if (cli_lib_option_set(&o->cli, CLI_OPT_PLC5_FLOAT) && o->cli.lib_value[CLI_OPT_PLC5_FLOAT] &&
@@ -529,8 +569,41 @@ static int serve_open(df1_t *h, struct sim *s)
 	return 0;
 }
 
+/* A TCP client on the handle: as it is, or an RFC 2217 client through the
+ * relay (tools/df1sim/sim_line.c). 0 or DF1_E_* (cfd closed). */
+static int sim_open_client(df1_t *h, struct sim *s, int cfd, struct sim_relay *relay)
+{
+	int fd, r;
+
+	memset(relay, 0, sizeof *relay);
+	if (!s->rfc2217) {
+		r = df1_open_fd(h, cfd, true);
+		if (r < 0)
+			close(cfd);
+		return r;
+	}
+	relay->kind = SIM_RELAY_RFC2217;
+	relay->wire = cfd;
+	relay->own_wire = true;
+	relay->line = s->line;
+	relay->verbose = s->verbose;
+	if (sim_relay_start(relay, &fd) < 0) {
+		msg("relay: %s", strerror(errno));
+		close(cfd);
+		return DF1_E_SYS;
+	}
+	r = df1_open_fd(h, fd, true);
+	if (r < 0) {
+		close(fd);
+		sim_relay_join(relay);
+	}
+	return r;
+}
+
 static int serve_tcp(df1_t *h, struct sim *s, int lfd, const char *shown)
 {
+	struct sim_relay relay;
+
 	for (;;) {
 		struct pollfd pfd[3] = { { lfd, POLLIN, 0 }, { cli_signal_fd(), POLLIN, 0 },
 		                         { s->eip ? df1_eip_server_fd(s->eip) : -1, POLLIN, 0 } };
@@ -565,13 +638,12 @@ static int serve_tcp(df1_t *h, struct sim *s, int lfd, const char *shown)
 		setsockopt(cfd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
 		if (s->verbose)
 			msg("%s: client connected", shown);
-		r = df1_open_fd(h, cfd, true);
-		if (r < 0) {
-			close(cfd);
+		r = sim_open_client(h, s, cfd, &relay);
+		if (r < 0)
 			return report(h, shown, r);
-		}
 		r = serve_open(h, s);
 		df1_close(h);
+		sim_relay_join(&relay);
 		if (r == DF1_E_CLOSED || (r < 0 && r != DF1_E_INTR)) {
 			/* the client went away (or broke the connection): wait for the next */
 			if (s->verbose)
@@ -701,6 +773,8 @@ static int sim_build(struct sim *s, const struct opts *o)
 	s->plc = o->cli.plc;
 	s->half = o->cli.half_duplex;
 	s->verbose = o->cli.verbose;
+	s->line = o->line;
+	s->rfc2217 = o->rfc2217;
 	s->nstations = o->nstations;
 	memcpy(s->stations, o->stations, sizeof s->stations);
 	if (o->faults[DF1_FAULT_SILENT_STATION].given) {
@@ -779,6 +853,31 @@ static int sim_start(struct sim *s, const struct opts *o, df1_t **hp)
 	return 0;
 }
 
+static struct sim_relay sim_pty_relay;
+
+/* The pty on the handle: as it is, or with --line-settings through the line's
+ * relay (tools/df1sim/sim_line.c), which reads the master's termios. */
+static int sim_open_pty(df1_t *h, const struct opts *o, struct sim_pty *pty)
+{
+	int fd, r;
+
+	if (!o->line.baud)
+		return df1_open_fd(h, pty->master, true);
+	sim_pty_relay.kind = SIM_RELAY_PTY;
+	sim_pty_relay.wire = pty->master;
+	sim_pty_relay.own_wire = true;
+	sim_pty_relay.line = o->line;
+	sim_pty_relay.verbose = o->cli.verbose;
+	if (sim_relay_start(&sim_pty_relay, &fd) < 0) {
+		msg("relay: %s", strerror(errno));
+		return DF1_E_SYS;
+	}
+	r = df1_open_fd(h, fd, true);
+	if (r < 0)
+		close(fd);
+	return r;
+}
+
 /* Where the link is served: the pty (--pty), the device or the TCP listener
  * (--listen: its socket in *lfd); its name for the messages and the ready line
  * in shown. Nothing with --eip alone. 0 or an exit status. */
@@ -794,10 +893,10 @@ static int sim_open_where(df1_t *h, const struct opts *o, struct sim_pty *pty, c
 			msg("%s", err);
 			return status;
 		}
-		r = df1_open_fd(h, pty->master, true);
+		r = sim_open_pty(h, o, pty);
 		if (r < 0)
 			return report(h, o->pty, r);
-		pty->master = -1;       /* the handle owns it now */
+		pty->master = -1;       /* the handle (or the line's relay) owns it now */
 		snprintf(shown, cap, "%s", o->pty);
 	} else if (o->device) {
 		r = df1_open(h, o->device);
@@ -811,6 +910,10 @@ static int sim_open_where(df1_t *h, const struct opts *o, struct sim_pty *pty, c
 		if (*lfd < 0) {
 			msg("%s", err);
 			return -*lfd;
+		}
+		if (o->rfc2217 && strncmp(shown, "tcp://", 6) == 0) { /* the ready line names the scheme */
+			memmove(shown + 10, shown + 6, strlen(shown + 6) + 1);
+			memcpy(shown, "rfc2217://", 10);
 		}
 		/* a listener other hosts can reach is what the user asked for: say so */
 		if (scope == SIM_LISTEN_ALL)
@@ -883,6 +986,7 @@ out:
 		df1_close(h);
 		df1_free(h);
 	}
+	sim_relay_join(&sim_pty_relay);
 	if (lfd >= 0)
 		close(lfd);
 	if (pty.master >= 0)
