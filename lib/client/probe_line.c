@@ -47,8 +47,8 @@ int64_t df1_probe_line_bound_ms(const df1_t *h, int lo, int hi)
 
 	if (!h || lo < 0 || hi > 254 || lo > hi)
 		return DF1_E_INVAL;
-	for (int b = 0; b < PROBE_NBAUD; b++)   /* an ENQ and a poll per station, each parity */
-		ms += (int64_t)PROBE_NPAR * (1 + (hi - lo + 1)) * probe_window_ms(h, probe_bauds[b]);
+	for (int b = 0; b < PROBE_NBAUD; b++)   /* an ENQ, the first poll twice, the others once */
+		ms += (int64_t)PROBE_NPAR * (2 + (hi - lo + 1)) * probe_window_ms(h, probe_bauds[b]);
 	return ms;
 }
 
@@ -145,9 +145,14 @@ static int probe_setting(struct probe *p, int baud, char parity)
 		return r;
 	}
 	r = probe_set(p, baud, parity, DF1_HALF_DUPLEX_MASTER);
-	for (int st = p->lo; r >= 0 && st <= p->hi; st++) {
-		p->out->found.station = st;
-		r = df1_link_test(p->h, st);
+	/* st = lo - 1 polls lo once more: a half-duplex slave may take the DLE
+	 * ENQ just sent for the start of a poll and our first poll's bytes for its
+	 * station and BCC, and so miss that poll */
+	for (int st = p->lo - 1; r >= 0 && st <= p->hi; st++) {
+		int poll_st = st < p->lo ? p->lo : st;
+
+		p->out->found.station = poll_st;
+		r = df1_link_test(p->h, poll_st);
 		if (probe_report(p, DF1_PROBE_LINK, "poll", r) < 0)
 			return DF1_E_INTR;
 		if (r < 0) {
@@ -157,7 +162,7 @@ static int probe_setting(struct probe *p, int baud, char parity)
 			continue;
 		}
 		(void)df1_set_retries(p->h, 1, 1);
-		r = probe_check(p, st);
+		r = probe_check(p, poll_st);
 		if (r != 0)
 			return r;
 		(void)df1_set_retries(p->h, 0, 0);
