@@ -198,7 +198,7 @@ static int sim_relay_in(struct sim_relay *r)
 	} else {
 		m = sim_rfc2217_input(r, in, (size_t)n, data, sizeof data);
 	}
-	if (r->line.baud)
+	if (r->line.baud && r->master.baud)
 		m = sim_uart_garble(&r->master, &r->line, data, m, out, sizeof out);
 	else
 		memcpy(out, data, m);
@@ -216,7 +216,7 @@ static int sim_relay_out(struct sim_relay *r)
 		return n < 0 && (errno == EINTR || errno == EAGAIN) ? 0 : -1;
 	if (r->kind == SIM_RELAY_PTY)
 		sim_relay_pty_master(r);
-	if (r->line.baud)
+	if (r->line.baud && r->master.baud)
 		m = sim_uart_garble(&r->line, &r->master, in, (size_t)n, g, sizeof g);
 	else {
 		memcpy(g, in, (size_t)n);
@@ -269,6 +269,8 @@ int sim_relay_start(struct sim_relay *r, int *lib_fd)
 		return -1;
 	r->lib = sp[1];
 	r->master = r->line;          /* until the master says otherwise */
+	if (r->kind == SIM_RELAY_PTY)
+		r->master.baud = 0;       /* not seen yet: the first look at the termios says it */
 	if (r->kind == SIM_RELAY_RFC2217 && !(r->rfc = sim_rfc2217_new())) {
 		close(sp[0]);
 		close(sp[1]);
