@@ -468,54 +468,23 @@ DF1_API int df1_discover(df1_t *h, int lo, int hi, df1_discover_fn fn, void *use
 DF1_API int df1_echo(df1_t *h, int station, const uint8_t *data, size_t n);
 /* Link test: DLE ENQ (full duplex) or a poll (half duplex); 0 if the link answered. */
 DF1_API int df1_link_test(df1_t *h, int station);
-/* Auto-configure a line (df1_probe_line(3)), @since 0.4: find the settings of an
- * unknown DF1 line on the open handle (a serial port or an rfc2217:// target, whose
- * device server gets every setting), in stages and most likely settings first:
- *  1. the link: for each baud rate (19200 9600 38400 57600 115200 4800 2400 1200),
- *     parity none, then even, then odd (8 data bits, 1 stop bit): full duplex by
- *     DLE ENQ (a peer answers DLE ACK or DLE NAK), then half duplex by polling the
- *     stations lo..hi (a slave answers DLE EOT or a message);
- *  2. the error check: an echo (06/00) with CRC, then BCC (half duplex: then BCC
- *     summing STX too); a setting that answered stage 1 but no echo is a misread
- *     (a UART at the wrong rate can deliver a DLE NAK) and the search goes on;
- *  3. identity: the diagnostic status (06/03), and in half duplex the stations of
- *     lo..hi that answer a poll.
- * Nothing is ever written to a controller. fn (may be NULL) is called after each
- * attempt (a returns non-zero: stop, DF1_E_INTR); the cancel fd ends it too.
- * Returns 1 and *out (may be NULL) when a setting answered stages 1 and 2; the
- * handle is then left at it. 0: nothing answered (the handle's settings are put
- * back). DF1_E_INVAL (lo/hi outside 0..254, lo > hi), DF1_E_NOT_OPEN, DF1_E_INTR,
- * or the port's error (lost connection, a device server refusing a setting).
- * df1_probe_line_bound_ms: the longest the search takes on h with lo..hi at the
- * answer windows it uses (30 ms + 6 character times, + 50 ms behind a network). */
+/* Auto-configure the open handle's line (df1_probe_line(3): fields, stages, time), @since 0.4.
+ * 1: found (*out; the handle left at it), 0: nothing answered, or DF1_E_*. */
 enum df1_probe_stage { DF1_PROBE_LINK = 1, DF1_PROBE_CHECK = 2, DF1_PROBE_IDENTITY = 3 };
 struct df1_line_settings {
-	int baud, data_bits, stop_bits;
-	char parity;                    /* 'N' 'E' 'O' */
-	enum df1_duplex duplex;         /* FULL, or HALF_DUPLEX_MASTER for a half-duplex slave */
-	enum df1_check check;
-	bool hd_bcc_stx;                /* half duplex: the master's BCC sums STX too */
-	int station;                    /* half duplex: the station that answered; full: -1 */
+	int baud, data_bits, stop_bits; char parity; enum df1_duplex duplex; enum df1_check check;
+	bool hd_bcc_stx; int station;   /* half duplex: BCC sums STX; the station (full: -1) */
 };
 struct df1_probe_attempt {
-	enum df1_probe_stage stage;
-	struct df1_line_settings tried;
-	const char *what;               /* "DLE ENQ", "poll", "echo 06/00", "diagnostic status" */
-	bool answered;
-	int error;                      /* DF1_OK, or why not */
+	enum df1_probe_stage stage; struct df1_line_settings tried;
+	const char *what; bool answered; int error; /* "poll", ...; DF1_OK or why not */
 };
 typedef int (*df1_probe_fn)(void *user, const struct df1_probe_attempt *a);
 struct df1_probe_result {
-	struct df1_line_settings found;
-	bool identified;                /* status holds the diagnostic status */
-	struct df1_diag_status status;
-	int nstations;                  /* half duplex: stations of lo..hi that answered */
-	uint8_t stations[255];
-	int attempts;
-	int64_t elapsed_ms;
+	struct df1_line_settings found; bool identified; struct df1_diag_status status;
+	int nstations; uint8_t stations[255]; int attempts; int64_t elapsed_ms;
 };
-DF1_API int df1_probe_line(df1_t *h, int lo, int hi, df1_probe_fn fn, void *user,
-                           struct df1_probe_result *out);
+DF1_API int df1_probe_line(df1_t *h, int lo, int hi, df1_probe_fn fn, void *user, struct df1_probe_result *out);
 DF1_API int64_t df1_probe_line_bound_ms(const df1_t *h, int lo, int hi);
 /* 0F/80 change mode (SLC 5/03+, MicroLogix): 1 program, 6 run. */
 DF1_API int df1_change_mode(df1_t *h, int station, int mode);

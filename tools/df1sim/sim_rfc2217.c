@@ -14,6 +14,7 @@
  */
 #include "df1sim/sim_line.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -121,9 +122,14 @@ static void sim_rfc_command(struct sim_relay *r, const uint8_t *sb, size_t n)
 		sim_rfc_answer(r, code, sb + 1, n > 5 ? 4 : n - 1);
 		break;
 	}
-	if (r->verbose && memcmp(&before, m, sizeof before) != 0 && m->baud)
-		sim_msg("rfc2217: the client set %s (the line: %s)", sim_uart_text(m, a, sizeof a),
-		        r->line.baud ? sim_uart_text(&r->line, b, sizeof b) : "any");
+	/* said here, not through sim_line.c: the two files would call each other */
+	if (r->verbose && memcmp(&before, m, sizeof before) != 0 && m->baud) {
+		snprintf(a, sizeof a, "%d %d%c%d", m->baud, m->data_bits, m->parity, m->stop_bits);
+		snprintf(b, sizeof b, "%d %d%c%d", r->line.baud, r->line.data_bits, r->line.parity,
+		         r->line.stop_bits);
+		fprintf(stderr, "df1sim: rfc2217: the client set %s (the line: %s)\n", a,
+		        r->line.baud ? b : "any");
+	}
 }
 
 size_t sim_rfc2217_input(struct sim_relay *r, const uint8_t *in, size_t n, uint8_t *out, size_t cap)
