@@ -242,6 +242,9 @@ int df1_probe_line(df1_t *h, int lo, int hi, df1_probe_fn fn, void *user,
 		return df1_fail(h, DF1_E_INVAL, -1, "line probe: stations %d-%d (0-254)", lo, hi);
 	if (!h->port)
 		return df1_fail(h, DF1_E_NOT_OPEN, -1, "handle is not open");
+	if (h->own_link || !h->port->configure)
+		return df1_fail(h, DF1_E_NOTSUP, -1, "line probe: %s has no serial settings to find "
+		                "(a serial port or an rfc2217:// target has)", h->port_name);
 	if (!out)
 		out = &local;
 	memset(out, 0, sizeof *out);
