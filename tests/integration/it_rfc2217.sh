@@ -5,7 +5,8 @@
 # against df1sim's own RFC 2217 listener. The baud the client asks for is the
 # one df1sim reads in the pty's termios (its -v line); values whose bytes are
 # 0xFF (doubled as Telnet IAC) go both ways; a dropped device-server
-# connection is reported. SKIP without ser2net.
+# connection is reported and reopened (df1gw, as a lost line). SKIP without
+# ser2net.
 . tests/support/lib.sh
 for t in df1read df1write df1sim df1mon; do
 	[ -x "$BIN/$t" ] || { echo "no $BIN/$t"; exit 1; }
@@ -77,9 +78,38 @@ wait_for "pings going" 100 test -s "$T/ping.out"
 sim_stop "$S2N"
 wait_for "the loss is reported" 100 grep -q -i 'closed by peer' "$T/ping.err" "$T/ping.out"
 sim_stop "$PING"
-# and the target opens again once the device server is back (as df1gw reopens a lost line)
+# and the target opens again once the device server is back
 start_ser2net
 expect 0 "read after the device server came back" -- "$BIN/df1read" -d "$D" -b 9600 N7:5
+
+# ---- df1gw on an rfc2217:// line: the device server dropped is a lost line, reopened ----
+MOSQ=${MOSQUITTO:-/usr/sbin/mosquitto}
+if [ -x "$MOSQ" ] && command -v mosquitto_sub >/dev/null 2>&1 && [ -x "$BIN/df1gw" ]; then
+	MQ_PORT=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
+	printf 'listener %s 127.0.0.1\npersistence false\nuser %s\nallow_anonymous true\n' \
+		"$MQ_PORT" "$(id -un)" > "$T/mosq.conf"
+	"$MOSQ" -c "$T/mosq.conf" > "$T/mosq.log" 2>&1 &
+	echo "$!" >> "$T/.sims"
+	wait_for "broker listens" 100 python3 -c "
+import socket, sys
+sys.exit(socket.socket().connect_ex(('127.0.0.1', $MQ_PORT)))"
+	printf 'Tag,Command,Type,Station,PLC_Type,Address,Count,Scan_Ms\nFive,Read,INT,1,SLC,N7:5,1,100\n' > "$T/map.csv"
+	"$BIN/df1gw" -d "$D" -b 9600 --map "$T/map.csv" --mqtt "mqtt://127.0.0.1:$MQ_PORT" \
+		--prefix rfc > "$T/gw.out" 2> "$T/gw.err" &
+	GW=$!
+	echo "$GW" >> "$T/.sims"
+	good() { mosquitto_sub -h 127.0.0.1 -p "$MQ_PORT" -t rfc/tag/Five -C 1 -W 2 2>/dev/null |
+		grep -F -q '"value":5,"quality":"GOOD"'; }
+	wait_for "df1gw reads through rfc2217" 100 good
+	sim_stop "$S2N"
+	wait_for "df1gw reports the device server gone" 100 grep -q "line lost; reopening" "$T/gw.err"
+	start_ser2net
+	wait_for "df1gw reads again once the device server is back" 200 good
+	check "df1gw still running" "kill -0 $GW"
+	sim_stop "$GW"
+else
+	skip "mosquitto or df1gw missing: df1gw's lost rfc2217 line not tried"
+fi
 sim_stop "$S2N"
 sim_stop
 
