@@ -70,6 +70,18 @@ out_is "N7:10..13 through ser2net" "-1
 -1"
 expect 0 "40 echoes through ser2net" -- "$BIN/df1mon" -d "$D" -b 9600 --ping -c 40 -i 0
 
+# ---- --autoconf through ser2net: every setting tried goes to the device server ----
+said() { grep -c "termios says $1 baud" "$T/line.err"; }
+before=$(said 19200)
+expect 0 "autoconf through ser2net" -- "$BIN/df1mon" -d "$D" --autoconf --stations 1-1
+out_is "autoconf through ser2net: the settings" "-b 9600 -P none --check crc --duplex full"
+check "df1sim's termios followed the search (19200 first, then 9600)" \
+	"[ $(said 19200) -gt $before ] && tail -n 1 '$T/line.err' | grep -q 'termios says 9600 baud'"
+# and a network file naming the target (Com_Port through the scheme table)
+printf 'Station,Mode,Error_Code,Com_Port,Baud,Parity\n0,Peer,CRC,%s,9600,None\n' "$D" > "$T/net.csv"
+expect 0 "df1read -N with Com_Port rfc2217://" -- "$BIN/df1read" -N "$T/net.csv" N7:6
+out_is "N7:6 through the network file" "6"
+
 # ---- a dropped device-server connection is reported ----
 "$BIN/df1mon" -d "$D" -b 9600 --ping -c 0 -i 0.1 > "$T/ping.out" 2> "$T/ping.err" &
 PING=$!
