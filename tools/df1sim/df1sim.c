@@ -573,30 +573,14 @@ static int serve_open(df1_t *h, struct sim *s)
  * relay (tools/df1sim/sim_line.c). 0 or DF1_E_* (cfd closed). */
 static int sim_open_client(df1_t *h, struct sim *s, int cfd, struct sim_relay *relay)
 {
-	int fd, r;
+	int r;
 
 	memset(relay, 0, sizeof *relay);
-	if (!s->rfc2217) {
-		r = df1_open_fd(h, cfd, true);
-		if (r < 0)
-			close(cfd);
-		return r;
-	}
-	relay->kind = SIM_RELAY_RFC2217;
-	relay->wire = cfd;
-	relay->own_wire = true;
-	relay->line = s->line;
-	relay->verbose = s->verbose;
-	if (sim_relay_start(relay, &fd) < 0) {
-		msg("relay: %s", strerror(errno));
+	if (s->rfc2217)
+		return sim_relay_open(h, relay, SIM_RELAY_RFC2217, cfd, &s->line, s->verbose);
+	r = df1_open_fd(h, cfd, true);
+	if (r < 0)
 		close(cfd);
-		return DF1_E_SYS;
-	}
-	r = df1_open_fd(h, fd, true);
-	if (r < 0) {
-		close(fd);
-		sim_relay_join(relay);
-	}
 	return r;
 }
 
@@ -856,26 +840,16 @@ static int sim_start(struct sim *s, const struct opts *o, df1_t **hp)
 static struct sim_relay sim_pty_relay;
 
 /* The pty on the handle: as it is, or with --line-settings through the line's
- * relay (tools/df1sim/sim_line.c), which reads the master's termios. */
+ * relay (tools/df1sim/sim_line.c), which reads the master's termios and
+ * then owns the master descriptor. */
 static int sim_open_pty(df1_t *h, const struct opts *o, struct sim_pty *pty)
 {
-	int fd, r;
+	int master = pty->master;
 
 	if (!o->line.baud)
-		return df1_open_fd(h, pty->master, true);
-	sim_pty_relay.kind = SIM_RELAY_PTY;
-	sim_pty_relay.wire = pty->master;
-	sim_pty_relay.own_wire = true;
-	sim_pty_relay.line = o->line;
-	sim_pty_relay.verbose = o->cli.verbose;
-	if (sim_relay_start(&sim_pty_relay, &fd) < 0) {
-		msg("relay: %s", strerror(errno));
-		return DF1_E_SYS;
-	}
-	r = df1_open_fd(h, fd, true);
-	if (r < 0)
-		close(fd);
-	return r;
+		return df1_open_fd(h, master, true);
+	pty->master = -1;
+	return sim_relay_open(h, &sim_pty_relay, SIM_RELAY_PTY, master, &o->line, o->cli.verbose);
 }
 
 /* Where the link is served: the pty (--pty), the device or the TCP listener

@@ -302,3 +302,26 @@ void sim_relay_join(struct sim_relay *r)
 	free(r->rfc);
 	r->rfc = NULL;
 }
+
+int sim_relay_open(df1_t *h, struct sim_relay *r, enum sim_relay_kind kind, int wire,
+                   const struct sim_uart *line, int verbose)
+{
+	int fd, rc;
+
+	r->kind = kind;
+	r->wire = wire;
+	r->own_wire = true;
+	r->line = *line;
+	r->verbose = verbose;
+	if (sim_relay_start(r, &fd) < 0) {
+		sim_msg("relay: %s", strerror(errno));
+		close(wire);
+		return DF1_E_SYS;
+	}
+	rc = df1_open_fd(h, fd, true);
+	if (rc < 0) {
+		close(fd);              /* the relay sees its end go, and ends */
+		sim_relay_join(r);
+	}
+	return rc;
+}

@@ -15,6 +15,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include "df1.h"
 
 struct sim_uart {
 	int baud;       /* 0: not set (the line takes whatever the master uses) */
@@ -59,6 +60,11 @@ struct sim_relay {
 int sim_relay_start(struct sim_relay *r, int *lib_fd);
 /* After the handle's end was closed: wait for the thread; close what it owns. */
 void sim_relay_join(struct sim_relay *r);
+/* h served on a relay of kind over wire, the line's settings line: the relay
+ * started, h opened on its end. The relay owns wire from then on, failure
+ * included (closed). 0 or DF1_E_* (said on stderr when the relay failed). */
+int sim_relay_open(df1_t *h, struct sim_relay *r, enum sim_relay_kind kind, int wire,
+                   const struct sim_uart *line, int verbose);
 
 /* sim_rfc2217.c: the RFC 2217 server side of a relay. new: the state (NULL:
  * no memory); input: bytes from the client, data out into out (returns how
