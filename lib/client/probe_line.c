@@ -31,10 +31,14 @@ struct probe {
 };
 
 /* The answer window at baud: 30 ms turnaround + 6 characters of 11 bits,
- * + 50 ms when a network lies between us and the line. */
+ * + 50 ms when a network lies between us and the line; or the poll timeout
+ * the caller set (DF1_OPT_POLL_TIMEOUT_MS), for a slow slave or a loaded host. */
 static int probe_window_ms(const df1_t *h, int baud)
 {
 	int ms = 30 + (6 * 11 * 1000 + baud - 1) / baud;
+
+	if (h->cfg.poll_timeout_ms > 0)
+		return h->cfg.poll_timeout_ms;
 
 	if (h->port && h->port->net_slack)
 		ms += 50;
@@ -98,6 +102,9 @@ static int probe_check(struct probe *p, int station)
 			continue;
 		(void)df1_set_check(h, checks[i].c);
 		(void)df1_set_option(h, DF1_OPT_HD_BCC_INCLUDES_STX, checks[i].stx);
+		/* an echo's frames take line time: 80 characters more than a poll */
+		(void)df1_set_timeout_ms(h, probe_window_ms(h, h->cfg.baud) +
+		                            80 * 11 * 1000 / h->cfg.baud);
 		r = df1_echo(h, station, probe_echo_data, sizeof probe_echo_data);
 		if (probe_report(p, DF1_PROBE_CHECK, "echo 06/00", r) < 0)
 			return DF1_E_INTR;
@@ -120,7 +127,6 @@ static int probe_set(struct probe *p, int baud, char parity, enum df1_duplex d)
 	(void)df1_set_duplex(h, d);
 	(void)df1_set_check(h, DF1_CHECK_CRC);
 	(void)df1_set_timeout_ms(h, w);
-	(void)df1_set_option(h, DF1_OPT_POLL_TIMEOUT_MS, w);
 	(void)df1_set_retries(h, 0, 0);
 	return 0;
 }

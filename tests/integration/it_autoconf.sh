@@ -30,19 +30,19 @@ run_case() {
 		simargs="--duplex $dup --check $chk --station $st $extra"
 		settings="-b $baud -P $par --check $chk --duplex $dup${extra:+ $extra} -a $st"
 	fi
+	ncase=$((ncase + 1))      # a name per case: sim_start could read an earlier case's ready line
 	if [ "$tr" = pty ]; then
-		sim_start ac --line-settings "$line" $simargs || return
+		sim_start "ac$ncase" --line-settings "$line" $simargs || return
 	else
-		rm -f "$T/ac.out"
 		"$BIN/df1sim" --listen rfc2217://127.0.0.1:0 --line-settings "$line" $simargs \
-			> "$T/ac.out" 2> "$T/ac.err" &
+			> "$T/ac$ncase.out" 2> "$T/ac$ncase.err" &
 		SIM_PID=$!
 		echo "$SIM_PID" >> "$T/.sims"
-		wait_for "df1sim rfc2217 ready" 100 test -s "$T/ac.out" || return
-		SIM_DEV=$(head -n 1 "$T/ac.out")
+		wait_for "df1sim rfc2217 ready" 100 test -s "$T/ac$ncase.out" || return
+		SIM_DEV=$(head -n 1 "$T/ac$ncase.out")
 	fi
 	expect 0 "autoconf $tr $line $dup $chk $hdb $st" -- \
-		"$BIN/df1mon" -d "$SIM_DEV" --autoconf --stations "$range"
+		"$BIN/df1mon" -d "$SIM_DEV" --autoconf --stations "$range" $PT
 	same "autoconf $tr $line $dup $chk $hdb $st: the settings" "$(cat "$T/out")" "$settings"
 	# the answer really works
 	# shellcheck disable=SC2046
@@ -52,6 +52,10 @@ run_case() {
 	sim_stop
 }
 
+ncase=0
+# answer windows of 150 ms instead of the automatic 30 ms + 6 characters: the
+# host running the tests may be loaded (the search at the defaults: below)
+PT="--poll-timeout 150"
 # over a pty: the rate (and duplex, check, station) is found
 run_case pty 19200,8N1 full crc - - 1-1 none
 run_case pty 9600,8N1 full bcc - - 1-1 none
@@ -71,7 +75,7 @@ run_case rfc 2400,8E1 half bcc stx 12 11-12 even
 
 # ---- the file -w writes is a network CSV the tools read ----
 sim_start acw --line-settings 9600 --duplex half --check bcc --station 17 || exit 1
-expect 0 "autoconf -w" -- "$BIN/df1mon" -d "$SIM_DEV" --autoconf --stations 16-18 -w "$T/net.csv"
+expect 0 "autoconf -w" -- "$BIN/df1mon" -d "$SIM_DEV" --autoconf --stations 16-18 $PT -w "$T/net.csv"
 err_has "progress names what answered" "poll: answered"
 check "the CSV row" "grep -q '^17,Master,SLC,BCC,$SIM_DEV,9600,8,1,None\$' '$T/net.csv'"
 expect 0 "df1read -N net.csv" -- "$BIN/df1read" -N "$T/net.csv" -a 17 N7:3
