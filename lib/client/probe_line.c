@@ -45,6 +45,14 @@ static int probe_window_ms(const df1_t *h, int baud)
 	return ms;
 }
 
+/* An attempt of stage 1 from start to end: sending it (a poll is up to 5
+ * characters, DLE doubled in the station), its window, and 5 ms for the
+ * host (a settings change, the system calls). */
+static int probe_attempt_ms(const df1_t *h, int baud)
+{
+	return (5 * 11 * 1000 + baud - 1) / baud + probe_window_ms(h, baud) + 5;
+}
+
 int64_t df1_probe_line_bound_ms(const df1_t *h, int lo, int hi)
 {
 	int64_t ms = 0;
@@ -52,7 +60,7 @@ int64_t df1_probe_line_bound_ms(const df1_t *h, int lo, int hi)
 	if (!h || lo < 0 || hi > 254 || lo > hi)
 		return DF1_E_INVAL;
 	for (int b = 0; b < PROBE_NBAUD; b++)   /* an ENQ, the first poll twice, the others once */
-		ms += (int64_t)PROBE_NPAR * (2 + (hi - lo + 1)) * probe_window_ms(h, probe_bauds[b]);
+		ms += (int64_t)PROBE_NPAR * (2 + (hi - lo + 1)) * probe_attempt_ms(h, probe_bauds[b]);
 	return ms;
 }
 
