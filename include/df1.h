@@ -3,7 +3,8 @@
  * df1.h - libdf1: the Allen-Bradley DF1 serial protocol (PCCC over RS-232/RS-485
  * or raw DF1 over TCP) for PLC-5, SLC 500 and MicroLogix controllers.
  *
- * The installed header (with df1_catalog.h and df1_eip.h, which it includes).
+ * The installed header (with df1_catalog.h, df1_eip.h and df1_probe.h, which it
+ * includes).
  * Conventions (see libdf1(7)):
  *  - every int function returns >= 0 on success (0 or a count) and a negative
  *    DF1_E_* code on failure; df1_strerror()/df1_errname() turn it into text;
@@ -449,38 +450,6 @@ struct df1_diag_status {
 };
 DF1_API int df1_diag_status(df1_t *h, int station, struct df1_diag_status *out);
 
-/* Station discovery (df1_discover(3)): which stations of lo..hi (0..254) answer,
- * and what they are. One station after the other, in ascending order:
- *  - half-duplex master: a poll (DLE ENQ STN, as df1_link_test); a station that
- *    answers it is asked its diagnostic status (06/03);
- *  - full duplex: first one DLE ENQ for the line (nobody answers: the scan ends
- *    with that error, fn never called); then the diagnostic status addressed to
- *    each station is the probe. A point-to-point peer may answer any DST.
- * The poll engine's discovery (df1_poll_set_station_range) uses the same probe.
- * fn (may be NULL) is called once per station probed, with r valid during the
- * call only; while it runs, df1_last_error(h) describes r->error. fn returns 0
- * to go on, anything else to stop (df1_discover then returns the count so far).
- * The cancel fd (df1_set_cancel_fd) is honoured in every wait and before each
- * station: DF1_E_INTR, and fn is not called for the station under way.
- * Returns the number of stations that answered, or DF1_E_*: DF1_E_INVAL (h NULL,
- * lo/hi outside 0..254 or lo > hi), DF1_E_NOT_OPEN, DF1_E_NOTSUP (half-duplex
- * slave), DF1_E_INTR, the line's error (full duplex, no answer to DLE ENQ).
- * @since 0.2 */
-struct df1_discover_result {
-	int station;                    /* 0..254 */
-	bool answered;                  /* it replied (a reply with an error STS counts) */
-	bool identified;                /* status holds its diagnostic status */
-	int error;                      /* DF1_OK when identified; else why not (DF1_E_*) */
-	uint64_t rtt_us;                /* round trip of the probe it answered (half duplex:
-	                                 * the poll; full duplex: 06/03); 0 if none */
-	struct df1_diag_status status;  /* type code, processor name, series, mode...: identified */
-};
-typedef int (*df1_discover_fn)(void *user, const struct df1_discover_result *r);
-DF1_API int df1_discover(df1_t *h, int lo, int hi, df1_discover_fn fn, void *user);
-/* 06/00 echo: sends data, checks it comes back. Returns the length echoed. */
-DF1_API int df1_echo(df1_t *h, int station, const uint8_t *data, size_t n);
-/* Link test: DLE ENQ (full duplex) or a poll (half duplex); 0 if the link answered. */
-DF1_API int df1_link_test(df1_t *h, int station);
 /* 0F/80 change mode (SLC 5/03+, MicroLogix): 1 program, 6 run. */
 DF1_API int df1_change_mode(df1_t *h, int station, int mode);
 
@@ -1000,5 +969,6 @@ DF1_API int df1_poll_station(const df1_t *h, int station, struct df1_station_hea
 #endif
 
 #include "df1_eip.h"
+#include "df1_probe.h"
 
 #endif /* LIBDF1_DF1_H */

@@ -22,6 +22,7 @@
 #define SCHEME_TABLE(X) \
 	X("tcp", port_tcp, NULL)          /* raw DF1 to a device server */ \
 	X("eip", port_tcp, &eip_link_ops) /* PCCC in EtherNet/IP (df1-eip(7)) */ \
+	X("rfc2217", port_rfc2217, NULL)  /* a serial port on an RFC 2217 device server */ \
 	/* (a new scheme's line goes above this one) */
 
 #define SCHEME_DECLARE(name, port, link) extern const struct port_ops port##_ops;

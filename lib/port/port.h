@@ -57,6 +57,7 @@ struct port_ops {
 
 extern const struct port_ops port_termios_ops;
 extern const struct port_ops port_tcp_ops;
+extern const struct port_ops port_rfc2217_ops; /* a serial port on an RFC 2217 device server */
 extern const struct port_ops port_fd_ops;   /* an fd given by df1_open_fd (pty, socket, pipe) */
 
 /* Helpers for backends: wait for fd readable/writable (and the cancel fd) until deadline.

@@ -323,18 +323,6 @@ struct df1_diag_status {
 	size_t raw_len;
 };
 int df1_diag_status(df1_t *h, int station, struct df1_diag_status *out);
-struct df1_discover_result {
-	int station;
-	_Bool answered;
-	_Bool identified;
-	int error;
-	uint64_t rtt_us;
-	struct df1_diag_status status;
-};
-typedef int (*df1_discover_fn)(void *user, const struct df1_discover_result *r);
-int df1_discover(df1_t *h, int lo, int hi, df1_discover_fn fn, void *user);
-int df1_echo(df1_t *h, int station, const uint8_t *data, size_t n);
-int df1_link_test(df1_t *h, int station);
 int df1_change_mode(df1_t *h, int station, int mode);
 int df1_counter(const df1_t *h, int id, uint64_t *value);
 void df1_counters_reset(df1_t *h);
@@ -639,3 +627,47 @@ struct df1_eip_device {
 };
 typedef void (*df1_eip_device_fn)(void *user, const struct df1_eip_device *d);
 int df1_eip_list_identity(df1_t *h, const char *target, int timeout_ms, df1_eip_device_fn fn, void *user);
+struct df1_discover_result {
+	int station;
+	_Bool answered;
+	_Bool identified;
+	int error;
+	uint64_t rtt_us;
+	struct df1_diag_status status;
+};
+typedef int (*df1_discover_fn)(void *user, const struct df1_discover_result *r);
+int df1_discover(df1_t *h, int lo, int hi, df1_discover_fn fn, void *user);
+int df1_echo(df1_t *h, int station, const uint8_t *data, size_t n);
+int df1_link_test(df1_t *h, int station);
+enum df1_probe_stage {
+	DF1_PROBE_LINK = 1,
+	DF1_PROBE_CHECK = 2,
+	DF1_PROBE_IDENTITY = 3,
+};
+struct df1_line_settings {
+	int baud, data_bits, stop_bits;
+	char parity;
+	enum df1_duplex duplex;
+	enum df1_check check;
+	_Bool hd_bcc_stx;
+	int station;
+};
+struct df1_probe_attempt {
+	enum df1_probe_stage stage;
+	struct df1_line_settings tried;
+	const char *what;
+	_Bool answered;
+	int error;
+};
+typedef int (*df1_probe_fn)(void *user, const struct df1_probe_attempt *a);
+struct df1_probe_result {
+	struct df1_line_settings found;
+	_Bool identified;
+	struct df1_diag_status status;
+	int nstations;
+	uint8_t stations[255];
+	int attempts;
+	int64_t elapsed_ms;
+};
+int df1_probe_line(df1_t *h, int lo, int hi, df1_probe_fn fn, void *user, struct df1_probe_result *out);
+int64_t df1_probe_line_bound_ms(const df1_t *h, int lo, int hi);

@@ -16,7 +16,7 @@
 
 const struct cli_common_opt cli_common_opts[] = {
 	{ CLI_OPT_DEVICE, "device", required_argument, 'd', "DEV",
-	  "serial device, tcp://HOST:PORT or eip://HOST (env DF1_DEVICE)" },
+	  "serial device, tcp://HOST:PORT, rfc2217://HOST:PORT or eip://HOST (env DF1_DEVICE)" },
 	{ CLI_OPT_NET, "net", required_argument, 'N', "FILE", "network configuration CSV" },
 	{ CLI_OPT_STATION, "station", required_argument, 'a', "N", "destination station 0-254 (default 1)" },
 	{ CLI_OPT_SRC, "src", required_argument, LONG_ONLY(CLI_OPT_SRC), "N",
@@ -434,7 +434,7 @@ int cli_common_option(struct cli *c, enum cli_opt_id id, const char *arg)
 	switch (id) {
 	case CLI_OPT_DEVICE:
 		if (!*arg)
-			return cli_bad_value(c, "--device", arg, "a device path or tcp://HOST:PORT");
+			return cli_bad_value(c, "--device", arg, "a device path, tcp://HOST:PORT or rfc2217://HOST:PORT");
 		c->device = arg;
 		return CLI_CONTINUE;
 	case CLI_OPT_NET:

@@ -76,6 +76,7 @@ static const struct mon_mode_def modes[MODE_COUNT_] = {
 	[MODE_WHO] = { "--who", mon_run_who, LIVE | TALKS | TAKES_COUNTERS | TAKES_CSV },
 	[MODE_MAP] = { "--map", mon_run_map, LIVE | TALKS | TAKES_INTERVAL | TAKES_COUNTERS | TAKES_CSV },
 	[MODE_COUNTERS] = { "--counters", mon_run_counters, LIVE | TALKS | TAKES_COUNT | TAKES_INTERVAL | TAKES_CSV },
+	[MODE_AUTOCONF] = { "--autoconf", mon_run_autoconf, LIVE | TALKS },
 };
 
 static const struct cli_extra_opt mon_opts[] = {
@@ -92,6 +93,10 @@ static const struct cli_extra_opt mon_opts[] = {
 	{ "map", required_argument, KEY_MAP, "FILE", "poll the tags of a mapping CSV, live table" },
 	{ "counters", no_argument, KEY_COUNTERS, NULL,
 	  "counter table (IDs 2525-2561) at exit; alone: link test each -i" },
+	{ "autoconf", no_argument, KEY_AUTOCONF, NULL,
+	  "find the line's settings; prints them as options (-w: a network CSV)" },
+	{ "stations", required_argument, KEY_STATIONS, "LO-HI",
+	  "--autoconf: half-duplex stations to poll (default 0-31)" },
 	{ "count", required_argument, 'c', "N", "probes (--ping, 4), frames (--sniff), tables; 0: no limit" },
 	{ "interval", required_argument, 'i', "SECONDS", "between probes, tables or scans (default 1; fractions allowed)" },
 	{ "duration", required_argument, KEY_DURATION, "SECONDS", "stop a live mode after this time" },
@@ -152,6 +157,12 @@ static int on_option(struct cli *c, int key, const char *arg, void *user)
 		return CLI_CONTINUE;
 	case KEY_PING:
 		return set_mode(m, MODE_PING);
+	case KEY_AUTOCONF:
+		return set_mode(m, MODE_AUTOCONF);
+	case KEY_STATIONS:
+		m->who_range = arg;
+		m->given |= GIVEN_STATIONS;
+		return CLI_CONTINUE;
 	case KEY_WHO:
 		m->who_range = arg;
 		return set_mode(m, MODE_WHO);
@@ -206,6 +217,19 @@ static int check_combination(struct mon *m)
 		return cli_usage_error(&m->cli, "-i/--interval does not go with %s", d->option);
 	if ((m->given & GIVEN_DURATION) && !(f & LIVE))
 		return cli_usage_error(&m->cli, "--duration does not go with %s", d->option);
+	if ((m->given & GIVEN_STATIONS) && m->mode != MODE_AUTOCONF)
+		return cli_usage_error(&m->cli, "--stations needs --autoconf (--who takes LO-HI itself)");
+	if (m->mode == MODE_AUTOCONF) {
+		int r = m->who_range ? mon_parse_range(m, m->who_range) : CLI_CONTINUE;
+
+		if (!m->who_range) {
+			m->who_lo = 0;
+			m->who_hi = 31;
+		}
+		if (r != CLI_CONTINUE || (m->given & GIVEN_SNIFF_B))
+			return r != CLI_CONTINUE ? r : cli_usage_error(&m->cli, "--sniff-b needs --sniff");
+		m->given &= ~(unsigned)GIVEN_WRITE;     /* -w FILE: the network CSV */
+	}
 	if ((m->given & (GIVEN_WRITE | GIVEN_SNIFF_B)) && m->mode != MODE_SNIFF)
 		return cli_usage_error(&m->cli, "%s needs --sniff",
 		                       (m->given & GIVEN_WRITE) ? "-w/--write" : "--sniff-b");
@@ -264,7 +288,8 @@ static const struct cli_tool mon_tool = {
 	            "--ping [-c COUNT] [-i SECONDS] [--counters] [OPTIONS]\n"
 	            "--who [LO-HI] [--counters] [OPTIONS]\n"
 	            "--map FILE.csv [-1] [-i SECONDS] [--counters] [OPTIONS]\n"
-	            "--counters [-i SECONDS] [-c COUNT] [OPTIONS]",
+	            "--counters [-i SECONDS] [-c COUNT] [OPTIONS]\n"
+	            "--autoconf [--stations LO-HI] [-w NET.csv] [OPTIONS]",
 	.summary = "DF1 diagnostics: decode frames, captures or a tap; ping, find stations, "
 	           "poll tags, show counters.",
 	.accepts = CLI_ACCEPT_ALL,

@@ -40,6 +40,7 @@ enum mon_mode {
 	MODE_WHO,
 	MODE_MAP,
 	MODE_COUNTERS,   /* --counters alone */
+	MODE_AUTOCONF,   /* --autoconf: mon_autoconf.c */
 	MODE_COUNT_
 };
 
@@ -52,6 +53,8 @@ enum {
 	KEY_MAP,
 	KEY_COUNTERS,
 	KEY_DURATION,
+	KEY_AUTOCONF,    /* mon_autoconf.c */
+	KEY_STATIONS,
 };
 
 /* Options given, for the checks of what goes with which mode. */
@@ -63,6 +66,7 @@ enum {
 	GIVEN_SNIFF_B = 1 << 4,
 	GIVEN_ONCE = 1 << 5,
 	GIVEN_COUNTERS = 1 << 6,
+	GIVEN_STATIONS = 1 << 7,      /* --stations (--autoconf) */
 };
 
 struct mon {
@@ -174,6 +178,7 @@ int mon_run_sniff(struct mon *m);             /* mon_sniff.c */
 int mon_run_counters(struct mon *m);          /* mon_counters.c */
 int mon_run_ping(struct mon *m);              /* mon_ping.c */
 int mon_run_who(struct mon *m);               /* mon_who.c */
+int mon_run_autoconf(struct mon *m);          /* mon_autoconf.c */
 bool mon_who_is_eip(const struct mon *m);     /* mon_who.c: an eip:// device */
 /* --who's operand "N" or "LO-HI" (0..254) into m->who_lo, who_hi; exit 2 if bad. */
 int mon_parse_range(struct mon *m, const char *arg);

@@ -29,6 +29,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/epoll.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -36,6 +37,8 @@
 #include "df1.h"
 #include "common/cli.h"
 #include "df1sim/sim_io.h"
+#include "df1sim/sim_line.h"   /* --line-settings, --listen rfc2217:// */
+#include "df1sim/sim_options.h"
 
 #define PROG "df1sim"
 
@@ -68,6 +71,9 @@ struct sim {
 	df1_t *h;                       /* for df1_serve_pccc (PLC type, options) */
 	df1_eip_server_t *eip;          /* --eip */
 	int wait_fd;                    /* epoll of the signal pipe and the server, or -1 */
+	/* --line-settings and --listen rfc2217:// (tools/df1sim/sim_line.c) */
+	struct sim_uart line;           /* baud 0: none given */
+	bool rfc2217;
 };
 
 static struct df1_table *sim_table_for(struct sim *s, int station)
@@ -204,292 +210,6 @@ static void on_log(void *user, int catalog_id, enum df1_severity sev, const char
 }
 
 /* ------------------------------------------------------------------------
- * Options: the shared parser (tools/common/cli.h) with the line options that mean
- * the same for a responder, and df1sim's own
- * ------------------------------------------------------------------------ */
-
-struct fault_opt {
-	enum df1_fault kind;
-	int per_mille;
-	int value;
-	bool given;
-};
-
-struct opts {
-	struct cli cli;                 /* --parity, --stop-bits, --duplex, --check, --plc, -v */
-	const char *pty, *device, *listen;
-	int where;                      /* how many of --pty, -d, --listen */
-	int stations[256];
-	int nstations;
-	const char *processor;
-	const char *data;
-	struct fault_opt faults[8];     /* by enum df1_fault */
-	uint64_t seed;
-	int line_baud;
-	int scan_time;                  /* --scan-time MS: replies at the end of the scan */
-	bool no_eot;                    /* --no-eot: half duplex, silence instead of DLE EOT */
-	int max_queue;                  /* full duplex: commands held before NAK */
-	const char *log;
-	int baud, data_bits;            /* -d only; the library checks them when it opens DEV */
-	const char *eip;                /* --eip ADDR */
-	const char *eip_allow;          /* --eip-allow CIDR[,CIDR] */
-	bool eip_read_only;             /* --eip-read-only */
-	int eip_max_clients;            /* --eip-max-clients N (0: 32) */
-	int eip_register_s, eip_idle_s; /* --eip-register-timeout S, --eip-idle-timeout S (-1: default) */
-};
-
-enum {
-	OPT_PTY = CLI_KEY_EXTRA, OPT_LISTEN, OPT_STATION, OPT_DATA_BITS, OPT_LINE_BAUD, OPT_PROCESSOR,
-	OPT_PLC5_FLOAT_SWAPPED, OPT_DATA, OPT_DROP_ACK, OPT_CORRUPT, OPT_NAK, OPT_DELAY, OPT_SILENT,
-	OPT_STALE, OPT_NOISE, OPT_SEED, OPT_LOG, OPT_SCAN_TIME, OPT_NO_EOT,
-	OPT_MAX_QUEUE, OPT_EIP, OPT_EIP_ALLOW, OPT_EIP_READ_ONLY,
-	OPT_EIP_MAX_CLIENTS, OPT_EIP_REGISTER_TIMEOUT, OPT_EIP_IDLE_TIMEOUT,
-};
-
-/* -d, --station and -b are df1sim's own: -d is the device served (never
- * DF1_DEVICE), --station the list of stations served, -b and --data-bits go
- * to the port as given (any rate, 5-8 bits) and are ignored without -d. */
-static const struct cli_extra_opt sim_opts[] = {
-	{ "pty", required_argument, OPT_PTY, "PATH", "create a pseudo-terminal, symlink PATH to it" },
-	{ "device", required_argument, 'd', "DEV", "serve a serial port (or tcp://HOST:PORT as a client)" },
-	{ "listen", required_argument, OPT_LISTEN, "ADDR", "serve TCP clients one after another on ADDR" },
-	{ "eip", required_argument, OPT_EIP, "ADDR", "also serve PCCC over EtherNet/IP on ADDR (TCP and UDP)" },
-	{ "eip-allow", required_argument, OPT_EIP_ALLOW, "CIDR[,CIDR]", "--eip: only these clients (default any)" },
-	{ "eip-read-only", no_argument, OPT_EIP_READ_ONLY, NULL, "--eip: refuse commands that write (STS 60)" },
-	{ "eip-max-clients", required_argument, OPT_EIP_MAX_CLIENTS, "N",
-	  "--eip: connections at once, 1-255 (default 32; full: the longest idle makes room)" },
-	{ "eip-register-timeout", required_argument, OPT_EIP_REGISTER_TIMEOUT, "S",
-	  "--eip: close a connection without a session after S s (default 5, 0: never)" },
-	{ "eip-idle-timeout", required_argument, OPT_EIP_IDLE_TIMEOUT, "S",
-	  "--eip: close a session idle for S s (default 120, 0: never)" },
-	{ "station", required_argument, OPT_STATION, "N[,N...]",
-	  "stations served 0-254, ranges A-B allowed (default 1)" },
-	{ "baud", required_argument, 'b', "N", "-d only: baud rate (default 19200)" },
-	{ "data-bits", required_argument, OPT_DATA_BITS, "N", "-d only: data bits 5-8 (default 8)" },
-	{ "line-baud", required_argument, OPT_LINE_BAUD, "N",
-	  "pace the bytes sent and received as a line at N baud (default 0: off)" },
-	{ "scan-time", required_argument, OPT_SCAN_TIME, "MS",
-	  "answer at the end of a program scan of MS ms, as a controller does (default 0: at once)" },
-	{ "no-eot", no_argument, OPT_NO_EOT, NULL,
-	  "half duplex: answer a poll with nothing, not DLE EOT, when no reply is ready" },
-	{ "processor", required_argument, OPT_PROCESSOR, "NAME",
-	  "the processor of the diagnostic status (default per --plc)" },
-	{ "plc5-float-swapped", no_argument, OPT_PLC5_FLOAT_SWAPPED, NULL,
-	  "the same as --plc5-float swapped" },
-	{ "data", required_argument, OPT_DATA, "FILE", "initial values: ADDRESS=VALUE[,VALUE...] per line" },
-	{ "drop-ack", required_argument, OPT_DROP_ACK, "P", "fault: do not ACK a received command" },
-	{ "corrupt", required_argument, OPT_CORRUPT, "P", "fault: send a reply with a wrong BCC/CRC" },
-	{ "nak", required_argument, OPT_NAK, "P", "fault: answer a good command with NAK" },
-	{ "delay", required_argument, OPT_DELAY, "MS[:P]", "fault: delay replies by MS ms (P default 100)" },
-	{ "silent", required_argument, OPT_SILENT, "STATION", "fault: never answer this station" },
-	{ "stale", required_argument, OPT_STALE, "P", "fault: send a reply with an old TNS first" },
-	{ "noise", required_argument, OPT_NOISE, "P", "fault: send garbage bytes between frames" },
-	{ "seed", required_argument, OPT_SEED, "N", "random seed of the faults (default 1)" },
-	{ "max-queue", required_argument, OPT_MAX_QUEUE, "N",
-	  "full duplex: commands held unanswered before NAK 0-8 (default 8; 0: one)" },
-	{ "log", required_argument, OPT_LOG, "FILE", "one line per command answered" },
-	{ NULL, 0, 0, NULL, NULL },
-};
-
-/* The fault options, OPT_DROP_ACK.. in order. */
-static const struct {
-	enum df1_fault kind;
-	const char *opt;
-} fault_opts[] = {
-	{ DF1_FAULT_DROP_ACK, "--drop-ack" },     { DF1_FAULT_CORRUPT_REPLY, "--corrupt" },
-	{ DF1_FAULT_NAK_COMMAND, "--nak" },       { DF1_FAULT_DELAY_REPLY, "--delay" },
-	{ DF1_FAULT_SILENT_STATION, "--silent" }, { DF1_FAULT_STALE_REPLY, "--stale" },
-	{ DF1_FAULT_NOISE, "--noise" },
-};
-
-static bool parse_stations(const char *s, struct opts *o)
-{
-	char buf[1024], *tok, *save = NULL;
-	bool seen[256] = { false };
-
-	if (strlen(s) >= sizeof buf)
-		return false;
-	strcpy(buf, s);
-	o->nstations = 0;
-	for (tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
-		char *dash = strchr(tok + 1, '-');
-		long lo, hi;
-
-		if (dash) {
-			*dash = '\0';
-			if (!cli_long_in(tok, 0, 254, &lo) || !cli_long_in(dash + 1, 0, 254, &hi) || hi < lo)
-				return false;
-		} else {
-			if (!cli_long_in(tok, 0, 254, &lo))
-				return false;
-			hi = lo;
-		}
-		for (long v = lo; v <= hi; v++) {
-			if (!seen[v])
-				o->stations[o->nstations++] = (int)v;
-			seen[v] = true;
-		}
-	}
-	return o->nstations > 0;
-}
-
-static int set_fault(struct opts *o, int i, const char *arg)
-{
-	struct fault_opt *f = &o->faults[fault_opts[i].kind];
-	const char *opt = fault_opts[i].opt;
-	char buf[64], *colon;
-	long ms;
-
-	f->kind = fault_opts[i].kind;
-	f->given = true;
-	f->value = 0;
-	f->per_mille = 1000;
-	switch (f->kind) {
-	case DF1_FAULT_SILENT_STATION:
-		return cli_parse_int(&o->cli, opt, arg, 0, 254, &f->value);
-	case DF1_FAULT_DELAY_REPLY:
-		if (strlen(arg) >= sizeof buf)
-			return cli_bad_value(&o->cli, opt, arg, "MS[:P]");
-		strcpy(buf, arg);
-		colon = strchr(buf, ':');
-		if (colon)
-			*colon++ = '\0';
-		if (!cli_long_in(buf, 0, 60000, &ms) || (colon && !sim_parse_percent(colon, &f->per_mille)))
-			return cli_bad_value(&o->cli, opt, arg, "MS[:P], MS 0-60000, P 0-100 percent");
-		f->value = (int)ms;
-		return CLI_CONTINUE;
-	default:
-		if (!sim_parse_percent(arg, &f->per_mille))
-			return cli_bad_value(&o->cli, opt, arg, "0-100 percent");
-		return CLI_CONTINUE;
-	}
-}
-
-static int on_option(struct cli *c, int key, const char *arg, void *user)
-{
-	struct opts *o = user;
-	unsigned long long u;
-	char *end;
-
-	switch (key) {
-	case OPT_PTY: o->pty = arg; o->where++; break;
-	case 'd': o->device = arg; o->where++; break;
-	case OPT_LISTEN: o->listen = arg; o->where++; break;
-	case OPT_STATION:
-		if (!parse_stations(arg, o))
-			return cli_bad_value(c, "--station", arg, "N[,N...] or A-B within 0-254");
-		break;
-	case 'b': return cli_parse_int(c, "--baud", arg, 50, 4000000, &o->baud);
-	case OPT_DATA_BITS: return cli_parse_int(c, "--data-bits", arg, 5, 8, &o->data_bits);
-	case OPT_LINE_BAUD: return cli_parse_int(c, "--line-baud", arg, 0, 4000000, &o->line_baud);
-	case OPT_SCAN_TIME: return cli_parse_int(c, "--scan-time", arg, 0, 10000, &o->scan_time);
-	case OPT_NO_EOT: o->no_eot = true; break;
-	case OPT_PROCESSOR: o->processor = arg; break;
-	case OPT_PLC5_FLOAT_SWAPPED:
-		c->lib_value[CLI_OPT_PLC5_FLOAT] = 1;
-		c->lib_set |= CLI_ACCEPT(CLI_OPT_PLC5_FLOAT);
-		break;
-	case OPT_DATA: o->data = arg; break;
-	case OPT_SEED:
-		errno = 0;
-		u = strtoull(arg, &end, cli_number_base(arg));
-		if (errno || !*arg || *end || arg[0] == '-')
-			return cli_bad_value(c, "--seed", arg, "an integer 0 or more");
-		o->seed = u;
-		break;
-	case OPT_LOG: o->log = arg; break;
-	case OPT_MAX_QUEUE: return cli_parse_int(c, "--max-queue", arg, 0, 8, &o->max_queue);
-	case OPT_EIP: o->eip = arg; break;
-	case OPT_EIP_ALLOW: o->eip_allow = arg; break;
-	case OPT_EIP_READ_ONLY: o->eip_read_only = true; break;
-	case OPT_EIP_MAX_CLIENTS: return cli_parse_int(c, "--eip-max-clients", arg, 1, 255, &o->eip_max_clients);
-	case OPT_EIP_REGISTER_TIMEOUT:
-		return cli_parse_int(c, "--eip-register-timeout", arg, 0, 3600, &o->eip_register_s);
-	case OPT_EIP_IDLE_TIMEOUT: return cli_parse_int(c, "--eip-idle-timeout", arg, 0, 3600, &o->eip_idle_s);
-	default:
-		if (key >= OPT_DROP_ACK && key <= OPT_NOISE)
-			return set_fault(o, key - OPT_DROP_ACK, arg);
-		return cli_usage_error(c, "unknown option");
-	}
-	return CLI_CONTINUE;
-}
-
-static const struct cli_tool sim_tool = {
-	.name = PROG,
-	.synopsis = "(--pty PATH | -d DEV | --listen [tcp://][HOST:]PORT) [--eip ADDR] [OPTIONS] | --eip ADDR [OPTIONS]",
-	.summary = "A simulated PLC (DF1 half-duplex slave or full-duplex peer) with a data table\n"
-	           "and fault injection. Prints the device it serves on stdout once ready.",
-	.accepts = CLI_ACCEPT(CLI_OPT_PARITY) | CLI_ACCEPT(CLI_OPT_STOP_BITS) | CLI_ACCEPT(CLI_OPT_DUPLEX) |
-	           CLI_ACCEPT(CLI_OPT_CHECK) | CLI_ACCEPT(CLI_OPT_PLC) | CLI_ACCEPT(CLI_OPT_VERBOSE) |
-	           /* the link and PLC options a responder has a use for */
-	           CLI_ACCEPT(CLI_OPT_HD_BCC) | CLI_ACCEPT(CLI_OPT_PLC5_FLOAT) |
-	           CLI_ACCEPT(CLI_OPT_PLC5_TIMER_WORDS) | CLI_ACCEPT(CLI_OPT_PLC2_ADDR) |
-	           CLI_ACCEPT(CLI_OPT_DUP_DETECT) | CLI_ACCEPT(CLI_OPT_EMBEDDED) | CLI_ACCEPT(CLI_OPT_NAK_0F) |
-	           CLI_ACCEPT(CLI_OPT_ECHO_DISCARD),
-	.plcs = CLI_PLC_BIT(DF1_PLC_SLC) | CLI_PLC_BIT(DF1_PLC_MICROLOGIX) | CLI_PLC_BIT(DF1_PLC_SLC502) |
-	        CLI_PLC_BIT(DF1_PLC_PLC5) | CLI_PLC_BIT(DF1_PLC_PLC3),
-	.common_help = {
-		[CLI_OPT_PARITY] = "-d only: parity (default none)",
-		[CLI_OPT_STOP_BITS] = "-d only: stop bits (default 1)",
-		[CLI_OPT_DUPLEX] = "full-duplex peer or half-duplex slave (default full)",
-		[CLI_OPT_VERBOSE] = "link events on stderr; -vv also every byte",
-		[CLI_OPT_HD_BCC] = "master message BCC: STN+data or +STX (default stn)",
-		[CLI_OPT_PLC5_TIMER_WORDS] = "plc5: typed-read timers of 3 or 5 words (default 5)",
-		[CLI_OPT_PLC2_ADDR] = "PLC-2 command addresses (default bytes)",
-		[CLI_OPT_DUP_DETECT] = "ACK and drop a repeated command (default yes)",
-	},
-	.extra = sim_opts,
-	.on_extra = on_option,
-	.exit_text = "0 stopped by SIGINT/SIGTERM, 1 communication error, 2 usage.",
-	.help_tail = "\nADDR: [tcp://][HOST:]PORT, loopback unless HOST is given; port 0 picks a free port.\n"
-	             "NAME: e.g. slc5/04, ml1400, plc5/40, or a type code such as 0x5B.\n"
-	             "P: a probability in percent, 0-100, steps of 0.1.\n"
-	             "Signals: SIGUSR1 silences every station, SIGUSR2 makes them answer again.\n"
-	             "See df1sim(1).\n",
-};
-
-/* CLI_CONTINUE to go on, else an exit status. */
-static int parse_args(int argc, char **argv, struct opts *o)
-{
-	int r;
-
-	memset(o, 0, sizeof *o);
-	cli_init(&o->cli, &sim_tool);
-	o->stations[0] = 1;
-	o->nstations = 1;
-	o->seed = 1;
-	o->max_queue = 8;
-	o->baud = 19200;
-	o->data_bits = 8;
-	o->eip_register_s = o->eip_idle_s = -1;
-	r = cli_parse(&o->cli, argc, argv, o);
-	if (r != CLI_CONTINUE)
-		return r;
-	if (o->cli.argc > 0)
-		return cli_usage_error(&o->cli, "unexpected argument '%s'", o->cli.argv[0]);
-	if (o->where > 1 || (o->where == 0 && !o->eip))
-		return cli_usage_error(&o->cli, o->where ? "give only one of --pty, -d and --listen"
-		                                         : "one of --pty PATH, -d DEV, --listen ADDR or --eip ADDR is required");
-	if ((o->eip_allow || o->eip_read_only) && !o->eip)
-		return cli_usage_error(&o->cli, "--eip-allow and --eip-read-only go with --eip");
-	if ((o->eip_max_clients || o->eip_register_s >= 0 || o->eip_idle_s >= 0) && !o->eip)
-		return cli_usage_error(&o->cli, "--eip-max-clients, --eip-register-timeout and --eip-idle-timeout "
-		                       "go with --eip");
-	if (cli_lib_option_set(&o->cli, CLI_OPT_PLC5_FLOAT) && o->cli.lib_value[CLI_OPT_PLC5_FLOAT] &&
-	    o->cli.plc != DF1_PLC_PLC5)
-		return cli_usage_error(&o->cli, "--plc5-float swapped goes with --plc plc5 only");
-	if ((o->cli.given & CLI_ACCEPT(CLI_OPT_PLC5_TIMER_WORDS)) && o->cli.plc != DF1_PLC_PLC5)
-		return cli_usage_error(&o->cli, "--plc5-timer-words goes with --plc plc5 only");
-	/* a PLC-5 answers typed reads of timers with 5 words, as KF2 p.130 and VME
-	 * p.81 describe it (doc/PROTOCOL.md 4.3); --plc5-timer-words 3 for the data-table form */
-	if (o->cli.plc == DF1_PLC_PLC5 && !(o->cli.given & CLI_ACCEPT(CLI_OPT_PLC5_TIMER_WORDS))) {
-		o->cli.lib_value[CLI_OPT_PLC5_TIMER_WORDS] = 5;
-		o->cli.lib_set |= CLI_ACCEPT(CLI_OPT_PLC5_TIMER_WORDS);
-	}
-	return CLI_CONTINUE;
-}
-
-/* ------------------------------------------------------------------------
  * Serving
  * ------------------------------------------------------------------------ */
 
@@ -546,8 +266,25 @@ static int serve_open(df1_t *h, struct sim *s)
 	return 0;
 }
 
+/* A TCP client on the handle: as it is, or an RFC 2217 client through the
+ * relay (tools/df1sim/sim_line.c). 0 or DF1_E_* (cfd closed). */
+static int sim_open_client(df1_t *h, struct sim *s, int cfd, struct sim_relay *relay)
+{
+	int r;
+
+	memset(relay, 0, sizeof *relay);
+	if (s->rfc2217)
+		return sim_relay_open(h, relay, SIM_RELAY_RFC2217, cfd, &s->line, s->verbose);
+	r = df1_open_fd(h, cfd, true);
+	if (r < 0)
+		close(cfd);
+	return r;
+}
+
 static int serve_tcp(df1_t *h, struct sim *s, int lfd, const char *shown)
 {
+	struct sim_relay relay;
+
 	for (;;) {
 		struct pollfd pfd[3] = { { lfd, POLLIN, 0 }, { cli_signal_fd(), POLLIN, 0 },
 		                         { s->eip ? df1_eip_server_fd(s->eip) : -1, POLLIN, 0 } };
@@ -582,13 +319,12 @@ static int serve_tcp(df1_t *h, struct sim *s, int lfd, const char *shown)
 		setsockopt(cfd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
 		if (s->verbose)
 			msg("%s: client connected", shown);
-		r = df1_open_fd(h, cfd, true);
-		if (r < 0) {
-			close(cfd);
+		r = sim_open_client(h, s, cfd, &relay);
+		if (r < 0)
 			return report(h, shown, r);
-		}
 		r = serve_open(h, s);
 		df1_close(h);
+		sim_relay_join(&relay);
 		if (r == DF1_E_CLOSED || (r < 0 && r != DF1_E_INTR)) {
 			/* the client went away (or broke the connection): wait for the next */
 			if (s->verbose)
@@ -634,7 +370,7 @@ static int sim_eip_ms(int seconds)
 
 /* The EtherNet/IP server of --eip [tcp://]ADDR, and the one descriptor the
  * link waits on: the signal pipe and the server's. Prints nothing yet. */
-static int sim_eip_open(struct sim *s, const struct opts *o, df1_t *h)
+static int sim_eip_open(struct sim *s, const struct sim_opts *o, df1_t *h)
 {
 	struct df1_eip_server_config c;
 	struct df1_eip_server_limits lim = { 0 };
@@ -683,7 +419,7 @@ static int sim_eip_open(struct sim *s, const struct opts *o, df1_t *h)
 	return 0;
 }
 
-static int setup_handle(df1_t *h, const struct opts *o, struct sim *s)
+static int setup_handle(df1_t *h, const struct sim_opts *o, struct sim *s)
 {
 	int r = 0;
 
@@ -732,7 +468,7 @@ static void sim_free(struct sim *s)
 	sim_cmdlog_close(&s->log);
 }
 
-static int sim_build(struct sim *s, const struct opts *o)
+static int sim_build(struct sim *s, const struct sim_opts *o)
 {
 	struct df1_table *tmpl = NULL;
 	int r;
@@ -742,6 +478,8 @@ static int sim_build(struct sim *s, const struct opts *o)
 	s->plc = o->cli.plc;
 	s->half = o->cli.half_duplex;
 	s->verbose = o->cli.verbose;
+	s->line = o->line;
+	s->rfc2217 = o->rfc2217;
 	s->nstations = o->nstations;
 	memcpy(s->stations, o->stations, sizeof s->stations);
 	if (o->faults[DF1_FAULT_SILENT_STATION].given) {
@@ -796,7 +534,7 @@ static int sim_build(struct sim *s, const struct opts *o)
 
 /* The handle: its settings, the signals (its cancel descriptor), --eip's
  * server. *hp is set once made, for main to free. 0 or an exit status. */
-static int sim_start(struct sim *s, const struct opts *o, df1_t **hp)
+static int sim_start(struct sim *s, const struct sim_opts *o, df1_t **hp)
 {
 	df1_t *h;
 	int status, r;
@@ -821,10 +559,25 @@ static int sim_start(struct sim *s, const struct opts *o, df1_t **hp)
 	return 0;
 }
 
+static struct sim_relay sim_pty_relay;
+
+/* The pty on the handle: as it is, or with --line-settings through the line's
+ * relay (tools/df1sim/sim_line.c), which reads the master's termios and
+ * then owns the master descriptor. */
+static int sim_open_pty(df1_t *h, const struct sim_opts *o, struct sim_pty *pty)
+{
+	int master = pty->master;
+
+	if (!o->line.baud)
+		return df1_open_fd(h, master, true);
+	pty->master = -1;
+	return sim_relay_open(h, &sim_pty_relay, SIM_RELAY_PTY, master, &o->line, o->cli.verbose);
+}
+
 /* Where the link is served: the pty (--pty), the device or the TCP listener
  * (--listen: its socket in *lfd); its name for the messages and the ready line
  * in shown. Nothing with --eip alone. 0 or an exit status. */
-static int sim_open_where(df1_t *h, const struct opts *o, struct sim_pty *pty, char *shown, size_t cap,
+static int sim_open_where(df1_t *h, const struct sim_opts *o, struct sim_pty *pty, char *shown, size_t cap,
                           int *lfd)
 {
 	char err[600];
@@ -836,10 +589,10 @@ static int sim_open_where(df1_t *h, const struct opts *o, struct sim_pty *pty, c
 			msg("%s", err);
 			return status;
 		}
-		r = df1_open_fd(h, pty->master, true);
+		r = sim_open_pty(h, o, pty);
 		if (r < 0)
 			return report(h, o->pty, r);
-		pty->master = -1;       /* the handle owns it now */
+		pty->master = -1;       /* the handle (or the line's relay) owns it now */
 		snprintf(shown, cap, "%s", o->pty);
 	} else if (o->device) {
 		r = df1_open(h, o->device);
@@ -854,6 +607,10 @@ static int sim_open_where(df1_t *h, const struct opts *o, struct sim_pty *pty, c
 			msg("%s", err);
 			return -*lfd;
 		}
+		if (o->rfc2217 && strncmp(shown, "tcp://", 6) == 0) { /* the ready line names the scheme */
+			memmove(shown + 10, shown + 6, strlen(shown + 6) + 1);
+			memcpy(shown, "rfc2217://", 10);
+		}
 		/* a listener other hosts can reach is what the user asked for: say so */
 		if (scope == SIM_LISTEN_ALL)
 			msg("listening on %s: every interface, reachable from other hosts", shown);
@@ -865,7 +622,7 @@ static int sim_open_where(df1_t *h, const struct opts *o, struct sim_pty *pty, c
 
 /* Serve until a stop signal (or the end of the device's input): the TCP
  * listener's clients, --eip alone, or the open link. The exit status. */
-static int sim_serve(df1_t *h, struct sim *s, const struct opts *o, int lfd, const char *shown)
+static int sim_serve(df1_t *h, struct sim *s, const struct sim_opts *o, int lfd, const char *shown)
 {
 	int status, r;
 
@@ -889,13 +646,13 @@ static int sim_serve(df1_t *h, struct sim *s, const struct opts *o, int lfd, con
 int main(int argc, char **argv)
 {
 	static struct sim sim;
-	struct opts o;
+	struct sim_opts o;
 	struct sim_pty pty = { -1, -1, "", NULL, false };
 	char shown[300];
 	df1_t *h = NULL;
 	int status, lfd = -1;
 
-	status = parse_args(argc, argv, &o);
+	status = sim_options_parse(argc, argv, &o);
 	if (status != CLI_CONTINUE)
 		return status;
 	/* a closed stdout: the device line could not be printed, and the next file
@@ -925,6 +682,7 @@ out:
 		df1_close(h);
 		df1_free(h);
 	}
+	sim_relay_join(&sim_pty_relay);
 	if (lfd >= 0)
 		close(lfd);
 	if (pty.master >= 0)

@@ -57,6 +57,8 @@ static void test_scheme_find(void **state)
 		{ "tcp:plc-gw:10001", "tcp", &port_tcp_ops, NULL },  /* "//" or not */
 		{ "eip://10.0.0.5", "eip", &port_tcp_ops, &eip_link_ops },
 		{ "eip://[::1]:44818/2", "eip", &port_tcp_ops, &eip_link_ops },
+		{ "rfc2217://127.0.0.1:2217", "rfc2217", &port_rfc2217_ops, NULL },
+		{ "RFC2217:moxa:4001", "rfc2217", &port_rfc2217_ops, NULL },
 		{ "/dev/ttyS0", NULL, &port_termios_ops, NULL },
 		{ "ttyUSB0", NULL, &port_termios_ops, NULL },
 		{ "", NULL, &port_termios_ops, NULL },
@@ -142,6 +144,12 @@ static void test_port_capabilities(void **state)
 	assert_false(port_tcp_ops.paced);
 	assert_true(port_tcp_ops.net_slack);
 	assert_true(port_tcp_ops.serial_behind_net);
+	/* an RFC 2217 device server: a serial line at the baud we set, behind a network */
+	assert_true(port_rfc2217_ops.paced);
+	assert_true(port_rfc2217_ops.net_slack);
+	assert_true(port_rfc2217_ops.serial_behind_net);
+	assert_non_null(port_rfc2217_ops.configure);
+	assert_non_null(port_rfc2217_ops.config_ok);
 	/* a descriptor (pty, socket, pipe): none */
 	assert_false(port_fd_ops.paced);
 	assert_false(port_fd_ops.net_slack);
