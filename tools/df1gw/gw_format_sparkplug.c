@@ -45,6 +45,11 @@ struct spb {
 	uint64_t births, deaths, commands, rejected, rebirths;
 	struct gw_spb_list scratch;
 	struct gw_buf tmp;
+	/* per tag id: a hash of what the host was last told (DBIRTH or DDATA,
+	 * without times), so that a DDATA says only what changed since */
+	uint64_t *told;
+	size_t ntold;
+	uint64_t sent;               /* DDATA made: every change key is new */
 };
 
 /* A command's metric, as the write path carries it. */
@@ -101,6 +106,7 @@ static void spb_close(struct gw_fmt *f)
 		return;
 	gw_spb_list_free(&s->scratch);
 	gw_buf_free(&s->tmp);
+	free(s->told);
 	free(s);
 	f->priv = NULL;
 }
@@ -151,37 +157,63 @@ static int64_t tag_ms(const struct gw_tag_out *t)
 	return t->wall_ms;
 }
 
-static void hex_key(struct gw_buf *key, const struct gw_buf *b)
+static uint64_t fnv1a(const struct gw_buf *b)
 {
-	static const char hex[] = "0123456789abcdef";
+	uint64_t h = 14695981039346656037ull;
 
-	gw_buf_reset(key);
-	for (size_t i = 0; i < b->len; i++) {
-		char two[2] = { hex[(unsigned char)b->p[i] >> 4], hex[(unsigned char)b->p[i] & 15] };
-
-		gw_buf_add(key, two, 2);
-	}
-	if (!key->p)
-		gw_buf_add(key, "", 0);
+	for (size_t i = 0; i < b->len; i++)
+		h = (h ^ (unsigned char)b->p[i]) * 1099511628211ull;
+	return h;
 }
 
-/* DDATA of the tag when its device is born; the key is the payload without times. */
+/* Remember that the host was told h of tag id; false when it was told that already. */
+static bool tell(struct spb *s, int id, uint64_t h)
+{
+	if (id < 0)
+		return true;
+	if ((size_t)id >= s->ntold) {
+		size_t n = (size_t)id + 64;
+		uint64_t *v = realloc(s->told, n * sizeof *v);
+
+		if (!v)
+			return true;
+		memset(v + s->ntold, 0, (n - s->ntold) * sizeof *v);
+		s->told = v;
+		s->ntold = n;
+	}
+	if (s->told[id] == h)
+		return false;
+	s->told[id] = h;
+	return true;
+}
+
+/* What tag t says without times: its hash. */
+static uint64_t tag_hash(struct spb *s, const struct gw_tag_out *t)
+{
+	struct gw_tag_out timeless = *t;
+	struct gw_spb_sample none = { &timeless, 0 };
+
+	if (gw_spb_ddata_encode(&s->tmp, &s->scratch, &none, 1, false, false, 0) < 0)
+		return 0;
+	return fnv1a(&s->tmp);
+}
+
+/* DDATA of the tag when its device is born and the host was told something
+ * else; the change key is then always new (this format keeps its own). */
 static int spb_tag(const struct gw_fmt *f, const struct gw_tag_out *t, struct gw_msg *m, struct gw_buf *key)
 {
 	struct spb *s = S(f);
 	int stn = t->st->config->station;
 	struct gw_spb_sample one = { t, tag_ms(t) };
-	struct gw_tag_out timeless = *t;
-	struct gw_spb_sample none = { &timeless, 0 };
 
 	if (!s->node_born || stn < 0 || stn >= GW_SPB_STATIONS || !s->dev_born[stn] ||
-	    !(t->st->config->access & DF1_ACCESS_READ))
+	    !(t->st->config->access & DF1_ACCESS_READ) || !tell(s, t->st->id, tag_hash(s, t)))
 		return -1;
 	start(s, m, "DDATA", stn, 0);
-	if (gw_spb_ddata_encode(&m->body, &s->scratch, &one, 1, false, s->c->aliases, one.ms) < 0 ||
-	    gw_spb_ddata_encode(&s->tmp, &s->scratch, &none, 1, false, s->c->aliases, 0) < 0)
+	if (gw_spb_ddata_encode(&m->body, &s->scratch, &one, 1, false, s->c->aliases, one.ms) < 0)
 		return -1;
-	hex_key(key, &s->tmp);
+	gw_buf_reset(key);
+	gw_buf_printf(key, "%llu", (unsigned long long)++s->sent);
 	return key->oom ? -1 : 0;
 }
 
@@ -219,6 +251,7 @@ static int spb_result(const struct gw_fmt *f, const struct gw_result_out *r, str
 
 		if (!s->node_born || stn < 0 || stn >= GW_SPB_STATIONS || !s->dev_born[stn])
 			return -1;
+		tell(s, r->now->st->id, tag_hash(s, r->now));
 		start(s, m, "DDATA", stn, 0);
 		return gw_spb_ddata_encode(&m->body, &s->scratch, &one, 1, false, s->c->aliases, one.ms);
 	}
@@ -389,6 +422,24 @@ static void nbirth(struct spb *s, const struct gw_node *n, const struct gw_line_
 	s->next_ndata_ms = l->now_ms + NDATA_MS;
 }
 
+/* After a DBIRTH of station stn: the host knows each of its tags as it is. */
+static void tell_all(struct spb *s, const struct gw_node *n, int stn)
+{
+	struct gw_spb_list keep = s->scratch;   /* the birth's metrics, being made */
+
+	gw_spb_list_init(&s->scratch);
+	for (int id = 0; id < n->ntags; id++) {
+		struct df1_tag_state st;
+		struct gw_tag_out t;
+		char err[256];
+
+		if (n->tag(n->user, id, &st, &t, err, sizeof err) && st.config->station == stn)
+			tell(s, id, tag_hash(s, &t));
+	}
+	gw_spb_list_free(&s->scratch);
+	s->scratch = keep;
+}
+
 static void dbirth(struct spb *s, const struct gw_node *n, const struct gw_line_out *l, int stn, struct gw_msg *m)
 {
 	struct gw_spb_how how = { true, s->c->aliases, false };
@@ -402,6 +453,7 @@ static void dbirth(struct spb *s, const struct gw_node *n, const struct gw_line_
 		if (n->tag(n->user, id, &st, &t, err, sizeof err) && st.config->station == stn)
 			gw_spb_tag_metrics(&s->scratch, &t, tag_ms(&t), &how);
 	}
+	tell_all(s, n, stn);
 	start(s, m, "DBIRTH", stn, 0);
 	if (!s->scratch.oom && gw_spb_encode(&m->body, (uint64_t)l->wall_ms, s->scratch.v, s->scratch.n) == 0) {
 		s->births++;

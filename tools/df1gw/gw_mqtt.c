@@ -192,6 +192,8 @@ static void mq_try(struct gw_mqtt *q, int64_t now)
 	q->state = GW_MQTT_CONNECTING;
 }
 
+static void mq_drop(struct gw_mqtt *q, int64_t now);
+
 void gw_mqtt_service(struct gw_mqtt *q, short revents, int64_t now)
 {
 	int rc = 0;
@@ -205,6 +207,10 @@ void gw_mqtt_service(struct gw_mqtt *q, short revents, int64_t now)
 		rc = mosquitto_loop_read(q->m, 1);
 	if (rc == 0 && q->m && mosquitto_socket(q->m) >= 0 && (revents & POLLOUT))
 		rc = mosquitto_loop_write(q->m, 1);
+	if (rc == 0 && q->drop) {
+		mq_drop(q, now);
+		return;
+	}
 	if (rc == 0)
 		rc = mosquitto_loop_misc(q->m);
 	if (rc == 0 && mosquitto_socket(q->m) < 0)
@@ -250,8 +256,15 @@ int gw_mqtt_will(struct gw_mqtt *q, const char *topic, const void *payload, size
 
 void gw_mqtt_reconnect(struct gw_mqtt *q, int64_t now)
 {
-	if (q->state == GW_MQTT_DOWN)
-		return;
+	(void)now;
+	if (q->state != GW_MQTT_DOWN)
+		q->drop = true;
+}
+
+/* The reconnect asked for: what is queued, a clean DISCONNECT, a new try at once. */
+static void mq_drop(struct gw_mqtt *q, int64_t now)
+{
+	q->drop = false;
 	mosquitto_loop_write(q->m, 1);          /* what is queued (an NDEATH) goes first */
 	mosquitto_disconnect(q->m);
 	mosquitto_loop_write(q->m, 1);

@@ -50,9 +50,17 @@ static void publish(struct gw *g, const struct gw_msg *m)
 {
 	const char *body = m->body.p ? m->body.p : "";
 
+	bool text = gw_utf8_valid(body, m->body.len);
+
+	for (size_t i = 0; i < m->body.len && text; i++)
+		text = (unsigned char)body[i] >= 0x20 || body[i] == '\n' || body[i] == '\t';
 	if (gw_mqtt_publish_qos(&g->mq, m->topic, body, m->body.len, m->qos, m->retain) == 0 && g->cli.verbose &&
-	    !g->cli.quiet)
-		fprintf(stderr, "%s: > %s %.*s\n", GW_PROG, m->topic, (int)m->body.len, body);
+	    !g->cli.quiet) {
+		if (text)
+			fprintf(stderr, "%s: > %s %.*s\n", GW_PROG, m->topic, (int)m->body.len, body);
+		else            /* a binary payload (Sparkplug's protobuf) */
+			fprintf(stderr, "%s: > %s (%zu bytes)\n", GW_PROG, m->topic, m->body.len);
+	}
 }
 
 /* A message of format f: its last touch (Sparkplug's seq), then out. */
