@@ -58,6 +58,7 @@ Run,ReadWrite,BOOL,2,SLC,B3:0/5,1,100
 Name,ReadWrite,STRING,2,SLC,ST9:0,1,100
 Cycle,ReadWrite,TIMER,2,SLC,T4:0,1,100
 Total,Read,LONG,2,MicroLogix,L10:0,1,100
+Missing,Read,INT,1,SLC,N50:0,1,100
 MAP
 
 sim_start plc --station 1,2 --data "$T/plc.txt" --log "$T/sim.log" || finish
@@ -97,7 +98,10 @@ check "node metrics in NBIRTH: counters" "has $M '{\"Sparkplug/Births\", \"Spark
 check "station1 values (df1sim's data)" "has $M \"$(metric Speed)[:1] == [123] and $(metric Offset)[:1] == [-5] and $(metric Level)[:1] == [[1.5, 2.25, -3.0]]\""
 check "Mixer values (df1sim's data)" "has $M \"$(metric Run)[:1] == [True] and $(metric Name)[:1] == ['hello, PLC'] and $(metric Total)[:1] == [100000]\""
 check "timer members" "has $M \"$(metric Cycle/PRE)[:1] == [500] and $(metric Cycle/ACC)[:1] == [7] and $(metric Cycle/EN)[:1] == [True] and $(metric Cycle/DN)[:1] == [False]\""
-check "datatypes from the file types" "has $M \"{m['name']: m['datatype'] for r in R if r['type'] == 'DBIRTH' for m in r['metrics']} == {'Speed': 'INT16', 'Offset': 'INT16', 'Level': 'FLOAT_ARRAY', 'Run': 'BOOLEAN', 'Name': 'STRING', 'Cycle/EN': 'BOOLEAN', 'Cycle/TT': 'BOOLEAN', 'Cycle/DN': 'BOOLEAN', 'Cycle/PRE': 'INT16', 'Cycle/ACC': 'INT16', 'Total': 'INT32'}\""
+check "datatypes from the file types" "has $M \"{m['name']: m['datatype'] for r in R if r['type'] == 'DBIRTH' for m in r['metrics']} == {'Speed': 'INT16', 'Offset': 'INT16', 'Level': 'FLOAT_ARRAY', 'Run': 'BOOLEAN', 'Name': 'STRING', 'Cycle/EN': 'BOOLEAN', 'Cycle/TT': 'BOOLEAN', 'Cycle/DN': 'BOOLEAN', 'Cycle/PRE': 'INT16', 'Cycle/ACC': 'INT16', 'Total': 'INT32', 'Missing': 'INT16'}\""
+check "a BAD tag: Quality 0 and its reason as properties (N50 is no file of df1sim's)" \
+	"has $M \"[r['props'].get('Missing') for r in R if r['type'] == 'DBIRTH' and r['device'] == 'station1'][-1:] == [{'Quality': 0, 'Reason': 'plc_error'}]\""
+check "a GOOD tag: no quality property" "has $M \"[r for r in R if r['type'] == 'DBIRTH' and 'Speed' not in r['props']]\""
 check "no DDATA repeating what DBIRTH said" "! has $M \"[r for r in R if r['type'] == 'DDATA']\""
 
 # ---- DCMD: a write executed once, also when the broker delivers it again ----
@@ -129,6 +133,11 @@ check "same bdSeq on rebirth" "has $M '[m[\"value\"] for m in $NB[0][\"metrics\"
 M=$(mark)
 kill -USR1 "$SIM"
 seen "DDEATH of both devices" "$M" "{r['device'] for r in R if r['type'] == 'DDEATH'} == {'station1', 'Mixer'}"
+Q='[p for r in R if r["type"] == "DDATA" for p in r["props"].values() if p.get("Quality") in (68, 8) and p.get("Reason")]'
+if has "$M" "$Q"; then ok; else
+	bad "not answering: DDATA with a quality (68 uncertain, 8 not connected) and its reason before the DDEATH"
+	$HOST has "$REC" "$M" 'print([(r["type"], r.get("props")) for r in R][:8]) or True'
+fi
 M=$(mark)
 kill -USR2 "$SIM"
 seen "DBIRTH of both again" "$M" "{r['device'] for r in R if r['type'] == 'DBIRTH'} == {'station1', 'Mixer'}"
