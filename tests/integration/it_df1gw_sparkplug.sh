@@ -187,6 +187,16 @@ gw_start --sparkplug-aliases
 seen "DBIRTHs with aliases" "$M" "len([m for r in R if r['type'] == 'DBIRTH' for m in r['metrics'] if m['alias'] and m['name']]) >= 11"
 $HOST dcmd "$MQ_PORT" Plant Line1 station1 Speed INT16 555
 seen "DDATA by alias only (no name on the wire)" "$M" "[r for r in R if r['type'] == 'DDATA' and r['wire_names'] == [''] and r['metrics'][0]['name'] == 'Speed' and r['metrics'][0]['value'] == 555]"
+A=$($HOST alias "$REC" Speed)
+M2=$(mark)
+$HOST dcmd "$MQ_PORT" Plant Line1 station1 "#$A" INT16 321
+seen "a DCMD by alias only written (DDATA 321)" "$M2" "[r for r in R if r['type'] == 'DDATA' and r['metrics'][0]['name'] == 'Speed' and r['metrics'][0]['value'] == 321]"
+same "the alias DCMD in df1sim's log" "$(grep -c 'cmd=0F/AA addr=N7:0 ' "$T/sim.log")" 3
+# a reload (SIGHUP): every birth again, no NDEATH
+M2=$(mark)
+kill -HUP "$GW_PID"
+seen "NBIRTH and DBIRTHs after a reload" "$M2" "len($NB) == 1 and len([r for r in R if r['type'] == 'DBIRTH']) == 2"
+check "no NDEATH on a reload" "! has $M2 '[r for r in R if r[\"type\"] == \"NDEATH\"]'"
 check "Node Control/Rebirth never aliased" "has $M '[m for r in R if r[\"type\"] == \"NBIRTH\" for m in r[\"metrics\"] if m[\"name\"] == \"Node Control/Rebirth\" and not m[\"alias\"]]'"
 kill -TERM "$GW_PID"
 lib_reap "$GW_PID"

@@ -7,6 +7,7 @@
 #   dcmd PORT GROUP EDGE DEVICE NAME TYPE VALUE [TS]   one metric written
 #   state PORT HOST online|offline     the primary host's retained STATE (3.0 JSON)
 #   check FILE           the Sparkplug rules over a recording (see check())
+#   alias FILE NAME      the alias of metric NAME in the last DBIRTH recorded (dcmd takes #ALIAS)
 #   has FILE FROM EXPR   exit 0 when the Python EXPR holds over R, the records from line FROM on
 # Exit 77 when pysparkplug is missing (the test then says SKIP).
 import json
@@ -119,7 +120,10 @@ def dcmd(port, group, edge, device, name, dtype, value, ts=None):
     else:
         v = int(value)
     now = int(ts) if ts else spb.get_current_timestamp()
-    m = spb.Metric(timestamp=now, name=name, datatype=dt, value=v)
+    if name.startswith("#"):  # by alias only
+        m = spb.Metric(timestamp=now, name=None, alias=int(name[1:]), datatype=dt, value=v)
+    else:
+        m = spb.Metric(timestamp=now, name=name, datatype=dt, value=v)
     p = spb.DCmd(timestamp=now, metrics=(m,))
     publish(port, "spBv1.0/%s/DCMD/%s/%s" % (group, edge, device), p.encode(include_dtypes=True))
 
@@ -195,6 +199,8 @@ def main():
         state(*a[1:])
     elif a[0] == "check":
         check(a[1], a[2:])
+    elif a[0] == "alias":
+        print([m["alias"] for r in load(a[1]) if r["type"] == "DBIRTH" for m in r["metrics"] if m["name"] == a[2]][-1])
     elif a[0] == "has":
         R = load(a[1])[int(a[2]):]  # noqa: N806 - the name the expressions use
         sys.exit(0 if eval(a[3], {"R": R}) else 1)
