@@ -149,7 +149,7 @@ static void node_line(void *u, struct gw_line_out *l, struct df1_poll_stats *ps)
 {
 	(void)u;
 	memset(ps, 0, sizeof *ps);
-	*l = (struct gw_line_out){ true, "bench", ps, 1, 1796166900123LL, 0 };
+	*l = (struct gw_line_out){ true, "bench", ps, 1, 1796166900123LL, 0, NULL, NULL, 0 };
 }
 
 static void node_emit(void *u, const struct gw_fmt *f, struct gw_msg *m)

@@ -95,6 +95,8 @@ seen "DBIRTH of station1 and Mixer" "$M" \
 check "NBIRTH bdSeq 0 on the first start (no state file yet)" \
 	"has $M '[m[\"value\"] for m in $NB[0][\"metrics\"] if m[\"name\"] == \"bdSeq\"] == [0]'"
 check "node metrics in NBIRTH: counters" "has $M '{\"Sparkplug/Births\", \"Sparkplug/Rebirths\", \"Sparkplug/Commands\", \"Sparkplug/Rejected commands\", \"Sparkplug/Deaths\", \"Line/Scans\"} <= {m[\"name\"] for m in $NB[0][\"metrics\"]}'"
+check "the line's settings as properties of Line/Device" \
+	"has $M \"[r['props'].get('Line/Device') for r in R if r['type'] == 'NBIRTH'][0] == {'Baud': '19200', 'Framing': '8N1', 'Duplex': 'full', 'Check': 'CRC', 'PLC': 'SLC'}\""
 check "station1 values (df1sim's data)" "has $M \"$(metric Speed)[:1] == [123] and $(metric Offset)[:1] == [-5] and $(metric Level)[:1] == [[1.5, 2.25, -3.0]]\""
 check "Mixer values (df1sim's data)" "has $M \"$(metric Run)[:1] == [True] and $(metric Name)[:1] == ['hello, PLC'] and $(metric Total)[:1] == [100000]\""
 check "timer members" "has $M \"$(metric Cycle/PRE)[:1] == [500] and $(metric Cycle/ACC)[:1] == [7] and $(metric Cycle/EN)[:1] == [True] and $(metric Cycle/DN)[:1] == [False]\""
@@ -183,10 +185,12 @@ mosquitto_pub -h 127.0.0.1 -p "$MQ_PORT" -t spBv1.0/STATE/Scada -r -n 2>/dev/nul
 
 # ---- aliases: names and aliases in births, aliases only in DATA ----
 M=$(mark)
-gw_start --sparkplug-aliases
+gw_start --sparkplug-aliases --json yes --prefix plant/line1     # JSON beside Sparkplug
 seen "DBIRTHs with aliases" "$M" "len([m for r in R if r['type'] == 'DBIRTH' for m in r['metrics'] if m['alias'] and m['name']]) >= 11"
 $HOST dcmd "$MQ_PORT" Plant Line1 station1 Speed INT16 555
 seen "DDATA by alias only (no name on the wire)" "$M" "[r for r in R if r['type'] == 'DDATA' and r['wire_names'] == [''] and r['metrics'][0]['name'] == 'Speed' and r['metrics'][0]['value'] == 555]"
+check "JSON topics beside Sparkplug" \
+	"mosquitto_sub -h 127.0.0.1 -p $MQ_PORT -t plant/line1/tag/Speed -C 1 -W 5 | grep -q '\"value\":555'"
 A=$($HOST alias "$REC" Speed)
 M2=$(mark)
 $HOST dcmd "$MQ_PORT" Plant Line1 station1 "#$A" INT16 321

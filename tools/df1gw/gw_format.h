@@ -79,6 +79,10 @@ struct gw_line_out {
 	unsigned generation;         /* changes when the tags change (a reload) */
 	int64_t wall_ms;             /* now, ms since the epoch */
 	int64_t now_ms;              /* now, monotonic ms */
+	/* the line's settings as text ("Baud" "19200", ...): properties of Line/Device */
+	const char *const *setting_keys;
+	const char *const *setting_vals;
+	size_t nsettings;
 };
 
 /* What a session format (one with births and commands: Sparkplug) sees of

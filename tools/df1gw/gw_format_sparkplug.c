@@ -378,6 +378,11 @@ static void node_metric(struct spb *s, const struct gw_line_out *l, const uint64
 		m->datatype = GW_SPB_STRING;
 		m->kind = GW_SPB_V_STRING;
 		m->str = l->device ? l->device : "";
+		if (birth) {            /* the line's settings, as properties */
+			m->prop_keys = l->setting_keys;
+			m->prop_vals = l->setting_vals;
+			m->nprops = l->nsettings;
+		}
 	} else if (i == NM_UP) {
 		m->datatype = GW_SPB_BOOLEAN;
 		m->kind = GW_SPB_V_BOOL;

@@ -431,12 +431,24 @@ static bool node_station(void *user, int stn, struct gw_station_out *s, struct d
 
 static void node_line(void *user, struct gw_line_out *l, struct df1_poll_stats *ps)
 {
+	static const char *const keys[] = { "Baud", "Framing", "Duplex", "Check", "PLC" };
+	static const char *const plcs[] = { "SLC", "MicroLogix", "SLC 5/01-5/02", "PLC-5", "PLC-2" };
+	static char baud[16], framing[8];
+	static const char *vals[5];
 	struct gw *g = user;
 
 	memset(ps, 0, sizeof *ps);
 	if (g->h)
 		df1_poll_stats(g->h, ps);
-	*l = (struct gw_line_out){ g->line_up, g->cli.device, ps, g->generation, gw_wall_ms(), gw_now_ms() };
+	snprintf(baud, sizeof baud, "%d", g->cli.baud);
+	snprintf(framing, sizeof framing, "%d%c%d", g->cli.data_bits, g->cli.parity, g->cli.stop_bits);
+	vals[0] = baud;
+	vals[1] = framing;
+	vals[2] = g->cli.half_duplex ? "half" : "full";
+	vals[3] = g->cli.check == DF1_CHECK_BCC ? "BCC" : "CRC";
+	vals[4] = (unsigned)g->cli.plc < 5 ? plcs[g->cli.plc] : "?";
+	*l = (struct gw_line_out){ g->line_up, g->cli.device, ps, g->generation, gw_wall_ms(), gw_now_ms(),
+	                           keys, vals, 5 };
 }
 
 static void node_emit(void *user, const struct gw_fmt *f, struct gw_msg *m)

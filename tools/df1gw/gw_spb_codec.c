@@ -20,9 +20,9 @@ typedef Df1spb__Payload__PropertyValue PbProp;
 struct enc_metric {
 	PbMetric m;
 	PbProps props;
-	char *keys[2];
-	PbProp vals[2];
-	PbProp *valp[2];
+	char *keys[2 + GW_SPB_PROPS_MAX];
+	PbProp vals[2 + GW_SPB_PROPS_MAX];
+	PbProp *valp[2 + GW_SPB_PROPS_MAX];
 };
 
 void gw_spb_metric_init(struct gw_spb_metric *m)
@@ -36,7 +36,7 @@ static void enc_props(struct enc_metric *e, const struct gw_spb_metric *s)
 {
 	size_t k = 0;
 
-	if (s->quality < 0 && !s->reason)
+	if (s->quality < 0 && !s->reason && !s->nprops)
 		return;
 	df1spb__payload__property_set__init(&e->props);
 	if (s->quality >= 0) {
@@ -56,6 +56,16 @@ static void enc_props(struct enc_metric *e, const struct gw_spb_metric *s)
 		e->vals[k].value_case = DF1SPB__PAYLOAD__PROPERTY_VALUE__VALUE_STRING_VALUE;
 		e->vals[k].string_value = (char *)s->reason;
 		e->keys[k] = (char *)"Reason";
+		e->valp[k] = &e->vals[k];
+		k++;
+	}
+	for (size_t i = 0; i < s->nprops && i < GW_SPB_PROPS_MAX; i++) {
+		df1spb__payload__property_value__init(&e->vals[k]);
+		e->vals[k].has_type = true;
+		e->vals[k].type = GW_SPB_STRING;
+		e->vals[k].value_case = DF1SPB__PAYLOAD__PROPERTY_VALUE__VALUE_STRING_VALUE;
+		e->vals[k].string_value = (char *)s->prop_vals[i];
+		e->keys[k] = (char *)s->prop_keys[i];
 		e->valp[k] = &e->vals[k];
 		k++;
 	}

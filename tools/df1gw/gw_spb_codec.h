@@ -57,7 +57,13 @@ struct gw_spb_metric {
 	size_t nbytes;
 	int quality;                  /* -1: none */
 	const char *reason;           /* NULL: none */
+	/* encoding only: more properties, Strings (the line's settings) */
+	const char *const *prop_keys;
+	const char *const *prop_vals;
+	size_t nprops;                /* at most GW_SPB_PROPS_MAX */
 };
+
+#define GW_SPB_PROPS_MAX 8
 
 /* A metric with nothing set (quality -1). */
 void gw_spb_metric_init(struct gw_spb_metric *m);
