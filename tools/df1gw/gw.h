@@ -98,10 +98,11 @@ void gw_publish_gone(struct gw *g, const struct gw_pub *e);
 void gw_publish_offline(struct gw *g);
 /* The tag callback of df1_set_tag_callback: marks the tag dirty. */
 void gw_on_tag(void *user, int id, const struct df1_tag_state *st);
-/* A message on a format's write topics, <prefix>/tag/+/set for JSON
- * (gw_mqtt_events.message). */
+/* A message on a format's write topics, <prefix>/tag/+/set for JSON, or on
+ * a session format's own (Sparkplug's NCMD, DCMD, STATE) (gw_mqtt_events.message). */
 void gw_on_message(void *user, const char *topic, const void *payload, int len, bool retain);
-/* Connected (again): status online, subscribe, republish everything. */
+/* Connected (again): status online, subscribe, republish everything; a
+ * session format's births. */
 void gw_on_connected(void *user);
 /* Before each connect (gw_mqtt_events.connecting): a session format's will
  * with the next bdSeq, kept in --sparkplug-state. */

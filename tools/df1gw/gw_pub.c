@@ -4,7 +4,8 @@
  * station (its content changed, --refresh, a reconnect), the status, and
  * writes through df1_tag_write(), each with one result; what the messages
  * hold and which topics they go to is each enabled payload format's
- * (gw_format.h).
+ * (gw_format.h). A session format (Sparkplug) is also given what it sees of
+ * the gateway (struct gw_node, at the end of this file).
  */
 #include "df1gw/gw.h"
 
