@@ -61,6 +61,14 @@ Total,Read,LONG,2,MicroLogix,L10:0,1,100
 Missing,Read,INT,1,SLC,N50:0,1,100
 MAP
 
+# ---- bad options: exit 2, said ----
+expect 2 "a group id with '/'" -- "$GW" -d /dev/null --map "$T/map.csv" --mqtt mqtt://127.0.0.1:1 --sparkplug a/b
+err_has "group id refused" "one topic level"
+expect 2 "--edge-node without --sparkplug" -- "$GW" -d /dev/null --map "$T/map.csv" --mqtt mqtt://127.0.0.1:1 --edge-node E
+err_has "--edge-node alone refused" "go with --sparkplug"
+expect 2 "--device-name without a station" -- "$GW" -d /dev/null --map "$T/map.csv" --mqtt mqtt://127.0.0.1:1 --sparkplug G --device-name x=A
+err_has "--device-name refused" "N=NAME"
+
 sim_start plc --station 1,2 --data "$T/plc.txt" --log "$T/sim.log" || finish
 SIM=$SIM_PID
 
