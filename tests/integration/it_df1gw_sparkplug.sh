@@ -122,6 +122,12 @@ $HOST dcmd "$MQ_PORT" Plant Line1 station1 Speed INT16 77 "$TS"    # the same me
 seen "DDATA Speed 77 after the DCMD" "$M" "$(metric Speed) == [77]"
 $HOST dcmd "$MQ_PORT" Plant Line1 Mixer Run BOOLEAN 0
 seen "DDATA Run false" "$M" "$(metric Run) == [False]"
+M2=$(mark)
+$HOST dcmd "$MQ_PORT" Plant Line1 Mixer Cycle/PRE INT16 600
+seen "a timer member written: DDATA of that member only" "$M2" \
+	"[[m['name'] for m in r['metrics']] for r in R if r['type'] == 'DDATA'] == [['Cycle/PRE']] and $(metric Cycle/PRE) == [600]"
+same "the member written as the whole element, the rest as read (df1sim's log)" \
+	"$(grep -c 'cmd=0F/AA addr=T4:0 ' "$T/sim.log")" 1
 same "one write of N7:0 in df1sim's log" "$(grep -c 'cmd=0F/AA addr=N7:0 ' "$T/sim.log")" 1
 
 # ---- DCMD to a read-only tag: refused, nothing sent, the true value again ----

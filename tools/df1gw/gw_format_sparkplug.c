@@ -45,9 +45,13 @@ struct spb {
 	uint64_t births, deaths, commands, rejected, rebirths;
 	struct gw_spb_list scratch;
 	struct gw_buf tmp;
-	/* per tag id: a hash of what the host was last told (DBIRTH or DDATA,
-	 * without times), so that a DDATA says only what changed since */
-	uint64_t *told;
+	/* per tag id: a hash of each of its metrics as the host was last told
+	 * it (DBIRTH or DDATA, without times), so that a DDATA carries only the
+	 * metrics that changed since */
+	struct spb_told {
+		uint64_t *h;
+		size_t n;
+	} *told;
 	size_t ntold;
 	uint64_t sent;               /* DDATA made: every change key is new */
 };
@@ -106,6 +110,8 @@ static void spb_close(struct gw_fmt *f)
 		return;
 	gw_spb_list_free(&s->scratch);
 	gw_buf_free(&s->tmp);
+	for (size_t i = 0; i < s->ntold; i++)
+		free(s->told[i].h);
 	free(s->told);
 	free(s);
 	f->priv = NULL;
@@ -166,51 +172,112 @@ static uint64_t fnv1a(const struct gw_buf *b)
 	return h;
 }
 
-/* Remember that the host was told h of tag id; false when it was told that already. */
-static bool tell(struct spb *s, int id, uint64_t h)
+/* The host now knows tag id's metrics as h[0..n) (taken); chg[i] (when
+ * not NULL) says whether metric i changed. Returns how many changed. */
+static size_t tell(struct spb *s, int id, uint64_t *h, size_t n, bool *chg)
 {
-	if (id < 0)
-		return true;
-	if ((size_t)id >= s->ntold) {
-		size_t n = (size_t)id + 64;
-		uint64_t *v = realloc(s->told, n * sizeof *v);
+	struct spb_told *o;
+	size_t k = 0;
 
-		if (!v)
-			return true;
-		memset(v + s->ntold, 0, (n - s->ntold) * sizeof *v);
-		s->told = v;
-		s->ntold = n;
+	if (id < 0 || !h) {
+		free(h);
+		return n;
 	}
-	if (s->told[id] == h)
-		return false;
-	s->told[id] = h;
-	return true;
+	if ((size_t)id >= s->ntold) {
+		size_t cap = (size_t)id + 64;
+		struct spb_told *v = realloc(s->told, cap * sizeof *v);
+
+		if (!v) {
+			free(h);
+			return n;       /* no memory: say all of it */
+		}
+		memset(v + s->ntold, 0, (cap - s->ntold) * sizeof *v);
+		s->told = v;
+		s->ntold = cap;
+	}
+	o = &s->told[id];
+	for (size_t i = 0; i < n; i++) {
+		bool c = o->n != n || o->h[i] != h[i];
+
+		if (chg)
+			chg[i] = c;
+		k += c;
+	}
+	free(o->h);
+	o->h = h;
+	o->n = n;
+	return k;
 }
 
-/* What tag t says without times: its hash. */
-static uint64_t tag_hash(struct spb *s, const struct gw_tag_out *t)
+/* Tag t's metrics without times, a hash of each into *h (allocated); their number, 0 when out of memory. */
+static size_t metric_hashes(struct spb *s, const struct gw_tag_out *t, uint64_t **h)
 {
-	struct gw_tag_out timeless = *t;
-	struct gw_spb_sample none = { &timeless, 0 };
+	struct gw_spb_how how = { false, false, false };
+	size_t n;
 
-	if (gw_spb_ddata_encode(&s->tmp, &s->scratch, &none, 1, false, false, 0) < 0)
+	*h = NULL;
+	gw_spb_list_reset(&s->scratch);
+	if (gw_spb_tag_metrics(&s->scratch, t, 0, &how) < 0 || s->scratch.n == 0 ||
+	    !(*h = malloc(s->scratch.n * sizeof **h))) {
+		gw_spb_list_reset(&s->scratch);
 		return 0;
-	return fnv1a(&s->tmp);
+	}
+	n = s->scratch.n;
+	for (size_t i = 0; i < n; i++) {
+		s->scratch.v[i].timestamp = 0;
+		(*h)[i] = gw_spb_encode(&s->tmp, 0, &s->scratch.v[i], 1) == 0 ? fnv1a(&s->tmp) : i;
+	}
+	gw_spb_list_reset(&s->scratch);
+	return n;
 }
 
-/* DDATA of the tag when its device is born and the host was told something
- * else; the change key is then always new (this format keeps its own). */
+/* The host is told tag t as it is now (a birth, a refused write's answer). */
+static void tell_tag(struct spb *s, const struct gw_tag_out *t)
+{
+	uint64_t *h;
+	size_t n = metric_hashes(s, t, &h);
+
+	tell(s, t->st->id, h, n, NULL);
+}
+
+/* DDATA of the metrics of tag t that changed since the host was told them,
+ * when its device is born; the change key is then always new (this format
+ * keeps its own record). */
 static int spb_tag(const struct gw_fmt *f, const struct gw_tag_out *t, struct gw_msg *m, struct gw_buf *key)
 {
 	struct spb *s = S(f);
 	int stn = t->st->config->station;
-	struct gw_spb_sample one = { t, tag_ms(t) };
+	struct gw_spb_how how = { false, s->c->aliases, false };
+	int64_t ms = tag_ms(t);
+	uint64_t *h;
+	bool *chg;
+	size_t n, j = 0;
+	int r;
 
 	if (!s->node_born || stn < 0 || stn >= GW_SPB_STATIONS || !s->dev_born[stn] ||
-	    !(t->st->config->access & DF1_ACCESS_READ) || !tell(s, t->st->id, tag_hash(s, t)))
+	    !(t->st->config->access & DF1_ACCESS_READ))
 		return -1;
+	n = metric_hashes(s, t, &h);
+	chg = n ? calloc(n, sizeof *chg) : NULL;
+	if (!chg) {
+		free(h);
+		n = 0;          /* no memory: all of it */
+	} else if (tell(s, t->st->id, h, n, chg) == 0) {
+		free(chg);
+		return -1;      /* the host knows it all */
+	}
+	gw_spb_list_reset(&s->scratch);
+	r = gw_spb_tag_metrics(&s->scratch, t, ms, &how);
+	for (size_t i = 0; i < s->scratch.n; i++)
+		if (!chg || i >= n || chg[i])
+			s->scratch.v[j++] = s->scratch.v[i];
+	s->scratch.n = j;
 	start(s, m, "DDATA", stn, 0);
-	if (gw_spb_ddata_encode(&m->body, &s->scratch, &one, 1, false, s->c->aliases, one.ms) < 0)
+	if (r == 0)
+		r = gw_spb_encode(&m->body, ms > 0 ? (uint64_t)ms : 0, s->scratch.v, s->scratch.n);
+	gw_spb_list_reset(&s->scratch);
+	free(chg);
+	if (r < 0)
 		return -1;
 	gw_buf_reset(key);
 	gw_buf_printf(key, "%llu", (unsigned long long)++s->sent);
@@ -251,7 +318,7 @@ static int spb_result(const struct gw_fmt *f, const struct gw_result_out *r, str
 
 		if (!s->node_born || stn < 0 || stn >= GW_SPB_STATIONS || !s->dev_born[stn])
 			return -1;
-		tell(s, r->now->st->id, tag_hash(s, r->now));
+		tell_tag(s, r->now);
 		start(s, m, "DDATA", stn, 0);
 		return gw_spb_ddata_encode(&m->body, &s->scratch, &one, 1, false, s->c->aliases, one.ms);
 	}
@@ -439,7 +506,7 @@ static void tell_all(struct spb *s, const struct gw_node *n, int stn)
 		char err[256];
 
 		if (n->tag(n->user, id, &st, &t, err, sizeof err) && st.config->station == stn)
-			tell(s, id, tag_hash(s, &t));
+			tell_tag(s, &t);
 	}
 	gw_spb_list_free(&s->scratch);
 	s->scratch = keep;
