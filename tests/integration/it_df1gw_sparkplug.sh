@@ -190,8 +190,10 @@ $HOST state "$MQ_PORT" Scada offline
 seen "NDEATH when the primary host goes offline" "$M" "[r for r in R if r['type'] == 'NDEATH']"
 tries=10; while [ $tries -gt 0 ]; do tick; tries=$((tries - 1)); done
 check "no NBIRTH while it stays offline" "! has $M '$NB'"
-$HOST state "$MQ_PORT" Scada online
-seen "NBIRTH again (a new session) when it is back" "$M" "len($NB) == 1"
+# back in the Sparkplug 2.x form: STATE/Scada ONLINE (the 3.0 retained STATE cleared first)
+mosquitto_pub -h 127.0.0.1 -p "$MQ_PORT" -t spBv1.0/STATE/Scada -r -n 2>/dev/null
+mosquitto_pub -h 127.0.0.1 -p "$MQ_PORT" -q 1 -t STATE/Scada -m ONLINE
+seen "NBIRTH again (a new session) when it is back (2.x STATE)" "$M" "len($NB) == 1"
 check "the new session's bdSeq is the next one" "has $M '[m[\"value\"] for m in $NB[0][\"metrics\"] if m[\"name\"] == \"bdSeq\"] == [3]'"
 kill -TERM "$GW_PID"
 lib_reap "$GW_PID"

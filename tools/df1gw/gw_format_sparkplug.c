@@ -592,6 +592,8 @@ static void spb_connected(const struct gw_fmt *f, const struct gw_node *n)
 	if (s->c->primary_host) {
 		snprintf(topic, sizeof topic, NS "/STATE/%s", s->c->primary_host);
 		n->subscribe(n->user, topic);
+		snprintf(topic, sizeof topic, "STATE/%s", s->c->primary_host);    /* Sparkplug 2.x */
+		n->subscribe(n->user, topic);
 		return;         /* births when its STATE says online */
 	}
 	births(s, n);
@@ -659,7 +661,7 @@ static void say(const struct gw_node *n, const char *fmt, const char *a, const c
 	n->log(n->user, text);
 }
 
-/* spBv1.0/STATE/HOST: {"online":true|false,"timestamp":...} (3.0), or ONLINE / OFFLINE (2.x). */
+/* spBv1.0/STATE/HOST: {"online":true|false,"timestamp":...} (3.0); STATE/HOST: ONLINE / OFFLINE (2.x). */
 static void host_state(struct spb *s, const struct gw_node *n, const char *p, size_t len)
 {
 	char err[120];
@@ -785,7 +787,7 @@ static bool spb_message(const struct gw_fmt *f, const struct gw_node *n, const c
 
 	if (s->c->primary_host) {
 		snprintf(pre, sizeof pre, NS "/STATE/%s", s->c->primary_host);
-		if (strcmp(topic, pre) == 0) {
+		if (strcmp(topic, pre) == 0 || strcmp(topic, pre + strlen(NS) + 1) == 0) {
 			host_state(s, n, payload, len);
 			return true;
 		}
