@@ -60,6 +60,16 @@ TOOL_SRCS_df1gw := $(sort $(wildcard tools/df1gw/*.c))
 TOOL_LIBS_df1gw := $(shell pkg-config --libs libmosquitto 2>/dev/null || echo -lmosquitto)
 # df1gw's modules that need no broker library, linked into its unit tests
 GW_PURE_OBJS := $(patsubst %.c,$(B)/%.o,$(filter-out tools/df1gw/df1gw.c tools/df1gw/gw_mqtt.c tools/df1gw/gw_pub.c,$(TOOL_SRCS_df1gw)))
+# Sparkplug B (df1gw --sparkplug): C made from tools/df1gw/spb.proto by protoc-c
+# into the build directory, linked with libprotobuf-c; gw_spb_codec.c is the
+# only file that includes it, and df1gw's unit tests link it too.
+SPB_GEN_DIR := $(B)/gen/df1gw
+SPB_GEN_OBJ := $(SPB_GEN_DIR)/spb.pb-c.o
+PROTOBUF_C_CFLAGS := $(shell pkg-config --cflags libprotobuf-c 2>/dev/null)
+PROTOBUF_C_LIBS := $(shell pkg-config --libs libprotobuf-c 2>/dev/null || echo -lprotobuf-c)
+TOOL_LIBS_df1gw += $(SPB_GEN_OBJ) $(PROTOBUF_C_LIBS)
+GW_PURE_OBJS += $(SPB_GEN_OBJ)
+GW_TEST_LIBS := $(PROTOBUF_C_LIBS)
 TOOL_COMMON_SRCS := $(sort $(wildcard tools/common/*.c))
 TOOL_COMMON_LIB := $(B)/libdf1-tools.a
 TOOLS := $(foreach t,$(TOOL_NAMES),$(B)/bin/$(t))
@@ -156,6 +166,18 @@ $(B)/bin/$(1): $$(TOOL_SRCS_$(1):%.c=$$(B)/%.o) $$(TOOL_COMMON_LIB) $$(TOOL_LIB_
 endef
 $(foreach t,$(TOOL_NAMES),$(eval $(call TOOL_RULE,$(t))))
 
+# Sparkplug B: the generated code (its own warnings are protoc-c's, not ours)
+$(SPB_GEN_DIR)/spb.pb-c.c $(SPB_GEN_DIR)/spb.pb-c.h: tools/df1gw/spb.proto
+	$(Q)mkdir -p $(SPB_GEN_DIR)
+	@$(if $(Q),echo "  PROTOC  $@")
+	$(Q)protoc-c --proto_path=tools/df1gw --c_out=$(SPB_GEN_DIR) spb.proto
+$(SPB_GEN_OBJ): $(SPB_GEN_DIR)/spb.pb-c.c
+	$(Q)mkdir -p $(dir $@); $(if $(Q),echo "  CC      $@";) \
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(EXTRA) $(PROTOBUF_C_CFLAGS) -I$(SPB_GEN_DIR) -c -o $@ $<
+$(B)/tools/df1gw/gw_spb_codec.o: $(SPB_GEN_DIR)/spb.pb-c.h
+$(B)/tools/df1gw/gw_spb_codec.o: TOOL_CPPFLAGS += -I$(SPB_GEN_DIR) $(PROTOBUF_C_CFLAGS)
+$(B)/bin/df1gw: $(SPB_GEN_OBJ)
+
 $(B)/libdf1.pc: libdf1.pc.in include/df1.h
 	$(Q)sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
 	    -e 's|@INCLUDEDIR@|$(INCLUDEDIR)|' -e 's|@VERSION@|$(VERSION)|' $< > $@
@@ -169,7 +191,7 @@ $(B)/tests/$(notdir $(1:.c=)): $(B)/$(1:.c=.o) $(TEST_HELPER_OBJS) $(STATIC) \
 	@$$(if $$(Q),echo "  LD      $$@")
 	$$(Q)$$(CC) $$(CFLAGS) $$(EXTRA) $$(LDFLAGS) -o $$@ $$< \
 		$(if $(filter tests/unit/df1gw/%,$(1)),$$(GW_PURE_OBJS) $$(TOOL_COMMON_LIB)) \
-		$$(TEST_HELPER_OBJS) $$(STATIC) $$(CMOCKA_LIBS) $$(LIBS) -lpthread
+		$$(TEST_HELPER_OBJS) $$(STATIC) $$(CMOCKA_LIBS) $$(LIBS) $(if $(filter tests/unit/df1gw/%,$(1)),$$(GW_TEST_LIBS)) -lpthread
 endef
 $(foreach t,$(TEST_SRCS),$(eval $(call TEST_RULE,$(t))))
 

@@ -9,6 +9,8 @@
 #  - CPU: df1gw's user + system time per scan of 1000 tags (N10:0..999, one
 #    Read tag each, Scan_Ms 0), from /proc/PID/stat, scans counted in df1sim's
 #    --log; then the same with --refresh 1 (1000 publications a second).
+#  - Sparkplug B: the same CPU figure with --sparkplug on; bench_spb.c: bytes
+#    per update and updates encoded per second, JSON against Sparkplug.
 # BENCH_GW_WRITES (default 50) and BENCH_GW_SECONDS (default 10) set the size.
 set -u
 B=${1:-build}
@@ -97,3 +99,14 @@ measure() {
 echo "bench_gw: CPU, 1000 tags (N10:0..999, 9 block reads a scan), Scan_Ms 0, $SECS s each:"
 measure steady
 measure refresh --refresh 1
+
+# ---- Sparkplug B (df1gw --sparkplug) ----
+# CPU of the same 1000 tags with Sparkplug on beside JSON; then bench_spb: the
+# two formats' bytes per update and encode rate on one 1000-tag workload
+echo "bench_gw: CPU with --sparkplug (JSON and Sparkplug B both on), as above:"
+measure sparkplug --sparkplug Bench --edge-node B1
+$CC -O2 -g -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE -Wall -Wextra -Iinclude -Itools -o "$B/bench/bench_spb" \
+	bench/bench_spb.c $(ls "$B"/tools/df1gw/*.o | grep -v '/df1gw\.o$\|/gw_mqtt\.o$\|/gw_pub\.o$') \
+	"$B/gen/df1gw/spb.pb-c.o" "$B/libdf1-tools.a" "$B/libdf1.a" \
+	$(pkg-config --libs libprotobuf-c 2>/dev/null || echo -lprotobuf-c) -lcsv -lm -lpthread || exit 1
+"$B/bench/bench_spb" "${BENCH_SPB_ROUNDS:-200}"

@@ -16,6 +16,9 @@ have_header mosquitto.h || missing="$missing libmosquitto-dev"
 # the broker and its clients, for the gateway's tests and make demo
 command -v mosquitto >/dev/null 2>&1 || [ -x /usr/sbin/mosquitto ] || missing="$missing mosquitto"
 command -v mosquitto_sub >/dev/null 2>&1 || missing="$missing mosquitto-clients"
+# Sparkplug B in df1gw: protobuf-c's library and its compiler protoc-c
+have_header protobuf-c/protobuf-c.h || missing="$missing libprotobuf-c-dev"
+command -v protoc-c >/dev/null 2>&1 || missing="$missing protobuf-c-compiler"
 [ -z "$missing" ] && exit 0
 cmd="apt-get install -y$missing"
 as=

@@ -190,6 +190,7 @@ static int line_adopt(struct gw *g, df1_t *h)
 	g->dirty = dirty;
 	g->pub_of = pub_of;
 	g->ntags = n;
+	g->generation++;        /* Sparkplug: new births */
 	df1_set_tag_callback(h, gw_on_tag, g);
 	return 0;
 }
@@ -328,14 +329,21 @@ static int broker_setup(struct gw *g)
 		.username = g->username, .password = g->password, .keepalive = g->keepalive_s,
 		.qos = g->qos, .will_topic = NULL, .verbose = g->cli.verbose, .quiet = g->cli.quiet,
 	};
-	struct gw_mqtt_events ev = { g, gw_on_connected, g->once ? NULL : gw_on_message };
+	struct gw_mqtt_events ev = { g, gw_on_connected, g->once ? NULL : gw_on_message,
+	                             g->once ? NULL : gw_on_connecting };
+	bool will_per_connect = false;
 	char err[256];
 
-	if (gw_fmts_enable_list(&g->fmts, GW_FORMATS_DEFAULT, g->prefix, err, sizeof err) < 0) {
+	if ((!g->json_off && gw_fmts_enable_list(&g->fmts, GW_FORMATS_DEFAULT, g->prefix, err, sizeof err) < 0) ||
+	    (g->spb.group && gw_fmts_enable_conf(&g->fmts, "sparkplug", g->prefix, &g->spb, err, sizeof err) < 0)) {
 		fprintf(stderr, "%s: %s\n", GW_PROG, err);
 		return CLI_EXIT_USAGE;
 	}
-	for (int i = 0; i < g->fmts.n && !g->once && !mc.will_topic; i++) {
+	/* Sparkplug's NDEATH is the will (a new one per connect, gw_on_connecting) */
+	for (int i = 0; i < g->fmts.n; i++)
+		will_per_connect = will_per_connect || g->fmts.v[i].ops->will_next;
+	gw_bdseq_load(g);
+	for (int i = 0; i < g->fmts.n && !g->once && !mc.will_topic && !will_per_connect; i++) {
 		const struct gw_fmt *f = &g->fmts.v[i];
 
 		if (f->ops->will(f, &g->will) == 0) {
@@ -641,6 +649,7 @@ static void gw_print_counters(const struct gw *g)
 	       (unsigned long long)ps.writes, (unsigned long long)ps.write_failures,
 	       (unsigned long long)ps.retries);
 	gw_eip_counters(&g->eip, stdout);
+	gw_publish_counters(g, stdout);
 	cli_print_counters(stdout, g->h, CLI_FMT_PLAIN, 0);
 	fflush(stdout);
 }

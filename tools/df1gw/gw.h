@@ -11,10 +11,12 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "common/cli.h"
 #include "df1gw/gw_eip.h"
 #include "df1gw/gw_format.h"
+#include "df1gw/gw_format_sparkplug.h"
 #include "df1gw/gw_json.h"
 #include "df1gw/gw_mqtt.h"
 #include "df1gw/gw_state.h"
@@ -69,6 +71,13 @@ struct gw {
 	bool republish;              /* everything, at the next chance (connected, line change) */
 	int64_t next_refresh_ms;
 	unsigned writes_pending;
+
+	/* Sparkplug B (--sparkplug; df1gw(1) SPARKPLUG) */
+	struct gw_spb_conf spb;
+	bool json_off;               /* --json no: Sparkplug alone */
+	const char *spb_state_path;  /* --sparkplug-state FILE: bdSeq kept across restarts */
+	unsigned bdseq_next;         /* the bdSeq of the next connect */
+	unsigned generation;         /* the tags' configuration: a reload changes it */
 };
 
 /* The command line into g (gw_options.c): CLI_CONTINUE or the exit status,
@@ -89,11 +98,19 @@ void gw_publish_gone(struct gw *g, const struct gw_pub *e);
 void gw_publish_offline(struct gw *g);
 /* The tag callback of df1_set_tag_callback: marks the tag dirty. */
 void gw_on_tag(void *user, int id, const struct df1_tag_state *st);
-/* A message on a format's write topics, <prefix>/tag/+/set for JSON
- * (gw_mqtt_events.message). */
+/* A message on a format's write topics, <prefix>/tag/+/set for JSON, or on
+ * a session format's own (Sparkplug's NCMD, DCMD, STATE) (gw_mqtt_events.message). */
 void gw_on_message(void *user, const char *topic, const void *payload, int len, bool retain);
-/* Connected (again): status online, subscribe, republish everything. */
+/* Connected (again): status online, subscribe, republish everything; a
+ * session format's births. */
 void gw_on_connected(void *user);
+/* Before each connect (gw_mqtt_events.connecting): a session format's will
+ * with the next bdSeq, kept in --sparkplug-state. */
+void gw_on_connecting(void *user);
+/* The bdSeq of the first connect: one more than --sparkplug-state's (0 without). */
+void gw_bdseq_load(struct gw *g);
+/* --counters: each format's own line. */
+void gw_publish_counters(const struct gw *g, FILE *out);
 /* A tag's configuration as one line of text (a reload compares them). */
 void gw_tag_config_text(const struct df1_tag_config *c, char *out, size_t cap);
 

@@ -15,6 +15,7 @@
  */
 #define GW_FORMAT_TABLE(X) \
 	X(json) \
+	X(sparkplug) \
 	/* the end of the table */
 
 #define GW_FORMAT_DECLARE(name) extern const struct gw_format gw_format_##name;
@@ -41,6 +42,12 @@ const struct gw_format *gw_format_find(const char *name)
 
 int gw_fmts_enable(struct gw_fmts *l, const char *name, const char *prefix, char *err, size_t errcap)
 {
+	return gw_fmts_enable_conf(l, name, prefix, NULL, err, errcap);
+}
+
+int gw_fmts_enable_conf(struct gw_fmts *l, const char *name, const char *prefix, const void *conf, char *err,
+                        size_t errcap)
+{
 	const struct gw_format *ops = gw_format_find(name);
 	struct gw_fmt *f;
 
@@ -59,7 +66,7 @@ int gw_fmts_enable(struct gw_fmts *l, const char *name, const char *prefix, char
 		return -1;
 	}
 	f = &l->v[l->n];
-	*f = (struct gw_fmt){ ops, prefix, l->n, NULL };
+	*f = (struct gw_fmt){ ops, prefix, l->n, NULL, conf };
 	if (ops->open && ops->open(f, err, errcap) < 0)
 		return -1;
 	l->n++;
@@ -105,11 +112,14 @@ void gw_fmts_close(struct gw_fmts *l)
 bool gw_fmt_tag_changed(const struct gw_fmt *f, struct gw_pub *e, const struct gw_tag_out *t, struct gw_msg *m,
                         struct gw_buf *key, int64_t now, bool force)
 {
-	return f->ops->tag(f, t, m, key) == 0 && gw_pub_update(e, f->slot, key->p ? key->p : "", now, force);
+	/* a session format's births say everything again: no forced repetition */
+	return f->ops->tag(f, t, m, key) == 0 &&
+	       gw_pub_update(e, f->slot, key->p ? key->p : "", now, force && !f->ops->session);
 }
 
 bool gw_fmt_station_changed(const struct gw_fmt *f, struct gw_pub *e, const struct gw_station_out *s,
                             struct gw_msg *m, struct gw_buf *key, int64_t now, bool force)
 {
-	return f->ops->station(f, s, m, key) == 0 && gw_pub_update(e, f->slot, key->p ? key->p : "", now, force);
+	return f->ops->station(f, s, m, key) == 0 &&
+	       gw_pub_update(e, f->slot, key->p ? key->p : "", now, force && !f->ops->session);
 }

@@ -32,6 +32,7 @@ struct gw_msg {
 	char topic[GW_TOPIC_MAX];
 	struct gw_buf body;          /* the payload's bytes */
 	bool retain;
+	int qos;                     /* -1: the connection's (--qos) */
 };
 
 /* A tag's state as the gateway tells it (what it says beyond the library's). */
@@ -40,6 +41,7 @@ struct gw_tag_out {
 	const char *reason;          /* NULL: df1_reason_name() of the state's */
 	int quality;                 /* -1: the state's */
 	const char *error;           /* the last error in the catalog's form, or NULL */
+	int64_t wall_ms;             /* now, ms since the epoch (0: not known) */
 };
 
 /* A station's health. */
@@ -58,6 +60,7 @@ struct gw_result_out {
 	bool ok;
 	const char *error;           /* NULL when ok */
 	bool unconfirmed;            /* the PLC may have executed it (gw_write_unconfirmed) */
+	const struct gw_tag_out *now; /* the tag as it is now, or NULL */
 };
 
 /* An incoming write, as its format parsed the payload. */
@@ -67,6 +70,42 @@ struct gw_write_in {
 };
 
 struct gw_fmt;
+
+/* The line as a session format tells it (Sparkplug's node metrics). */
+struct gw_line_out {
+	bool up;
+	const char *device;
+	const struct df1_poll_stats *ps;
+	unsigned generation;         /* changes when the tags change (a reload) */
+	int64_t wall_ms;             /* now, ms since the epoch */
+	int64_t now_ms;              /* now, monotonic ms */
+	/* the line's settings as text ("Baud" "19200", ...): properties of Line/Device */
+	const char *const *setting_keys;
+	const char *const *setting_vals;
+	size_t nsettings;
+};
+
+/* What a session format (one with births and commands: Sparkplug) sees of
+ * the gateway: gw_pub.c gives it to the session ops. */
+struct gw_node {
+	void *user;
+	int ntags;
+	/* tag id's state into *st and what the gateway says of it into *t
+	 * (t->st = st; err its error's room); false: no such tag */
+	bool (*tag)(void *user, int id, struct df1_tag_state *st, struct gw_tag_out *t, char *err, size_t cap);
+	/* station stn's health (sh its room); false: no tags on it */
+	bool (*station)(void *user, int stn, struct gw_station_out *s, struct df1_station_health *sh);
+	void (*line)(void *user, struct gw_line_out *l, struct df1_poll_stats *ps);
+	/* m published at once, as it is (the format stamped it) */
+	void (*emit)(void *user, const struct gw_fmt *f, struct gw_msg *m);
+	int (*subscribe)(void *user, const char *pattern);
+	/* a write a command asks for: the gateway's checks, the write queue, one
+	 * result through f's result op; w is taken (write_free) */
+	void (*write)(void *user, const struct gw_fmt *f, const char *tag, struct gw_write_in *w, bool retain);
+	/* leave the broker cleanly and connect again (its will not sent) */
+	void (*reconnect)(void *user);
+	void (*log)(void *user, const char *text);
+};
 
 /* What a format does. Every function is given but open and close; a message
  * function fills all of *m (topic, body, retain) and returns 0, or -1 when it
@@ -105,6 +144,25 @@ struct gw_format {
 	                    const struct df1_tag_state *cur, struct df1_value *out, size_t cap, size_t *n,
 	                    char *err, size_t errcap);
 	void (*write_free)(struct gw_write_in *w);
+
+	/* A session format (Sparkplug; NULL and false for JSON). Its messages
+	 * are not republished by force (--refresh, a reconnect): it has births.
+	 * set_pattern and set_tag may then be NULL. */
+	bool session;
+	/* Before each connect: the will of that connection into m (bdseq: its
+	 * number, 0-255, counted by the gateway); -1: none. Preferred to will. */
+	int (*will_next)(const struct gw_fmt *f, unsigned bdseq, struct gw_msg *m);
+	/* Connected: its subscriptions, its births. */
+	void (*connected)(const struct gw_fmt *f, const struct gw_node *n);
+	/* After each pass of publication: what follows from the stations' and the line's state. */
+	void (*tick)(const struct gw_fmt *f, const struct gw_node *n);
+	/* A message: true when it was on one of its topics (then taken). */
+	bool (*message)(const struct gw_fmt *f, const struct gw_node *n, const char *topic, const void *payload,
+	                size_t len, bool retain);
+	/* m about to be published: its last touch (Sparkplug's seq). */
+	void (*stamp)(const struct gw_fmt *f, struct gw_msg *m);
+	/* Its counters as one line of text (--counters) into out; -1: none. */
+	int (*counters)(const struct gw_fmt *f, char *out, size_t cap);
 };
 
 /* An enabled format. */
@@ -113,6 +171,7 @@ struct gw_fmt {
 	const char *prefix;          /* the topic prefix (--prefix) */
 	int slot;                    /* its place in the list: its change key in gw_pub */
 	void *priv;                  /* the format's own state */
+	const void *conf;            /* its options (gw_fmts_enable_conf), or NULL */
 };
 
 /* The formats enabled, in order. */
@@ -129,6 +188,9 @@ const struct gw_format *gw_format_at(size_t i);
 /* Enable the format named name with topics under prefix (kept, not copied).
  * 0, or -1 with err (unknown, enabled already, too many, its open failed). */
 int gw_fmts_enable(struct gw_fmts *l, const char *name, const char *prefix, char *err, size_t errcap);
+/* The same with the format's options (kept, not copied; the format knows their type). */
+int gw_fmts_enable_conf(struct gw_fmts *l, const char *name, const char *prefix, const void *conf, char *err,
+                        size_t errcap);
 /* Enable each of names, a comma-separated list ("json"), in its order. 0, or -1 with err. */
 int gw_fmts_enable_list(struct gw_fmts *l, const char *names, const char *prefix, char *err, size_t errcap);
 void gw_fmts_close(struct gw_fmts *l);
@@ -139,6 +201,7 @@ static inline void gw_msg_init(struct gw_msg *m)
 	m->topic[0] = '\0';
 	gw_buf_init(&m->body);
 	m->retain = false;
+	m->qos = -1;
 }
 
 static inline void gw_msg_free(struct gw_msg *m)
@@ -153,6 +216,7 @@ static inline void gw_msg_reset(struct gw_msg *m)
 	m->topic[0] = '\0';
 	gw_buf_reset(&m->body);
 	m->retain = false;
+	m->qos = -1;
 }
 
 /* f's message of tag t into m, its change key compared with the one last

@@ -175,6 +175,8 @@ static void mq_try(struct gw_mqtt *q, int64_t now)
 {
 	int rc;
 
+	if (q->ev.connecting)
+		q->ev.connecting(q->ev.user);
 	q->refused = 0;
 	if (!q->started) {
 		q->started = true;
@@ -190,6 +192,8 @@ static void mq_try(struct gw_mqtt *q, int64_t now)
 	q->state = GW_MQTT_CONNECTING;
 }
 
+static void mq_drop(struct gw_mqtt *q, int64_t now);
+
 void gw_mqtt_service(struct gw_mqtt *q, short revents, int64_t now)
 {
 	int rc = 0;
@@ -203,6 +207,10 @@ void gw_mqtt_service(struct gw_mqtt *q, short revents, int64_t now)
 		rc = mosquitto_loop_read(q->m, 1);
 	if (rc == 0 && q->m && mosquitto_socket(q->m) >= 0 && (revents & POLLOUT))
 		rc = mosquitto_loop_write(q->m, 1);
+	if (rc == 0 && q->drop) {
+		mq_drop(q, now);
+		return;
+	}
 	if (rc == 0)
 		rc = mosquitto_loop_misc(q->m);
 	if (rc == 0 && mosquitto_socket(q->m) < 0)
@@ -220,16 +228,50 @@ void gw_mqtt_service(struct gw_mqtt *q, short revents, int64_t now)
 
 int gw_mqtt_publish(struct gw_mqtt *q, const char *topic, const void *payload, size_t len, bool retain)
 {
+	return gw_mqtt_publish_qos(q, topic, payload, len, -1, retain);
+}
+
+int gw_mqtt_publish_qos(struct gw_mqtt *q, const char *topic, const void *payload, size_t len, int qos, bool retain)
+{
 	int rc;
 
 	if (q->state != GW_MQTT_UP)
 		return -1;
-	rc = mosquitto_publish(q->m, NULL, topic, (int)len, payload, q->cfg.qos, retain);
+	if (qos < 0)
+		qos = q->cfg.qos;
+	rc = mosquitto_publish(q->m, NULL, topic, (int)len, payload, qos, retain);
 	if (rc != 0)
 		return -1;
-	if (q->cfg.qos > 0)
+	if (qos > 0)
 		q->inflight++;
 	return 0;
+}
+
+int gw_mqtt_will(struct gw_mqtt *q, const char *topic, const void *payload, size_t len, int qos, bool retain)
+{
+	if (!topic)
+		return mosquitto_will_clear(q->m) == 0 ? 0 : -1;
+	return mosquitto_will_set(q->m, topic, (int)len, payload, qos < 0 ? q->cfg.qos : qos, retain) == 0 ? 0 : -1;
+}
+
+void gw_mqtt_reconnect(struct gw_mqtt *q, int64_t now)
+{
+	(void)now;
+	if (q->state != GW_MQTT_DOWN)
+		q->drop = true;
+}
+
+/* The reconnect asked for: what is queued, a clean DISCONNECT, a new try at once. */
+static void mq_drop(struct gw_mqtt *q, int64_t now)
+{
+	q->drop = false;
+	mosquitto_loop_write(q->m, 1);          /* what is queued (an NDEATH) goes first */
+	mosquitto_disconnect(q->m);
+	mosquitto_loop_write(q->m, 1);
+	q->state = GW_MQTT_DOWN;
+	q->inflight = 0;
+	q->backoff_ms = GW_MQTT_BACKOFF_MIN;
+	q->next_try_ms = now;
 }
 
 int gw_mqtt_subscribe(struct gw_mqtt *q, const char *pattern)

@@ -41,6 +41,7 @@ struct gw_mqtt_events {
 	void *user;
 	void (*connected)(void *user);          /* the broker accepted us (again) */
 	void (*message)(void *user, const char *topic, const void *payload, int len, bool retain);
+	void (*connecting)(void *user);         /* before each connect: gw_mqtt_will() may change the will */
 };
 
 enum gw_mqtt_state { GW_MQTT_DOWN, GW_MQTT_CONNECTING, GW_MQTT_UP };
@@ -57,6 +58,7 @@ struct gw_mqtt {
 	int backoff_ms;
 	int64_t next_try_ms;       /* DOWN: when to try again */
 	unsigned inflight;         /* QoS 1 publications not acknowledged yet */
+	bool drop;                 /* gw_mqtt_reconnect: leave and connect again, after the loop call */
 };
 
 /* libmosquitto set up from c (copied; its strings must outlive q): TLS files,
@@ -77,6 +79,13 @@ void gw_mqtt_service(struct gw_mqtt *q, short revents, int64_t now);
 /* Publish (queued by libmosquitto until written). 0, or -1 when not up. */
 int gw_mqtt_publish(struct gw_mqtt *q, const char *topic, const void *payload, size_t len, bool retain);
 int gw_mqtt_subscribe(struct gw_mqtt *q, const char *pattern);
+/* Sparkplug: a publication with its own QoS (-1: the connection's); the
+ * will of the next connect (NULL topic: none); leave cleanly (no will) and
+ * connect again at once (done by the next gw_mqtt_service: it may be asked
+ * from inside a libmosquitto callback). */
+int gw_mqtt_publish_qos(struct gw_mqtt *q, const char *topic, const void *payload, size_t len, int qos, bool retain);
+int gw_mqtt_will(struct gw_mqtt *q, const char *topic, const void *payload, size_t len, int qos, bool retain);
+void gw_mqtt_reconnect(struct gw_mqtt *q, int64_t now);
 bool gw_mqtt_up(const struct gw_mqtt *q);
 /* Nothing waits to be written or acknowledged. */
 bool gw_mqtt_idle(const struct gw_mqtt *q);

@@ -20,6 +20,8 @@ enum {
 	OPT_PASSWORD_FILE, OPT_PASSWORD, OPT_PREFIX, OPT_QOS, OPT_KEEPALIVE, OPT_REFRESH, OPT_ONCE,
 	OPT_WATCHDOG, OPT_EIP, OPT_EIP_STATION, OPT_EIP_ALLOW, OPT_EIP_READ_ONLY, OPT_COUNTERS,
 	OPT_EIP_MAX_CLIENTS, OPT_EIP_REGISTER_TIMEOUT, OPT_EIP_IDLE_TIMEOUT,
+	/* Sparkplug B */
+	OPT_SPARKPLUG, OPT_EDGE_NODE, OPT_JSON, OPT_PRIMARY_HOST, OPT_SPB_ALIASES, OPT_DEVICE_NAME, OPT_SPB_STATE,
 };
 
 static const struct cli_extra_opt gw_opts[] = {
@@ -56,8 +58,32 @@ static const struct cli_extra_opt gw_opts[] = {
 	{ "eip-idle-timeout", required_argument, OPT_EIP_IDLE_TIMEOUT, "S",
 	  "--eip: close a session idle for S s (default 120, 0: never)" },
 	{ "counters", no_argument, OPT_COUNTERS, NULL, "the line's and EtherNet/IP counters on stdout at exit" },
+	{ "sparkplug", required_argument, OPT_SPARKPLUG, "GROUP_ID",
+	  "also Sparkplug B: the line an edge node of group GROUP_ID, stations its devices" },
+	{ "edge-node", required_argument, OPT_EDGE_NODE, "ID", "--sparkplug: the edge node id (default: the client id)" },
+	{ "json", required_argument, OPT_JSON, "yes|no", "--sparkplug: also the JSON topics (default yes)" },
+	{ "primary-host", required_argument, OPT_PRIMARY_HOST, "ID",
+	  "--sparkplug: no birth until spBv1.0/STATE/ID says online" },
+	{ "sparkplug-aliases", no_argument, OPT_SPB_ALIASES, NULL,
+	  "--sparkplug: births name and alias each metric, DATA and CMD use aliases" },
+	{ "device-name", required_argument, OPT_DEVICE_NAME, "N=NAME",
+	  "--sparkplug: station N's device id (default stationN; repeatable)" },
+	{ "sparkplug-state", required_argument, OPT_SPB_STATE, "FILE",
+	  "--sparkplug: keeps bdSeq across restarts (default: bdSeq starts at 0)" },
 	{ NULL, 0, 0, NULL, NULL },
 };
+
+/* --device-name N=NAME */
+static int device_name_opt(struct cli *c, struct gw *g, const char *arg)
+{
+	char *end;
+	long n = strtol(arg, &end, 10);
+
+	if (end == arg || *end != '=' || n < 0 || n > 254 || !end[1])
+		return cli_usage_error(c, "--device-name %s: N=NAME, N a station 0-254", arg);
+	g->spb.device_name[n] = end + 1;
+	return CLI_CONTINUE;
+}
 
 static int gw_extra(struct cli *c, int key, const char *arg, void *user)
 {
@@ -92,6 +118,17 @@ static int gw_extra(struct cli *c, int key, const char *arg, void *user)
 		return cli_parse_int(c, "--eip-register-timeout", arg, 0, 3600, &g->eip.register_s);
 	case OPT_EIP_IDLE_TIMEOUT: return cli_parse_int(c, "--eip-idle-timeout", arg, 0, 3600, &g->eip.idle_s);
 	case OPT_COUNTERS: g->counters = true; break;
+	case OPT_SPARKPLUG: g->spb.group = arg; break;
+	case OPT_EDGE_NODE: g->spb.edge_node = arg; break;
+	case OPT_JSON:
+		if (strcmp(arg, "yes") != 0 && strcmp(arg, "no") != 0)
+			return cli_usage_error(c, "--json %s: yes or no", arg);
+		g->json_off = strcmp(arg, "no") == 0;
+		break;
+	case OPT_PRIMARY_HOST: g->spb.primary_host = arg; break;
+	case OPT_SPB_ALIASES: g->spb.aliases = true; break;
+	case OPT_DEVICE_NAME: return device_name_opt(c, g, arg);
+	case OPT_SPB_STATE: g->spb_state_path = arg; break;
 	default: return CLI_EXIT_USAGE;
 	}
 	return CLI_CONTINUE;
@@ -108,6 +145,7 @@ static const struct cli_tool gw_tool = {
 	.on_extra = gw_extra,
 	.help_tail = "\nTopics: PREFIX/tag/NAME (retained JSON), PREFIX/tag/NAME/set (a write),\n"
 	             "PREFIX/tag/NAME/result, PREFIX/station/N, PREFIX/status (online/offline).\n"
+	             "Sparkplug B: spBv1.0/GROUP/{NBIRTH,NDATA,NDEATH,NCMD}/EDGE[/DEVICE], DBIRTH, DDATA, DDEATH, DCMD.\n"
 	             "SIGTERM/SIGINT: offline, line closed, exit 0; SIGHUP: reload the mapping file.\n"
 	             "See df1gw(1).\n",
 	.exit_text = "0 stopped by SIGTERM or SIGINT (--once: published, no tag BAD), 1 the broker refused\n"
@@ -186,6 +224,26 @@ static int check_prefix(struct gw *g)
 	return 0;
 }
 
+/* The Sparkplug options go with --sparkplug (and a broker); the edge node id
+ * defaults to the client id. */
+static int check_sparkplug(struct gw *g)
+{
+	bool any = g->spb.edge_node || g->json_off || g->spb.primary_host || g->spb.aliases || g->spb_state_path;
+
+	for (int i = 0; i < GW_SPB_STATIONS; i++)
+		any = any || g->spb.device_name[i];
+	if (!g->spb.group && any)
+		return cli_usage_error(&g->cli, "--edge-node, --json, --primary-host, --sparkplug-aliases, "
+		                       "--device-name and --sparkplug-state go with --sparkplug GROUP_ID");
+	if (g->spb.group && !g->mqtt_url)
+		return cli_usage_error(&g->cli, "--sparkplug publishes: it needs --mqtt");
+	if (g->spb.group && g->once)
+		return cli_usage_error(&g->cli, "--sparkplug is a session (births, a will): not with --once");
+	if (g->spb.group && !g->spb.edge_node)
+		g->spb.edge_node = g->client_id;
+	return CLI_CONTINUE;
+}
+
 /* The options: parsed, checked against each other, the password read, the
  * client id and prefix made. CLI_CONTINUE or the exit status, having said why. */
 int gw_options_parse(struct gw *g, int argc, char **argv)
@@ -244,5 +302,5 @@ int gw_options_parse(struct gw *g, int argc, char **argv)
 		default_client_id(g);
 	if ((r = check_prefix(g)) != 0)
 		return r;
-	return CLI_CONTINUE;
+	return check_sparkplug(g);
 }

@@ -4,7 +4,8 @@
  * station (its content changed, --refresh, a reconnect), the status, and
  * writes through df1_tag_write(), each with one result; what the messages
  * hold and which topics they go to is each enabled payload format's
- * (gw_format.h).
+ * (gw_format.h). A session format (Sparkplug) is also given what it sees of
+ * the gateway (struct gw_node, at the end of this file).
  */
 #include "df1gw/gw.h"
 
@@ -50,9 +51,25 @@ static void publish(struct gw *g, const struct gw_msg *m)
 {
 	const char *body = m->body.p ? m->body.p : "";
 
-	if (gw_mqtt_publish(&g->mq, m->topic, body, m->body.len, m->retain) == 0 && g->cli.verbose &&
-	    !g->cli.quiet)
-		fprintf(stderr, "%s: > %s %.*s\n", GW_PROG, m->topic, (int)m->body.len, body);
+	bool text = gw_utf8_valid(body, m->body.len);
+
+	for (size_t i = 0; i < m->body.len && text; i++)
+		text = (unsigned char)body[i] >= 0x20 || body[i] == '\n' || body[i] == '\t';
+	if (gw_mqtt_publish_qos(&g->mq, m->topic, body, m->body.len, m->qos, m->retain) == 0 && g->cli.verbose &&
+	    !g->cli.quiet) {
+		if (text)
+			fprintf(stderr, "%s: > %s %.*s\n", GW_PROG, m->topic, (int)m->body.len, body);
+		else            /* a binary payload (Sparkplug's protobuf) */
+			fprintf(stderr, "%s: > %s (%zu bytes)\n", GW_PROG, m->topic, m->body.len);
+	}
+}
+
+/* A message of format f: its last touch (Sparkplug's seq), then out. */
+static void fmt_publish(struct gw *g, const struct gw_fmt *f, struct gw_msg *m)
+{
+	if (f->ops->stamp)
+		f->ops->stamp(f, m);
+	publish(g, m);
 }
 
 /* ---- tags ---- */
@@ -62,7 +79,7 @@ static void publish(struct gw *g, const struct gw_msg *m)
 static bool tag_out(const struct gw *g, const struct df1_tag_state *st, bool force, struct gw_tag_out *t,
                     char *error, size_t cap)
 {
-	*t = (struct gw_tag_out){ st, NULL, -1, NULL };
+	*t = (struct gw_tag_out){ st, NULL, -1, NULL, gw_wall_ms() };
 	if (!(st->config->access & DF1_ACCESS_READ)) {
 		t->reason = "write_only";
 	} else if (!g->line_up) {
@@ -90,10 +107,14 @@ static void tag_publish(struct gw *g, int id, const struct df1_tag_state *st, bo
 	e = &g->pubs.v[g->pub_of[id]];
 	for (int i = 0; i < g->fmts.n; i++)
 		if (gw_fmt_tag_changed(&g->fmts.v[i], e, &t, &g->msg, &g->key, now, force))
-			publish(g, &g->msg);
+			fmt_publish(g, &g->fmts.v[i], &g->msg);
 }
 
 static void station_publish(struct gw *g, int stn, bool force, int64_t now);
+static void gw_session_tick(struct gw *g);
+static void gw_session_connected(struct gw *g, const struct gw_fmt *f);
+static bool gw_session_message(struct gw *g, const struct gw_fmt *f, const char *topic, const void *payload,
+                               int len, bool retain);
 
 /* Published at once, from inside df1_poll(): a scan with retries can take
  * seconds, and libmosquitto writes a publication out as it is made. st is
@@ -141,7 +162,7 @@ static void station_publish(struct gw *g, int stn, bool force, int64_t now)
 		s.last_good_wall_ms = gw_wall_ms() - (now - sh.last_good_ms);
 	for (int i = 0; i < g->fmts.n; i++)
 		if (gw_fmt_station_changed(&g->fmts.v[i], e, &s, &g->msg, &g->key, now, force))
-			publish(g, &g->msg);
+			fmt_publish(g, &g->fmts.v[i], &g->msg);
 }
 
 void gw_publish_changes(struct gw *g, bool force)
@@ -163,6 +184,7 @@ void gw_publish_changes(struct gw *g, bool force)
 	for (int stn = 0; stn < 255; stn++)
 		if (g->stations[stn])
 			station_publish(g, stn, force, now);
+	gw_session_tick(g);
 }
 
 void gw_publish_gone(struct gw *g, const struct gw_pub *e)
@@ -184,7 +206,8 @@ void gw_publish_offline(struct gw *g)
 
 		/* said on the way out, not printed with -v */
 		if (f->ops->status(f, false, &g->msg) == 0)
-			gw_mqtt_publish(&g->mq, g->msg.topic, g->msg.body.p, g->msg.body.len, g->msg.retain);
+			gw_mqtt_publish_qos(&g->mq, g->msg.topic, g->msg.body.p, g->msg.body.len, g->msg.qos,
+			                    g->msg.retain);
 	}
 }
 
@@ -198,9 +221,13 @@ void gw_on_connected(void *user)
 
 		if (f->ops->status(f, true, &g->msg) == 0)
 			publish(g, &g->msg);
-		f->ops->set_pattern(f, topic, sizeof topic);
-		if (gw_mqtt_subscribe(&g->mq, topic) < 0 && !g->cli.quiet)
-			fprintf(stderr, "%s: cannot subscribe to %s\n", GW_PROG, topic);
+		if (f->ops->set_pattern) {
+			f->ops->set_pattern(f, topic, sizeof topic);
+			if (gw_mqtt_subscribe(&g->mq, topic) < 0 && !g->cli.quiet)
+				fprintf(stderr, "%s: cannot subscribe to %s\n", GW_PROG, topic);
+		}
+		if (f->ops->connected)
+			gw_session_connected(g, f);
 	}
 	g->republish = true;
 	gw_publish_changes(g, true);
@@ -218,8 +245,11 @@ struct gw_wr {
 static void result_publish(struct gw *g, const struct gw_fmt *f, const char *tag, const char *id, int err,
                            const char *detail)
 {
-	struct gw_result_out r = { tag, id, err == 0, NULL, false };
-	char text[1024];
+	struct gw_result_out r = { tag, id, err == 0, NULL, false, NULL };
+	struct df1_tag_state st;
+	struct gw_tag_out now;
+	char text[1024], nowerr[256];
+	int tid = g->h ? df1_tag_find(g->h, tag) : -1;
 
 	if (err) {
 		char base[256];
@@ -232,10 +262,12 @@ static void result_publish(struct gw *g, const struct gw_fmt *f, const char *tag
 		r.error = text;
 		r.unconfirmed = gw_write_unconfirmed(err);
 	}
-	if (!g->cli.quiet && err && g->cli.verbose)
+	if (!g->cli.quiet && err && (g->cli.verbose || f->ops->session))
 		fprintf(stderr, "%s: write %s%s%s: %s\n", GW_PROG, tag, *id ? " id " : "", id, text);
+	if (tid >= 0 && df1_tag_get(g->h, tid, &st) == 0 && tag_out(g, &st, true, &now, nowerr, sizeof nowerr))
+		r.now = &now;
 	if (f->ops->result(f, &r, &g->msg) == 0)
-		publish(g, &g->msg);
+		fmt_publish(g, f, &g->msg);
 }
 
 static void write_done(void *user, int tag_id, int write_id, int result)
@@ -297,22 +329,31 @@ static bool write_check(struct gw *g, const struct gw_fmt *f, const char *name, 
 	return true;
 }
 
-/* A write that came in format f's topic for tag name: checked, then queued
- * with df1_tag_write(); one result either way. */
+static void write_go(struct gw *g, const struct gw_fmt *f, const char *name, struct gw_write_in *w_in, bool retain);
+
+/* A write that came in format f's topic for tag name: parsed, then write_go. */
 static void write_take(struct gw *g, const struct gw_fmt *f, const char *name, const void *payload, int len,
                        bool retain)
 {
 	struct gw_write_in in;
-	struct df1_value vals[1000];
-	struct gw_wr *w;
 	char err[700];
-	size_t n;
-	int id, r;
 
 	if (f->ops->write_parse(f, payload, (size_t)(len < 0 ? 0 : len), &in, err, sizeof err) < 0) {
 		result_publish(g, f, name, "", DF1_E_INVAL, err);
 		return;
 	}
+	write_go(g, f, name, &in, retain);
+}
+
+/* A write parsed (in, taken): checked, then queued with df1_tag_write(); one result either way. */
+static void write_go(struct gw *g, const struct gw_fmt *f, const char *name, struct gw_write_in *w_in, bool retain)
+{
+	struct gw_write_in in = *w_in;
+	struct df1_value vals[1000];
+	struct gw_wr *w;
+	size_t n;
+	int id, r;
+
 	if (!write_check(g, f, name, &in, retain, &id, vals, sizeof vals / sizeof vals[0], &n)) {
 		f->ops->write_free(&in);
 		return;
@@ -345,7 +386,9 @@ void gw_on_message(void *user, const char *topic, const void *payload, int len, 
 	for (int i = 0; i < g->fmts.n; i++) {
 		const struct gw_fmt *f = &g->fmts.v[i];
 
-		if (!f->ops->set_tag(f, topic, name, sizeof name))
+		if (f->ops->message && gw_session_message(g, f, topic, payload, len, retain))
+			return;
+		if (!f->ops->set_tag || !f->ops->set_tag(f, topic, name, sizeof name))
 			continue;
 		if (g->cli.verbose && !g->cli.quiet)
 			fprintf(stderr, "%s: < %s%s %.*s\n", GW_PROG, topic, retain ? " (retained)" : "", len,
@@ -363,4 +406,171 @@ void gw_tag_config_text(const struct df1_tag_config *c, char *out, size_t cap)
 		snprintf(addr, sizeof addr, "?");
 	snprintf(out, cap, "%d|%s|%d|%d|%s|%d|%d", (int)c->access, c->type, c->station, (int)c->plc, addr,
 	         c->count, c->scan_ms);
+}
+
+/* ---- session formats (Sparkplug): what they see of the gateway (gw_node) ---- */
+
+static bool node_tag(void *user, int id, struct df1_tag_state *st, struct gw_tag_out *t, char *err, size_t cap)
+{
+	struct gw *g = user;
+
+	if (!g->h || id < 0 || id >= g->ntags || df1_tag_get(g->h, id, st) < 0)
+		return false;
+	tag_out(g, st, true, t, err, cap);
+	return true;
+}
+
+static bool node_station(void *user, int stn, struct gw_station_out *s, struct df1_station_health *sh)
+{
+	struct gw *g = user;
+
+	if (!g->h || stn < 0 || stn >= 255 || !g->stations[stn] || df1_station_health(g->h, stn, sh) < 0)
+		return false;
+	*s = (struct gw_station_out){ stn, df1_station_state_name(sh->state), NULL, sh, 0 };
+	return true;
+}
+
+static void node_line(void *user, struct gw_line_out *l, struct df1_poll_stats *ps)
+{
+	static const char *const keys[] = { "Baud", "Framing", "Duplex", "Check", "PLC" };
+	static const char *const plcs[] = { "SLC", "MicroLogix", "SLC 5/01-5/02", "PLC-5", "PLC-2" };
+	static char baud[16], framing[8];
+	static const char *vals[5];
+	struct gw *g = user;
+
+	memset(ps, 0, sizeof *ps);
+	if (g->h)
+		df1_poll_stats(g->h, ps);
+	snprintf(baud, sizeof baud, "%d", g->cli.baud);
+	snprintf(framing, sizeof framing, "%d%c%d", g->cli.data_bits, g->cli.parity, g->cli.stop_bits);
+	vals[0] = baud;
+	vals[1] = framing;
+	vals[2] = g->cli.half_duplex ? "half" : "full";
+	vals[3] = g->cli.check == DF1_CHECK_BCC ? "BCC" : "CRC";
+	vals[4] = (unsigned)g->cli.plc < 5 ? plcs[g->cli.plc] : "?";
+	*l = (struct gw_line_out){ g->line_up, g->cli.device, ps, g->generation, gw_wall_ms(), gw_now_ms(),
+	                           keys, vals, 5 };
+}
+
+static void node_emit(void *user, const struct gw_fmt *f, struct gw_msg *m)
+{
+	(void)f;
+	publish(user, m);
+}
+
+static int node_subscribe(void *user, const char *pattern)
+{
+	struct gw *g = user;
+	int r = gw_mqtt_subscribe(&g->mq, pattern);
+
+	if (r < 0 && !g->cli.quiet)
+		fprintf(stderr, "%s: cannot subscribe to %s\n", GW_PROG, pattern);
+	return r;
+}
+
+static void node_write(void *user, const struct gw_fmt *f, const char *tag, struct gw_write_in *w, bool retain)
+{
+	write_go(user, f, tag, w, retain);
+}
+
+static void node_reconnect(void *user)
+{
+	struct gw *g = user;
+
+	gw_mqtt_reconnect(&g->mq, gw_now_ms());
+}
+
+static void node_log(void *user, const char *text)
+{
+	struct gw *g = user;
+
+	if (!g->cli.quiet)
+		fprintf(stderr, "%s: %s\n", GW_PROG, text);
+}
+
+static struct gw_node node_of(struct gw *g)
+{
+	return (struct gw_node){ g, g->ntags, node_tag, node_station, node_line, node_emit, node_subscribe,
+	                         node_write, node_reconnect, node_log };
+}
+
+static void gw_session_connected(struct gw *g, const struct gw_fmt *f)
+{
+	struct gw_node n = node_of(g);
+
+	f->ops->connected(f, &n);
+}
+
+static void gw_session_tick(struct gw *g)
+{
+	struct gw_node n = node_of(g);
+
+	for (int i = 0; i < g->fmts.n; i++)
+		if (g->fmts.v[i].ops->tick && gw_mqtt_up(&g->mq))
+			g->fmts.v[i].ops->tick(&g->fmts.v[i], &n);
+}
+
+static bool gw_session_message(struct gw *g, const struct gw_fmt *f, const char *topic, const void *payload,
+                               int len, bool retain)
+{
+	struct gw_node n = node_of(g);
+
+	return f->ops->message(f, &n, topic, payload, (size_t)(len < 0 ? 0 : len), retain);
+}
+
+void gw_bdseq_load(struct gw *g)
+{
+	FILE *fp = g->spb_state_path ? fopen(g->spb_state_path, "r") : NULL;
+	unsigned last;
+
+	g->bdseq_next = 0;
+	if (!fp)
+		return;
+	if (fscanf(fp, "bdSeq %u", &last) == 1)
+		g->bdseq_next = (last + 1) & 0xFF;
+	fclose(fp);
+}
+
+/* The bdSeq of this connect, written down before it is used (a restart goes on from it). */
+static void bdseq_save(struct gw *g, unsigned bdseq)
+{
+	char tmp[4096];
+	FILE *fp;
+
+	if (!g->spb_state_path)
+		return;
+	snprintf(tmp, sizeof tmp, "%s.new", g->spb_state_path);
+	fp = fopen(tmp, "w");
+	if (!fp || fprintf(fp, "bdSeq %u\n", bdseq) < 0 || fclose(fp) != 0 || rename(tmp, g->spb_state_path) < 0) {
+		if (!g->cli.quiet)
+			fprintf(stderr, "%s: --sparkplug-state %s: cannot write it\n", GW_PROG, g->spb_state_path);
+	}
+}
+
+void gw_on_connecting(void *user)
+{
+	struct gw *g = user;
+
+	for (int i = 0; i < g->fmts.n; i++) {
+		const struct gw_fmt *f = &g->fmts.v[i];
+		unsigned bdseq = g->bdseq_next;
+
+		if (!f->ops->will_next || f->ops->will_next(f, bdseq, &g->will) < 0)
+			continue;
+		bdseq_save(g, bdseq);
+		g->bdseq_next = (bdseq + 1) & 0xFF;
+		if (gw_mqtt_will(&g->mq, g->will.topic, g->will.body.p, g->will.body.len, g->will.qos,
+		                 g->will.retain) < 0 && !g->cli.quiet)
+			fprintf(stderr, "%s: cannot set the last will on %s\n", GW_PROG, g->will.topic);
+		return;         /* a connection has one will */
+	}
+}
+
+void gw_publish_counters(const struct gw *g, FILE *out)
+{
+	char line[512];
+
+	for (int i = 0; i < g->fmts.n; i++)
+		if (g->fmts.v[i].ops->counters && g->fmts.v[i].ops->counters(&g->fmts.v[i], line, sizeof line) == 0)
+			fprintf(out, "%s\n", line);
 }

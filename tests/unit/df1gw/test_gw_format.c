@@ -120,7 +120,7 @@ static void test_tag_message(void **state)
 	struct df1_tag_config c = tag("Speed", "N7:0", 1);
 	struct df1_value v;
 	struct df1_tag_state st = int_state(&c, &v, 123);
-	struct gw_tag_out t = { &st, NULL, -1, NULL };
+	struct gw_tag_out t = { &st, NULL, -1, NULL, 0 };
 	struct gw_msg m;
 	struct gw_buf key;
 
@@ -149,7 +149,7 @@ static void test_tag_message(void **state)
 	/* the line lost before any read: BAD line_lost, value and ts null */
 	st.has_value = false;
 	st.last_good_wall_ms = 0;
-	t = (struct gw_tag_out){ &st, "line_lost", DF1_QUALITY_BAD, NULL };
+	t = (struct gw_tag_out){ &st, "line_lost", DF1_QUALITY_BAD, NULL, 0 };
 	assert_int_equal(json()->ops->tag(json(), &t, &m, &key), 0);
 	assert_string_equal(m.body.p, "{\"value\":null,\"quality\":\"BAD\",\"reason\":\"line_lost\",\"ts\":null,"
 	                              "\"address\":\"N7:0\",\"station\":1}");
@@ -181,9 +181,9 @@ static void test_change_key_once_per_change(void **state)
 	struct df1_tag_config c = tag("Speed", "N7:0", 1);
 	struct df1_value v;
 	struct df1_tag_state st = int_state(&c, &v, 123);
-	struct gw_tag_out t = { &st, NULL, -1, NULL };
+	struct gw_tag_out t = { &st, NULL, -1, NULL, 0 };
 	struct gw_format counting = *gw_format_find("json");
-	struct gw_fmt f = { &counting, PREFIX, 0, NULL };
+	struct gw_fmt f = { &counting, PREFIX, 0, NULL, NULL };
 	struct gw_pubs pubs;
 	struct gw_pub *e;
 	struct gw_msg m;
@@ -273,11 +273,11 @@ static void test_station_message(void **state)
 /* Results (not retained), the status (retained), the last will. */
 static void test_result_status_will(void **state)
 {
-	struct gw_result_out ok = { "Speed", "\"w-17\"", true, NULL, false };
+	struct gw_result_out ok = { "Speed", "\"w-17\"", true, NULL, false, NULL };
 	struct gw_result_out bad = { "Speed", "", false,
-	                             "DF1_E_RANGE: value out of range: 70000 does not fit a 16-bit integer", false };
+	                             "DF1_E_RANGE: value out of range: 70000 does not fit a 16-bit integer", false, NULL };
 	struct gw_result_out lost = { "Speed", "\"w-18\"", false, "[2508] ERR_COMMAND_TIMEOUT: command timed out",
-	                              true };
+	                              true, NULL };
 	struct gw_msg m;
 
 	(void)state;

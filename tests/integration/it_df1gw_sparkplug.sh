@@ -1,0 +1,224 @@
+#!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
+# it_df1gw_sparkplug.sh - df1gw --sparkplug against real parts: Debian's
+# mosquitto on a free loopback port, df1sim on a pseudo-terminal serving two
+# stations (its --log is the record of what reached the PLC), and an
+# independent Sparkplug B host, tests/support/spb_host.py on pysparkplug,
+# decoding every message on spBv1.0/#. Expected values come from the df1sim
+# --data file below and the Sparkplug 3.0 specification's rules (NBIRTH seq 0,
+# seq 0-255 continuous, bdSeq of the will, DDATA metrics born in DBIRTH),
+# never from df1gw's own output. Waits are bounded loops, never sleeps that hope.
+. tests/support/lib.sh
+
+MOSQ=${MOSQUITTO:-/usr/sbin/mosquitto}
+HOST="python3 tests/support/spb_host.py"
+if [ ! -x "$MOSQ" ]; then
+	skip "mosquitto missing (apt-get install mosquitto)"
+	finish
+fi
+if ! python3 -c 'import pysparkplug, paho.mqtt' 2>/dev/null; then
+	skip "pysparkplug missing (pip install pysparkplug): no independent Sparkplug host"
+	finish
+fi
+GW="$BIN/df1gw"
+
+free_port() {
+	python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'
+}
+port_open() {
+	python3 -c "import socket; socket.create_connection(('127.0.0.1', $1), 1).close()" 2>/dev/null
+}
+
+MQ_PORT=$(free_port)
+{
+	echo "listener $MQ_PORT 127.0.0.1"
+	echo "persistence false"
+	echo "allow_anonymous true"
+	echo "user $(id -un)"
+} > "$T/broker.conf"
+"$MOSQ" -c "$T/broker.conf" > "$T/broker.log" 2>&1 &
+echo $! >> "$T/.sims"
+wait_for "broker listens" 100 port_open "$MQ_PORT" || finish
+
+cat > "$T/plc.txt" <<'PLC'
+N7:0=123
+N7:1=-5
+F8:0=1.5,2.25,-3
+B3:0=0x0020
+ST9:0="hello, PLC"
+T4:0=PRE=500 ACC=7 EN=1
+L10:0=100000
+PLC
+cat > "$T/map.csv" <<'MAP'
+Tag,Command,Type,Station,PLC_Type,Address,Count,Scan_Ms
+Speed,ReadWrite,INT,1,SLC,N7:0,1,100
+Offset,Read,INT,1,SLC,N7:1,1,100
+Level,Read,FLOAT,1,SLC,F8:0,3,100
+Run,ReadWrite,BOOL,2,SLC,B3:0/5,1,100
+Name,ReadWrite,STRING,2,SLC,ST9:0,1,100
+Cycle,ReadWrite,TIMER,2,SLC,T4:0,1,100
+Total,Read,LONG,2,MicroLogix,L10:0,1,100
+Missing,Read,INT,1,SLC,N50:0,1,100
+MAP
+
+# ---- bad options: exit 2, said ----
+expect 2 "a group id with '/'" -- "$GW" -d /dev/null --map "$T/map.csv" --mqtt mqtt://127.0.0.1:1 --sparkplug a/b
+err_has "group id refused" "one topic level"
+expect 2 "--edge-node without --sparkplug" -- "$GW" -d /dev/null --map "$T/map.csv" --mqtt mqtt://127.0.0.1:1 --edge-node E
+err_has "--edge-node alone refused" "go with --sparkplug"
+expect 2 "--device-name without a station" -- "$GW" -d /dev/null --map "$T/map.csv" --mqtt mqtt://127.0.0.1:1 --sparkplug G --device-name x=A
+err_has "--device-name refused" "N=NAME"
+
+sim_start plc --station 1,2 --data "$T/plc.txt" --log "$T/sim.log" || finish
+SIM=$SIM_PID
+
+REC="$T/rec.jsonl"
+: > "$REC"
+$HOST record "$MQ_PORT" "$REC" 2> "$T/host.err" &
+echo $! >> "$T/.sims"
+# the recorder is subscribed once its own test message comes back
+wait_for "recorder subscribed" 100 sh -c "mosquitto_pub -h 127.0.0.1 -p $MQ_PORT -t spBv1.0/STATE/probe -m x 2>/dev/null; grep -q probe '$REC'"
+
+mark() { wc -l < "$REC" | tr -d ' '; }
+# has FROM EXPR: a condition over the records from line FROM on
+has() { $HOST has "$REC" "$1" "$2"; }
+# seen WHAT FROM EXPR: waited for (10 s at most)
+seen() { wait_for "$1" 100 has "$2" "$3"; }
+gw_start() {
+	"$GW" -d "$SIM_DEV" --map "$T/map.csv" --mqtt "mqtt://127.0.0.1:$MQ_PORT" --sparkplug Plant \
+		--edge-node Line1 --json no --device-name 2=Mixer --sparkplug-state "$T/spb.state" \
+		--watchdog 1500 --counters "$@" > "$T/gw.out" 2>> "$T/gw.err" &
+	GW_PID=$!
+	echo "$GW_PID" >> "$T/.sims"
+}
+NB='[r for r in R if r["type"] == "NBIRTH"]'
+metric() { echo "[m['value'] for r in R if r['type'] in ('DBIRTH', 'DDATA') for m in r['metrics'] if m['name'] == '$1']"; }
+
+# ---- births: NBIRTH seq 0, a DBIRTH per station with df1sim's values ----
+M=$(mark)
+gw_start
+seen "NBIRTH" "$M" "len($NB) == 1"
+seen "DBIRTH of station1 and Mixer" "$M" \
+	"{r['device'] for r in R if r['type'] == 'DBIRTH'} == {'station1', 'Mixer'}"
+check "NBIRTH bdSeq 0 on the first start (no state file yet)" \
+	"has $M '[m[\"value\"] for m in $NB[0][\"metrics\"] if m[\"name\"] == \"bdSeq\"] == [0]'"
+check "node metrics in NBIRTH: counters" "has $M '{\"Sparkplug/Births\", \"Sparkplug/Rebirths\", \"Sparkplug/Commands\", \"Sparkplug/Rejected commands\", \"Sparkplug/Deaths\", \"Line/Scans\"} <= {m[\"name\"] for m in $NB[0][\"metrics\"]}'"
+check "the line's settings as properties of Line/Device" \
+	"has $M \"[r['props'].get('Line/Device') for r in R if r['type'] == 'NBIRTH'][0] == {'Baud': '19200', 'Framing': '8N1', 'Duplex': 'full', 'Check': 'CRC', 'PLC': 'SLC'}\""
+check "station1 values (df1sim's data)" "has $M \"$(metric Speed)[:1] == [123] and $(metric Offset)[:1] == [-5] and $(metric Level)[:1] == [[1.5, 2.25, -3.0]]\""
+check "Mixer values (df1sim's data)" "has $M \"$(metric Run)[:1] == [True] and $(metric Name)[:1] == ['hello, PLC'] and $(metric Total)[:1] == [100000]\""
+check "timer members" "has $M \"$(metric Cycle/PRE)[:1] == [500] and $(metric Cycle/ACC)[:1] == [7] and $(metric Cycle/EN)[:1] == [True] and $(metric Cycle/DN)[:1] == [False]\""
+check "datatypes from the file types" "has $M \"{m['name']: m['datatype'] for r in R if r['type'] == 'DBIRTH' for m in r['metrics']} == {'Speed': 'INT16', 'Offset': 'INT16', 'Level': 'FLOAT_ARRAY', 'Run': 'BOOLEAN', 'Name': 'STRING', 'Cycle/EN': 'BOOLEAN', 'Cycle/TT': 'BOOLEAN', 'Cycle/DN': 'BOOLEAN', 'Cycle/PRE': 'INT16', 'Cycle/ACC': 'INT16', 'Total': 'INT32', 'Missing': 'INT16'}\""
+check "a BAD tag: Quality 0 and its reason as properties (N50 is no file of df1sim's)" \
+	"has $M \"[r['props'].get('Missing') for r in R if r['type'] == 'DBIRTH' and r['device'] == 'station1'][-1:] == [{'Quality': 0, 'Reason': 'plc_error'}]\""
+check "a GOOD tag: no quality property" "has $M \"[r for r in R if r['type'] == 'DBIRTH' and 'Speed' not in r['props']]\""
+check "no DDATA repeating what DBIRTH said" "! has $M \"[r for r in R if r['type'] == 'DDATA']\""
+
+# ---- DCMD: a write executed once, also when the broker delivers it again ----
+M=$(mark)
+TS=$(python3 -c 'import time; print(int(time.time() * 1000))')
+$HOST dcmd "$MQ_PORT" Plant Line1 station1 Speed INT16 77 "$TS"
+$HOST dcmd "$MQ_PORT" Plant Line1 station1 Speed INT16 77 "$TS"    # the same message again
+seen "DDATA Speed 77 after the DCMD" "$M" "$(metric Speed) == [77]"
+$HOST dcmd "$MQ_PORT" Plant Line1 Mixer Run BOOLEAN 0
+seen "DDATA Run false" "$M" "$(metric Run) == [False]"
+M2=$(mark)
+$HOST dcmd "$MQ_PORT" Plant Line1 Mixer Cycle/PRE INT16 600
+seen "a timer member written: DDATA of that member only" "$M2" \
+	"[[m['name'] for m in r['metrics']] for r in R if r['type'] == 'DDATA'] == [['Cycle/PRE']] and $(metric Cycle/PRE) == [600]"
+same "the member written as the whole element, the rest as read (df1sim's log)" \
+	"$(grep -c 'cmd=0F/AA addr=T4:0 ' "$T/sim.log")" 1
+same "one write of N7:0 in df1sim's log" "$(grep -c 'cmd=0F/AA addr=N7:0 ' "$T/sim.log")" 1
+
+# ---- DCMD to a read-only tag: refused, nothing sent, the true value again ----
+M=$(mark)
+$HOST dcmd "$MQ_PORT" Plant Line1 station1 Offset INT16 9
+seen "DDATA Offset -5 (its true value) after the refused DCMD" "$M" "$(metric Offset) == [-5]"
+same "no write of N7:1 in df1sim's log" "$(grep -c 'addr=N7:1 .*0F/AA\|0F/AA addr=N7:1' "$T/sim.log")" 0
+check "the refusal logged" "grep -q 'write Offset' '$T/gw.err'"
+
+# ---- NCMD rebirth: NBIRTH (same bdSeq) and DBIRTHs, no NDEATH ----
+M=$(mark)
+$HOST ncmd "$MQ_PORT" Plant Line1
+seen "NBIRTH after the rebirth NCMD" "$M" "len($NB) == 1"
+seen "both DBIRTHs again" "$M" "len([r for r in R if r['type'] == 'DBIRTH']) == 2"
+check "no NDEATH on rebirth" "! has $M '[r for r in R if r[\"type\"] == \"NDEATH\"]'"
+check "same bdSeq on rebirth" "has $M '[m[\"value\"] for m in $NB[0][\"metrics\"] if m[\"name\"] == \"bdSeq\"] == [0]'"
+
+# ---- a silenced PLC: DDEATH within the watchdog; DBIRTH when it answers ----
+M=$(mark)
+kill -USR1 "$SIM"
+seen "DDEATH of both devices" "$M" "{r['device'] for r in R if r['type'] == 'DDEATH'} == {'station1', 'Mixer'}"
+Q='[p for r in R if r["type"] == "DDATA" for p in r["props"].values() if p.get("Quality") in (68, 8) and p.get("Reason")]'
+if has "$M" "$Q"; then ok; else
+	bad "not answering: DDATA with a quality (68 uncertain, 8 not connected) and its reason before the DDEATH"
+	$HOST has "$REC" "$M" 'print([(r["type"], r.get("props")) for r in R][:8]) or True'
+fi
+M=$(mark)
+kill -USR2 "$SIM"
+seen "DBIRTH of both again" "$M" "{r['device'] for r in R if r['type'] == 'DBIRTH'} == {'station1', 'Mixer'}"
+
+# ---- kill -9: the broker sends the will, NDEATH with this bdSeq ----
+M=$(mark)
+kill -9 "$GW_PID"
+seen "NDEATH (the will) after kill -9" "$M" "[r['bdseq'] for r in R if r['type'] == 'NDEATH'] == [0]"
+check "NDEATH not retained, QoS 1" "has $M '[(r[\"retain\"], r[\"qos\"]) for r in R if r[\"type\"] == \"NDEATH\"] == [(False, 1)]'"
+
+# ---- a restart: bdSeq + 1 (the state file) ----
+M=$(mark)
+gw_start
+seen "NBIRTH after the restart, bdSeq 1" "$M" "[m['value'] for r in R if r['type'] == 'NBIRTH' for m in r['metrics'] if m['name'] == 'bdSeq'] == [1]"
+seen "DBIRTHs after the restart" "$M" "len([r for r in R if r['type'] == 'DBIRTH']) == 2"
+M=$(mark)
+kill -TERM "$GW_PID"
+lib_reap "$GW_PID"
+seen "NDEATH before a clean disconnect, bdSeq 1" "$M" "[r['bdseq'] for r in R if r['type'] == 'NDEATH'] == [1]"
+check "counters: births, deaths, commands, rejected, rebirths" "grep -q 'sparkplug: .* births, .* deaths, .* commands (.* rejected), .* rebirths' '$T/gw.out'"
+
+# ---- every message: decoded, seq continuous, DDATA born, bdSeq of its will ----
+if $HOST check "$REC" > "$T/check.out"; then ok; else bad "Sparkplug rules"; sed 's/^/  /' "$T/check.out"; fi
+
+# ---- primary host: no birth before its STATE is online; offline: NDEATH, reconnect ----
+M=$(mark)
+gw_start --primary-host Scada
+tries=20; while [ $tries -gt 0 ]; do tick; tries=$((tries - 1)); done     # 2 s with no STATE
+check "no NBIRTH while the primary host is not online" "! has $M '$NB'"
+$HOST state "$MQ_PORT" Scada online
+seen "NBIRTH once the primary host is online" "$M" "len($NB) == 1"
+M=$(mark)
+$HOST state "$MQ_PORT" Scada offline
+seen "NDEATH when the primary host goes offline" "$M" "[r for r in R if r['type'] == 'NDEATH']"
+tries=10; while [ $tries -gt 0 ]; do tick; tries=$((tries - 1)); done
+check "no NBIRTH while it stays offline" "! has $M '$NB'"
+# back in the Sparkplug 2.x form: STATE/Scada ONLINE (the 3.0 retained STATE cleared first)
+mosquitto_pub -h 127.0.0.1 -p "$MQ_PORT" -t spBv1.0/STATE/Scada -r -n 2>/dev/null
+mosquitto_pub -h 127.0.0.1 -p "$MQ_PORT" -q 1 -t STATE/Scada -m ONLINE
+seen "NBIRTH again (a new session) when it is back (2.x STATE)" "$M" "len($NB) == 1"
+check "the new session's bdSeq is the next one" "has $M '[m[\"value\"] for m in $NB[0][\"metrics\"] if m[\"name\"] == \"bdSeq\"] == [3]'"
+kill -TERM "$GW_PID"
+lib_reap "$GW_PID"
+mosquitto_pub -h 127.0.0.1 -p "$MQ_PORT" -t spBv1.0/STATE/Scada -r -n 2>/dev/null
+
+# ---- aliases: names and aliases in births, aliases only in DATA ----
+M=$(mark)
+gw_start --sparkplug-aliases --json yes --prefix plant/line1     # JSON beside Sparkplug
+seen "DBIRTHs with aliases" "$M" "len([m for r in R if r['type'] == 'DBIRTH' for m in r['metrics'] if m['alias'] and m['name']]) >= 11"
+$HOST dcmd "$MQ_PORT" Plant Line1 station1 Speed INT16 555
+seen "DDATA by alias only (no name on the wire)" "$M" "[r for r in R if r['type'] == 'DDATA' and r['wire_names'] == [''] and r['metrics'][0]['name'] == 'Speed' and r['metrics'][0]['value'] == 555]"
+check "JSON topics beside Sparkplug" \
+	"mosquitto_sub -h 127.0.0.1 -p $MQ_PORT -t plant/line1/tag/Speed -C 1 -W 5 | grep -q '\"value\":555'"
+A=$($HOST alias "$REC" Speed)
+M2=$(mark)
+$HOST dcmd "$MQ_PORT" Plant Line1 station1 "#$A" INT16 321
+seen "a DCMD by alias only written (DDATA 321)" "$M2" "[r for r in R if r['type'] == 'DDATA' and r['metrics'][0]['name'] == 'Speed' and r['metrics'][0]['value'] == 321]"
+same "the alias DCMD in df1sim's log" "$(grep -c 'cmd=0F/AA addr=N7:0 ' "$T/sim.log")" 3
+# a reload (SIGHUP): every birth again, no NDEATH
+M2=$(mark)
+kill -HUP "$GW_PID"
+seen "NBIRTH and DBIRTHs after a reload" "$M2" "len($NB) == 1 and len([r for r in R if r['type'] == 'DBIRTH']) == 2"
+check "no NDEATH on a reload" "! has $M2 '[r for r in R if r[\"type\"] == \"NDEATH\"]'"
+check "Node Control/Rebirth never aliased" "has $M '[m for r in R if r[\"type\"] == \"NBIRTH\" for m in r[\"metrics\"] if m[\"name\"] == \"Node Control/Rebirth\" and not m[\"alias\"]]'"
+kill -TERM "$GW_PID"
+lib_reap "$GW_PID"
+if $HOST check "$REC" > "$T/check.out"; then ok; else bad "Sparkplug rules (all sessions)"; sed 's/^/  /' "$T/check.out"; fi
+finish
