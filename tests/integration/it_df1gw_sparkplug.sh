@@ -109,8 +109,8 @@ check "station1 values (df1sim's data)" "has $M \"$(metric Speed)[:1] == [123] a
 check "Mixer values (df1sim's data)" "has $M \"$(metric Run)[:1] == [True] and $(metric Name)[:1] == ['hello, PLC'] and $(metric Total)[:1] == [100000]\""
 check "timer members" "has $M \"$(metric Cycle/PRE)[:1] == [500] and $(metric Cycle/ACC)[:1] == [7] and $(metric Cycle/EN)[:1] == [True] and $(metric Cycle/DN)[:1] == [False]\""
 check "datatypes from the file types" "has $M \"{m['name']: m['datatype'] for r in R if r['type'] == 'DBIRTH' for m in r['metrics']} == {'Speed': 'INT16', 'Offset': 'INT16', 'Level': 'FLOAT_ARRAY', 'Run': 'BOOLEAN', 'Name': 'STRING', 'Cycle/EN': 'BOOLEAN', 'Cycle/TT': 'BOOLEAN', 'Cycle/DN': 'BOOLEAN', 'Cycle/PRE': 'INT16', 'Cycle/ACC': 'INT16', 'Total': 'INT32', 'Missing': 'INT16'}\""
-check "a BAD tag: Quality 0 and its reason as properties (N50 is no file of df1sim's)" \
-	"has $M \"[r['props'].get('Missing') for r in R if r['type'] == 'DBIRTH' and r['device'] == 'station1'][-1:] == [{'Quality': 0, 'Reason': 'plc_error'}]\""
+check "a BAD tag: Quality Bad (-2147483136) and its reason as properties (N50 is no file of df1sim's)" \
+	"has $M \"[r['props'].get('Missing') for r in R if r['type'] == 'DBIRTH' and r['device'] == 'station1'][-1:] == [{'Quality': -2147483136, 'Reason': 'plc_error'}]\""
 check "a GOOD tag: no quality property" "has $M \"[r for r in R if r['type'] == 'DBIRTH' and 'Speed' not in r['props']]\""
 check "no DDATA repeating what DBIRTH said" "! has $M \"[r for r in R if r['type'] == 'DDATA']\""
 
@@ -149,9 +149,9 @@ check "same bdSeq on rebirth" "has $M '[m[\"value\"] for m in $NB[0][\"metrics\"
 M=$(mark)
 kill -USR1 "$SIM"
 seen "DDEATH of both devices" "$M" "{r['device'] for r in R if r['type'] == 'DDEATH'} == {'station1', 'Mixer'}"
-Q='[p for r in R if r["type"] == "DDATA" for p in r["props"].values() if p.get("Quality") in (68, 8) and p.get("Reason")]'
+Q='[p for r in R if r["type"] == "DDATA" for p in r["props"].values() if p.get("Quality") in (1073742081, -2147483126) and p.get("Reason")]'
 if has "$M" "$Q"; then ok; else
-	bad "not answering: DDATA with a quality (68 uncertain, 8 not connected) and its reason before the DDEATH"
+	bad "not answering: DDATA with a quality (Uncertain_LastKnownValue 1073742081, Bad_NotConnected -2147483126) and its reason before the DDEATH"
 	$HOST has "$REC" "$M" 'print([(r["type"], r.get("props")) for r in R][:8]) or True'
 fi
 M=$(mark)

@@ -28,7 +28,6 @@ struct enc_metric {
 void gw_spb_metric_init(struct gw_spb_metric *m)
 {
 	memset(m, 0, sizeof *m);
-	m->quality = -1;
 }
 
 /* Quality (Int32) and Reason (String): the properties a host reads a tag's quality from. */
@@ -36,10 +35,10 @@ static void enc_props(struct enc_metric *e, const struct gw_spb_metric *s)
 {
 	size_t k = 0;
 
-	if (s->quality < 0 && !s->reason && !s->nprops)
+	if (!s->has_quality && !s->reason && !s->nprops)
 		return;
 	df1spb__payload__property_set__init(&e->props);
-	if (s->quality >= 0) {
+	if (s->has_quality) {
 		df1spb__payload__property_value__init(&e->vals[k]);
 		e->vals[k].has_type = true;
 		e->vals[k].type = GW_SPB_INT32;
@@ -259,7 +258,7 @@ static void dec_props(const PbProps *ps, struct gw_spb_metric *m)
 
 		if (strcmp(ps->keys[k], "Quality") == 0 &&
 		    v->value_case == DF1SPB__PAYLOAD__PROPERTY_VALUE__VALUE_INT_VALUE)
-			m->quality = (int)v->int_value;
+			m->has_quality = true, m->quality = (int32_t)v->int_value;
 		else if (strcmp(ps->keys[k], "Reason") == 0 &&
 		         v->value_case == DF1SPB__PAYLOAD__PROPERTY_VALUE__VALUE_STRING_VALUE)
 			m->reason = v->string_value;

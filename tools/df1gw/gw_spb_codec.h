@@ -33,7 +33,7 @@ enum gw_spb_kind { GW_SPB_V_NONE, GW_SPB_V_INT, GW_SPB_V_LONG, GW_SPB_V_FLOAT, G
 
 /* One metric. Encoding: the strings and bytes are the caller's; a name NULL
  * is left out (aliases only), has_alias adds the alias; timestamp 0 is left
- * out. quality >= 0 adds the property "Quality" (Int32), reason (not NULL)
+ * out. has_quality adds the property "Quality" (Int32), reason (not NULL)
  * the property "Reason" (String): Ignition's way of a tag's quality.
  * Decoding: the pointers point into the decoded payload. */
 struct gw_spb_metric {
@@ -55,7 +55,8 @@ struct gw_spb_metric {
 	const char *str;
 	const uint8_t *bytes;
 	size_t nbytes;
-	int quality;                  /* -1: none */
+	bool has_quality;
+	int32_t quality;              /* gw_spb_metrics.h GW_SPB_Q_* */
 	const char *reason;           /* NULL: none */
 	/* encoding only: more properties, Strings (the line's settings) */
 	const char *const *prop_keys;
@@ -65,7 +66,7 @@ struct gw_spb_metric {
 
 #define GW_SPB_PROPS_MAX 8
 
-/* A metric with nothing set (quality -1). */
+/* A metric with nothing set. */
 void gw_spb_metric_init(struct gw_spb_metric *m);
 
 /* The payload {timestamp, metrics} (no seq: gw_spb_append_seq adds it) into

@@ -95,23 +95,24 @@ uint64_t gw_spb_alias(int id, unsigned member)
 	return ((uint64_t)(id + 1) << 16) | member;
 }
 
-/* Quality and Reason of a tag that is not GOOD (quality -1: it is). */
-static void tag_quality(const struct gw_tag_out *t, int *quality, const char **reason)
+/* Quality and Reason of a tag that is not GOOD (none when it is). */
+static void tag_quality(const struct gw_tag_out *t, bool *has_quality, int32_t *quality, const char **reason)
 {
 	const struct df1_tag_state *st = t->st;
 	int q = t->quality >= 0 ? t->quality : (int)st->quality;
 	const char *why = t->reason ? t->reason : df1_reason_name(st->reason);
 
-	*quality = -1;
+	*has_quality = false;
 	*reason = NULL;
 	if (q == DF1_QUALITY_GOOD)
 		return;
+	*has_quality = true;
 	if (q == DF1_QUALITY_UNCERTAIN)
-		*quality = GW_SPB_Q_UNCERTAIN_LAST_USABLE;
+		*quality = GW_SPB_Q_UNCERTAIN_LAST_KNOWN;
 	else if (strcmp(why, "line_lost") == 0 || st->reason == DF1_REASON_STATION_OFFLINE)
 		*quality = GW_SPB_Q_BAD_NOT_CONNECTED;
 	else if (st->reason == DF1_REASON_COMM_FAILURE)
-		*quality = GW_SPB_Q_BAD_COMM_FAILURE;
+		*quality = GW_SPB_Q_BAD_STALE;
 	else
 		*quality = GW_SPB_Q_BAD;
 	*reason = why;
@@ -239,7 +240,7 @@ static struct gw_spb_metric *tag_metric(struct gw_spb_list *l, const struct gw_t
 	}
 	m->timestamp = ms > 0 ? (uint64_t)ms : 0;
 	m->is_historical = how->historical;
-	tag_quality(t, &m->quality, &m->reason);
+	tag_quality(t, &m->has_quality, &m->quality, &m->reason);
 	return m;
 }
 

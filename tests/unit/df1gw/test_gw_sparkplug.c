@@ -77,16 +77,19 @@ static void test_float_alias_vector(void **state)
 	gw_buf_free(&b);
 }
 
-/* a Boolean false that is not good: properties {Quality: Int32 0, Reason: String "x"} */
+/* a Boolean false that is not good: properties {Quality: Int32 Bad, Reason: String "x"};
+ * Bad is Ignition 8's 0x80000200, an Int32 carried in the uint32 int_value:
+ * the varint 80 84 80 80 08 */
 static void test_quality_vector(void **state)
 {
 	static const uint8_t want[] = {
-		0x12, 0x27,                                     /* metrics, 39 bytes */
+		0x12, 0x2b,                                     /* metrics, 43 bytes */
 		0x0a, 0x01, 'B', 0x20, 0x0b,                    /* name "B", datatype 11 */
-		0x4a, 0x1e,                                     /* properties, 30 bytes */
+		0x4a, 0x22,                                     /* properties, 34 bytes */
 		0x0a, 0x07, 'Q', 'u', 'a', 'l', 'i', 't', 'y',
 		0x0a, 0x06, 'R', 'e', 'a', 's', 'o', 'n',
-		0x12, 0x04, 0x08, 0x03, 0x18, 0x00,             /* {type Int32, int_value 0} */
+		0x12, 0x08, 0x08, 0x03,                         /* {type Int32, */
+		0x18, 0x80, 0x84, 0x80, 0x80, 0x08,             /*  int_value 0x80000200} */
 		0x12, 0x05, 0x08, 0x0c, 0x42, 0x01, 'x',        /* {type String, string_value "x"} */
 		0x70, 0x00,                                     /* boolean_value false */
 	};
@@ -99,7 +102,8 @@ static void test_quality_vector(void **state)
 	m.name = "B";
 	m.datatype = GW_SPB_BOOLEAN;
 	m.kind = GW_SPB_V_BOOL;
-	m.quality = 0;
+	m.has_quality = true;
+	m.quality = GW_SPB_Q_BAD;
 	m.reason = "x";
 	assert_int_equal(gw_spb_encode(&b, 0, &m, 1), 0);
 	bytes_equal(&b, want, sizeof want);
@@ -174,7 +178,8 @@ static void test_round_trip(void **state)
 	gw_spb_metric_init(&in[n]);
 	in[n].datatype = GW_SPB_INT32;
 	in[n].is_null = true;
-	in[n].quality = 8;
+	in[n].has_quality = true;
+	in[n].quality = GW_SPB_Q_BAD_NOT_CONNECTED;
 	in[n++].reason = "station_offline";
 	for (size_t i = 0; i < n; i++) {
 		char name[8];
@@ -195,6 +200,7 @@ static void test_round_trip(void **state)
 		assert_int_equal(out.timestamp, in[i].timestamp);
 		assert_int_equal(out.datatype, in[i].datatype);
 		assert_int_equal(out.is_null, in[i].is_null);
+		assert_int_equal(out.has_quality, in[i].has_quality);
 		assert_int_equal(out.quality, in[i].quality);
 		if (in[i].reason)
 			assert_string_equal(out.reason, in[i].reason);
@@ -284,7 +290,7 @@ static void test_tag_arrays(void **state)
 	assert_memory_equal(l.v[1].bytes, wf, sizeof wf);
 	assert_int_equal(l.v[2].datatype, GW_SPB_BOOLEAN);
 	assert_true(l.v[2].v.b);
-	assert_int_equal(l.v[2].quality, -1);            /* GOOD: no property */
+	assert_false(l.v[2].has_quality);                /* GOOD: no property */
 	gw_spb_list_free(&l);
 }
 
@@ -308,7 +314,8 @@ static void test_tag_timer_and_quality(void **state)
 	assert_true(l.v[0].v.b && !l.v[1].v.b && l.v[2].v.b);
 	assert_int_equal(l.v[3].v.i, 500);
 	assert_int_equal(l.v[4].v.i, 7);
-	assert_int_equal(l.v[0].quality, GW_SPB_Q_UNCERTAIN_LAST_USABLE);
+	assert_true(l.v[0].has_quality);
+	assert_int_equal(l.v[0].quality, GW_SPB_Q_UNCERTAIN_LAST_KNOWN);
 	assert_string_equal(l.v[0].reason, "comm_failure");
 	gw_spb_list_free(&l);
 }
