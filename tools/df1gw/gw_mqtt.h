@@ -6,6 +6,12 @@
  * without blocking the loop, reconnecting with an exponential backoff
  * (0.5 s doubling to 30 s), the last will it is given. It carries bytes:
  * what they say is the payload formats' (gw_format.h).
+ *
+ * Faults: a try that fails in any way (TCP refused or reset, the TLS
+ * handshake, no CONNACK in time, a refusal) ends in DOWN, and with TLS the
+ * next try gets a new libmosquitto handle (df1gw(1), BROKER CONNECTION).
+ * What went wrong is said once per outage and reason, and when it recovers;
+ * -v says every try.
  */
 #ifndef DF1_TOOLS_GW_MQTT_H
 #define DF1_TOOLS_GW_MQTT_H
@@ -57,6 +63,15 @@ struct gw_mqtt {
 	int backoff_ms;
 	int64_t next_try_ms;       /* DOWN: when to try again */
 	unsigned inflight;         /* QoS 1 publications not acknowledged yet */
+
+	/* faults: what the operator is told (gw_mqtt.c, mq_fail / on_connect) */
+	int64_t try_ms;            /* CONNECTING: when this try began */
+	int64_t down_since_ms;     /* the outage's first failure, 0: none */
+	unsigned tries;            /* failed tries in this outage */
+	int sock_errno;            /* this try: the socket's error seen under TLS, 0: none */
+	char tls_why[200];         /* this try: OpenSSL's reason from libmosquitto's log */
+	char said[1024];           /* the reasons printed in this outage, each ending in '\n' */
+	bool renew;                /* a new handle before the next try (TLS) */
 };
 
 /* libmosquitto set up from c (copied; its strings must outlive q): TLS files,
