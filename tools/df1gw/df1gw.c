@@ -242,6 +242,7 @@ static void line_lost(struct gw *g, int err)
 	line_error_set(g, err);
 	if (!g->cli.quiet)
 		fprintf(stderr, "%s: %s: line lost; reopening\n", GW_PROG, g->line_error);
+	gw_writes_drop(g);      /* the writes waiting: answered "not written", not kept for later */
 	df1_close(g->h);        /* the port's settings restored; tags and writes kept */
 	g->line_up = false;
 	g->line_next_try_ms = gw_now_ms() + g->line_backoff_ms;
@@ -302,6 +303,9 @@ static void reload(struct gw *g)
 			fprintf(stderr, "%s: %s: not reloaded, the tags stay as they were\n", GW_PROG, g->map_path);
 		return;
 	}
+	snprintf(g->line_error, sizeof g->line_error, "%s: SIGHUP: the mapping file reloaded", g->cli.device);
+	gw_writes_drop(g);      /* their tag ids are the old handle's */
+	g->line_error[0] = '\0';
 	g->h = NULL;
 	df1_free(old);          /* its queued writes end (results published); the port is restored */
 	if (line_adopt(g, nh) < 0) {
@@ -378,7 +382,7 @@ static int setup(struct gw *g, int argc, char **argv)
 		return r;
 	if (g->eip.listen && (r = gw_eip_open(&g->eip, GW_PROG, g->cli.quiet)) != 0)
 		return r;
-	if (gw_ids_init(&g->ids, GW_IDS_DEFAULT) < 0) {
+	if (gw_ids_init(&g->ids, GW_IDS_DEFAULT) < 0 || gw_writes_init(g) < 0) {
 		fprintf(stderr, "%s: out of memory\n", GW_PROG);
 		return CLI_EXIT_FAIL;
 	}
@@ -476,6 +480,8 @@ static int wait_timeout(const struct gw *g, int64_t now)
 	}
 	if (g->refresh_s > 0 && g->next_refresh_ms - now < timeout)
 		timeout = g->next_refresh_ms - now < 0 ? 0 : (int)(g->next_refresh_ms - now);
+	if (g->wq.n && gw_wq_next_deadline(&g->wq) - now < timeout)      /* an expiry answered on time */
+		timeout = gw_wq_next_deadline(&g->wq) - now < 0 ? 0 : (int)(gw_wq_next_deadline(&g->wq) - now);
 	return timeout;
 }
 
@@ -546,6 +552,7 @@ static void loop_work(struct gw *g, const struct gw_wait *w, int hup, int64_t no
 	eip_mirror(g);
 	if (wait_ready(w, w->eip))
 		gw_eip_process(&g->eip);       /* requests join the line's queue */
+	gw_writes_feed(g, now);                /* a batch of MQTT writes joins it behind them */
 	if (g->line_up && (df1_poll_next_ms(g->h) == 0 || wait_ready(w, w->line)))
 		line_work(g);
 	else if (!g->line_up && now >= g->line_next_try_ms)
@@ -640,6 +647,7 @@ static void gw_print_counters(const struct gw *g)
 	       (unsigned long long)ps.reads, (unsigned long long)ps.read_failures,
 	       (unsigned long long)ps.writes, (unsigned long long)ps.write_failures,
 	       (unsigned long long)ps.retries);
+	gw_writes_counters(g, stdout);
 	gw_eip_counters(&g->eip, stdout);
 	cli_print_counters(stdout, g->h, CLI_FMT_PLAIN, 0);
 	fflush(stdout);
@@ -647,6 +655,9 @@ static void gw_print_counters(const struct gw *g)
 
 static void shutdown_gw(struct gw *g)
 {
+	/* the writes waiting: answered "not written" while the broker is there */
+	snprintf(g->line_error, sizeof g->line_error, "%s stopping", GW_PROG);
+	gw_wq_free(&g->wq);
 	if (g->counters)
 		gw_print_counters(g);
 	/* queued writes and EtherNet/IP requests end first (their results go

@@ -19,6 +19,7 @@
 #define GW_MQTT_BACKOFF_MAX 30000
 #define GW_MQTT_MISC_MS 1000          /* loop_misc: keepalive pings, retries */
 #define GW_MQTT_CONNECT_MS 10000      /* a try without CONNACK by then has failed */
+#define GW_MQTT_READ_MAX 10000        /* packets read in one turn at most */
 
 static void mq_note(const struct gw_mqtt *q, const char *fmt, const char *a, const char *b)
 {
@@ -353,6 +354,22 @@ static int mq_connecting_check(struct gw_mqtt *q, short revents, int64_t now)
 	return 0;
 }
 
+/* All the socket has, not one packet (libmosquitto's loop_read takes about
+ * one a call): a burst of /set messages is taken in one turn. */
+static int mq_read_all(struct gw_mqtt *q)
+{
+	int rc = mosquitto_loop_read(q->m, 1);
+
+	for (int k = 0; rc == 0 && k < GW_MQTT_READ_MAX && q->state == GW_MQTT_UP; k++) {
+		struct pollfd p = { mosquitto_socket(q->m), POLLIN, 0 };
+
+		if (p.fd < 0 || poll(&p, 1, 0) <= 0 || !(p.revents & POLLIN))
+			break;
+		rc = mosquitto_loop_read(q->m, 1);
+	}
+	return rc;
+}
+
 void gw_mqtt_service(struct gw_mqtt *q, short revents, int64_t now)
 {
 	int rc = 0;
@@ -364,7 +381,7 @@ void gw_mqtt_service(struct gw_mqtt *q, short revents, int64_t now)
 	}
 	errno = 0;
 	if (revents & (POLLIN | POLLHUP | POLLERR))
-		rc = mosquitto_loop_read(q->m, 1);
+		rc = mq_read_all(q);
 	if (rc == 0 && q->m && mosquitto_socket(q->m) >= 0 && (revents & POLLOUT))
 		rc = mosquitto_loop_write(q->m, 1);
 	if (q->state == GW_MQTT_CONNECTING)
@@ -381,6 +398,17 @@ void gw_mqtt_service(struct gw_mqtt *q, short revents, int64_t now)
 		mq_why(q, rc, why, sizeof why);
 		mq_down(q, now, why);
 	}
+}
+
+void gw_mqtt_turn(struct gw_mqtt *q, int64_t now)
+{
+	struct pollfd p = { gw_mqtt_fd(q), gw_mqtt_poll_events(q), 0 };
+
+	if (!q->m)
+		return;
+	if (p.fd >= 0 && poll(&p, 1, 0) < 0)
+		return;
+	gw_mqtt_service(q, p.fd >= 0 ? p.revents : 0, now);
 }
 
 int gw_mqtt_publish(struct gw_mqtt *q, const char *topic, const void *payload, size_t len, bool retain)

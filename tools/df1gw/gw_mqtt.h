@@ -89,6 +89,11 @@ int gw_mqtt_wait_ms(const struct gw_mqtt *q, int64_t now);
 /* After poll(): read, write, keepalive, (re)connect when due. */
 void gw_mqtt_service(struct gw_mqtt *q, short revents, int64_t now);
 
+/* gw_mqtt_service with the socket's events as they are now (no wait): from
+ * inside the line's work (a batch of writes, a long scan), so that the broker
+ * is served whatever the line is doing. */
+void gw_mqtt_turn(struct gw_mqtt *q, int64_t now);
+
 /* Publish (queued by libmosquitto until written). 0, or -1 when not up. */
 int gw_mqtt_publish(struct gw_mqtt *q, const char *topic, const void *payload, size_t len, bool retain);
 int gw_mqtt_subscribe(struct gw_mqtt *q, const char *pattern);

@@ -19,6 +19,8 @@ enum {
 	OPT_MAP = CLI_KEY_EXTRA, OPT_MQTT, OPT_CAFILE, OPT_CERT, OPT_KEY, OPT_CLIENT_ID, OPT_USERNAME,
 	OPT_PASSWORD_FILE, OPT_PASSWORD, OPT_PREFIX, OPT_QOS, OPT_KEEPALIVE, OPT_REFRESH, OPT_ONCE,
 	OPT_WATCHDOG, OPT_EIP, OPT_EIP_STATION, OPT_EIP_ALLOW, OPT_EIP_READ_ONLY, OPT_COUNTERS,
+	/* the write policy (gw_wqueue.h) */
+	OPT_WRITE_OPTIMIZE, OPT_DUTY_CYCLE, OPT_WRITE_TIMEOUT, OPT_MAX_PENDING,
 };
 
 static const struct cli_extra_opt gw_opts[] = {
@@ -48,7 +50,15 @@ static const struct cli_extra_opt gw_opts[] = {
 	{ "eip-allow", required_argument, OPT_EIP_ALLOW, "CIDR[,CIDR]", "--eip: only these clients" },
 	{ "eip-read-only", no_argument, OPT_EIP_READ_ONLY, NULL,
 	  "--eip: refuse commands that write or change mode (STS 60h)" },
-	{ "counters", no_argument, OPT_COUNTERS, NULL, "the line's and EtherNet/IP counters on stdout at exit" },
+	{ "counters", no_argument, OPT_COUNTERS, NULL,
+	  "the line's, the writes' and EtherNet/IP counters on stdout at exit" },
+	{ "write-optimize", required_argument, OPT_WRITE_OPTIMIZE, "all|latest|latest-non-bool",
+	  "a waiting write replaced by a later one to its tag (default latest-non-bool: not bits)" },
+	{ "duty-cycle", required_argument, OPT_DUTY_CYCLE, "N", "at most N writes between two poll reads (default 10)" },
+	{ "write-timeout", required_argument, OPT_WRITE_TIMEOUT, "MS",
+	  "a write not started within MS ms: expired, not written (default 30000; \"timeout_ms\" in /set)" },
+	{ "max-pending-writes", required_argument, OPT_MAX_PENDING, "N",
+	  "more writes waiting: answered busy, not written (default 1000)" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -81,6 +91,14 @@ static int gw_extra(struct cli *c, int key, const char *arg, void *user)
 	case OPT_EIP_ALLOW: g->eip.allow = arg; break;
 	case OPT_EIP_READ_ONLY: g->eip.read_only = true; break;
 	case OPT_COUNTERS: g->counters = true; break;
+	case OPT_WRITE_OPTIMIZE:
+		if (gw_wopt_parse(arg, &g->write_optimize) < 0)
+			return cli_usage_error(c, "--write-optimize '%s': all, latest or latest-non-bool", arg);
+		break;
+	case OPT_DUTY_CYCLE: return cli_parse_int(c, "--duty-cycle", arg, 1, 1000, &g->duty_cycle);
+	case OPT_WRITE_TIMEOUT: return cli_parse_int(c, "--write-timeout", arg, 1, (int)GW_TIMEOUT_MS_MAX,
+	                                             &g->write_timeout_ms);
+	case OPT_MAX_PENDING: return cli_parse_int(c, "--max-pending-writes", arg, 1, GW_WQ_MAX_LIMIT, &g->max_pending);
 	default: return CLI_EXIT_USAGE;
 	}
 	return CLI_CONTINUE;
@@ -186,6 +204,10 @@ int gw_options_parse(struct gw *g, int argc, char **argv)
 	g->qos = 1;
 	g->keepalive_s = 60;
 	g->watchdog_ms = -1;
+	g->write_optimize = GW_WOPT_LATEST_NON_BOOL;
+	g->duty_cycle = 10;
+	g->write_timeout_ms = 30000;
+	g->max_pending = 1000;
 	r = cli_parse(&g->cli, argc, argv, g);
 	if (r != CLI_CONTINUE)
 		return r;
