@@ -70,7 +70,7 @@ static void mq_down(struct gw_mqtt *q, int64_t now, const char *why)
 		else if (mq_said(q, why))
 			mq_note(q, "cannot connect: %s; trying again (backoff up to 30 s, -v shows each try)%s", why, "");
 	}
-	q->renew = q->cfg.tls;          /* TLS: a fresh handle for the next try (gw_mqtt.h) */
+	q->renew = true;                /* a fresh handle for the next try (mq_renew) */
 	q->state = GW_MQTT_DOWN;
 	q->inflight = 0;
 	q->next_try_ms = now + q->backoff_ms;
@@ -270,9 +270,11 @@ static void mq_sock_errno(struct gw_mqtt *q, int e)
 		q->sock_errno = e;
 }
 
-/* A fresh handle (TLS after a failure): the CA, certificate and key files
- * are read again at each try, so a renewed certificate is taken without a
- * restart. (mosquitto_reconnect_async on the old handle connects too, once
+/* A fresh handle after a failure: the CA, certificate and key files are
+ * read again at each try, so a renewed certificate is taken without a
+ * restart; and nothing of the old session is sent again (libmosquitto
+ * resends unacknowledged QoS 1 messages on a reconnection, which the broker's
+ * clean session delivers a second time: a write's result twice). (mosquitto_reconnect_async on the old handle connects too, once
  * mq_connecting_check ends the dead try: the spin was libmosquitto taking a
  * refused socket for a handshake in progress.) */
 static int mq_renew(struct gw_mqtt *q, char *err, size_t errcap)

@@ -8,8 +8,8 @@
  * what they say is the payload formats' (gw_format.h).
  *
  * Faults: a try that fails in any way (TCP refused or reset, the TLS
- * handshake, no CONNACK in time, a refusal) ends in DOWN, and with TLS the
- * next try gets a new libmosquitto handle (df1gw(1), BROKER CONNECTION).
+ * handshake, no CONNACK in time, a refusal) ends in DOWN, and the next try
+ * gets a new libmosquitto handle (df1gw(1), BROKER CONNECTION).
  * What went wrong is said once per outage and reason, and when it recovers;
  * -v says every try.
  */
@@ -71,7 +71,7 @@ struct gw_mqtt {
 	int sock_errno;            /* this try: the socket's error seen under TLS, 0: none */
 	char tls_why[200];         /* this try: OpenSSL's reason from libmosquitto's log */
 	char said[1024];           /* the reasons printed in this outage, each ending in '\n' */
-	bool renew;                /* a new handle before the next try (TLS) */
+	bool renew;                /* a new handle before the next try */
 };
 
 /* libmosquitto set up from c (copied; its strings must outlive q): TLS files,
