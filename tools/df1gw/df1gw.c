@@ -67,6 +67,26 @@ static void map_issue(void *user, const struct df1_config_issue *is)
 		fprintf(stderr, "%s\n", is->text);
 }
 
+#define LINE_TICK_MS 20               /* the broker served this often while the line works */
+
+/* Every byte the line sends or takes (df1_set_trace): a transaction on a slow
+ * line lasts long, a scan or a batch of writes many of them, and all run
+ * inside df1_poll(); the broker is served meanwhile (its keepalive, the
+ * PUBACKs that let it send the next /set), not only between two calls. */
+static void line_tick(void *user, enum df1_dir dir, const uint8_t *bytes, size_t n, uint64_t t_us)
+{
+	static int64_t last;
+	struct gw *g = user;
+	int64_t now = gw_now_ms();
+
+	if (g->cli.verbose >= 3 && !g->cli.quiet)
+		cli_trace(&g->cli, dir, bytes, n, t_us);
+	if (g->mq_configured && now - last >= LINE_TICK_MS) {
+		last = now;
+		gw_mqtt_turn(&g->mq, now);
+	}
+}
+
 /* A configured handle with the mapping file's tags (strict: any bad row is an
  * error). Returns 0 or the exit status, having said why. */
 static int line_build(struct gw *g, df1_t **out)
@@ -82,8 +102,8 @@ static int line_build(struct gw *g, df1_t **out)
 	/* -v is the broker side; -vv adds the link's events, -vvv every frame */
 	if (g->cli.verbose < 2)
 		df1_set_log(h, NULL, NULL);
-	if (g->cli.verbose < 3)
-		df1_set_trace(h, NULL, NULL);
+	/* the line's bytes tick the broker (line_tick); -vvv prints them too */
+	df1_set_trace(h, line_tick, g);
 	if (df1_poll_fd(h) < 0) {       /* the engine, for --eip's requests before any tag */
 		fprintf(stderr, "%s: out of memory\n", GW_PROG);
 		df1_free(h);
