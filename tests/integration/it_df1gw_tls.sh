@@ -30,18 +30,28 @@ port_open() {
 	openssl req -newkey rsa:2048 -nodes -keyout srv.key -out srv.csr -subj "/CN=127.0.0.1" &&
 	printf 'subjectAltName=IP:127.0.0.1,DNS:localhost\n' > srv.ext &&
 	openssl x509 -req -in srv.csr -CA ca.crt -CAkey ca.key -CAcreateserial -out srv.crt -days 2 -extfile srv.ext &&
-	openssl req -x509 -newkey rsa:2048 -nodes -keyout other.key -out other.crt -days 2 -subj "/CN=another CA"
+	openssl req -x509 -newkey rsa:2048 -nodes -keyout other.key -out other.crt -days 2 -subj "/CN=another CA" &&
+	openssl req -newkey rsa:2048 -nodes -keyout host.key -out host.csr -subj "/CN=plc.example" &&
+	printf 'subjectAltName=DNS:plc.example\n' > host.ext &&
+	openssl x509 -req -in host.csr -CA ca.crt -CAkey ca.key -CAcreateserial -out host.crt -days 2 -extfile host.ext
 ) > "$T/openssl.log" 2>&1 || { bad "openssl could not make the certificates"; sed 's/^/  /' "$T/openssl.log" | tail -5; finish; }
 
 PORT=$(free_port)
+PORT2=$(free_port)
+# a second listener whose certificate names another host (plc.example)
 cat > "$T/broker.conf" <<EOF
-listener $PORT 127.0.0.1
+per_listener_settings false
 persistence false
 user $(id -un)
 allow_anonymous true
+listener $PORT 127.0.0.1
 cafile $T/ca.crt
 certfile $T/srv.crt
 keyfile $T/srv.key
+listener $PORT2 127.0.0.1
+cafile $T/ca.crt
+certfile $T/host.crt
+keyfile $T/host.key
 EOF
 broker_up() {
 	"$MOSQ" -c "$T/broker.conf" >> "$T/broker.log" 2>&1 &
@@ -116,5 +126,15 @@ same "wrong CA: said once" "$(grep -c "cannot connect" "$T/gw2.err")" 1
 check "wrong CA: nothing published" '[ -z "$(sub1 "df1/bad/#")" ]'
 kill -TERM "$GW2"
 lib_reap "$GW2"
+
+# ---- a certificate for another host name: said so without -v ----
+"$GW" -d "$SIM_DEV" --map "$T/map.csv" --mqtt "mqtts://127.0.0.1:$PORT2" --cafile "$T/ca.crt" --prefix df1/host \
+	> "$T/gw3.out" 2> "$T/gw3.err" &
+GW3=$!
+echo "$GW3" >> "$T/.sims"
+host_said() { grep -q "cannot connect: TLS handshake failed: certificate verify failed (hostname mismatch" "$T/gw3.err"; }
+wait_for "a certificate for another host: hostname mismatch, without -v" 100 host_said || sed 's/^/  gw: /' "$T/gw3.err"
+kill -TERM "$GW3"
+lib_reap "$GW3"
 
 finish

@@ -236,6 +236,8 @@ static int line_open(struct gw *g)
 
 		/* said once per new reason, not at every try */
 		memcpy(before, g->line_error, sizeof before);
+		if (!before[0])
+			g->line_down_ms = gw_now_ms();
 		line_error_set(g, r);
 		news = strcmp(before, g->line_error) != 0;
 		if (news && !g->cli.quiet)
@@ -245,7 +247,10 @@ static int line_open(struct gw *g)
 		                                                              : g->line_backoff_ms * 2;
 		return r;
 	}
-	if (g->line_ever_up && !g->cli.quiet)
+	if (g->line_error[0] && !g->cli.quiet)        /* the recovery of what was said */
+		fprintf(stderr, "%s: %s: open%s after %lld s\n", GW_PROG, g->cli.device, g->line_ever_up ? " again" : "",
+		        (long long)((gw_now_ms() - g->line_down_ms + 500) / 1000));
+	else if (g->line_ever_up && !g->cli.quiet)
 		fprintf(stderr, "%s: %s: open again\n", GW_PROG, g->cli.device);
 	g->line_up = true;
 	g->line_ever_up = true;
@@ -260,6 +265,7 @@ static int line_open(struct gw *g)
 static void line_lost(struct gw *g, int err)
 {
 	line_error_set(g, err);
+	g->line_down_ms = gw_now_ms();
 	if (!g->cli.quiet)
 		fprintf(stderr, "%s: %s: line lost; reopening\n", GW_PROG, g->line_error);
 	gw_writes_drop(g);      /* the writes waiting: answered "not written", not kept for later */

@@ -55,6 +55,7 @@ struct gw {
 	int line_backoff_ms;
 	int64_t line_next_try_ms;
 	int64_t line_opened_ms;      /* monotonic ms of the last df1_open */
+	int64_t line_down_ms;        /* since when it is lost or cannot be opened */
 	bool stations[255];          /* stations that have tags */
 	unsigned char *dirty;        /* per tag id: changed since published */
 	int ntags;

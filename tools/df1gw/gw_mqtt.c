@@ -14,6 +14,11 @@
 #include <unistd.h>
 
 #include <mosquitto.h>
+#ifdef GW_HAVE_OPENSSL
+#include <openssl/ssl.h>
+#include <openssl/x509.h>
+#include <openssl/x509v3.h>
+#endif
 
 #define GW_MQTT_BACKOFF_MIN 500
 #define GW_MQTT_BACKOFF_MAX 30000
@@ -65,7 +70,9 @@ static void mq_down(struct gw_mqtt *q, int64_t now, const char *why)
 		if (!q->down_since_ms)
 			q->down_since_ms = now;
 		q->tries++;
-		if (q->cfg.verbose)
+		if (q->refused && !q->ever_up)
+			;               /* the first connection refused: df1gw.c says it and exits */
+		else if (q->cfg.verbose)
 			mq_note(q, "cannot connect (%s), next try in %s", why, after);
 		else if (mq_said(q, why))
 			mq_note(q, "cannot connect: %s; trying again (backoff up to 30 s, -v shows each try)%s", why, "");
@@ -92,6 +99,36 @@ static int64_t mq_clock_ms(void)
 	return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
 }
 
+/* "certificate verify failed" says little: the verify result says which
+ * check (unable to get local issuer certificate, hostname mismatch,
+ * certificate has expired). The handshake's SSL object is still there while
+ * libmosquitto logs its failure. */
+static void mq_verify_detail(struct gw_mqtt *q)
+{
+#ifdef GW_HAVE_OPENSSL
+	SSL *ssl = q->m ? mosquitto_ssl_get(q->m) : NULL;
+	size_t l = strlen(q->tls_why);
+	long v;
+
+	if (!ssl || !strstr(q->tls_why, "certificate verify failed") || (v = SSL_get_verify_result(ssl)) == X509_V_OK)
+		return;
+	if (v == X509_V_ERR_UNSPECIFIED) {
+		/* libmosquitto's own host check refused it without saying why */
+		STACK_OF(X509) *chain = SSL_get_peer_cert_chain(ssl);
+		X509 *c = chain && sk_X509_num(chain) > 0 ? sk_X509_value(chain, 0) : NULL;
+
+		if (c && X509_check_host(c, q->cfg.host, 0, 0, NULL) != 1 && X509_check_ip_asc(c, q->cfg.host, 0) != 1) {
+			snprintf(q->tls_why + l, sizeof q->tls_why - l, " (hostname mismatch: the certificate does not name %s)",
+			         q->cfg.host);
+			return;
+		}
+	}
+	snprintf(q->tls_why + l, sizeof q->tls_why - l, " (%s)", X509_verify_cert_error_string(v));
+#else
+	(void)q;
+#endif
+}
+
 /* libmosquitto's log: OpenSSL's reason for a failed handshake is only there
  * ("OpenSSL Error[0]: error:0A000086:SSL routines::certificate verify
  * failed"); the first of a try is kept. -vv prints every line. */
@@ -111,6 +148,7 @@ static void on_log(struct mosquitto *m, void *obj, int level, const char *text)
 	r = strrchr(text, ':');        /* the reason is the last field of OpenSSL's error string */
 	snprintf(q->tls_why, sizeof q->tls_why, "TLS%s: %s", q->state == GW_MQTT_CONNECTING ? " handshake failed" : "",
 	         r && r[1] ? r + 1 : text);
+	mq_verify_detail(q);
 }
 
 static void on_connect(struct mosquitto *m, void *obj, int rc)
