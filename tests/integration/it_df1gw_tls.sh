@@ -137,4 +137,20 @@ wait_for "a certificate for another host: hostname mismatch, without -v" 100 hos
 kill -TERM "$GW3"
 lib_reap "$GW3"
 
+# ---- the serial line: a device not there yet is said once, its arrival too ----
+"$GW" -d "$T/later" --map "$T/map.csv" --mqtt "mqtts://127.0.0.1:$PORT" --cafile "$T/ca.crt" --prefix df1/later \
+	> "$T/gw4.out" 2> "$T/gw4.err" &
+GW4=$!
+echo "$GW4" >> "$T/.sims"
+line_said() { grep -q "later.*; trying again" "$T/gw4.err"; }
+wait_for "no device: said without -v" 50 line_said
+n=30; while [ $n -gt 0 ]; do tick; n=$((n - 1)); done
+same "no device: said once in 3 s of tries" "$(grep -c "trying again" "$T/gw4.err")" 1
+sim_start later --data "$T/plc.txt" || finish
+line_back() { grep -q "later: open after [0-9]* s" "$T/gw4.err"; }
+wait_for "the device there: its recovery said" 400 line_back
+wait_for "its tag published" 100 has "df1/later/tag/Speed" '"value":42,"quality":"GOOD"'
+kill -TERM "$GW4"
+lib_reap "$GW4"
+
 finish
