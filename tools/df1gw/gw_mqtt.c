@@ -297,8 +297,8 @@ int gw_mqtt_wait_ms(const struct gw_mqtt *q, int64_t now)
 
 /* A socket error met while TLS connects: libmosquitto's handshake takes a
  * refused or reset connection for "try again" (SSL_ERROR_SYSCALL) and would
- * write its ClientHello to the dead socket forever; it is kept to fail the
- * try with (mq_try_failed). */
+ * write its ClientHello to the dead socket forever; it is kept as the reason
+ * when mq_connecting_check ends the try. */
 static void mq_sock_errno(struct gw_mqtt *q, int e)
 {
 	if (q->sock_errno || !q->cfg.tls)
@@ -311,10 +311,11 @@ static void mq_sock_errno(struct gw_mqtt *q, int e)
 /* A fresh handle after a failure: the CA, certificate and key files are
  * read again at each try, so a renewed certificate is taken without a
  * restart; and nothing of the old session is sent again (libmosquitto
- * resends unacknowledged QoS 1 messages on a reconnection, which the broker's
- * clean session delivers a second time: a write's result twice). (mosquitto_reconnect_async on the old handle connects too, once
- * mq_connecting_check ends the dead try: the spin was libmosquitto taking a
- * refused socket for a handshake in progress.) */
+ * resends unacknowledged QoS 1 messages on a reconnection, which the
+ * broker's clean session delivers a second time: a write's result twice).
+ * mosquitto_reconnect_async on the old handle connects again too once
+ * mq_connecting_check ends a dead TLS try (tried with the broker of
+ * tests/integration/it_df1gw_tls.sh): the old handle was not the fault. */
 static int mq_renew(struct gw_mqtt *q, char *err, size_t errcap)
 {
 	mosquitto_destroy(q->m);
@@ -384,7 +385,7 @@ static int mq_connecting_check(struct gw_mqtt *q, short revents, int64_t now)
 		if (mosquitto_socket(q->m) >= 0 && getsockopt(mosquitto_socket(q->m), SOL_SOCKET, SO_ERROR, &e, &l) == 0)
 			mq_sock_errno(q, e);
 		if (!q->sock_errno && !q->tls_why[0])
-			q->sock_errno = revents & POLLERR ? ECONNREFUSED : ECONNRESET;
+			snprintf(q->tls_why, sizeof q->tls_why, "the connection was refused or closed while connecting");
 		return MOSQ_ERR_CONN_LOST;
 	}
 	if (now - q->try_ms > GW_MQTT_CONNECT_MS) {
@@ -392,6 +393,18 @@ static int mq_connecting_check(struct gw_mqtt *q, short revents, int64_t now)
 		return MOSQ_ERR_CONN_LOST;
 	}
 	return 0;
+}
+
+static bool mq_tls_pending(const struct gw_mqtt *q)
+{
+#ifdef GW_HAVE_OPENSSL
+	SSL *ssl = q->cfg.tls ? mosquitto_ssl_get(q->m) : NULL;
+
+	return ssl && SSL_pending(ssl) > 0;
+#else
+	(void)q;
+	return false;
+#endif
 }
 
 /* All the socket has, not one packet (libmosquitto's loop_read takes about
@@ -403,7 +416,10 @@ static int mq_read_all(struct gw_mqtt *q)
 	for (int k = 0; rc == 0 && k < GW_MQTT_READ_MAX && q->state == GW_MQTT_UP; k++) {
 		struct pollfd p = { mosquitto_socket(q->m), POLLIN, 0 };
 
-		if (p.fd < 0 || poll(&p, 1, 0) <= 0 || !(p.revents & POLLIN))
+		if (p.fd < 0)
+			break;
+		/* TLS: what OpenSSL has decrypted already, poll() cannot see */
+		if (!mq_tls_pending(q) && (poll(&p, 1, 0) <= 0 || !(p.revents & POLLIN)))
 			break;
 		rc = mosquitto_loop_read(q->m, 1);
 	}
