@@ -120,12 +120,47 @@ check "the broker never dropped df1gw" '! grep -q -i "exceeded timeout" "$T/brok
 runs=$(awk '/cmd=0F\/AA/ { n++; if (n > m) m = n; next } /cmd=0F\/A2/ { n = 0 } END { print m + 0 }' "$T/sim.log")
 check "at most $DUTY writes between two poll reads (longest run: $runs)" '[ "$runs" -le $DUTY ] && [ "$runs" -ge 1 ]'
 kill "$SUB" 2>/dev/null
-cp "$T/results.txt" "$T/gw.err" "$T/gw.out" "$T/broker.log" "$T/sim.log" /tmp/ftls/ 2>/dev/null
 
-# ---- busy and expired ----
 kill -TERM "$GW_PID"
 lib_reap "$GW_PID"
 check "--counters: the write line" 'grep -q "^writes [0-9]* received, [0-9]* written, .* superseded, .* refused busy, .* queue high-water [0-9]*" "$T/gw.out"'
+
+# ---- a real backlog (--write-optimize all): reads and the bridge keep their turns ----
+"$GW" -d "$SIM_DEV" --map "$T/map.csv" --mqtt "mqtt://127.0.0.1:$PORT" --prefix "$P" --keepalive 5 \
+	--write-optimize all --duty-cycle $DUTY --eip 127.0.0.1:0 > "$T/gw.out" 2> "$T/gw.err" &
+GW_PID=$!
+echo "$GW_PID" >> "$T/.sims"
+wait_for "df1gw says where EtherNet/IP listens (backlog)" 100 gw_addr
+wait_for "status online (backlog)" 100 has "$P/status" online
+mosquitto_sub -h 127.0.0.1 -p "$PORT" -q 1 -t "$P/tag/+/result" -v > "$T/results.txt" 2>&1 &
+SUB=$!
+echo "$SUB" >> "$T/.sims"
+markerb() { pub "$P/tag/S0/set" '{"value":0,"id":"mb"}' && grep -q '"id":"mb"' "$T/results.txt"; }
+wait_for "result subscriber ready (backlog)" 100 markerb
+logged_before=$(wc -l < "$T/sim.log")
+awk 'BEGIN { for (i = 1; i <= 120; i++) printf "{\"value\": %d, \"id\": \"a-%d\"}\n", i, i }' > "$T/burst_a.txt"
+mosquitto_pub -h 127.0.0.1 -p "$PORT" -q 1 -t "$P/tag/S2/set" -l < "$T/burst_a.txt"
+some_written() { [ "$(grep -c '"id":"a-[0-9]*","ok":true' "$T/results.txt")" -ge 8 ]; }
+wait_for "the backlog is being written" 100 some_written
+if "$BIN/df1read" --help 2>&1 | grep -q 'eip://'; then
+	expect 0 "an eip:// read answered behind 100 queued writes" -- "$BIN/df1read" -d "eip://$EIP" --timeout 5000 N7:9
+	out_is "the eip:// read's value (backlog)" "99"
+	check "the backlog was still there when it was answered" '[ "$(grep -c "\"id\":\"a-" "$T/results.txt")" -lt 120 ]'
+fi
+a_all() { [ "$(grep -c '"id":"a-[0-9]*","ok":true' "$T/results.txt")" -ge 120 ]; }
+wait_for "all 120 written, in order, one result each" 900 a_all
+same "the 120 results in order" "$(grep -o '"id":"a-[0-9]*"' "$T/results.txt" | tr -dc '0-9\n' | tr '\n' ' ')" \
+	"$(seq 1 120 | tr '\n' ' ')"
+wait_for "S2 holds 120, the last written" 50 has "$P/tag/S2" '{"value":120,'
+runs=$(sed -n "$((logged_before + 1)),\$p" "$T/sim.log" |
+	awk '/cmd=0F\/AA/ { n++; if (n > m) m = n; next } /cmd=0F\/A2/ { n = 0 } END { print m + 0 }')
+same "a backlog: runs of exactly $DUTY writes between two poll reads" "$runs" "$DUTY"
+check "df1gw never lost the broker (backlog)" '! grep -q "connection lost" "$T/gw.err"'
+kill "$SUB" 2>/dev/null
+kill -TERM "$GW_PID"
+lib_reap "$GW_PID"
+
+# ---- busy and expired ----
 "$GW" -d "$SIM_DEV" --map "$T/map.csv" --mqtt "mqtt://127.0.0.1:$PORT" --prefix "$P" --keepalive 5 \
 	--write-optimize all --max-pending-writes 5 --duty-cycle 1 > "$T/gw2.out" 2> "$T/gw2.err" &
 GW_PID=$!
