@@ -701,6 +701,7 @@ static void shutdown_gw(struct gw *g)
 	gw_fmts_close(&g->fmts);
 	gw_pubs_free(&g->pubs);
 	gw_ids_free(&g->ids);
+	gw_outbox_free(&g->outbox);
 	gw_msg_free(&g->msg);
 	gw_msg_free(&g->will);
 	gw_buf_free(&g->key);

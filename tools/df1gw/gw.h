@@ -81,6 +81,7 @@ struct gw {
 	struct gw_wq wq;             /* waiting writes; its counters are the write side's */
 	unsigned writes_since_read;  /* handed to the line since the poll engine last read */
 	uint64_t reads_seen;         /* the engine's reads + probes when last looked at */
+	struct gw_outbox outbox;     /* results that fell while the broker was away */
 };
 
 /* The command line into g (gw_options.c): CLI_CONTINUE or the exit status,

@@ -206,6 +206,12 @@ void gw_on_connected(void *user)
 	}
 	g->republish = true;
 	gw_publish_changes(g, true);
+	/* the results that fell while the broker was away, once each */
+	for (size_t i = 0; i < g->outbox.n; i++)
+		publish(g, &g->outbox.v[i]);
+	for (size_t i = 0; i < g->outbox.n; i++)
+		gw_msg_free(&g->outbox.v[i]);
+	g->outbox.n = 0;
 }
 
 /* ---- writes ---- */
@@ -228,8 +234,12 @@ static void result_send(struct gw *g, const struct gw_fmt *f, const char *tag, c
 
 	if (!g->cli.quiet && error && g->cli.verbose)
 		fprintf(stderr, "%s: write %s%s%s: %s\n", GW_PROG, tag, *id ? " id " : "", id, error);
-	if (f->ops->result(f, &r, &g->msg) == 0)
+	if (f->ops->result(f, &r, &g->msg) < 0)
+		return;
+	if (gw_mqtt_up(&g->mq))
 		publish(g, &g->msg);
+	else
+		gw_outbox_add(&g->outbox, &g->msg);     /* published when the broker is back */
 }
 
 static void result_publish(struct gw *g, const struct gw_fmt *f, const char *tag, const char *id, int err,
@@ -467,6 +477,8 @@ void gw_writes_drop(struct gw *g)
 
 int gw_writes_init(struct gw *g)
 {
+	if (gw_outbox_init(&g->outbox, (size_t)g->max_pending) < 0)
+		return -1;
 	return gw_wq_init(&g->wq, g->write_optimize, (unsigned)g->max_pending, write_ended, g);
 }
 

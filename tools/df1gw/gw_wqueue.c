@@ -162,6 +162,44 @@ int64_t gw_wq_next_deadline(const struct gw_wq *q)
 	return d;
 }
 
+int gw_outbox_init(struct gw_outbox *o, size_t cap)
+{
+	memset(o, 0, sizeof *o);
+	o->cap = cap ? cap : 1;
+	o->v = calloc(o->cap, sizeof *o->v);
+	return o->v ? 0 : -1;
+}
+
+void gw_outbox_free(struct gw_outbox *o)
+{
+	for (size_t i = 0; o->v && i < o->n; i++)
+		gw_msg_free(&o->v[i]);
+	free(o->v);
+	memset(o, 0, sizeof *o);
+}
+
+bool gw_outbox_add(struct gw_outbox *o, const struct gw_msg *m)
+{
+	struct gw_msg *k;
+
+	if (!o->v || o->n >= o->cap) {
+		o->lost++;
+		return false;
+	}
+	k = &o->v[o->n];
+	gw_msg_init(k);
+	memcpy(k->topic, m->topic, sizeof k->topic);
+	k->retain = m->retain;
+	gw_buf_add(&k->body, m->body.p ? m->body.p : "", m->body.len);
+	if (k->body.oom) {
+		gw_msg_free(k);
+		o->lost++;
+		return false;
+	}
+	o->n++;
+	return true;
+}
+
 static const char *const wopt_names[] = { "all", "latest", "latest-non-bool" };
 
 const char *gw_wopt_name(enum gw_wopt opt)

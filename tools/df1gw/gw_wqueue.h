@@ -7,7 +7,8 @@
  * to the same tag (--write-optimize), expire (--write-timeout), or be refused
  * because too many wait (--max-pending-writes). Each end is told to the
  * owner's callback once, so every /set gets exactly one result. The counters
- * are one struct for every reader (--counters, a metrics page).
+ * are one struct for every reader (--counters, a metrics page). The outbox
+ * keeps the results that fall while the broker is away.
  */
 #ifndef DF1_TOOLS_GW_WQUEUE_H
 #define DF1_TOOLS_GW_WQUEUE_H
@@ -17,6 +18,7 @@
 #include <stdint.h>
 
 #include "df1.h"
+#include "df1gw/gw_format.h"
 
 /* --write-optimize */
 enum gw_wopt {
@@ -98,6 +100,19 @@ struct gw_witem *gw_wq_pop(struct gw_wq *q, int64_t now);
 void gw_wq_drop_all(struct gw_wq *q);
 /* The earliest deadline of a waiting write, or INT64_MAX. */
 int64_t gw_wq_next_deadline(const struct gw_wq *q);
+
+/* Results that fell while the broker was away, published when it is back
+ * (gw_pub.c): at most cap, the later ones counted as lost. */
+struct gw_outbox {
+	struct gw_msg *v;
+	size_t n, cap;
+	uint64_t lost;
+};
+/* 0, or -1 (no memory). */
+int gw_outbox_init(struct gw_outbox *o, size_t cap);
+void gw_outbox_free(struct gw_outbox *o);
+/* A copy of m kept; false when full or out of memory (counted lost). */
+bool gw_outbox_add(struct gw_outbox *o, const struct gw_msg *m);
 
 /* The name of opt ("all", "latest", "latest-non-bool"); parse one: 0 or -1. */
 const char *gw_wopt_name(enum gw_wopt opt);

@@ -4,8 +4,9 @@
  * against the rules of df1gw(1), WRITE POLICY: a waiting write replaced by a
  * later one to its tag (latest), bits kept (latest-non-bool), nothing
  * replaced (all); expiry at the deadline; the busy bound; exactly one end for
- * every write that is not handed to the line; the counters. And "timeout_ms"
- * in a /set payload (gw_write.c).
+ * every write that is not handed to the line; the counters; the outbox of
+ * results kept while the broker is away. And "timeout_ms" in a /set payload
+ * (gw_write.c).
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -13,6 +14,7 @@
 #include <setjmp.h>
 #include <cmocka.h>
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -257,6 +259,32 @@ static void test_set_timeout_ms(void **state)
 	}
 }
 
+/* The outbox keeps copies, at most cap, and counts the rest as lost. */
+static void test_outbox(void **state)
+{
+	struct gw_outbox o;
+	struct gw_msg m;
+
+	(void)state;
+	gw_msg_init(&m);
+	assert_int_equal(gw_outbox_init(&o, 2), 0);
+	snprintf(m.topic, sizeof m.topic, "p/tag/A/result");
+	gw_buf_puts(&m.body, "{\"id\":1}");
+	assert_true(gw_outbox_add(&o, &m));
+	gw_buf_reset(&m.body);
+	gw_buf_puts(&m.body, "{\"id\":2}");
+	assert_true(gw_outbox_add(&o, &m));
+	assert_false(gw_outbox_add(&o, &m));
+	assert_int_equal(o.n, 2);
+	assert_int_equal(o.lost, 1);
+	assert_string_equal(o.v[0].topic, "p/tag/A/result");
+	assert_int_equal(o.v[0].body.len, 8);
+	assert_memory_equal(o.v[0].body.p, "{\"id\":1}", 8);
+	assert_memory_equal(o.v[1].body.p, "{\"id\":2}", 8);
+	gw_outbox_free(&o);
+	gw_msg_free(&m);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -268,6 +296,7 @@ int main(void)
 		cmocka_unit_test(test_one_end_each),
 		cmocka_unit_test(test_options),
 		cmocka_unit_test(test_set_timeout_ms),
+		cmocka_unit_test(test_outbox),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);
