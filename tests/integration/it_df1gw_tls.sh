@@ -110,8 +110,10 @@ check "alive" 'kill -0 "$GW_PID"'
 kill -TERM "$GW_PID"
 lib_reap "$GW_PID"
 
-# ---- a CA that does not verify the broker: a certificate error without -v ----
-"$GW" -d "$SIM_DEV" --map "$T/map.csv" --mqtt "mqtts://127.0.0.1:$PORT" --cafile "$T/other.crt" --prefix df1/bad \
+# ---- a CA that does not verify the broker: a certificate error without -v;
+# the CA file corrected: connected at the next try ----
+cp "$T/other.crt" "$T/cafile.crt"
+"$GW" -d "$SIM_DEV" --map "$T/map.csv" --mqtt "mqtts://127.0.0.1:$PORT" --cafile "$T/cafile.crt" --prefix df1/bad \
 	> "$T/gw2.out" 2> "$T/gw2.err" &
 GW2=$!
 echo "$GW2" >> "$T/.sims"
@@ -124,6 +126,11 @@ check "wrong CA: retrying under 1 s of CPU ($((c1 - c0)) ticks)" '[ $((c1 - c0))
 same "wrong CA: said once" "$(grep -c "cannot connect" "$T/gw2.err")" 1
 [ "$(grep -c "cannot connect" "$T/gw2.err")" = 1 ] || sed "s/^/  gw: /" "$T/gw2.err"
 check "wrong CA: nothing published" '[ -z "$(sub1 "df1/bad/#")" ]'
+# the CA file put right: taken at the next try, without a restart
+cp "$T/ca.crt" "$T/cafile.crt"
+ca_fixed() { grep -q "connected after [0-9]* s" "$T/gw2.err"; }
+wait_for "the CA file corrected: connected without a restart" 400 ca_fixed
+wait_for "published once the CA is right" 50 has "df1/bad/status" online
 kill -TERM "$GW2"
 lib_reap "$GW2"
 
