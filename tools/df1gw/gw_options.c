@@ -54,7 +54,7 @@ static const struct cli_extra_opt gw_opts[] = {
 	  "the line's, the writes' and EtherNet/IP counters on stdout at exit" },
 	{ "write-optimize", required_argument, OPT_WRITE_OPTIMIZE, "all|latest|latest-non-bool",
 	  "a waiting write replaced by a later one to its tag (default latest-non-bool: not bits)" },
-	{ "duty-cycle", required_argument, OPT_DUTY_CYCLE, "N", "at most N writes between two poll reads (default 10)" },
+	{ "duty-cycle", required_argument, OPT_DUTY_CYCLE, "N", "MQTT writes go N at a time, a due poll read after each N (default 10)" },
 	{ "write-timeout", required_argument, OPT_WRITE_TIMEOUT, "MS",
 	  "a write not started within MS ms: expired, not written (default 30000; \"timeout_ms\" in /set)" },
 	{ "max-pending-writes", required_argument, OPT_MAX_PENDING, "N",
