@@ -110,7 +110,8 @@ static void mq_verify_detail(struct gw_mqtt *q)
 	size_t l = strlen(q->tls_why);
 	long v;
 
-	if (!ssl || !strstr(q->tls_why, "certificate verify failed") || (v = SSL_get_verify_result(ssl)) == X509_V_OK)
+	if (!ssl || !strstr(q->tls_why, "certificate verify failed") ||
+	    (v = SSL_get_verify_result(ssl)) == X509_V_OK)
 		return;
 	if (v == X509_V_ERR_UNSPECIFIED) {
 		/* libmosquitto's own host check refused it without saying why */
@@ -146,8 +147,8 @@ static void on_log(struct mosquitto *m, void *obj, int level, const char *text)
 	    strncmp(text, "OpenSSL Error", 13) != 0)
 		return;
 	r = strrchr(text, ':');        /* the reason is the last field of OpenSSL's error string */
-	snprintf(q->tls_why, sizeof q->tls_why, "TLS%s: %s", q->state == GW_MQTT_CONNECTING ? " handshake failed" : "",
-	         r && r[1] ? r + 1 : text);
+	snprintf(q->tls_why, sizeof q->tls_why, "TLS%s: %s",
+	         q->state == GW_MQTT_CONNECTING ? " handshake failed" : "", r && r[1] ? r + 1 : text);
 	mq_verify_detail(q);
 }
 

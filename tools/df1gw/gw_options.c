@@ -54,7 +54,8 @@ static const struct cli_extra_opt gw_opts[] = {
 	  "the line's, the writes' and EtherNet/IP counters on stdout at exit" },
 	{ "write-optimize", required_argument, OPT_WRITE_OPTIMIZE, "all|latest|latest-non-bool",
 	  "a waiting write replaced by a later one to its tag (default latest-non-bool: not bits)" },
-	{ "duty-cycle", required_argument, OPT_DUTY_CYCLE, "N", "MQTT writes go N at a time, a due poll read after each N (default 10)" },
+	{ "duty-cycle", required_argument, OPT_DUTY_CYCLE, "N",
+	  "MQTT writes go N at a time, a due poll read after each N (default 10)" },
 	{ "write-timeout", required_argument, OPT_WRITE_TIMEOUT, "MS",
 	  "a write not started within MS ms: expired, not written (default 30000; \"timeout_ms\" in /set)" },
 	{ "max-pending-writes", required_argument, OPT_MAX_PENDING, "N",
@@ -98,7 +99,8 @@ static int gw_extra(struct cli *c, int key, const char *arg, void *user)
 	case OPT_DUTY_CYCLE: return cli_parse_int(c, "--duty-cycle", arg, 1, 1000, &g->duty_cycle);
 	case OPT_WRITE_TIMEOUT: return cli_parse_int(c, "--write-timeout", arg, 1, (int)GW_TIMEOUT_MS_MAX,
 	                                             &g->write_timeout_ms);
-	case OPT_MAX_PENDING: return cli_parse_int(c, "--max-pending-writes", arg, 1, GW_WQ_MAX_LIMIT, &g->max_pending);
+	case OPT_MAX_PENDING:
+		return cli_parse_int(c, "--max-pending-writes", arg, 1, GW_WQ_MAX_LIMIT, &g->max_pending);
 	default: return CLI_EXIT_USAGE;
 	}
 	return CLI_CONTINUE;

@@ -227,8 +227,8 @@ struct gw_wr {
 
 /* The one result of a write: ok, or error (then unconfirmed says whether the
  * PLC may have executed it). */
-static void result_send(struct gw *g, const struct gw_fmt *f, const char *tag, const char *id, const char *error,
-                        bool unconfirmed)
+static void result_send(struct gw *g, const struct gw_fmt *f, const char *tag, const char *id,
+                        const char *error, bool unconfirmed)
 {
 	struct gw_result_out r = { tag, id, error == NULL, error, error ? unconfirmed : false };
 
