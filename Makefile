@@ -58,6 +58,11 @@ TOOL_SRCS_df1mon := $(sort $(wildcard tools/df1mon/*.c))
 TOOL_SRCS_df1sim := $(sort $(wildcard tools/df1sim/*.c))
 TOOL_SRCS_df1gw := $(sort $(wildcard tools/df1gw/*.c))
 TOOL_LIBS_df1gw := $(shell pkg-config --libs libmosquitto 2>/dev/null || echo -lmosquitto)
+# OpenSSL (optional): why the broker's certificate did not verify (gw_mqtt.c)
+ifeq ($(shell pkg-config --exists openssl 2>/dev/null && echo 1),1)
+  TOOL_LIBS_df1gw += $(shell pkg-config --libs openssl)
+  $(B)/tools/df1gw/gw_mqtt.o: TOOL_CPPFLAGS += -DGW_HAVE_OPENSSL
+endif
 # df1gw's modules that need no broker library, linked into its unit tests
 GW_PURE_OBJS := $(patsubst %.c,$(B)/%.o,$(filter-out tools/df1gw/df1gw.c tools/df1gw/gw_mqtt.c tools/df1gw/gw_pub.c,$(TOOL_SRCS_df1gw)))
 # Sparkplug B (df1gw --sparkplug): C made from tools/df1gw/spb.proto by protoc-c

@@ -31,6 +31,16 @@ def client(port):
     return c
 
 
+def signed(v):
+    """An Int8/16/32 property from its uint32 int_value (the specification's
+    carrier for signed types): two's complement at the type's width."""
+    bits = {1: 8, 2: 16, 3: 32}.get(v.type)
+    x = v.int_value
+    if bits and x >= 1 << (bits - 1):
+        x -= 1 << bits
+    return x
+
+
 def props(raw):
     """Quality and Reason properties per metric name (or alias), from the raw protobuf."""
     p = pb.Payload.FromString(raw)
@@ -39,7 +49,7 @@ def props(raw):
         if m.HasField("properties"):
             d = {}
             for k, v in zip(m.properties.keys, m.properties.values):
-                d[k] = v.string_value if v.HasField("string_value") else v.int_value
+                d[k] = v.string_value if v.HasField("string_value") else signed(v)
             out[m.name or str(m.alias)] = d
     return out
 
