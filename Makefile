@@ -58,8 +58,12 @@ TOOL_SRCS_df1mon := $(sort $(wildcard tools/df1mon/*.c))
 TOOL_SRCS_df1sim := $(sort $(wildcard tools/df1sim/*.c))
 TOOL_SRCS_df1gw := $(sort $(wildcard tools/df1gw/*.c))
 TOOL_LIBS_df1gw := $(shell pkg-config --libs libmosquitto 2>/dev/null || echo -lmosquitto)
+# --http (tools/df1gw/gw_http.c): libmicrohttpd, and its headers' flags
+TOOL_LIBS_df1gw += $(shell pkg-config --libs libmicrohttpd 2>/dev/null || echo -lmicrohttpd) -lm
 # df1gw's modules that need no broker library, linked into its unit tests
 GW_PURE_OBJS := $(patsubst %.c,$(B)/%.o,$(filter-out tools/df1gw/df1gw.c tools/df1gw/gw_mqtt.c tools/df1gw/gw_pub.c,$(TOOL_SRCS_df1gw)))
+# ... and not the health side that reads the broker's state and serves HTTP
+GW_PURE_OBJS := $(filter-out $(patsubst %,$(B)/tools/df1gw/%.o,gw_health gw_http gw_metrics gw_status),$(GW_PURE_OBJS))
 TOOL_COMMON_SRCS := $(sort $(wildcard tools/common/*.c))
 TOOL_COMMON_LIB := $(B)/libdf1-tools.a
 TOOLS := $(foreach t,$(TOOL_NAMES),$(B)/bin/$(t))

@@ -15,6 +15,7 @@
 #include "common/cli.h"
 #include "df1gw/gw_eip.h"
 #include "df1gw/gw_format.h"
+#include "df1gw/gw_health.h"
 #include "df1gw/gw_json.h"
 #include "df1gw/gw_mqtt.h"
 #include "df1gw/gw_state.h"
@@ -69,6 +70,9 @@ struct gw {
 	bool republish;              /* everything, at the next chance (connected, line change) */
 	int64_t next_refresh_ms;
 	unsigned writes_pending;
+
+	/* systemd notifications and --http (gw_health.h) */
+	struct gw_health health;
 };
 
 /* The command line into g (gw_options.c): CLI_CONTINUE or the exit status,

@@ -19,6 +19,7 @@ enum {
 	OPT_MAP = CLI_KEY_EXTRA, OPT_MQTT, OPT_CAFILE, OPT_CERT, OPT_KEY, OPT_CLIENT_ID, OPT_USERNAME,
 	OPT_PASSWORD_FILE, OPT_PASSWORD, OPT_PREFIX, OPT_QOS, OPT_KEEPALIVE, OPT_REFRESH, OPT_ONCE,
 	OPT_WATCHDOG, OPT_EIP, OPT_EIP_STATION, OPT_EIP_ALLOW, OPT_EIP_READ_ONLY, OPT_COUNTERS,
+	OPT_HTTP,
 };
 
 static const struct cli_extra_opt gw_opts[] = {
@@ -49,6 +50,8 @@ static const struct cli_extra_opt gw_opts[] = {
 	{ "eip-read-only", no_argument, OPT_EIP_READ_ONLY, NULL,
 	  "--eip: refuse commands that write or change mode (STS 60h)" },
 	{ "counters", no_argument, OPT_COUNTERS, NULL, "the line's and EtherNet/IP counters on stdout at exit" },
+	{ "http", required_argument, OPT_HTTP, "[ADDR:]PORT",
+	  "read-only status page, /metrics (Prometheus) and /api/status, on 127.0.0.1 unless ADDR is given" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -81,6 +84,7 @@ static int gw_extra(struct cli *c, int key, const char *arg, void *user)
 	case OPT_EIP_ALLOW: g->eip.allow = arg; break;
 	case OPT_EIP_READ_ONLY: g->eip.read_only = true; break;
 	case OPT_COUNTERS: g->counters = true; break;
+	case OPT_HTTP: g->health.http_listen = arg; break;
 	default: return CLI_EXIT_USAGE;
 	}
 	return CLI_CONTINUE;

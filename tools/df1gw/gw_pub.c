@@ -50,8 +50,10 @@ static void publish(struct gw *g, const struct gw_msg *m)
 {
 	const char *body = m->body.p ? m->body.p : "";
 
-	if (gw_mqtt_publish(&g->mq, m->topic, body, m->body.len, m->retain) == 0 && g->cli.verbose &&
-	    !g->cli.quiet)
+	if (gw_mqtt_publish(&g->mq, m->topic, body, m->body.len, m->retain) < 0)
+		return;
+	g->health.published++;          /* df1_mqtt_publications_total (gw_metrics.c) */
+	if (g->cli.verbose && !g->cli.quiet)
 		fprintf(stderr, "%s: > %s %.*s\n", GW_PROG, m->topic, (int)m->body.len, body);
 }
 
