@@ -48,6 +48,7 @@ class Listener:
             self.s.bind(path)
             self.env = path
         self.msgs = []      # (monotonic seconds, {key: value})
+        self.seen = 0       # msgs[:seen] were looked at by wait_for
 
     def read(self, until):
         """Messages until the monotonic time until."""
@@ -73,11 +74,15 @@ class Listener:
     def wait_for(self, key, value, seconds):
         """The first message with key=value within seconds, or None."""
         end = time.monotonic() + seconds
-        while time.monotonic() < end:
-            for m in self.read(min(end, time.monotonic() + 0.2)):
+        while True:
+            while self.seen < len(self.msgs):
+                m = self.msgs[self.seen]
+                self.seen += 1
                 if m[1].get(key) == value:
                     return m
-        return None
+            if time.monotonic() >= end:
+                return None
+            self.read(min(end, time.monotonic() + 0.2))
 
 
 def log_lines(path):
@@ -113,6 +118,7 @@ def scenario(a, lst, p):
     os.kill(p.pid, signal.SIGSTOP)
     lst.read(time.monotonic() + 0.3)        # what was on its way
     got = lst.read(time.monotonic() + 2 * period)
+    lst.seen = len(lst.msgs)                # what follows comes after SIGCONT
     check(len(pings(got)) == 0, "no WATCHDOG=1 while the process is stopped (%d)" % len(pings(got)))
     os.kill(p.pid, signal.SIGCONT)
     check(lst.wait_for("WATCHDOG", "1", 2 * period) is not None, "WATCHDOG=1 again after SIGCONT")

@@ -133,7 +133,7 @@ def main():
         b.call("Page.navigate", {"url": a.url})
         want = {}
         for spec in a.tag:
-            name, rest = spec.split("=", 1)
+            name, rest = spec.rsplit("=", 1)       # a name may hold '=', a value not
             value, quality = rest.rsplit(":", 1)
             want[name] = (value, quality)
         rows, ok = rows_until(b, lambda r: len(r) > 0 and all(
@@ -157,7 +157,7 @@ def main():
             b.js("(function(){var f=document.getElementById('filter'); f.value='';"
                  "f.dispatchEvent(new Event('input'));})()")
         if a.then:
-            name, value = a.then.split("=", 1)
+            name, value = a.then.rsplit("=", 1)
             if a.ready:
                 with open(a.ready, "w") as f:
                     f.write("ready\n")

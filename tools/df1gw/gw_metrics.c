@@ -204,9 +204,7 @@ static void catalog(const struct gw_mctx *c, struct gw_msink *s)
 
 		if (e->severity != DF1_SEV_COUNTER || df1_counter(c->g->h, e->id, &v) < 0)
 			continue;
-		snprintf(name, sizeof name, "df1_link_%s_total", e->mnemonic);
-		for (char *p = name; *p; p++)
-			*p = (char)(*p >= 'A' && *p <= 'Z' ? *p - 'A' + 'a' : *p);
+		cli_counter_metric_name(e, name, sizeof name);
 		snprintf(help, sizeof help, "[%d] %s: %s", e->id, e->mnemonic, e->description ? e->description : "");
 		snprintf(id, sizeof id, "%d", e->id);
 		gw_msink_family(s, name, "counter", help);
