@@ -247,6 +247,41 @@ expect 0 "a line that cannot open: no READY, STATUS says so, the watchdog still 
 	"$GW" -q -d "$T/no-such-tty" --map "$T/map1.csv" --eip 0
 sed 's/^/  notify: /' "$T/out"
 
+# ---- with a broker: READY waits for it; its figures in /metrics ----
+MOSQ=${MOSQUITTO:-/usr/sbin/mosquitto}
+if [ -x "$MOSQ" ] && command -v mosquitto_sub >/dev/null 2>&1; then
+	MQ_PORT=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+	{
+		echo "listener $MQ_PORT 127.0.0.1"
+		echo "persistence false"
+		echo "user $(id -un)"
+		echo "allow_anonymous true"
+	} > "$T/broker.conf"
+	sim_start bsim --data "$T/plc.txt" --log "$T/bsim.log" || finish
+	expect 0 "READY=1 waits for the broker" -- \
+		python3 tests/support/notify_probe.py \
+		--broker-gate "'$MOSQ' -c '$T/broker.conf' > '$T/broker.log' 2>&1 & echo \$! >> '$T/.sims'" -- \
+		"$GW" -q -d "$SIM_DEV" --map "$T/map1.csv" --mqtt "mqtt://127.0.0.1:$MQ_PORT" --prefix health
+	sed 's/^/  notify: /' "$T/out"
+	gw_start mq -d "$SIM_DEV" --map "$T/map1.csv" --mqtt "mqtt://127.0.0.1:$MQ_PORT" --prefix health --http 0
+	wait_for "df1gw connected to the broker (/metrics)" 100 sh -c \
+		"[ \"\$($PROM http://$HTTP/metrics df1_mqtt_connected)\" = 1 ]"
+	wait_for "the tag retained on the broker" 100 sh -c \
+		"mosquitto_sub -h 127.0.0.1 -p $MQ_PORT -t health/tag/Speed -C 1 -W 2 | grep -q 123"
+	n=$(mosquitto_sub -h 127.0.0.1 -p "$MQ_PORT" -t 'health/#' -W 2 2>/dev/null | grep -c .)
+	if [ "$have_prom" = yes ]; then
+		p=$(metric df1_mqtt_publications_total)
+		check "publications counted: at least the $n retained messages on the broker ($p)" \
+			'[ "$n" -ge 3 ] && [ "$p" -ge "$n" ]'
+	fi
+	get /api/status
+	check "/api/status: the broker connected" 'grep -q "\"broker\":{[^}]*\"state\":\"connected\"" "$T/body"'
+	gw_stop "$GW_PID"
+	sim_stop
+else
+	skip "mosquitto missing: READY with a broker, MQTT figures"
+fi
+
 # ---- the unit ----
 if command -v systemd-analyze >/dev/null 2>&1; then
 	mkdir -p "$T/unit"

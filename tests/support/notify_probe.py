@@ -13,6 +13,8 @@ sd_notify(3) and systemd.service(5), not against df1gw's own output:
 
   notify_probe.py [--abstract] [--watchdog-usec N] --log SIM.LOG -- CMD...
   notify_probe.py --never-ready SECONDS -- CMD...   (no READY=1; STATUS says the line is down)
+  notify_probe.py --broker-gate SHELL -- CMD...      (no READY=1 while the broker is missing;
+                  then SHELL starts it, and READY=1 follows with STATUS "broker connected")
 
 Prints one line per check ("ok ..." or "FAIL ..."); exits 1 if any failed.
 """
@@ -140,13 +142,26 @@ def main():
     ap.add_argument("--watchdog-usec", type=int, default=2000000)
     ap.add_argument("--log")
     ap.add_argument("--never-ready", type=float)
+    ap.add_argument("--broker-gate")
     ap.add_argument("cmd", nargs="+")
     a = ap.parse_args()
     lst = Listener(a.abstract)
     env = dict(os.environ, NOTIFY_SOCKET=lst.env, WATCHDOG_USEC=str(a.watchdog_usec))
     p = subprocess.Popen(a.cmd, env=env)
     try:
-        if a.never_ready:
+        if a.broker_gate:
+            got = lst.read(time.monotonic() + 3)
+            check(not any(f.get("READY") == "1" for t, f in got), "no READY=1 while the broker is missing")
+            st = [f["STATUS"] for t, f in got if "STATUS" in f]
+            check(any(s.startswith("line ok") and "broker connected" not in s for s in st),
+                  "STATUS= says the line is ok and the broker is not: %r" % st[-1:])
+            subprocess.run(a.broker_gate, shell=True, check=False)
+            check(lst.wait_for("READY", "1", 30) is not None, "READY=1 once the broker is there")
+            st = [f["STATUS"] for t, f in lst.msgs if "STATUS" in f]
+            check(st and "broker connected" in st[-1], "STATUS= says the broker is connected: %r" % st[-1:])
+            p.send_signal(signal.SIGTERM)
+            check(lst.wait_for("STOPPING", "1", 10) is not None, "STOPPING=1 on SIGTERM")
+        elif a.never_ready:
             got = lst.read(time.monotonic() + a.never_ready)
             check(not any(f.get("READY") == "1" for t, f in got), "no READY=1 while the line cannot open")
             st = [f["STATUS"] for t, f in got if "STATUS" in f]
