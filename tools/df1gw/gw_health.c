@@ -14,10 +14,6 @@
 
 #define STATUS_EVERY_MS 1000     /* STATUS= looked at (and sent if changed) at most this often */
 
-/* Scan durations' buckets (seconds): a fast line scans in tens of ms, a slow
- * multi-drop one in seconds. */
-const double gw_scan_le[GW_SCAN_BUCKETS] = { 0.005, 0.01, 0.025, 0.05, 0.1, 0.25, 0.5, 1, 2.5, 5, 10, 30 };
-
 int gw_health_open(struct gw *g)
 {
 	struct gw_health *h = &g->health;
@@ -28,7 +24,7 @@ int gw_health_open(struct gw *g)
 		fprintf(stderr, "%s: %s (no readiness or watchdog notifications)\n", GW_PROG, err);
 	if (!h->http_listen)
 		return 0;
-	if (gw_http_open(&h->http, h->http_listen, g, err, sizeof err) < 0) {
+	if (gw_http_open(&h->http, h->http_listen, g, &h->http_requests, err, sizeof err) < 0) {
 		fprintf(stderr, "%s: --http %s: %s\n", GW_PROG, h->http_listen, err);
 		return CLI_EXIT_USAGE;
 	}
@@ -51,49 +47,6 @@ int gw_health_wait_ms(const struct gw *g, int64_t now)
 	int a = gw_notify_wait_ms(&g->health.notify, now), b = gw_http_wait_ms(g->health.http);
 
 	return a < b ? a : b;
-}
-
-void gw_health_summary(const struct gw *g, char *out, size_t cap)
-{
-	int stations = 0, ok = 0, tags = 0, bad = 0;
-	size_t len;
-
-	for (int stn = 0; stn < 255 && g->h; stn++) {
-		struct df1_station_health sh;
-
-		if (!g->stations[stn] || df1_station_health(g->h, stn, &sh) < 0)
-			continue;
-		stations++;
-		ok += g->line_up && sh.state == DF1_STATION_OK;
-	}
-	for (int id = 0; id < g->ntags && g->h && g->map_path; id++) {
-		struct df1_tag_state st;
-
-		if (df1_tag_get(g->h, id, &st) < 0 || !(st.config->access & DF1_ACCESS_READ))
-			continue;
-		tags++;
-		bad += !g->line_up || st.quality == DF1_QUALITY_BAD;
-	}
-	if (g->line_up)
-		len = (size_t)snprintf(out, cap, "line ok");
-	else
-		len = (size_t)snprintf(out, cap, "line down (%s)", g->line_error[0] ? g->line_error : "not open yet");
-	if (len < cap && stations)
-		len += ok == stations ? (size_t)snprintf(out + len, cap - len, ", %d station%s ok", ok, ok == 1 ? "" : "s")
-		                      : (size_t)snprintf(out + len, cap - len, ", %d of %d stations ok", ok, stations);
-	if (len < cap && g->map_path)
-		len += (size_t)snprintf(out + len, cap - len, ", %d tag%s (%d BAD)", tags, tags == 1 ? "" : "s", bad);
-	if (len < cap && g->mq_configured)
-		len += (size_t)snprintf(out + len, cap - len, ", broker %s",
-		                        gw_mqtt_up(&g->mq) ? "connected" : g->mq.state == GW_MQTT_CONNECTING ?
-		                        "connecting" : "down");
-	if (len < cap && g->eip.s) {
-		struct df1_eip_server_stats es;
-
-		df1_eip_server_stats(g->eip.s, &es);
-		snprintf(out + len, cap - len, ", EtherNet/IP %llu session%s", (unsigned long long)es.sessions_open,
-		         es.sessions_open == 1 ? "" : "s");
-	}
 }
 
 /* Scans completed since the last turn, each counted with the last one's

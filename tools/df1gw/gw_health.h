@@ -34,10 +34,11 @@ struct gw_health {
 	uint64_t scan_count;
 	double scan_sum_s;
 	uint64_t published;          /* MQTT messages handed to the broker */
+	uint64_t http_requests;      /* requests --http answered */
 	bool reloaded;               /* since the last SIGHUP: READY=1 is due again */
 };
 
-extern const double gw_scan_le[GW_SCAN_BUCKETS];
+extern const double gw_scan_le[GW_SCAN_BUCKETS];   /* gw_metrics.c */
 
 /* systemd's socket (when NOTIFY_SOCKET is set) and --http's server; says
  * where HTTP listens. 0 or the exit status, having said why. */
@@ -55,7 +56,7 @@ void gw_health_reloading(struct gw *g);
 /* On the way out: STOPPING=1. */
 void gw_health_stopping(struct gw *g);
 void gw_health_close(struct gw *g);
-/* The one-line summary of STATUS= and the page: "line ok, 3 stations ok,
+/* The one-line summary of STATUS= and the page (gw_status.c): "line ok, 3 stations ok,
  * 120 tags (2 BAD), broker connected". */
 void gw_health_summary(const struct gw *g, char *out, size_t cap);
 

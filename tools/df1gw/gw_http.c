@@ -34,7 +34,7 @@ struct gw_http {
 	const struct gw *g;
 	char addr[80];
 	bool loopback;
-	uint64_t requests;
+	uint64_t *requests;          /* struct gw_health's: the metrics read it there */
 	struct gw_buf body;          /* the answer being made (copied by libmicrohttpd) */
 };
 
@@ -72,7 +72,7 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *c, const cha
 	const struct gw_page_file *f;
 
 	(void)version, (void)upload, (void)upload_len, (void)state;
-	s->requests++;
+	(*s->requests)++;
 	if (strcmp(method, MHD_HTTP_METHOD_GET) != 0 && strcmp(method, MHD_HTTP_METHOD_HEAD) != 0) {
 		static const char msg[] = "read-only: GET and HEAD only\n";
 
@@ -165,7 +165,8 @@ static void bound_address(struct gw_http *s)
 	}
 }
 
-int gw_http_open(struct gw_http **out, const char *listen, const struct gw *g, char *err, size_t errcap)
+int gw_http_open(struct gw_http **out, const char *listen, const struct gw *g, uint64_t *requests, char *err,
+                 size_t errcap)
 {
 	struct sockaddr_storage ss;
 	socklen_t len;
@@ -181,6 +182,7 @@ int gw_http_open(struct gw_http **out, const char *listen, const struct gw *g, c
 		return -1;
 	}
 	s->g = g;
+	s->requests = requests;
 	gw_buf_init(&s->body);
 	if (ss.ss_family == AF_INET6)
 		flags |= MHD_USE_IPv6;
@@ -243,9 +245,4 @@ void gw_http_run(struct gw_http *s)
 {
 	if (s)
 		MHD_run(s->d);
-}
-
-uint64_t gw_http_requests(const struct gw_http *s)
-{
-	return s ? s->requests : 0;
 }

@@ -17,8 +17,9 @@ struct gw;
 struct gw_http;
 
 /* Listen on [ADDR:]PORT (127.0.0.1 without ADDR; [V6]:PORT; PORT 0: one the
- * kernel picks) for g. Returns 0 with *out, or -1 with err. */
-int gw_http_open(struct gw_http **out, const char *listen, const struct gw *g, char *err, size_t errcap);
+ * kernel picks) for g, counting requests in *requests. Returns 0 with *out, or -1 with err. */
+int gw_http_open(struct gw_http **out, const char *listen, const struct gw *g, uint64_t *requests, char *err,
+                 size_t errcap);
 void gw_http_close(struct gw_http *s);
 /* "127.0.0.1:8080" as bound; whether that is loopback only. */
 const char *gw_http_address(const struct gw_http *s);
@@ -29,7 +30,5 @@ int gw_http_fd(const struct gw_http *s);
 int gw_http_wait_ms(const struct gw_http *s);
 /* Answer what is ready (never blocks). */
 void gw_http_run(struct gw_http *s);
-/* Requests answered so far. */
-uint64_t gw_http_requests(const struct gw_http *s);
 
 #endif

@@ -19,6 +19,11 @@
 
 /* ---- what the table reads ---- */
 
+/* Scan durations' buckets (seconds): a fast line scans in tens of ms, a slow
+ * multi-drop one in seconds. */
+const double gw_scan_le[GW_SCAN_BUCKETS] = { 0.005, 0.01, 0.025, 0.05, 0.1, 0.25, 0.5, 1, 2.5, 5, 10, 30 };
+
+
 struct gw_mctx {
 	const struct gw *g;
 	struct df1_poll_stats ps;
@@ -64,6 +69,8 @@ struct gw_mctx {
 	  g->eip.no_answer) \
 	X(df1_eip_busy_total, "counter", "PCCC requests refused: the line's queue was full", c->eip, \
 	  g->eip.busy) \
+	X(df1_http_requests_total, "counter", "HTTP requests answered (--http)", g->health.http, \
+	  g->health.http_requests) \
 	X(df1_process_start_time_seconds, "gauge", "start time of the process since the epoch", true, \
 	  g->health.start_wall_ms / 1000.0)
 

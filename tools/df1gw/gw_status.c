@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw_status - /api/status: what the status page shows, as JSON
- * (gw_metrics.h): the summary line, the line's settings and state, each
+ * (gw_metrics.h), and the summary line STATUS= sends (gw_health.h): the summary line, the line's settings and state, each
  * station, each tag (its payload as gw_value.c makes it, with its name and
  * age), the broker, EtherNet/IP, and the metrics table. Strings go through
  * gw_json_text, so a tag name with markup in it stays text to the page.
@@ -12,7 +12,6 @@
 #include <string.h>
 
 #include "df1gw/gw.h"
-#include "df1gw/gw_http.h"
 #include "df1gw/gw_value.h"
 
 static void jstr(struct gw_buf *b, const char *key, const char *s)
@@ -164,6 +163,50 @@ static void eip_json(const struct gw *g, struct gw_buf *b)
 	              g->eip.read_only ? "true" : "false");
 }
 
+/* The summary of STATUS= and the page (gw_health.h). */
+void gw_health_summary(const struct gw *g, char *out, size_t cap)
+{
+	int stations = 0, ok = 0, tags = 0, bad = 0;
+	size_t len;
+
+	for (int stn = 0; stn < 255 && g->h; stn++) {
+		struct df1_station_health sh;
+
+		if (!g->stations[stn] || df1_station_health(g->h, stn, &sh) < 0)
+			continue;
+		stations++;
+		ok += g->line_up && sh.state == DF1_STATION_OK;
+	}
+	for (int id = 0; id < g->ntags && g->h && g->map_path; id++) {
+		struct df1_tag_state st;
+
+		if (df1_tag_get(g->h, id, &st) < 0 || !(st.config->access & DF1_ACCESS_READ))
+			continue;
+		tags++;
+		bad += !g->line_up || st.quality == DF1_QUALITY_BAD;
+	}
+	if (g->line_up)
+		len = (size_t)snprintf(out, cap, "line ok");
+	else
+		len = (size_t)snprintf(out, cap, "line down (%s)", g->line_error[0] ? g->line_error : "not open yet");
+	if (len < cap && stations)
+		len += ok == stations ? (size_t)snprintf(out + len, cap - len, ", %d station%s ok", ok, ok == 1 ? "" : "s")
+		                      : (size_t)snprintf(out + len, cap - len, ", %d of %d stations ok", ok, stations);
+	if (len < cap && g->map_path)
+		len += (size_t)snprintf(out + len, cap - len, ", %d tag%s (%d BAD)", tags, tags == 1 ? "" : "s", bad);
+	if (len < cap && g->mq_configured)
+		len += (size_t)snprintf(out + len, cap - len, ", broker %s",
+		                        gw_mqtt_up(&g->mq) ? "connected" : g->mq.state == GW_MQTT_CONNECTING ?
+		                        "connecting" : "down");
+	if (len < cap && g->eip.s) {
+		struct df1_eip_server_stats es;
+
+		df1_eip_server_stats(g->eip.s, &es);
+		snprintf(out + len, cap - len, ", EtherNet/IP %llu session%s", (unsigned long long)es.sessions_open,
+		         es.sessions_open == 1 ? "" : "s");
+	}
+}
+
 void gw_status_json(const struct gw *g, struct gw_buf *b)
 {
 	char text[256], ts[32];
@@ -190,7 +233,7 @@ void gw_status_json(const struct gw *g, struct gw_buf *b)
 	gw_buf_puts(b, ",");
 	eip_json(g, b);
 	gw_buf_printf(b, ",\"http_requests\":%llu,\"metrics\":",
-	              (unsigned long long)gw_http_requests(g->health.http));
+	              (unsigned long long)g->health.http_requests);
 	gw_metrics_write(g, b, true);
 	gw_buf_puts(b, "}");
 }
