@@ -142,6 +142,7 @@ if [ "$have_prom" = yes ]; then
 	m2=$(metric 'df1_station_attempts_total{station=1}')
 	check "station 1's attempts match df1sim's log ($m1 <= $l1 <= $m2 + 1)" \
 		'[ "$m1" -le "$l1" ] && [ "$l1" -le $((m2 + 1)) ]'
+	same "station 3's reply time: none (it never answered)" "$(metric 'df1_station_last_reply_seconds{station=3}')" NaN
 	same "tags GOOD: the three of station 1" "$(metric 'df1_tags{quality=GOOD}')" 3
 	same "tags BAD: the one of station 3" "$(metric 'df1_tags{quality=BAD}')" 1
 	same "build info: the version of df1gw --version" "$(metric 'df1_build_info')" 1
@@ -230,14 +231,23 @@ check "an address given: df1gw says it is reachable from a network, read-only" \
 gw_stop "$GW_PID"
 sim_stop
 
+# ---- a station's reply time: df1sim delays its replies by 80 ms ----
+sim_start dsim --delay 80 --data "$T/plc.txt" --log "$T/dsim.log" || finish
+printf 'Tag,Command,Type,Station,PLC_Type,Address,Count,Scan_Ms\nSpeed,Read,INT,1,SLC,N7:0,1,100\n' > "$T/map1.csv"
+gw_start delay -d "$SIM_DEV" --map "$T/map1.csv" --http 0 --eip 0
+wait_for "station 1 answered (/metrics)" 100 scraped 'df1_station_state{station="1",state="ok"} 1'
+if [ "$have_prom" = yes ]; then
+	r1=$(metric 'df1_station_last_reply_seconds{station=1}')
+	check "station 1's reply time: at least df1sim's 80 ms delay, less than 5 s ($r1 s)" \
+		'python3 -c "import sys; sys.exit(not 0.08 <= float(sys.argv[1]) < 5)" "$r1"'
+fi
+gw_stop "$GW_PID"
+sim_stop
+
 # ---------------------------------------------------------------------------
 # systemd's notifications (a fresh df1sim: READY only after its first answer)
 # ---------------------------------------------------------------------------
 sim_start nsim --data "$T/plc.txt" --log "$T/nsim.log" || finish
-cat > "$T/map1.csv" <<EOF2
-Tag,Command,Type,Station,PLC_Type,Address,Count,Scan_Ms
-Speed,ReadWrite,INT,1,SLC,N7:0,1,100
-EOF2
 expect 0 "NOTIFY_SOCKET (abstract): READY, STATUS, WATCHDOG, RELOADING, STOPPING" -- \
 	python3 tests/support/notify_probe.py --abstract --log "$T/nsim.log" -- \
 	"$GW" -q -d "$SIM_DEV" --map "$T/map1.csv" --eip 0

@@ -15,6 +15,7 @@ A QUERY is SAMPLE or SAMPLE{label=value,...}: its value is printed on a line
 of its own ("none" when there is no such sample; "many" when the labels
 given match more than one). Exit 1 on a parse error or a lint failure.
 """
+import math
 import re
 import sys
 import urllib.request
@@ -68,6 +69,8 @@ def query(families, q):
     if len(hits) > 1:
         return "many"
     v = hits[0]
+    if math.isnan(v) or math.isinf(v):
+        return "NaN" if math.isnan(v) else ("+Inf" if v > 0 else "-Inf")
     return str(int(v)) if v == int(v) else repr(v)
 
 

@@ -70,6 +70,27 @@ static void scan_sample(struct gw *g)
 	}
 }
 
+/* Each station's last reply time: a transaction's attempt and answer are
+ * stamped before and after it (lib/poll/health.c), and df1_poll returns
+ * between transactions, so an answer not older than the attempt is the
+ * last attempt's round trip. A failed attempt keeps the last one known. */
+static void reply_sample(struct gw *g)
+{
+	struct gw_health *h = &g->health;
+
+	for (int stn = 0; stn < 255 && g->h && g->line_up; stn++) {
+		struct df1_station_health sh;
+
+		if (!g->stations[stn] || df1_station_health(g->h, stn, &sh) < 0)
+			continue;
+		if (sh.last_good_ms && sh.last_attempt_ms && sh.last_good_ms >= sh.last_attempt_ms &&
+		    sh.last_good_ms - sh.last_attempt_ms < INT32_MAX) {
+			h->reply_ms[stn] = (int32_t)(sh.last_good_ms - sh.last_attempt_ms);
+			h->reply_known[stn] = true;
+		}
+	}
+}
+
 /* READY: the line open with its first scan done, and the broker connected
  * when there is one; after a reload also when the line could not be opened
  * again (the reload is over; STATUS says what is wrong). */
@@ -92,6 +113,7 @@ void gw_health_turn(struct gw *g, int64_t now)
 
 	gw_http_run(h->http);
 	scan_sample(g);
+	reply_sample(g);
 	if (!gw_notify_on(&h->notify))
 		return;
 	if (now >= h->status_next_ms || !h->notify.ready) {

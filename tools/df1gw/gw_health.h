@@ -35,6 +35,9 @@ struct gw_health {
 	double scan_sum_s;
 	uint64_t published;          /* MQTT messages handed to the broker */
 	uint64_t http_requests;      /* requests --http answered */
+	/* per station: the round trip of its last answered transaction (ms), once one is known */
+	int32_t reply_ms[255];
+	bool reply_known[255];
 	bool reloaded;               /* since the last SIGHUP: READY=1 is due again */
 };
 
@@ -48,7 +51,7 @@ int gw_health_fd(const struct gw *g);
 /* Milliseconds until gw_health_turn has work of its own (watchdog, HTTP timers). */
 int gw_health_wait_ms(const struct gw *g, int64_t now);
 /* Once per loop turn, after the loop's work: HTTP requests answered, the
- * scan histogram fed, READY when the line (and broker) are up, STATUS when
+ * scan histogram and the stations' reply times fed, READY when the line (and broker) are up, STATUS when
  * it changed, WATCHDOG when due. */
 void gw_health_turn(struct gw *g, int64_t now);
 /* SIGHUP: RELOADING=1 before the reload; READY=1 follows from gw_health_turn. */

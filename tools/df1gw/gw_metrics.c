@@ -139,6 +139,8 @@ static void stations(const struct gw_mctx *c, struct gw_msink *s)
 		{ "df1_station_failures_total", "counter", "transactions to the station that failed" },
 		{ "df1_station_consecutive_failures", "gauge", "failures since its last answer" },
 		{ "df1_station_last_answer_age_seconds", "gauge", "time since its last answer (NaN: never)" },
+		{ "df1_station_last_reply_seconds", "gauge",
+		  "round trip of its last answered transaction (NaN: none yet)" },
 	};
 	int64_t now = gw_now_ms();
 
@@ -167,8 +169,12 @@ static void stations(const struct gw_mctx *c, struct gw_msink *s)
 			case 1: gw_msink_sample(s, fam[f][0], l, (double)sh.attempts); break;
 			case 2: gw_msink_sample(s, fam[f][0], l, (double)sh.failures); break;
 			case 3: gw_msink_sample(s, fam[f][0], l, sh.consecutive_failures); break;
-			default:
+			case 4:
 				gw_msink_sample(s, fam[f][0], l, sh.last_good_ms ? (now - sh.last_good_ms) / 1000.0 : NAN);
+				break;
+			default:
+				gw_msink_sample(s, fam[f][0], l, c->g->health.reply_known[stn] ?
+				                c->g->health.reply_ms[stn] / 1000.0 : NAN);
 				break;
 			}
 		}

@@ -67,6 +67,10 @@ static void stations_json(const struct gw *g, struct gw_buf *b)
 		if (sh.last_error)
 			err_text(sh.last_error, err, sizeof err);
 		jstr(b, "last_error", sh.last_error ? err : NULL);
+		if (g->health.reply_known[stn])
+			gw_buf_printf(b, ",\"last_reply_ms\":%d", (int)g->health.reply_ms[stn]);
+		else
+			gw_buf_puts(b, ",\"last_reply_ms\":null");
 		if (sh.last_good_ms)
 			gw_buf_printf(b, ",\"last_answer_age_s\":%.3f}", (now - sh.last_good_ms) / 1000.0);
 		else
