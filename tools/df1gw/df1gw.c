@@ -416,6 +416,8 @@ static int setup(struct gw *g, int argc, char **argv)
 		return r;
 	if (g->eip.listen && (r = gw_eip_open(&g->eip, GW_PROG, g->cli.quiet)) != 0)
 		return r;
+	if ((r = gw_health_open(g)) != 0)       /* systemd's socket, --http */
+		return r;
 	if (gw_ids_init(&g->ids, GW_IDS_DEFAULT) < 0 || gw_writes_init(g) < 0) {
 		fprintf(stderr, "%s: out of memory\n", GW_PROG);
 		return CLI_EXIT_FAIL;
@@ -465,8 +467,8 @@ static void flush_broker(struct gw *g, int ms)
 
 /* What the loop waits on: each one's place in p, -1 when it is not there. */
 struct gw_wait {
-	struct pollfd p[5];
-	int n, sig, hup, mq, line, eip;
+	struct pollfd p[6];
+	int n, sig, hup, mq, line, eip, http;
 };
 
 static void wait_add(struct gw_wait *w, int *at, int fd, short events)
@@ -492,6 +494,7 @@ static void wait_set(const struct gw *g, int hup, struct gw_wait *w)
 	wait_add(w, &w->mq, gw_mqtt_fd(&g->mq), gw_mqtt_poll_events(&g->mq));
 	wait_add(w, &w->line, g->line_up ? df1_poll_fd(g->h) : -1, POLLIN);
 	wait_add(w, &w->eip, gw_eip_fd(&g->eip), POLLIN);
+	wait_add(w, &w->http, gw_health_fd(g), POLLIN);
 }
 
 /* Milliseconds until whatever is due next: the broker, the line's work or
@@ -512,6 +515,9 @@ static int wait_timeout(const struct gw *g, int64_t now)
 		if (d < timeout)
 			timeout = d < 0 ? 0 : (int)d;
 	}
+	t = gw_health_wait_ms(g, now);          /* the watchdog's ping, HTTP's timers */
+	if (t < timeout)
+		timeout = t;
 	if (g->refresh_s > 0 && g->next_refresh_ms - now < timeout)
 		timeout = g->next_refresh_ms - now < 0 ? 0 : (int)(g->next_refresh_ms - now);
 	if (g->wq.n && gw_wq_next_deadline(&g->wq) - now < timeout)      /* an expiry answered on time */
@@ -580,8 +586,10 @@ static void loop_work(struct gw *g, const struct gw_wait *w, int hup, int64_t no
 
 		while (read(hup, &si, sizeof si) == (ssize_t)sizeof si)
 			;
-		if (!g->once)
+		if (!g->once) {
+			gw_health_reloading(g);
 			reload(g);
+		}
 	}
 	eip_mirror(g);
 	if (wait_ready(w, w->eip))
@@ -623,6 +631,7 @@ static int loop(struct gw *g, int hup, struct gw_once *o)
 		if (status != CLI_CONTINUE)
 			break;
 		loop_work(g, &w, hup, now);
+		gw_health_turn(g, gw_now_ms());         /* HTTP, READY, STATUS, WATCHDOG */
 		if (g->once)
 			status = once_step(g, o);
 	}
@@ -690,6 +699,7 @@ static void gw_print_counters(const struct gw *g)
 
 static void shutdown_gw(struct gw *g)
 {
+	gw_health_stopping(g);
 	/* the writes waiting: answered "not written" while the broker is there */
 	snprintf(g->line_error, sizeof g->line_error, "%s stopping", GW_PROG);
 	gw_wq_free(&g->wq);
@@ -720,6 +730,7 @@ static void shutdown_gw(struct gw *g)
 		memset(g->password, 0, strlen(g->password));
 		free(g->password);
 	}
+	gw_health_close(g);
 	cli_cleanup(&g->cli);
 }
 
@@ -729,6 +740,7 @@ int main(int argc, char **argv)
 	int r;
 
 	g.eip.station = -1;
+	g.health.notify.fd = -1;
 	gw_pubs_init(&g.pubs);
 	gw_msg_init(&g.msg);
 	gw_msg_init(&g.will);

@@ -17,6 +17,7 @@
 #include "df1gw/gw_eip.h"
 #include "df1gw/gw_format.h"
 #include "df1gw/gw_format_sparkplug.h"
+#include "df1gw/gw_health.h"
 #include "df1gw/gw_json.h"
 #include "df1gw/gw_mqtt.h"
 #include "df1gw/gw_state.h"
@@ -90,6 +91,9 @@ struct gw {
 	unsigned writes_since_read;  /* handed to the line since the poll engine last read */
 	uint64_t reads_seen;         /* the engine's reads + probes when last looked at */
 	struct gw_outbox outbox;     /* results that fell while the broker was away */
+
+	/* systemd notifications and --http (gw_health.h) */
+	struct gw_health health;
 };
 
 /* The command line into g (gw_options.c): CLI_CONTINUE or the exit status,

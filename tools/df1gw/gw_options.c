@@ -24,6 +24,7 @@ enum {
 	OPT_SPARKPLUG, OPT_EDGE_NODE, OPT_JSON, OPT_PRIMARY_HOST, OPT_SPB_ALIASES, OPT_DEVICE_NAME, OPT_SPB_STATE,
 	/* the write policy (gw_wqueue.h) */
 	OPT_WRITE_OPTIMIZE, OPT_DUTY_CYCLE, OPT_WRITE_TIMEOUT, OPT_MAX_PENDING,
+	OPT_HTTP,
 };
 
 static const struct cli_extra_opt gw_opts[] = {
@@ -81,6 +82,8 @@ static const struct cli_extra_opt gw_opts[] = {
 	  "a write not started within MS ms: expired, not written (default 30000; \"timeout_ms\" in /set)" },
 	{ "max-pending-writes", required_argument, OPT_MAX_PENDING, "N",
 	  "more writes waiting: answered busy, not written (default 1000)" },
+	{ "http", required_argument, OPT_HTTP, "[ADDR:]PORT",
+	  "read-only status page, /metrics (Prometheus) and /api/status, on 127.0.0.1 unless ADDR is given" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -149,6 +152,7 @@ static int gw_extra(struct cli *c, int key, const char *arg, void *user)
 	                                             &g->write_timeout_ms);
 	case OPT_MAX_PENDING:
 		return cli_parse_int(c, "--max-pending-writes", arg, 1, GW_WQ_MAX_LIMIT, &g->max_pending);
+	case OPT_HTTP: g->health.http_listen = arg; break;
 	default: return CLI_EXIT_USAGE;
 	}
 	return CLI_CONTINUE;

@@ -56,8 +56,10 @@ static void publish(struct gw *g, const struct gw_msg *m)
 
 	for (size_t i = 0; i < m->body.len && text; i++)
 		text = (unsigned char)body[i] >= 0x20 || body[i] == '\n' || body[i] == '\t';
-	if (gw_mqtt_publish_qos(&g->mq, m->topic, body, m->body.len, m->qos, m->retain) == 0 && g->cli.verbose &&
-	    !g->cli.quiet) {
+	if (gw_mqtt_publish_qos(&g->mq, m->topic, body, m->body.len, m->qos, m->retain) < 0)
+		return;
+	g->health.published++;          /* df1_mqtt_publications_total (gw_metrics.c) */
+	if (g->cli.verbose && !g->cli.quiet) {
 		if (text)
 			fprintf(stderr, "%s: > %s %.*s\n", GW_PROG, m->topic, (int)m->body.len, body);
 		else            /* a binary payload (Sparkplug's protobuf) */
