@@ -290,6 +290,14 @@ if [ -x "$MOSQ" ] && command -v mosquitto_sub >/dev/null 2>&1; then
 		check "publications counted: at least the $n retained messages on the broker ($p)" \
 			'[ "$n" -ge 3 ] && [ "$p" -ge "$n" ]'
 	fi
+	# the write policy's figures (df1gw(1) WRITE POLICY): a /set that is not
+	# JSON and one to a Read tag are both refused at once, nothing written
+	mosquitto_pub -h 127.0.0.1 -p "$MQ_PORT" -q 1 -t health/tag/Speed/set -m 'not json'
+	mosquitto_pub -h 127.0.0.1 -p "$MQ_PORT" -q 1 -t health/tag/Speed/set -m '{"value":1,"id":"ro"}'
+	wait_for "two refused writes in /metrics (not JSON, a Read tag)" 100 scraped 'df1_mqtt_writes_refused_total 2'
+	check "the writes received 2, written 0, none waiting" \
+		'scraped "df1_mqtt_writes_received_total 2" && scraped "df1_mqtt_writes_written_total 0" &&
+		 scraped "df1_mqtt_writes_waiting 0"'
 	get /api/status
 	check "/api/status: the broker connected" 'grep -q "\"broker\":{[^}]*\"state\":\"connected\"" "$T/body"'
 	gw_stop "$GW_PID"

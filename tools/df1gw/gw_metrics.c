@@ -51,6 +51,24 @@ struct gw_mctx {
 	X(df1_write_queue_depth, "gauge", "writes queued for the line", c->line, ps->writes_queued) \
 	X(df1_mqtt_writes_pending, "gauge", "writes from MQTT waiting for their result", c->broker, \
 	  g->writes_pending) \
+	X(df1_mqtt_writes_received_total, "counter", "writes taken from MQTT (/set, DCMD)", c->broker, \
+	  g->wq.c.received) \
+	X(df1_mqtt_writes_refused_total, "counter", "writes answered at once: invalid, read-only, line down", \
+	  c->broker, g->wq.c.refused) \
+	X(df1_mqtt_writes_written_total, "counter", "writes the PLC took", c->broker, g->wq.c.written) \
+	X(df1_mqtt_writes_failed_total, "counter", "writes handed to the line that failed", c->broker, \
+	  g->wq.c.failed) \
+	X(df1_mqtt_writes_superseded_total, "counter", "writes replaced by a later one (--write-optimize)", \
+	  c->broker, g->wq.c.superseded) \
+	X(df1_mqtt_writes_expired_total, "counter", "writes not started within their timeout", c->broker, \
+	  g->wq.c.expired) \
+	X(df1_mqtt_writes_busy_total, "counter", "writes refused: --max-pending-writes reached", c->broker, \
+	  g->wq.c.refused_busy) \
+	X(df1_mqtt_writes_dropped_total, "counter", "writes waiting when the line went away", c->broker, \
+	  g->wq.c.dropped) \
+	X(df1_mqtt_writes_waiting, "gauge", "writes waiting for the line (the write policy's queue)", c->broker, \
+	  g->wq.c.depth) \
+	X(df1_mqtt_writes_waiting_max, "gauge", "the most writes ever waiting", c->broker, g->wq.c.high_water) \
 	X(df1_mqtt_connected, "gauge", "1 when the MQTT broker accepted the connection", c->broker, \
 	  gw_mqtt_up(&g->mq)) \
 	X(df1_mqtt_publications_total, "counter", "MQTT messages handed to the broker", c->broker, \
