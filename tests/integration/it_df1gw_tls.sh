@@ -8,20 +8,12 @@
 # TLS as the observer. CPU time comes from /proc/PID/stat (utime + stime).
 . tests/support/lib.sh
 
-MOSQ=${MOSQUITTO:-/usr/sbin/mosquitto}
 if [ ! -x "$MOSQ" ] || ! command -v mosquitto_sub >/dev/null 2>&1 || ! command -v openssl >/dev/null 2>&1; then
 	echo "mosquitto, mosquitto-clients or openssl missing"
 	bad "no TLS broker to test against"
 	finish
 fi
 GW="$BIN/df1gw"
-
-free_port() {
-	python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'
-}
-port_open() {
-	python3 -c "import socket; socket.create_connection(('127.0.0.1', $1), 1).close()" 2>/dev/null
-}
 
 # ---- a CA, a server certificate it signs (for 127.0.0.1), another CA ----
 (
@@ -53,12 +45,6 @@ cafile $T/ca.crt
 certfile $T/host.crt
 keyfile $T/host.key
 EOF
-broker_up() {
-	"$MOSQ" -c "$T/broker.conf" >> "$T/broker.log" 2>&1 &
-	BROKER_PID=$!
-	echo "$BROKER_PID" >> "$T/.sims"
-	wait_for "TLS broker listens" 100 port_open "$PORT"
-}
 sub1() { mosquitto_sub -h 127.0.0.1 -p "$PORT" --cafile "$T/ca.crt" -t "$1" -C 1 -W 2 2>/dev/null; }
 has() { sub1 "$1" | grep -F -q -e "$2"; }
 # cpu PID: clock ticks of user and system time so far
@@ -84,7 +70,7 @@ c1=$(cpu "$GW_PID")
 check "waiting for the broker: under 1 s of CPU in 5 s ($((c1 - c0)) ticks of 1/$HZ s)" '[ $((c1 - c0)) -lt "$HZ" ]'
 same "the refusal said once, not at every try" "$(grep -c "cannot connect" "$T/gw.err")" 1
 
-broker_up
+broker_run broker "$PORT"
 wait_for "connected once the broker is up (backoff at most 30 s)" 400 has "$P/status" online
 wait_for "Speed published over TLS" 50 has "$P/tag/Speed" '"value":42,"quality":"GOOD"'
 wait_for "the recovery said" 50 gw_said "connected after"
@@ -97,13 +83,13 @@ c0=$(cpu "$GW_PID")
 n=30; while [ $n -gt 0 ]; do tick; n=$((n - 1)); done
 c1=$(cpu "$GW_PID")
 check "broker down 3 s: under 1 s of CPU ($((c1 - c0)) ticks of 1/$HZ s)" '[ $((c1 - c0)) -lt "$HZ" ]'
-broker_up
+broker_run broker "$PORT"
 wait_for "connected again after kill -9" 400 gw_said "connected again after"
 wait_for "status online again" 50 has "$P/status" online
 # a second outage: survived as the first
 kill -9 "$BROKER_PID"
 wait "$BROKER_PID" 2>/dev/null
-broker_up
+broker_run broker "$PORT"
 twice_again() { [ "$(grep -c "connected again after" "$T/gw.err")" -ge 2 ]; }
 wait_for "connected again after a second kill -9" 400 twice_again
 check "alive" 'kill -0 "$GW_PID"'

@@ -11,31 +11,15 @@
 # the burst this script makes, never from df1gw's own output.
 . tests/support/lib.sh
 
-MOSQ=${MOSQUITTO:-/usr/sbin/mosquitto}
 if [ ! -x "$MOSQ" ] || ! command -v mosquitto_sub >/dev/null 2>&1; then
 	echo "mosquitto or mosquitto-clients missing"
 	bad "no broker to test against"
 	finish
 fi
 GW="$BIN/df1gw"
-free_port() {
-	python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'
-}
-port_open() {
-	python3 -c "import socket; socket.create_connection(('127.0.0.1', $1), 1).close()" 2>/dev/null
-}
-
 PORT=$(free_port)
 # a broker's queue for a slow client is 1000 messages by default: the burst is more
-printf 'listener %s 127.0.0.1\npersistence false\nuser %s\nallow_anonymous true\nlog_type all\nmax_queued_messages 10000\n' \
-	"$PORT" "$(id -un)" > "$T/broker.conf"
-broker_up() {
-	"$MOSQ" -c "$T/broker.conf" >> "$T/broker.log" 2>&1 &
-	BROKER_PID=$!
-	echo "$BROKER_PID" >> "$T/.sims"
-	wait_for "broker listens" 100 port_open "$PORT"
-}
-broker_up
+broker_start broker "$PORT" "allow_anonymous true" "log_type all" "max_queued_messages 10000"
 
 printf 'N7:0=0\nN7:1=0\nN7:2=0\nN7:3=0\nN7:9=99\nB3:0=0\n' > "$T/plc.txt"
 cat > "$T/map.csv" <<'EOF'
@@ -183,7 +167,7 @@ kill -9 "$BROKER_PID"
 kill "$SUB" 2>/dev/null
 wait "$BROKER_PID" 2>/dev/null
 n=20; while [ $n -gt 0 ]; do tick; n=$((n - 1)); done
-broker_up
+broker_run broker "$PORT"
 mosquitto_sub -h 127.0.0.1 -p "$PORT" -q 1 -t "$P/tag/+/result" -v > "$T/res_b.txt" 2>&1 &
 SUB=$!
 echo "$SUB" >> "$T/.sims"
