@@ -31,7 +31,7 @@ $CC -O2 -g -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra -Iinclude -o "$B/bench/bench
 # bench_buffer: df1gw's store and forward buffer (records/s appended and
 # replayed, bytes of file per record), on SQLite and in memory
 $CC -O2 -g -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE -Wall -Wextra -Iinclude -Itools -o "$B/bench/bench_buffer" \
-	bench/bench_buffer.c tools/df1gw/gw_buffer.c tools/df1gw/gw_buffer_sql.c \
+	bench/bench_buffer.c tools/df1gw/gw_buffer.c tools/df1gw/gw_buffer_mem.c tools/df1gw/gw_buffer_sql.c \
 	$(pkg-config --libs sqlite3 2>/dev/null || echo -lsqlite3) || exit 1
 "$B/bench/bench_buffer" "$T" "${BENCH_BUFFER_RECORDS:-100000}" || exit 1
 $CC -O2 -g -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra -Iinclude -o "$B/bench/bench_poll" \

@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw_buffer.c - df1gw's store and forward buffer (gw_buffer.h): the
- * interface, the bounds, the ring in memory (also where a failing file's
- * records go) and the parsers of --buffer-max and --buffer-max-age. The
- * SQLite file is gw_buffer_sql.c.
+ * interface, the bounds, the fall back from a file to memory, the parsers
+ * of --buffer-max and --buffer-max-age. The records in memory are
+ * gw_buffer_mem.c, the SQLite file gw_buffer_sql.c.
  */
 #include "df1gw/gw_buffer_int.h"
 
@@ -13,163 +13,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-uint64_t gw_buffer_rec_size(const struct gw_buffer_rec *r)
-{
-	return (uint64_t)r->len + (r->key ? strlen(r->key) : 0) + GW_BUFFER_REC_OVERHEAD;
-}
-
-void gw_buffer_set_note(struct gw_buffer *b, const char *fmt, ...)
-{
-	va_list ap;
-
-	va_start(ap, fmt);
-	vsnprintf(b->note, sizeof b->note, fmt, ap);
-	va_end(ap);
-	b->has_note = true;
-}
-
-int gw_buffer_slot_set(struct gw_buffer_slot *s, const struct gw_buffer_rec *r)
-{
-	const char *key = r->key ? r->key : "";
-	size_t kl = strlen(key) + 1;
-
-	/* storage kept and grown, so a ring in steady state allocates nothing */
-	if (kl > s->keycap) {
-		char *k = realloc(s->key, kl);
-		if (!k)
-			return GW_BUFFER_ERR;
-		s->key = k;
-		s->keycap = kl;
-	}
-	if (r->len > s->datacap) {
-		unsigned char *d = realloc(s->data, r->len);
-		if (!d)
-			return GW_BUFFER_ERR;
-		s->data = d;
-		s->datacap = r->len;
-	}
-	memcpy(s->key, key, kl);
-	if (r->len)
-		memcpy(s->data, r->data, r->len);
-	s->r = *r;
-	s->r.key = s->key;
-	s->r.data = s->data;
-	s->acked = false;
-	return 0;
-}
-
-static void slots_free(struct gw_buffer_slot *s, size_t n)
-{
-	for (size_t i = 0; i < n; i++) {
-		free(s[i].key);
-		free(s[i].data);
-	}
-	free(s);
-}
-
-int gw_buffer_out_reserve(struct gw_buffer *b, size_t n)
-{
-	if (n <= b->outcap)
-		return 0;
-	struct gw_buffer_rec *o = realloc(b->out, n * sizeof *o);
-	if (!o)
-		return GW_BUFFER_ERR;
-	b->out = o;
-	struct gw_buffer_slot *r = realloc(b->rows, n * sizeof *r);
-	if (!r)
-		return GW_BUFFER_ERR;
-	memset(r + b->outcap, 0, (n - b->outcap) * sizeof *r);
-	b->rows = r;
-	b->outcap = n;
-	return 0;
-}
-
-static struct gw_buffer_slot *ring_at(struct gw_buffer *b, size_t i)
-{
-	return &b->ring[(b->head + i) % b->cap];
-}
-
-/* Twice the slots, the records moved to the start. */
-static int ring_grow(struct gw_buffer *b)
-{
-	size_t ncap = b->cap ? b->cap * 2 : 64;
-	struct gw_buffer_slot *r = calloc(ncap, sizeof *r);
-
-	if (!r)
-		return GW_BUFFER_ERR;
-	for (size_t i = 0; i < b->cap; i++)
-		r[i] = *ring_at(b, i);
-	free(b->ring);
-	b->ring = r;
-	b->cap = ncap;
-	b->head = 0;
-	return 0;
-}
-
-int gw_buffer_mem_push(struct gw_buffer *b, const struct gw_buffer_rec *r)
-{
-	if (b->n == b->cap && ring_grow(b) < 0)
-		return GW_BUFFER_ERR;
-	if (gw_buffer_slot_set(ring_at(b, b->n), r) < 0)
-		return GW_BUFFER_ERR;
-	b->n++;
-	b->records++;
-	b->bytes += gw_buffer_rec_size(r);
-	return 0;
-}
-
-/* Acknowledged slots at the head go (their storage stays for reuse). */
-static void ring_trim(struct gw_buffer *b)
-{
-	while (b->n && ring_at(b, 0)->acked) {
-		b->head = (b->head + 1) % b->cap;
-		b->n--;
-	}
-}
-
-/* The oldest record not acknowledged goes. *size its size; 1 when none. */
-static int mem_drop_oldest(struct gw_buffer *b, uint64_t *size)
-{
-	ring_trim(b);
-	if (!b->n)
-		return 1;
-	struct gw_buffer_slot *s = ring_at(b, 0);
-	*size = gw_buffer_rec_size(&s->r);
-	s->acked = true;
-	b->records--;
-	b->bytes -= *size;
-	ring_trim(b);
-	return 0;
-}
-
-/* The slot of seq, or NULL (binary search: seq increases along the ring). */
-static struct gw_buffer_slot *mem_find(struct gw_buffer *b, uint64_t seq)
-{
-	size_t lo = 0, hi = b->n;
-
-	while (lo < hi) {
-		size_t mid = lo + (hi - lo) / 2;
-		uint64_t s = ring_at(b, mid)->r.seq;
-		if (s == seq)
-			return ring_at(b, mid);
-		if (s < seq)
-			lo = mid + 1;
-		else
-			hi = mid;
-	}
-	return NULL;
-}
-
-static int64_t mem_oldest_ms(const struct gw_buffer *b)
-{
-	for (size_t i = 0; i < b->n; i++) {
-		const struct gw_buffer_slot *s = &b->ring[(b->head + i) % b->cap];
-		if (!s->acked)
-			return s->r.ms;
-	}
-	return 0;
-}
 
 /* The file failed (err): its records to the ring, the file closed. */
 static void fall_back(struct gw_buffer *b, const char *err)
@@ -196,11 +39,11 @@ static int drop_oldest(struct gw_buffer *b, uint64_t *size)
 	char err[400];
 
 	if (!b->sql)
-		return mem_drop_oldest(b, size);
+		return gw_buffer_mem_drop_oldest(b, size);
 	int rc = gw_buffer_sql_drop_oldest(b, size, err, sizeof err);
 	if (rc == GW_BUFFER_ERR) {
 		fall_back(b, err);
-		return mem_drop_oldest(b, size);
+		return gw_buffer_mem_drop_oldest(b, size);
 	}
 	return rc;
 }
@@ -241,11 +84,11 @@ int gw_buffer_expire(struct gw_buffer *b, int64_t now_ms)
 		fall_back(b, err);
 	}
 	for (;;) {
-		ring_trim(b);
-		if (!b->n || ring_at(b, 0)->r.ms >= cutoff)
+		gw_buffer_ring_trim(b);
+		if (!b->n || gw_buffer_ring_at(b, 0)->r.ms >= cutoff)
 			return 0;
 		uint64_t got;
-		mem_drop_oldest(b, &got);
+		gw_buffer_mem_drop_oldest(b, &got);
 		b->dropped_age++;
 		b->dropped_pending++;
 	}
@@ -290,7 +133,7 @@ int gw_buffer_peek(struct gw_buffer *b, size_t max, const struct gw_buffer_rec *
 		fall_back(b, err);
 	}
 	for (size_t i = 0; i < b->n && k < max; i++) {
-		struct gw_buffer_slot *s = ring_at(b, i);
+		struct gw_buffer_slot *s = gw_buffer_ring_at(b, i);
 		if (!s->acked && s->r.seq > b->handed)
 			b->out[k++] = s->r;
 	}
@@ -317,13 +160,13 @@ int gw_buffer_ack(struct gw_buffer *b, uint64_t seq)
 			return 0;
 		fall_back(b, err);
 	}
-	struct gw_buffer_slot *s = mem_find(b, seq);
+	struct gw_buffer_slot *s = gw_buffer_mem_find(b, seq);
 	if (s && !s->acked) {
 		s->acked = true;
 		b->records--;
 		b->bytes -= gw_buffer_rec_size(&s->r);
 		b->acked++;
-		ring_trim(b);
+		gw_buffer_ring_trim(b);
 	}
 	return 0;
 }
@@ -333,7 +176,7 @@ void gw_buffer_stats(const struct gw_buffer *b, struct gw_buffer_stats *s)
 	memset(s, 0, sizeof *s);
 	s->records = b->records;
 	s->bytes = b->bytes;
-	s->oldest_ms = b->sql ? gw_buffer_sql_oldest_ms(b) : mem_oldest_ms(b);
+	s->oldest_ms = b->sql ? gw_buffer_sql_oldest_ms(b) : gw_buffer_mem_oldest_ms(b);
 	s->appended = b->appended;
 	s->acked = b->acked;
 	s->dropped_size = b->dropped_size;
@@ -390,8 +233,8 @@ void gw_buffer_close(struct gw_buffer *b)
 		return;
 	if (b->sql)
 		gw_buffer_sql_close(b);
-	slots_free(b->ring, b->cap);
-	slots_free(b->rows, b->outcap);
+	gw_buffer_slots_free(b->ring, b->cap);
+	gw_buffer_slots_free(b->rows, b->outcap);
 	free(b->out);
 	free(b);
 }

@@ -40,7 +40,7 @@ struct gw_buffer {
 	bool has_note;
 };
 
-/* A record's size against max_bytes. */
+/* gw_buffer_mem.c: records in memory. A record's size against max_bytes. */
 uint64_t gw_buffer_rec_size(const struct gw_buffer_rec *r);
 /* Copies r into slot s (its storage grown as needed). 0 or GW_BUFFER_ERR. */
 int gw_buffer_slot_set(struct gw_buffer_slot *s, const struct gw_buffer_rec *r);
@@ -49,6 +49,15 @@ int gw_buffer_out_reserve(struct gw_buffer *b, size_t n);
 /* Appends r to the ring as it is (its seq kept). 0 or GW_BUFFER_ERR. */
 int gw_buffer_mem_push(struct gw_buffer *b, const struct gw_buffer_rec *r);
 void gw_buffer_set_note(struct gw_buffer *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+void gw_buffer_slots_free(struct gw_buffer_slot *s, size_t n);
+struct gw_buffer_slot *gw_buffer_ring_at(struct gw_buffer *b, size_t i);
+/* Acknowledged slots at the head go (their storage stays for reuse). */
+void gw_buffer_ring_trim(struct gw_buffer *b);
+/* The oldest record not acknowledged goes; *size its size. 0, 1 when none. */
+int gw_buffer_mem_drop_oldest(struct gw_buffer *b, uint64_t *size);
+/* The slot of seq, or NULL. */
+struct gw_buffer_slot *gw_buffer_mem_find(struct gw_buffer *b, uint64_t seq);
+int64_t gw_buffer_mem_oldest_ms(const struct gw_buffer *b);
 
 /* The file: open (0, GW_BUFFER_LOCKED, or GW_BUFFER_ERR with err: the caller
  * falls back to memory), close, and the operations of gw_buffer.h on it. Each
