@@ -14,10 +14,22 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* In memory without a bound on size: the defaults of gw_buffer.h, so that
+ * memory is never filled without limit. */
+static void mem_bounds(struct gw_buffer *b)
+{
+	if (!b->lim.max_records && !b->lim.max_bytes) {
+		b->lim.max_records = GW_BUFFER_MEM_DEFAULT_RECORDS;
+		b->lim.max_bytes = GW_BUFFER_MEM_DEFAULT_BYTES;
+	}
+}
+
 /* The file failed (err): its records to the ring, the file closed. */
 static void fall_back(struct gw_buffer *b, const char *err)
 {
 	char why[sizeof b->note];
+
+	mem_bounds(b);
 
 	snprintf(why, sizeof why, "%s", err);
 	uint64_t before = b->records;
@@ -223,6 +235,8 @@ int gw_buffer_open(struct gw_buffer **out, const char *path, const struct gw_buf
 		if (rc < 0)
 			gw_buffer_set_note(b, "%s; buffering in memory", serr);
 	}
+	if (!b->sql)
+		mem_bounds(b);
 	*out = b;
 	return 0;
 }

@@ -41,8 +41,8 @@ enum gw_buffer_kind {
  * quality), so that empty records bound the buffer too. */
 #define GW_BUFFER_REC_OVERHEAD 32u
 
-/* In memory without --buffer-max: 100 000 records, Kepware IoT Gateway's
- * figure, and at most 64 MiB. */
+/* In memory (no file, or a file that failed) without a bound on records or
+ * bytes: 100 000 records, Kepware IoT Gateway's figure, and at most 64 MiB. */
 #define GW_BUFFER_MEM_DEFAULT_RECORDS 100000u
 #define GW_BUFFER_MEM_DEFAULT_BYTES (64u * 1024u * 1024u)
 

@@ -222,6 +222,25 @@ static void test_bounds_records(void **state)
 	bounds_records(NULL);
 }
 
+/* In memory without bounds: the defaults hold it (100 000 records). */
+static void test_memory_default_bound(void **state)
+{
+	struct gw_buffer_limits lim = { 0 };
+	struct gw_buffer *b = open_ok(NULL, &lim);
+	struct gw_buffer_stats s;
+	const struct gw_buffer_rec *r;
+
+	(void)state;
+	for (int i = 0; i < 100003; i++)
+		put(b, i, 1);
+	gw_buffer_stats(b, &s);
+	assert_int_equal(s.records, 100000);
+	assert_int_equal(s.dropped_size, 3);
+	assert_int_equal(gw_buffer_peek(b, 1, &r), 1);
+	assert_int_equal(r[0].id, 3);
+	gw_buffer_close(b);
+}
+
 static void bounds_bytes(const char *path)
 {
 	/* a record is 7 + 2 + 32 = 41 bytes: 200 bytes hold 4 */
@@ -510,6 +529,7 @@ int main(void)
 		cmocka_unit_test(test_crash_keeps_records),
 		cmocka_unit_test(test_bounds_records),
 		cmocka_unit_test(test_bounds_bytes),
+		cmocka_unit_test(test_memory_default_bound),
 		cmocka_unit_test(test_bounds_age),
 		cmocka_unit_test(test_disk_full_falls_back),
 		cmocka_unit_test(test_unwritable_path),
