@@ -12,10 +12,10 @@
  *
  * Durability: WAL with synchronous=NORMAL, a transaction per append and per
  * acknowledgement. A crash of the process (kill -9) loses nothing committed;
- * a power loss may roll back the transactions since the WAL was last synced,
- * which SQLite does at each checkpoint (every 1000 pages of WAL, about 4 MiB,
- * by default): the newest records appended in that window may be lost and
- * the newest acknowledgements undone (those records are sent again, as
+ * a power loss or a crash of the system may roll back the transactions since
+ * the WAL was last synced, which SQLite does at each checkpoint (every 1000
+ * pages of WAL, about 4 MiB, by default): the newest records appended in
+ * that window may be lost and the newest acknowledgements undone (those records are sent again, as
  * duplicates with their seq and read time). The file is never corrupted.
  *
  * One process per file: an open file description lock (F_OFD_SETLK) on
