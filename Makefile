@@ -79,6 +79,10 @@ PROTOBUF_C_LIBS := $(shell pkg-config --libs libprotobuf-c 2>/dev/null || echo -
 TOOL_LIBS_df1gw += $(SPB_GEN_OBJ) $(PROTOBUF_C_LIBS)
 GW_PURE_OBJS += $(SPB_GEN_OBJ)
 GW_TEST_LIBS := $(PROTOBUF_C_LIBS)
+# store and forward (tools/df1gw/gw_buffer*.c): SQLite, in df1gw and its tests
+SQLITE3_LIBS := $(shell pkg-config --libs sqlite3 2>/dev/null || echo -lsqlite3)
+TOOL_LIBS_df1gw += $(SQLITE3_LIBS)
+GW_TEST_LIBS += $(SQLITE3_LIBS)
 TOOL_COMMON_SRCS := $(sort $(wildcard tools/common/*.c))
 TOOL_COMMON_LIB := $(B)/libdf1-tools.a
 TOOLS := $(foreach t,$(TOOL_NAMES),$(B)/bin/$(t))

@@ -24,6 +24,8 @@ command -v mosquitto_sub >/dev/null 2>&1 || missing="$missing mosquitto-clients"
 # Sparkplug B in df1gw: protobuf-c's library and its compiler protoc-c
 have_header protobuf-c/protobuf-c.h || missing="$missing libprotobuf-c-dev"
 command -v protoc-c >/dev/null 2>&1 || missing="$missing protobuf-c-compiler"
+# store and forward in df1gw: SQLite
+have_header sqlite3.h || missing="$missing libsqlite3-dev"
 [ -z "$missing" ] && exit 0
 cmd="apt-get install -y$missing"
 as=
