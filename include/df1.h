@@ -272,6 +272,7 @@ enum df1_plc {
  * 0..07777) or, for T C F H, the structure 0..9999; sub = the T/C word (0 CTL, 1 PRE,
  * 2 ACC). Any other plc: df1_addr_parse() / df1_addr_format(). Errors as theirs. */
 DF1_API int df1_addr_parse_plc(enum df1_plc plc, const char *text, struct df1_addr *a);
+/* a as plc's address text, what df1_addr_parse_plc reads back. @since 0.5 */
 DF1_API int df1_addr_format_plc(enum df1_plc plc, const struct df1_addr *a, char *buf, size_t cap);
 
 /* Less common link options, set with df1_set_option(). */

@@ -42,9 +42,9 @@ MAJOR=${VERSION%%.*}
 SYMBOLS=debian/libdf1-0.symbols
 
 # the symbols file as it should be, from a freshly built library
-make -s B=build/deb-symbols build/deb-symbols/libdf1.so."$MAJOR".$(echo "$VERSION" | cut -d. -f2) \
-	> /dev/null || { echo "test-debian: cannot build the library" >&2; exit 1; }
-LIB=$(ls build/deb-symbols/libdf1.so."$MAJOR".* | head -n 1)
+# (this version's file by name: an older version's may still lie beside it)
+LIB=build/deb-symbols/libdf1.so."$MAJOR".$(echo "$VERSION" | cut -d. -f2)
+make -s B=build/deb-symbols "$LIB" > /dev/null || { echo "test-debian: cannot build the library" >&2; exit 1; }
 want_symbols() {
 	nm -D --defined-only "$LIB" | awk '{print $3}' | python3 -c '
 import re, sys
