@@ -27,7 +27,7 @@ dog=
 
 cleanup() {
 	[ -n "$pid" ] && kill "$pid" 2>/dev/null
-	[ -n "$dog" ] && kill "$dog" 2>/dev/null
+	[ -n "$dog" ] && kill -KILL "$dog" 2>/dev/null
 	exec 3<&- 2>/dev/null
 	rm -rf "$T"
 }
@@ -42,12 +42,16 @@ start() {
 	mkfifo "$T/out" || exit 1
 	"$SIM" "$@" > "$T/out" 2> "$T/err" &
 	pid=$!
-	( sleep 10; kill "$pid" 2>/dev/null ) &
+	# the dog kills a df1sim that never says where it is; SIGKILL for the
+	# dog itself and a mark it reads, as where SIGTERM is ignored (a package
+	# build can run so) it would outlive its kill (tests/support/lib.sh sim_run)
+	( sleep 10; [ -e "$T/ready.$pid" ] || kill "$pid" 2>/dev/null ) &
 	dog=$!
 	exec 3< "$T/out"
 	line=
 	IFS= read -r line <&3 || line=
-	kill "$dog" 2>/dev/null
+	: > "$T/ready.$pid"
+	kill -KILL "$dog" 2>/dev/null
 	wait "$dog" 2>/dev/null
 	dog=
 }
@@ -304,7 +308,7 @@ if [ -x "$BIN/df1read" ]; then
 	dog=$!
 	wait "$pid"
 	r=$?
-	kill "$dog" 2>/dev/null
+	kill -KILL "$dog" 2>/dev/null
 	wait "$dog" 2>/dev/null
 	if [ "$r" -eq 1 ] && grep -q -- "--log /dev/full" "$T/err"; then
 		ok "--log /dev/full: stops after the first command, exit 1, names the log"

@@ -181,12 +181,17 @@ sim_run() {
 	"$BIN/df1sim" "$@" > "$T/sim.out" 2> "$T/sim.err" &
 	SIM_PID=$!
 	echo "$SIM_PID" >> "$T/.sims"
-	( sleep 10; kill "$SIM_PID" 2>/dev/null ) &
+	# a df1sim that never says where it is gets killed after 10 s, so the
+	# read below ends; one that did is marked, and the dog leaves it alone
+	# even where SIGTERM is ignored (a package build can run so) and the
+	# dog outlives its kill
+	( sleep 10; [ -e "$T/sim.ready.$SIM_PID" ] || kill "$SIM_PID" 2>/dev/null ) &
 	sim_dog=$!
 	exec 3< "$T/sim.out"
 	SIM_LINE=
 	IFS= read -r SIM_LINE <&3 || SIM_LINE=
-	kill "$sim_dog" 2>/dev/null
+	: > "$T/sim.ready.$SIM_PID"
+	kill -KILL "$sim_dog" 2>/dev/null
 	wait "$sim_dog" 2>/dev/null
 }
 
