@@ -313,11 +313,11 @@ static int pipe_step(struct df1 *h)
 		if ((p->state == PIPE_TX || p->state == PIPE_WAIT) && p->deadline_ms < dl)
 			dl = p->deadline_ms;
 	}
-	if (dl == INT64_MAX)
-		return 0; /* nothing on the line */
-	pdl = peer_deadline(h);
+	pdl = peer_deadline(h); /* a reply to the peer on the line (or due) holds our next command */
 	if (pdl < dl)
 		dl = pdl;
+	if (dl == INT64_MAX)
+		return 0; /* nothing on the line */
 	r = link_read_symbol(h, dl, &s);
 	if (r < 0)
 		return r;

@@ -205,6 +205,48 @@ static void test_set_responder_table(void **state)
 	df1_table_free(t);
 }
 
+/* Pipelined: our answer to the peer is still waiting for its ACK when the
+ * next command is put; the command waits for that ACK (it used to be held
+ * back without the line being read: a hang), then goes out. */
+static void test_pipelined_command_waits_for_answer_ack(void **state)
+{
+	struct df1 *h = *state;
+	uint8_t cmd[32], out[64];
+	size_t n = hex(A2_CMD, cmd), wn;
+	const uint8_t *w;
+	int a, b;
+
+	h->cfg.max_outstanding = 2;
+	a = link_pipe_put(h, cmd, n);
+	assert_true(a >= 0);
+	mock_port_feed(ACK, 2);
+	mock_port_feed_hex(PEER_CMD);
+	feed_reply(DF1_CHECK_BCC, 0x00, 0x01, 0x4F, 0, 1);
+	assert_int_equal(link_pipe_wait(h, a, out, sizeof out), 26);
+	n = hex(A2_CMD, cmd);
+	b = link_pipe_put(h, cmd, n);
+	assert_true(b >= 0);
+	mock_port_feed(ACK, 2);       /* our answer's */
+	mock_port_feed(ACK, 2);       /* TNS 2 */
+	feed_reply(DF1_CHECK_BCC, 0x00, 0x01, 0x4F, 0, 2);
+	assert_int_equal(link_pipe_wait(h, b, out, sizeof out), 26);
+	assert_int_equal(out[4], 2);
+	/* the answer (after its held ACK), then the next command only after its ACK */
+	w = mock_port_written(&wn);
+	{
+		size_t k = 0;
+
+		for (size_t i = 0; i + 4 < wn; i++)
+			if (!memcmp(w + i, "\x10\x02\x01\x00\x4F\x10", 6))
+				k = i;
+		assert_true(k > 0);
+		/* TNS 2's frame comes after the answer */
+		for (size_t i = 0; i + 8 < wn; i++)
+			if (!memcmp(w + i, "\x10\x02\x01\x00\x0F\x00\x02\x00", 8))
+				assert_true(i > k);
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -214,6 +256,8 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_unsolicited_answer_enq, setup_bcc, teardown),
 		cmocka_unit_test_setup_teardown(test_unsolicited_pipelined, setup_bcc, teardown),
 		cmocka_unit_test_setup_teardown(test_set_responder_table, setup_bcc, teardown),
+		cmocka_unit_test_setup_teardown(test_pipelined_command_waits_for_answer_ack, setup_bcc,
+		                                teardown),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);
