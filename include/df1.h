@@ -582,6 +582,10 @@ DF1_API void df1_server_set_seed(df1_t *h, uint64_t seed);
  * as a controller with full buffers does (doc/PROTOCOL.md 1.7). 0 (the default): one reply in
  * flight, a new command supersedes it. 0..8. @since 0.4 */
 DF1_API int df1_server_set_max_queue(df1_t *h, int max_queue);
+/* Full duplex: a master handle also answers its peer's commands (a PLC's MSG)
+ * with ops (a df1_table's or the caller's), interleaved with its own; NULL
+ * ops: STS 10h (df1_set_responder(3)). 0 or DF1_E_*. @since 0.5 */
+DF1_API int df1_set_responder(df1_t *h, const struct df1_server_ops *ops, void *user);
 /* Pace transmitted bytes as a line at this baud rate (0 = off). */
 DF1_API int df1_set_line_baud(df1_t *h, int baud);
 /* Answer one PCCC command without a link, as df1_serve() would (EtherNet/IP

@@ -149,6 +149,15 @@ struct df1 {
 	/* slave / peer side */
 	struct server_state *srv;    /* the server's (lib/server/server_dispatch.c): allocated on first use */
 	struct link_responder *resp; /* the server's responder state while link_serve() runs */
+	/* A full-duplex master answering its peer's commands (lib/link/peer.c):
+	 * df1_set_responder's handler (lib/server/server_api.c) and the
+	 * server's reply slots; without one, the link's own slots, allocated on
+	 * the first command, carry the STS 10 answers. */
+	int (*peer_fn)(struct df1 *h, void *ctx, const uint8_t *cmd, size_t n, uint8_t *reply,
+	               size_t cap);
+	void *peer_ctx;
+	struct link_responder *peer_resp;
+	struct link_responder *peer_own;
 	void *poll;                  /* poll engine state (lib/poll/) */
 	/* Destructors of the state above, set by the module that allocates it; df1_free()
 	 * calls them (or plain free() when NULL). */

@@ -253,6 +253,7 @@ void df1_free(df1_t *h)
 		h->poll_free(h);
 	else
 		free(h->poll);
+	free(h->peer_own);
 	free(h);
 }
 

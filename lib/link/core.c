@@ -40,9 +40,9 @@
  *    whose bytes differ (a length and a hash are kept too) is a master that
  *    started again on its last TNS: the responder drops the reply it still
  *    holds under that header, which is not the answer to it.
- *  - A command frame received by a full-duplex master while it waits for its
- *    reply is ACKed (it did arrive intact) and dropped, counted as received
- *    (2528) and invalid (2550, 2510): link_transact is not a responder.
+ *  - A command frame received by a full-duplex master while its commands are
+ *    on the line is ACKed and answered through the responder of
+ *    df1_set_responder, or STS 10h without one (peer.c; doc/PROTOCOL.md 1.10).
  *  - Full duplex has no Active Station List (one peer on a point-to-point link);
  *    the list and its single probing poll are the half-duplex master's.
  *  - 2525/2526 count frames on the wire (retransmissions and duplicates
@@ -634,7 +634,8 @@ int link_serve_screen(struct df1 *h, uint8_t key, const struct df1_symbol *s)
 }
 
 /* A message the master accepted (already ACKed): the reply it waits for?
- * Returns 1 (matched: copied to reply, *len set), 0 (stale or unsolicited:
+ * Returns 1 (matched: copied to reply, *len set), 0 (stale, or a command when
+ * no caller took it (peer.c takes them first):
  * counted and dropped) or DF1_E_* (wrong CMD, reply buffer too small). */
 int link_take_reply(struct df1 *h, const uint8_t *cmd, const struct df1_symbol *s,
                     uint8_t *reply, size_t cap, size_t *len)

@@ -44,6 +44,7 @@ struct full_cmd {
 	int stn, naks, enqs;
 	int64_t reply_wait;          /* max(timeout_ms, cmd_timeout_ms), from the ACK */
 	int64_t deadline;            /* ACK timer, then reply timer */
+	bool sent;                   /* on the line (it waits while a reply of ours does) */
 	bool acked;
 };
 
@@ -119,6 +120,8 @@ static int full_cmd_frame(struct df1 *h, const struct full_cmd *t, const struct 
 		df1_log(h, DF1_ID_NTC_DUPLICATE_MSG_RCVD, (int)s->data[1]);
 		return 0;
 	}
+	if (!(s->data[2] & 0x40))
+		return peer_command(h, s, h->hold_reply_ack); /* the peer's own command (peer.c) */
 	/* in a poll engine's scan, with our next command in one write
 	 * (alone before any wait, or when df1_poll returns) */
 	r = h->hold_reply_ack ? link_send_sym_held(h, DF1_ACK) : link_send_sym(h, DF1_ACK);
@@ -134,6 +137,10 @@ static int full_cmd_symbol(struct df1 *h, struct full_cmd *t, const struct df1_s
 {
 	switch (s->kind) {
 	case DF1_SYM_ACK:
+		if (peer_on_line(h)) {
+			peer_acked(h); /* the ACK of our reply to the peer */
+			return 0;
+		}
 		df1_count(h, DF1_ID_CNT_ACKS_RCVD);
 		if (!t->acked) {
 			t->acked = true;
@@ -141,7 +148,7 @@ static int full_cmd_symbol(struct df1 *h, struct full_cmd *t, const struct df1_s
 		}
 		return 0;
 	case DF1_SYM_NAK:
-		return full_cmd_nak(h, t);
+		return peer_on_line(h) ? peer_nak(h) : full_cmd_nak(h, t);
 	case DF1_SYM_ENQ:
 		/* the peer asks for our last response */
 		return link_send_sym(h, h->last_response);
@@ -161,6 +168,26 @@ static int full_cmd_symbol(struct df1 *h, struct full_cmd *t, const struct df1_s
 	}
 }
 
+/* What may go on the line now: one frame of ours waits for an ACK at a time
+ * (peer.c): our command first, then the replies to the peer's commands. */
+static int full_cmd_line(struct df1 *h, struct full_cmd *t)
+{
+	int r;
+
+	if (peer_on_line(h) || (t->sent && !t->acked))
+		return 0;
+	if (t->sent)
+		return peer_start(h);
+	r = link_send_raw(h, t->wire, t->wn);
+	if (r < 0)
+		return r;
+	df1_count(h, DF1_ID_CNT_MSG_PACKETS_SENT);
+	df1_count(h, DF1_ID_CNT_CMD_MSGS_SENT);
+	t->sent = true;
+	t->deadline = link_after_tx_ms(h, link_timeout_ms(h));
+	return 0;
+}
+
 int full_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap)
 {
 	struct full_cmd t = { .cmd = cmd, .stn = cmd[0] };
@@ -172,20 +199,25 @@ int full_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 	t.reply_wait = link_timeout_ms(h);
 	if (h->cfg.cmd_timeout_ms > t.reply_wait)
 		t.reply_wait = h->cfg.cmd_timeout_ms;
-	r = link_send_raw(h, t.wire, t.wn);
-	if (r < 0)
-		return r;
-	df1_count(h, DF1_ID_CNT_MSG_PACKETS_SENT);
-	df1_count(h, DF1_ID_CNT_CMD_MSGS_SENT);
-	t.deadline = link_after_tx_ms(h, link_timeout_ms(h));
 	for (;;) {
 		struct df1_symbol s;
 		size_t len = 0;
+		int64_t dl, pdl;
 
-		r = link_read_symbol(h, t.deadline, &s);
+		r = full_cmd_line(h, &t);
 		if (r < 0)
 			return r;
-		r = r == 0 ? full_cmd_timeout(h, &t) : full_cmd_symbol(h, &t, &s, reply, cap, &len);
+		pdl = peer_deadline(h);
+		dl = t.sent && t.deadline < pdl ? t.deadline : pdl;
+		r = link_read_symbol(h, dl, &s);
+		if (r < 0)
+			return r;
+		if (r == 0 && pdl <= dl)
+			r = peer_timeout(h, dl); /* our reply to the peer: its ENQ (or its due time) */
+		else if (r == 0)
+			r = full_cmd_timeout(h, &t);
+		else
+			r = full_cmd_symbol(h, &t, &s, reply, cap, &len);
 		if (r < 0)
 			return r;
 		if (r == 1)
@@ -251,78 +283,6 @@ int full_test(struct df1 *h)
 /* ------------------------------------------------------------------------
  * Full duplex: responder
  * ------------------------------------------------------------------------ */
-
-static int full_tx_start(struct df1 *h, struct link_reply *t)
-{
-	bool first = !t->stale_now && t->naks == 0 && t->enqs == 0;
-	int r;
-
-	if (t->stale_first) {
-		t->stale_first = false;
-		t->stale_now = true;
-		first = true;
-	}
-	r = link_slot_send(h, t, t->stale_now, first);
-	if (r < 0)
-		return r;
-	t->sent = true;
-	t->ack_deadline_ms = link_after_tx_ms(h, link_timeout_ms(h));
-	return 0;
-}
-
-/* The master's ACK of our reply. */
-static int full_tx_acked(struct df1 *h, struct link_reply *t)
-{
-	if (t->stale_now) {
-		/* the stale copy is through; the real reply goes next */
-		t->stale_now = false;
-		t->sent = false;
-		t->naks = t->enqs = 0;
-		return full_tx_start(h, t);
-	}
-	t->used = false;
-	return 0;
-}
-
-static int full_tx_nak(struct df1 *h, struct link_reply *t)
-{
-	int r;
-
-	if (t->naks >= h->cfg.nak_retries) {
-		df1_count(h, DF1_ID_CNT_NAK_LIMIT_EXCEEDED);
-		df1_log(h, DF1_ID_NTC_NAK_LIMIT_EXCEEDED, h->cfg.nak_retries);
-		t->used = false;
-		return 0;
-	}
-	t->naks++;
-	df1_count(h, DF1_ID_CNT_NAK_RETRIES);
-	df1_log(h, DF1_ID_NTC_NAK_RETRY, t->naks, DF1_ID_NTC_RCVD_NAK_SYMBOL);
-	r = link_slot_send(h, t, t->stale_now, false);
-	if (r < 0)
-		return r;
-	t->ack_deadline_ms = link_after_tx_ms(h, link_timeout_ms(h));
-	return 0;
-}
-
-static int full_tx_timeout(struct df1 *h, struct link_reply *t)
-{
-	int r;
-
-	if (t->enqs >= h->cfg.enq_retries) {
-		df1_count(h, DF1_ID_CNT_ENQ_LIMIT_EXCEEDED);
-		df1_log(h, DF1_ID_NTC_ENQ_LIMIT_EXCEEDED, h->cfg.enq_retries);
-		t->used = false;
-		return 0;
-	}
-	t->enqs++;
-	df1_count(h, DF1_ID_CNT_ENQ_RETRIES);
-	df1_log(h, DF1_ID_NTC_ENQ_RETRY, t->enqs, DF1_ID_ERR_COMMAND_TIMEOUT);
-	r = link_send_sym(h, DF1_ENQ);
-	if (r < 0)
-		return r;
-	t->ack_deadline_ms = link_after_tx_ms(h, link_timeout_ms(h));
-	return 0;
-}
 
 /* A controller with full buffers NAKs a new command (doc/PROTOCOL.md 1.7: "message source
  * full"): the commands accepted whose reply is not through (queued, or sent
@@ -398,7 +358,7 @@ int full_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms
 		int r = 0;
 
 		if (t && !t->sent && t->due_ms <= now) {
-			r = full_tx_start(h, t);
+			r = peer_tx_start(h, t);
 			if (r < 0)
 				return r;
 		}
@@ -420,7 +380,7 @@ int full_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms
 			if (which == W_END)
 				return served;
 			if (which == W_ACK)
-				r = full_tx_timeout(h, t);
+				r = peer_tx_timeout(h, t);
 			else
 				t->due_ms = 0;
 			if (r < 0)
@@ -431,13 +391,13 @@ int full_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms
 		case DF1_SYM_ACK:
 			df1_count(h, DF1_ID_CNT_ACKS_RCVD);
 			if (t && t->sent)
-				r = full_tx_acked(h, t);
+				r = peer_tx_acked(h, t);
 			break;
 		case DF1_SYM_NAK:
 			df1_count(h, DF1_ID_CNT_NAKS_RCVD);
 			if (t && t->sent) {
 				df1_log(h, DF1_ID_NTC_RCVD_NAK_SYMBOL);
-				r = full_tx_nak(h, t);
+				r = peer_tx_nak(h, t);
 			} else {
 				/* no frame of ours is waiting for a response */
 				df1_log(h, DF1_ID_ERR_RCVD_NAK_SYMBOL);

@@ -71,6 +71,29 @@ int full_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 int full_test(struct df1 *h);
 int full_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms);
 
+/* The full-duplex reply transmitter (peer.c), df1_serve's and the master's:
+ * send a queued reply; its ACK, NAK (again, until the limit) and ACK timeout
+ * (ENQ, until the limit); 0 or DF1_E_*. */
+int peer_tx_start(struct df1 *h, struct link_reply *t);
+int peer_tx_acked(struct df1 *h, struct link_reply *t);
+int peer_tx_nak(struct df1 *h, struct link_reply *t);
+int peer_tx_timeout(struct df1 *h, struct link_reply *t);
+
+/* A full-duplex master answering its peer (peer.c). peer_command takes a
+ * command frame (good check, not a duplicate): ACK (held when held) and its
+ * reply queued, or NAK when the queue is full; 0 or DF1_E_*. peer_on_line:
+ * a reply of ours waits for its ACK (a DLE ACK / NAK is its: peer_acked,
+ * peer_nak). peer_start sends the next reply that is due; call it only when
+ * no frame of ours waits for an ACK. peer_deadline: the reply's ACK timer or
+ * due time (INT64_MAX none); peer_timeout acts on it when the read ran to dl. */
+int peer_command(struct df1 *h, const struct df1_symbol *s, bool held);
+bool peer_on_line(struct df1 *h);
+int peer_start(struct df1 *h);
+void peer_acked(struct df1 *h);
+int peer_nak(struct df1 *h);
+int64_t peer_deadline(struct df1 *h);
+int peer_timeout(struct df1 *h, int64_t dl);
+
 /* pipelining (pipe.c) */
 int link_pipe_submit(struct df1 *h, const uint8_t *cmd, size_t n);
 int pipe_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap);

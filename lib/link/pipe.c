@@ -160,7 +160,7 @@ static int pipe_start(struct df1 *h)
 {
 	struct link_pipe_slot *next = NULL;
 
-	while (!h->pipe.tx && pipe_count(h, true) < link_pipe_depth(h)) {
+	while (!h->pipe.tx && !peer_on_line(h) && pipe_count(h, true) < link_pipe_depth(h)) {
 		int r;
 
 		next = NULL;
@@ -275,6 +275,8 @@ static int pipe_frame(struct df1 *h, const struct df1_symbol *s)
 
 	if (link_is_dup(h, s->data[1], s->data, s->len))
 		return link_ack_dup(h, s);
+	if (!(s->data[2] & 0x40))
+		return peer_command(h, s, true); /* the peer's own command (peer.c) */
 	/* held: it goes out with our next command, in one write (or before we wait) */
 	r = link_send_sym_held(h, DF1_ACK);
 	if (r < 0)
@@ -297,10 +299,12 @@ static int pipe_frame(struct df1 *h, const struct df1_symbol *s)
 /* One step: start what may go, wait for the next symbol or timer, handle it. */
 static int pipe_step(struct df1 *h)
 {
-	int64_t dl = INT64_MAX;
+	int64_t dl = INT64_MAX, pdl;
 	struct df1_symbol s;
-	int r = pipe_start(h);
+	int r = h->pipe.tx ? 0 : peer_start(h); /* a reply to the peer goes first */
 
+	if (r >= 0)
+		r = pipe_start(h);
 	if (r < 0)
 		return r;
 	for (int i = 0; i < LINK_PIPE_MAX; i++) {
@@ -309,21 +313,30 @@ static int pipe_step(struct df1 *h)
 		if ((p->state == PIPE_TX || p->state == PIPE_WAIT) && p->deadline_ms < dl)
 			dl = p->deadline_ms;
 	}
+	pdl = peer_deadline(h); /* a reply to the peer on the line (or due) holds our next command */
+	if (pdl < dl)
+		dl = pdl;
 	if (dl == INT64_MAX)
 		return 0; /* nothing on the line */
 	r = link_read_symbol(h, dl, &s);
 	if (r < 0)
 		return r;
-	if (r == 0)
-		return pipe_timeouts(h, dl);
+	if (r == 0) {
+		r = pdl <= dl ? peer_timeout(h, dl) : 0;
+		return r < 0 ? r : pipe_timeouts(h, dl);
+	}
 	switch (s.kind) {
 	case DF1_SYM_ACK:
+		if (peer_on_line(h)) {
+			peer_acked(h); /* the ACK of our reply to the peer */
+			return 0;
+		}
 		df1_count(h, DF1_ID_CNT_ACKS_RCVD);
 		if (h->pipe.tx)
 			pipe_acked(h, &h->pipe.slot[h->pipe.tx - 1]);
 		return 0;
 	case DF1_SYM_NAK:
-		return pipe_nak(h);
+		return peer_on_line(h) ? peer_nak(h) : pipe_nak(h);
 	case DF1_SYM_ENQ:
 		return link_send_sym(h, h->last_response); /* the peer asks for our last response */
 	case DF1_SYM_FRAME:

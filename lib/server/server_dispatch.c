@@ -250,6 +250,7 @@ int server_handle(struct df1 *h, void *ctx, const uint8_t *cmd, size_t n, uint8_
 
 struct server_state {
 	struct link_responder resp;  /* reply slots, faults, stations served */
+	struct server_ctx peer;      /* df1_set_responder: a master answering its peer */
 };
 
 static void server_free(struct df1 *h)
@@ -267,4 +268,28 @@ struct link_responder *server_responder(struct df1 *h)
 		h->srv_free = server_free;
 	}
 	return &h->srv->resp;
+}
+
+/* A full-duplex master answers its peer with ops (lib/link/peer.c); the reply
+ * slots and faults are df1_serve's, so both answer alike on one handle. */
+DF1_API int df1_set_responder(df1_t *h, const struct df1_server_ops *ops, void *user)
+{
+	struct link_responder *resp;
+
+	if (!h)
+		return DF1_E_INVAL;
+	if (!ops) {
+		h->peer_fn = NULL;
+		h->peer_ctx = NULL;
+		return 0; /* commands from the peer get STS 10h again */
+	}
+	resp = server_responder(h);
+	if (!resp)
+		return df1_fail(h, DF1_E_NOMEM, -1, "df1_set_responder: out of memory");
+	h->srv->peer.ops = ops;
+	h->srv->peer.user = user;
+	h->peer_resp = resp;
+	h->peer_ctx = &h->srv->peer;
+	h->peer_fn = server_handle;
+	return 0;
 }

@@ -75,6 +75,8 @@ struct sim {
 	struct sim_uart line;           /* baud 0: none given */
 	bool rfc2217;
 	struct sim_ramps ramps;         /* --ramp (tools/df1sim/sim_ramp.c) */
+	struct sim_msg msgs[SIM_MSG_MAX]; /* --msg (tools/df1sim/sim_msg.c) */
+	int nmsgs;
 };
 
 static struct df1_table *sim_table_for(struct sim *s, int station)
@@ -259,7 +261,10 @@ static int serve_open(df1_t *h, struct sim *s)
 	while (!cli_stop && !s->log.error) {
 		sim_wakeup(h, s);
 		sim_eip_process(s);
-		r = df1_serve(h, &sim_ops, s, 1000);
+		/* the MSGs that are due go out first, as the ladder's MSG blocks */
+		r = s->nmsgs ? sim_msg_run(h, s->tables[s->stations[0]], s->msgs, s->nmsgs, s->log.fp, 1000)
+		             : 1000;
+		r = df1_serve(h, &sim_ops, s, r);
 		if (r >= 0 || (r == DF1_E_INTR && !cli_stop))
 			continue;
 		if (r == DF1_E_INTR || cli_stop)
@@ -445,6 +450,12 @@ static int setup_handle(df1_t *h, const struct sim_opts *o, struct sim *s)
 		r = df1_set_option(h, DF1_OPT_NO_EOT, 1);
 	if (r >= 0)
 		r = df1_server_set_max_queue(h, o->max_queue);
+	if (r >= 0 && o->nmsgs) {
+		/* our MSGs wait for their replies while the master's commands are answered */
+		memcpy(s->msgs, o->msgs, sizeof s->msgs);
+		s->nmsgs = o->nmsgs;
+		r = df1_set_responder(h, &sim_ops, s);
+	}
 	if (r < 0) {
 		const struct df1_error_detail *d = df1_last_error(h);
 

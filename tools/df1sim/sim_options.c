@@ -24,6 +24,7 @@ enum {
 	OPT_EIP_MAX_CLIENTS, OPT_EIP_REGISTER_TIMEOUT, OPT_EIP_IDLE_TIMEOUT,
 	OPT_LINE_SETTINGS = CLI_KEY_EXTRA + 100, /* tools/df1sim/sim_line.c */
 	OPT_RAMP = CLI_KEY_EXTRA + 110,          /* tools/df1sim/sim_ramp.c */
+	OPT_MSG = CLI_KEY_EXTRA + 120,           /* tools/df1sim/sim_msg.c */
 };
 
 /* -d, --station and -b are df1sim's own: -d is the device served (never
@@ -72,6 +73,8 @@ static const struct cli_extra_opt sim_opt_table[] = {
 	{ "log", required_argument, OPT_LOG, "FILE", "one line per command answered" },
 	{ "ramp", required_argument, OPT_RAMP, "ADDR[,STEP][@MS]",
 	  "add STEP (default 1) to ADDR every MS ms (default 100; a bit toggles); repeatable" },
+	{ "msg", required_argument, OPT_MSG, "KIND,LOCAL,COUNT,STATION,REMOTE[,MS][,seq]",
+	  "full duplex: send a MSG every MS ms (default 1000), e.g. write,N7:0,10,0,N50:0,500" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -154,6 +157,7 @@ static int on_option(struct cli *c, int key, const char *arg, void *user)
 	struct sim_opts *o = user;
 	unsigned long long u;
 	char *end;
+	char why[120];
 
 	switch (key) {
 	case OPT_PTY: o->pty = arg; o->where++; break;
@@ -190,6 +194,13 @@ static int on_option(struct cli *c, int key, const char *arg, void *user)
 	case OPT_EIP_REGISTER_TIMEOUT:
 		return cli_parse_int(c, "--eip-register-timeout", arg, 0, 3600, &o->eip_register_s);
 	case OPT_EIP_IDLE_TIMEOUT: return cli_parse_int(c, "--eip-idle-timeout", arg, 0, 3600, &o->eip_idle_s);
+	case OPT_MSG:
+		if (o->nmsgs >= SIM_MSG_MAX)
+			return cli_usage_error(c, "at most %d --msg", SIM_MSG_MAX);
+		if (sim_msg_parse(arg, &o->msgs[o->nmsgs], why, sizeof why) < 0)
+			return cli_bad_value(c, "--msg", arg, why);
+		o->nmsgs++;
+		break;
 	case OPT_LINE_SETTINGS:
 		if (!sim_uart_parse(arg, &o->line))
 			return cli_bad_value(c, "--line-settings", arg, "BAUD or BAUD,DPS such as 9600,8E1 "
@@ -289,6 +300,8 @@ int sim_options_parse(int argc, char **argv, struct sim_opts *o)
 		                                         : "one of --pty PATH, -d DEV, --listen ADDR or --eip ADDR is required");
 	if (sim_line_check(o) != CLI_CONTINUE)
 		return CLI_EXIT_USAGE;
+	if (o->nmsgs && o->cli.half_duplex)
+		return cli_usage_error(&o->cli, "--msg needs full duplex (a half-duplex slave's MSG is not done yet)");
 	if ((o->eip_allow || o->eip_read_only) && !o->eip)
 		return cli_usage_error(&o->cli, "--eip-allow and --eip-read-only go with --eip");
 	if ((o->eip_max_clients || o->eip_register_s >= 0 || o->eip_idle_s >= 0) && !o->eip)

@@ -14,6 +14,7 @@
 #include "common/cli.h"
 #include "df1sim/sim_line.h"
 #include "df1sim/sim_ramp.h"
+#include "df1sim/sim_msg.h"
 
 struct fault_opt {
 	enum df1_fault kind;
@@ -47,6 +48,8 @@ struct sim_opts {
 	struct sim_uart line;
 	bool rfc2217;
 	struct sim_ramps ramps;         /* --ramp (tools/df1sim/sim_ramp.c) */
+	struct sim_msg msgs[SIM_MSG_MAX]; /* --msg (tools/df1sim/sim_msg.c) */
+	int nmsgs;
 };
 
 /* CLI_CONTINUE to go on, else the exit status (having said why). */

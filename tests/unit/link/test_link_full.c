@@ -491,19 +491,24 @@ static void test_full_too_long_frame_nak_2512(void **state)
 	assert_int_equal(cnt(h, 2533), 1);
 }
 
-static void test_full_peer_command_acked_and_dropped(void **state)
+/* A command of the peer while ours waits, no responder set: ACKed and answered
+ * STS 10h (lib/link/peer.c; tests/unit/link/test_peer.c has the rest). */
+static void test_full_peer_command_answered_sts10(void **state)
 {
 	struct df1 *h = *state;
-	uint8_t out[300], app[32], wire[FRAME_MAX_WIRE];
+	uint8_t out[300], app[32], wire[FRAME_MAX_WIRE], rep[16], rwire[FRAME_MAX_WIRE];
 	size_t an = make_reply(app, 0, 1, 0x0F, 0, 0x4444, (const uint8_t *)"\xA2\x02\x07\x89\x00\x00", 6);
 	size_t wn = frame_encode_full(DF1_CHECK_CRC, app, an, wire, sizeof wire);
+	size_t rn = make_reply(rep, 1, 0, 0x4F, 0x10, 0x4444, NULL, 0);
+	size_t rwn = frame_encode_full(DF1_CHECK_CRC, rep, rn, rwire, sizeof rwire);
 
 	mock_port_feed(ACK, 2);
 	mock_port_feed(wire, wn); /* the peer's own command, not a reply */
 	feed_reply(DF1_CHECK_CRC, 0, 1, 0x4F, 0, 1);
 	assert_reply_ok(transact_a2(h, out, sizeof out), out, 1);
-	assert_int_equal(mock_port_writes(), 3);
+	assert_int_equal(mock_port_writes(), 4);
 	assert_write_bytes(1, ACK, 2);
+	assert_write_bytes(2, rwire, rwn);
 	assert_int_equal(cnt(h, 2528), 1);
 	assert_int_equal(cnt(h, 2550), 1);
 }
@@ -780,7 +785,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_full_bad_bcc_reply_nak_then_accepted, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_full_too_short_frame_nak, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_full_too_long_frame_nak_2512, setup, teardown),
-		cmocka_unit_test_setup_teardown(test_full_peer_command_acked_and_dropped, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_full_peer_command_answered_sts10, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_full_incomplete_frame_2518, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_full_port_error_passes_through, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_full_reply_buffer_too_small, setup, teardown),
