@@ -119,6 +119,8 @@ size_t telnet_cpc(uint8_t code, const uint8_t *val, size_t n, uint8_t *out)
 	out[o++] = TELNET_SB;
 	out[o++] = TELNET_OPT_COMPORT;
 	out[o++] = code;
+	if (code == TELNET_IAC)         /* no such code; doubled all the same, as any 255 in SB */
+		out[o++] = TELNET_IAC;
 	for (size_t i = 0; i < n; i++) {
 		out[o++] = val[i];
 		if (val[i] == TELNET_IAC)

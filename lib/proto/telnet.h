@@ -87,7 +87,7 @@ size_t telnet_escape(const uint8_t *in, size_t n, uint8_t *out, size_t cap, size
 /* IAC cmd opt. out needs 3 bytes; returns 3. */
 size_t telnet_option(uint8_t cmd, uint8_t opt, uint8_t *out);
 /* IAC SB COM-PORT-OPTION code value... IAC SE, value bytes doubled where 255.
- * out needs 6 + 2 * n bytes (n <= 4); returns the bytes written. */
+ * out needs 7 + 2 * n bytes (n <= 4); returns the bytes written. */
 size_t telnet_cpc(uint8_t code, const uint8_t *val, size_t n, uint8_t *out);
 /* SET-BAUDRATE's value: 4 bytes, network order. */
 void telnet_put_baud(uint32_t baud, uint8_t val[4]);

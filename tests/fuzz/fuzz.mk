@@ -25,6 +25,9 @@ FUZZ_TARGETS += gw_set
 FUZZ_EXTRA_gw_set := $(patsubst %.c,$(FUZZ_B)/%.o,tools/df1gw/gw_json.c tools/df1gw/gw_write.c \
 	tools/df1gw/gw_value.c tools/common/cli_text.c)
 FUZZ_DICT_gw_set := json
+# rfc2217://: the Telnet framing of a device server's bytes (lib/proto/telnet.c)
+FUZZ_TARGETS += telnet
+FUZZ_DICT_telnet := telnet
 FUZZ_BINS := $(FUZZ_TARGETS:%=$(FUZZ_B)/bin/fuzz_%)
 FUZZ_LIB_OBJS := $(LIB_SRCS:%.c=$(FUZZ_B)/%.o)
 FUZZ_COMMON_OBJS := $(FUZZ_B)/tests/fuzz/fuzz_file.o

@@ -259,6 +259,19 @@ def main():
         for p in sets:
             cp.add("gw_set", bytes([tag]) + p)
 
+    # telnet: what an RFC 2217 device server sends (doc/PROTOCOL.md 9): its
+    # answers to the client's offers and settings, data with 255 doubled,
+    # and a DF1 frame of the vectors as data
+    iac = b"\xff"
+    answers = [iac + b"\xfd\x2c", iac + b"\xfb\x00", iac + b"\xfd\x00", iac + b"\xfe\x2c",
+               iac + b"\xfa\x2c\x65\x00\x00\x25\x80" + iac + b"\xf0",
+               iac + b"\xfa\x2c\x66\x08" + iac + b"\xf0", iac + b"\xfa\x2c\x67\x03" + iac + b"\xf0",
+               iac + b"\xfa\x2c\x70\x03" + iac + b"\xf0", iac + b"\xf1", b"\x10\x06" + iac + iac + b"\x10\x03"]
+    for a in answers:
+        cp.add("telnet", a)
+    cp.add("telnet", b"".join(answers))
+    for _, _, w in vecs[:8]:
+        cp.add("telnet", bytes(w).replace(iac, iac + iac))
     for t in sorted(cp.count):
         print("seeds: %-13s %d" % (t, cp.count[t]))
 
