@@ -44,6 +44,7 @@ struct df1_config {
 	int poll_timeout_ms;         /* DF1_OPT_POLL_TIMEOUT_MS: 0 = automatic */
 	int scan_time_ms;            /* DF1_OPT_SCAN_TIME_MS: responder's program scan */
 	bool no_eot;                 /* DF1_OPT_NO_EOT: half-duplex slave sends no EOT */
+	bool low_latency;            /* DF1_OPT_LOW_LATENCY: USB adapters in low latency mode */
 	int max_outstanding;         /* DF1_OPT_MAX_OUTSTANDING: full-duplex commands in flight */
 };
 
@@ -116,6 +117,7 @@ struct df1 {
 	int fd;                      /* -1 when closed */
 	int cancel_fd;               /* -1: none */
 	char port_name[128];         /* device path or host:port, for messages */
+	char port_note[1024];         /* open-time note (df1_port_note), "" when none */
 
 	/* link */
 	struct frame_decoder dec;
