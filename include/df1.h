@@ -336,6 +336,10 @@ enum df1_option {
 	 * at df1_open() and back at df1_close(); a latency timer still above 1 ms is logged
 	 * and kept as df1_port_note() (libdf1(7) USB ADAPTERS). Set it before df1_open(). @since 0.6 */
 	DF1_OPT_LOW_LATENCY,
+	/* bool, default 0: a responder answers a PLC-5 typed read (0F/68) that asks for more
+	 * elements than one reply holds with STS F0 EXT STS 09 (data too large) instead of
+	 * sending those that fit (df1sim --plc5-refuse-large). @since 0.6 */
+	DF1_OPT_PLC5_REFUSE_LARGE,
 };
 
 DF1_API int  df1_new(df1_t **out);      /* defaults: 19200 8N1, full duplex, CRC, station 0 */

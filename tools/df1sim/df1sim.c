@@ -440,6 +440,8 @@ static int setup_handle(df1_t *h, const struct sim_opts *o, struct sim *s)
 		r = df1_set_option(h, DF1_OPT_SCAN_TIME_MS, o->scan_time);
 	if (r >= 0 && o->no_eot)
 		r = df1_set_option(h, DF1_OPT_NO_EOT, 1);
+	if (r >= 0 && o->plc5_refuse_large)
+		r = df1_set_option(h, DF1_OPT_PLC5_REFUSE_LARGE, 1);
 	if (r >= 0)
 		r = df1_server_set_max_queue(h, o->max_queue);
 	if (r < 0) {
