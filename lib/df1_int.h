@@ -37,6 +37,7 @@ struct df1_config {
 	bool slc_io_82;              /* SLC O/I file type codes 82/83, not 8B/8C (doc/PROTOCOL.md 4.11) */
 	int max_packet;              /* 0 = per PLC type */
 	int plc5_timer_words;        /* 3 or 5: PLC-5 typed-read timers (DF1_OPT_PLC5_TIMER_WORDS) */
+	bool plc5_timer_forced;      /* that option was set: plan with it, learn nothing */
 	bool plc2_word_addr;         /* PLC-2 commands address words, not bytes (doc/PROTOCOL.md 4.7) */
 	bool listen_only;            /* DF1_OPT_LISTEN_ONLY: open read only, never transmit */
 	bool eip_connected;          /* DF1_OPT_EIP_CONNECTED: eip:// over a Forward Open connection */
@@ -44,6 +45,8 @@ struct df1_config {
 	int poll_timeout_ms;         /* DF1_OPT_POLL_TIMEOUT_MS: 0 = automatic */
 	int scan_time_ms;            /* DF1_OPT_SCAN_TIME_MS: responder's program scan */
 	bool no_eot;                 /* DF1_OPT_NO_EOT: half-duplex slave sends no EOT */
+	bool low_latency;            /* DF1_OPT_LOW_LATENCY: USB adapters in low latency mode */
+	bool plc5_refuse_large;      /* DF1_OPT_PLC5_REFUSE_LARGE: responder, F0/09, not a cut reply */
 	int max_outstanding;         /* DF1_OPT_MAX_OUTSTANDING: full-duplex commands in flight */
 };
 
@@ -79,6 +82,7 @@ struct station_state {
 	uint8_t last_hdr[6];         /* DST SRC CMD STS TNS TNS of the last accepted message */
 	size_t last_len;             /* its length and a hash of all of it: a duplicate that */
 	uint32_t last_hash;          /* differs is a new command, not a retransmission */
+	uint8_t plc5_timer_words;    /* PLC-5 typed-read timers it answered with: 3, 5, 0 = not yet */
 };
 
 struct server_state;             /* lib/server/server_dispatch.c */
@@ -116,6 +120,7 @@ struct df1 {
 	int fd;                      /* -1 when closed */
 	int cancel_fd;               /* -1: none */
 	char port_name[128];         /* device path or host:port, for messages */
+	char port_note[1024];         /* open-time note (df1_port_note), "" when none */
 
 	/* link */
 	struct frame_decoder dec;

@@ -216,6 +216,7 @@ int df1_new(df1_t **out)
 	h->cfg.hd_bcc_stx = false;
 	h->cfg.nak_0f = true;
 	h->cfg.rs485 = false;
+	h->cfg.low_latency = true;
 	h->cfg.echo_discard = false;
 	h->cfg.eot_bcc = false;
 	h->cfg.local_tcp = true;
@@ -470,6 +471,8 @@ static const char *handle_option_name(enum df1_option opt)
 	case DF1_OPT_NO_EOT: return "NO_EOT";
 	case DF1_OPT_MAX_OUTSTANDING: return "MAX_OUTSTANDING";
 	case DF1_OPT_EIP_CONNECTED: return "EIP_CONNECTED";
+	case DF1_OPT_LOW_LATENCY: return "LOW_LATENCY";
+	case DF1_OPT_PLC5_REFUSE_LARGE: return "PLC5_REFUSE_LARGE";
 	}
 	return NULL;
 }
@@ -492,6 +495,8 @@ static bool *handle_option_flag(struct df1_config *c, enum df1_option opt)
 	case DF1_OPT_PLC2_WORD_ADDR: return &c->plc2_word_addr;
 	case DF1_OPT_NO_EOT: return &c->no_eot;
 	case DF1_OPT_EIP_CONNECTED: return &c->eip_connected;
+	case DF1_OPT_LOW_LATENCY: return &c->low_latency;
+	case DF1_OPT_PLC5_REFUSE_LARGE: return &c->plc5_refuse_large;
 	case DF1_OPT_MAX_PACKET: case DF1_OPT_PLC5_TIMER_WORDS:
 	case DF1_OPT_POLL_TIMEOUT_MS: case DF1_OPT_SCAN_TIME_MS: case DF1_OPT_MAX_OUTSTANDING:
 		return NULL;
@@ -524,6 +529,7 @@ int df1_set_option(df1_t *h, enum df1_option opt, int value)
 			return df1_fail(h, DF1_E_CONFIG, -1,
 			                "invalid value %d for option PLC5_TIMER_WORDS: must be 3 or 5", value);
 		h->cfg.plc5_timer_words = value;
+		h->cfg.plc5_timer_forced = true;
 		return 0;
 	}
 	if (opt == DF1_OPT_POLL_TIMEOUT_MS || opt == DF1_OPT_SCAN_TIME_MS) {

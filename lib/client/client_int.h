@@ -160,6 +160,7 @@ struct rd {
 	size_t k;               /* elements asked by the packet built last */
 	int code;               /* SLC: the file type code */
 	int alen;               /* PLC-5: bytes of the address at addr */
+	bool replanned;         /* PLC-5 T/C/R: planned again at 5 words after a refusal */
 	uint8_t addr[DF1_ADDR_ASCII_MAX + 8];
 };
 
@@ -212,6 +213,9 @@ int slc_write(struct df1 *h, int station, const char *what, const struct span *s
 int plc5_addr(struct df1 *h, int station, const char *what, const struct df1_addr *a,
               uint8_t *out, size_t cap);
 int plc5_read_begin(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd);
+/* A packet refused as too large (STS F0, EXT STS 09) with whole T/C/R elements planned
+ * at 3 words: planned again at 5 (true: send it again), else false. */
+bool plc5_read_refused(struct df1 *h, int station, const struct span *s, struct rd *rd);
 int plc5_read_cmd(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd,
                   uint8_t *cmd, size_t cap);
 int plc5_read_take(struct df1 *h, int station, const char *what, const struct span *s, struct io *io,

@@ -92,6 +92,9 @@ static int span_read_first(struct df1 *h, int station, const char *what, const s
 		else
 			rc = client_transact(h, station, what, cmd, (size_t)n, reply, sizeof reply, &d, &dlen);
 		first = NULL;
+		/* a PLC-5 that refuses a T/C/R packet planned at 3 words: again at 5 */
+		if (rc < 0 && s->plc == DF1_PLC_PLC5 && plc5_read_refused(h, station, s, &rd))
+			continue;
 		if (rc < 0)
 			return rc;
 		rc = rd_take(h, station, what, s, io, &rd, d, dlen);

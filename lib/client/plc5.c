@@ -47,6 +47,37 @@ static size_t plc5_reply_full(size_t alen, const struct pccc_typed *td)
 	return plc5_typed_per_packet(alen, td->type_id, td->elem_size);
 }
 
+/* The station's entry, or NULL outside 0..254 (broadcast 255 answers nothing). */
+static struct station_state *plc5_station(struct df1 *h, int station)
+{
+	return station >= 0 && station < 255 ? &h->stations[station] : NULL;
+}
+
+/* The words of a timer to plan a typed read with: the option when it was set
+ * (DF1_OPT_PLC5_TIMER_WORDS forces a size), else what this station's timers
+ * came back as, else the data table's 3. */
+static int plc5_timer_words(struct df1 *h, int station)
+{
+	const struct station_state *st = plc5_station(h, station);
+
+	if (h->cfg.plc5_timer_forced || !st || st->plc5_timer_words == 0)
+		return h->cfg.plc5_timer_words;
+	return st->plc5_timer_words;
+}
+
+/* Remember the size a station's timers came back as (not when the option forces one). */
+static void plc5_timer_learn(struct df1 *h, int station, const struct span *s, size_t elem_size)
+{
+	struct station_state *st = plc5_station(h, station);
+
+	if (!st || h->cfg.plc5_timer_forced || s->a.type != DF1_FT_T || !plc5_whole_tcr(s))
+		return;
+	if (elem_size == PCCC_TCR5_BYTES)
+		st->plc5_timer_words = 5;
+	else if (elem_size == PCCC_TCR_BYTES)
+		st->plc5_timer_words = 3;
+}
+
 int plc5_read_begin(struct df1 *h, int station, const char *what, const struct span *s, struct rd *rd)
 {
 	size_t plan = s->esize;
@@ -56,13 +87,36 @@ int plc5_read_begin(struct df1 *h, int station, const char *what, const struct s
 		return rd->alen;
 	/* the reply: address + type/data + data <= 240 (plc_limits.h); strings
 	 * one per packet: the reply is 3x LEN characters (RTA); timers of a PLC-5
-	 * said to send 5 words are planned at that size */
-	if (s->a.type == DF1_FT_T && plc5_whole_tcr(s) && h->cfg.plc5_timer_words == 5)
+	 * said to send 5 words, or known to, are planned at that size */
+	if (s->a.type == DF1_FT_T && plc5_whole_tcr(s) && plc5_timer_words(h, station) == 5)
 		plan = PCCC_TCR5_BYTES;
 	rd->per = plc_per_packet(DF1_PLC_PLC5, false, s->a.type, plan, (size_t)rd->alen, h->cfg.max_packet);
 	if (rd->per == 0)
 		return client_fail(h, DF1_E_NOTSUP, station, what, "a %zu-byte element exceeds the packet size", s->esize);
 	return 0;
+}
+
+/* EXT STS 09, "data or file is too large" (lib/proto/errors.c): a controller with
+ * 5-word timers that will not cut its reply answers so a read planned at 3
+ * words. The packet goes again with as many 5-word elements as fit; a timer
+ * file's station is then known to send 5. Not when the option forces a size. */
+bool plc5_read_refused(struct df1 *h, int station, const struct span *s, struct rd *rd)
+{
+	size_t per5;
+
+	if (!plc5_whole_tcr(s) || rd->replanned || h->cfg.plc5_timer_forced ||
+	    h->err.code != DF1_E_REMOTE || h->err.sts != 0xF0 || !h->err.has_ext_sts ||
+	    h->err.ext_sts != 0x09)
+		return false;
+	per5 = plc_per_packet(DF1_PLC_PLC5, false, s->a.type, PCCC_TCR5_BYTES, (size_t)rd->alen,
+	                      h->cfg.max_packet);
+	if (per5 == 0 || per5 >= rd->k)
+		return false;   /* the packet was no larger than a 5-word plan: a real refusal */
+	rd->per = per5;
+	rd->replanned = true;
+	plc5_timer_learn(h, station, s, PCCC_TCR5_BYTES);
+	df1_clear_error(h);
+	return true;
 }
 
 /* The next packet: 0F/68 for as many elements as fit. */
@@ -145,6 +199,7 @@ int plc5_read_take(struct df1 *h, int station, const char *what, const struct sp
 	rc = plc5_take_size(h, station, what, s, rd, &td);
 	if (rc < 0)
 		return rc;
+	plc5_timer_learn(h, station, s, td.elem_size);
 	for (size_t i = 0; i < rd->k; i++) {
 		rc = io_put(h, station, what, io, rd->done + i, td.data + i * td.elem_size, s->esize);
 		if (rc < 0)

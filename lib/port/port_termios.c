@@ -10,6 +10,8 @@
  * is saved and restored on close and on every error path after it was read.
  * What the backend keeps from open to close (the saved termios, the RS-485
  * flags it changed) is its own struct termios_port behind h->port_data.
+ * A USB serial adapter is also asked for low latency (lib/port/port_usb.c),
+ * undone at close like the rest.
  *
  * The line is raw: no echo, no canonical mode, no signals, no CR/NL mapping,
  * no software flow control; RTS/CTS only when asked; VMIN = VTIME = 0 because
@@ -31,6 +33,7 @@
 #include <unistd.h>
 
 #include "df1_int.h"
+#include "port/port_usb.h"
 
 #define RS485_BITS (SER_RS485_ENABLED | SER_RS485_RTS_ON_SEND | SER_RS485_RTS_AFTER_SEND)
 
@@ -40,6 +43,7 @@ struct termios_port {
 	struct termios saved;
 	bool rs485_changed;          /* restore saved_rs485_flags on close */
 	uint32_t saved_rs485_flags;
+	struct port_usb usb;         /* a USB adapter's low latency (lib/port/port_usb.c) */
 };
 
 static speed_t termios_speed(int baud)
@@ -181,6 +185,8 @@ static void termios_close(struct df1 *h)
 {
 	struct termios_port *tp = h->port_data;
 
+	if (tp)
+		port_usb_close(h, &tp->usb);
 	if (h->fd >= 0 && tp && tp->rs485_changed) {
 		struct serial_rs485 rs;
 
@@ -263,6 +269,8 @@ static int termios_open(struct df1 *h, const char *path)
 		r = port_fail_sys(h, DF1_E_SYS, errno, "tcflush on");
 		goto fail;
 	}
+	/* after the termios: the driver may reset its flags when the line is set */
+	port_usb_open(h, &tp->usb);
 	return 0;
 fail:
 	termios_close(h); /* restores the saved termios, frees tp; h->err keeps the first error */

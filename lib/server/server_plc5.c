@@ -236,6 +236,9 @@ int srv_plc5_typed_read(struct srv *s)
 	 * what the command holds between TOTAL_TRANS and SIZE */
 	wes = typed_wire_size(s, td, es);
 	count = plc5_typed_per_packet(s->m->len - 6, td, wes);
+	/* asked more than fits: a controller that does not cut says "too large" */
+	if ((size_t)r.size > count && s->h && s->h->cfg.plc5_refuse_large)
+		return srv_fail_ext(s, 0x09);
 	if ((size_t)r.size < count)
 		count = (size_t)r.size;
 	hl = pccc_enc_typed_array(s->data, sizeof s->data, td, (uint32_t)wes, count);

@@ -250,6 +250,8 @@ enum df1_option {
 	DF1_OPT_NO_EOT,
 	DF1_OPT_MAX_OUTSTANDING,
 	DF1_OPT_EIP_CONNECTED,
+	DF1_OPT_LOW_LATENCY,
+	DF1_OPT_PLC5_REFUSE_LARGE,
 };
 int df1_new(df1_t **out);
 void df1_free(df1_t *h);
@@ -266,6 +268,7 @@ int df1_set_tx_delay_ms(df1_t *h, int ms);
 int df1_set_option(df1_t *h, enum df1_option opt, int value);
 int df1_recv_raw(df1_t *h, uint8_t *buf, size_t cap, int timeout_ms, struct timespec *when);
 int df1_port_fd(const df1_t *h);
+const char *df1_port_note(const df1_t *h);
 int df1_get_option(const df1_t *h, enum df1_option opt);
 typedef void (*df1_log_fn)(void *user, int catalog_id, enum df1_severity sev, const char *text);
 void df1_set_log(df1_t *h, df1_log_fn fn, void *user);

@@ -79,6 +79,8 @@ const struct cli_common_opt cli_common_opts[] = {
 	  "full duplex: commands awaiting replies 1-16 (default 1)" },
 	{ CLI_OPT_EIP_CONNECTED, "eip-connected", no_argument, LONG_ONLY(CLI_OPT_EIP_CONNECTED), NULL,
 	  "eip:// target: connected messaging (Forward Open)" },
+	{ CLI_OPT_LOW_LATENCY, "low-latency", required_argument, LONG_ONLY(CLI_OPT_LOW_LATENCY), "yes|no",
+	  "USB serial adapter in low latency mode (default yes)" },
 };
 
 const size_t cli_n_common = sizeof cli_common_opts / sizeof cli_common_opts[0];

@@ -427,6 +427,15 @@ static int sim_eip_open(struct sim *s, const struct sim_opts *o, df1_t *h)
 	return 0;
 }
 
+/* --line-baud in full duplex on a pty: the line's relay is a full-duplex UART
+ * (tools/df1sim/sim_pace.c), each direction paced on its own, and the handle runs
+ * unpaced. Half duplex (one talker at a time), -d and --listen keep the
+ * library's pacing (df1_set_line_baud), which is one thread for both directions. */
+static bool sim_full_duplex_uart(const struct sim_opts *o)
+{
+	return o->line_baud > 0 && !o->cli.half_duplex && o->pty;
+}
+
 static int setup_handle(df1_t *h, const struct sim_opts *o, struct sim *s)
 {
 	int r = 0;
@@ -442,12 +451,14 @@ static int setup_handle(df1_t *h, const struct sim_opts *o, struct sim *s)
 	for (int k = 0; r >= 0 && k < 8; k++)
 		if (o->faults[k].given)
 			r = df1_server_set_fault(h, o->faults[k].kind, o->faults[k].per_mille, o->faults[k].value);
-	if (r >= 0 && o->line_baud)
+	if (r >= 0 && o->line_baud && !sim_full_duplex_uart(o))
 		r = df1_set_line_baud(h, o->line_baud);
 	if (r >= 0 && o->scan_time)
 		r = df1_set_option(h, DF1_OPT_SCAN_TIME_MS, o->scan_time);
 	if (r >= 0 && o->no_eot)
 		r = df1_set_option(h, DF1_OPT_NO_EOT, 1);
+	if (r >= 0 && o->plc5_refuse_large)
+		r = df1_set_option(h, DF1_OPT_PLC5_REFUSE_LARGE, 1);
 	if (r >= 0)
 		r = df1_server_set_max_queue(h, o->max_queue);
 	if (r >= 0 && o->nmsgs) {
@@ -590,8 +601,10 @@ static int sim_open_pty(df1_t *h, const struct sim_opts *o, struct sim_pty *pty)
 {
 	int master = pty->master;
 
-	if (!o->line.baud)
+	if (!o->line.baud && !sim_full_duplex_uart(o))
 		return df1_open_fd(h, master, true);
+	if (sim_full_duplex_uart(o))    /* 8N1: 10 bits a character, as the library counts them */
+		sim_pty_relay.char_us = (int64_t)10 * 1000000 / o->line_baud;
 	pty->master = -1;
 	return sim_relay_open(h, &sim_pty_relay, SIM_RELAY_PTY, master, &o->line, o->cli.verbose);
 }

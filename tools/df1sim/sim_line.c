@@ -12,6 +12,10 @@
  * counted in units of 1 / (2 * tx baud * rx baud) s, so every sampling
  * instant is an integer: a sender's bit lasts 2 * rx baud units, a
  * receiver's 2 * tx baud.
+ *
+ * Paced (char_us > 0, --line-baud in full duplex), the relay is also the
+ * line's full-duplex UART: each direction goes through its own queue at the
+ * line's rate (tools/df1sim/sim_pace.c) and the handle runs unpaced.
  */
 #include "df1sim/sim_line.h"
 
@@ -23,6 +27,7 @@
 #include <string.h>
 #include <sys/socket.h>
 #include <termios.h>
+#include <time.h>
 #include <unistd.h>
 
 void sim_msg(const char *fmt, ...)
@@ -192,7 +197,8 @@ static int sim_relay_in(struct sim_relay *r)
 	if (n <= 0)
 		return n < 0 && (errno == EINTR || errno == EAGAIN) ? 0 : -1;
 	if (r->kind == SIM_RELAY_PTY) {
-		sim_relay_pty_master(r);
+		if (r->line.baud)
+			sim_relay_pty_master(r);
 		memcpy(data, in, (size_t)n);
 		m = (size_t)n;
 	} else {
@@ -202,26 +208,23 @@ static int sim_relay_in(struct sim_relay *r)
 		m = sim_uart_garble(&r->master, &r->line, data, m, out, sizeof out);
 	else
 		memcpy(out, data, m);
-	return m == 0 || write(r->lib, out, m) == (ssize_t)m ? 0 : -1;
+	if (m == 0)
+		return 0;
+	if (r->char_us > 0)
+		return sim_pace_put(&r->to_lib, r->char_us, out, m) ? 0 : -1;
+	return sim_relay_emit_lib(r, out, m);
 }
 
-/* Bytes from the PLC to the master. */
-static int sim_relay_out(struct sim_relay *r)
+int sim_relay_emit_lib(struct sim_relay *r, const uint8_t *b, size_t n)
 {
-	uint8_t in[256], g[256 * 12], esc[512];
-	ssize_t n = read(r->lib, in, sizeof in);
-	size_t m, done = 0;
+	return write(r->lib, b, n) == (ssize_t)n ? 0 : -1;
+}
 
-	if (n <= 0)
-		return n < 0 && (errno == EINTR || errno == EAGAIN) ? 0 : -1;
-	if (r->kind == SIM_RELAY_PTY)
-		sim_relay_pty_master(r);
-	if (r->line.baud && r->master.baud)
-		m = sim_uart_garble(&r->line, &r->master, in, (size_t)n, g, sizeof g);
-	else {
-		memcpy(g, in, (size_t)n);
-		m = (size_t)n;
-	}
+int sim_relay_emit_wire(struct sim_relay *r, const uint8_t *g, size_t m)
+{
+	uint8_t esc[512];
+	size_t done = 0;
+
 	while (done < m) {
 		size_t used = m - done, k;
 		const uint8_t *p = g + done;
@@ -239,14 +242,57 @@ static int sim_relay_out(struct sim_relay *r)
 	return 0;
 }
 
+/* Bytes from the PLC to the master. */
+static int sim_relay_out(struct sim_relay *r)
+{
+	uint8_t in[256], g[256 * 12];
+	ssize_t n = read(r->lib, in, sizeof in);
+	size_t m;
+
+	if (n <= 0)
+		return n < 0 && (errno == EINTR || errno == EAGAIN) ? 0 : -1;
+	if (r->kind == SIM_RELAY_PTY && r->line.baud)
+		sim_relay_pty_master(r);
+	if (r->line.baud && r->master.baud)
+		m = sim_uart_garble(&r->line, &r->master, in, (size_t)n, g, sizeof g);
+	else {
+		memcpy(g, in, (size_t)n);
+		m = (size_t)n;
+	}
+	if (r->char_us > 0)
+		return sim_pace_put(&r->to_wire, r->char_us, g, m) ? 0 : -1;
+	return sim_relay_emit_wire(r, g, m);
+}
+
+/* The poll's wait: until the next paced byte is due, else none. */
+static struct timespec *sim_relay_wait(struct sim_relay *r, struct timespec *ts)
+{
+	int64_t a = sim_pace_wait_us(&r->to_lib), b = sim_pace_wait_us(&r->to_wire), w;
+
+	w = a < 0 ? b : b < 0 ? a : a < b ? a : b;
+	if (w < 0)
+		return NULL;
+	ts->tv_sec = (time_t)(w / 1000000);
+	ts->tv_nsec = (long)(w % 1000000) * 1000;
+	return ts;
+}
+
 static void *sim_relay_main(void *arg)
 {
 	struct sim_relay *r = arg;
 
 	for (;;) {
-		struct pollfd p[2] = { { r->wire, POLLIN, 0 }, { r->lib, POLLIN, 0 } };
+		/* a full queue takes nothing more until it drains (the sender waits, as on flow control) */
+		struct pollfd p[2] = {
+			{ r->wire, r->to_lib.len + 256 * 12 <= SIM_PACE_MAX ? POLLIN : 0, 0 },
+			{ r->lib, r->to_wire.len + 256 * 12 <= SIM_PACE_MAX ? POLLIN : 0, 0 },
+		};
+		struct timespec ts;
 
-		if (poll(p, 2, -1) < 0) {
+		if (r->char_us > 0 && (sim_pace_flush(r, &r->to_lib, sim_relay_emit_lib) < 0 ||
+		                       sim_pace_flush(r, &r->to_wire, sim_relay_emit_wire) < 0))
+			break;
+		if (ppoll(p, 2, sim_relay_wait(r, &ts), NULL) < 0) {
 			if (errno == EINTR)
 				continue;
 			break;

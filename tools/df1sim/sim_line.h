@@ -41,6 +41,18 @@ size_t sim_uart_garble(const struct sim_uart *tx, const struct sim_uart *rx, con
 
 enum sim_relay_kind { SIM_RELAY_PTY, SIM_RELAY_RFC2217 };
 
+/* One direction of a full-duplex UART (--line-baud in full duplex): the bytes
+ * read and not yet delivered, each with the time its last bit is in
+ * (tools/df1sim/sim_pace.c). Each direction keeps its own account, so a
+ * command comes in while a reply goes out, as on a controller's UART. */
+#define SIM_PACE_MAX 4096
+struct sim_pace {
+	uint8_t b[SIM_PACE_MAX];
+	int64_t due_us[SIM_PACE_MAX];
+	size_t head, len;
+	int64_t last_due_us;        /* the last byte queued leaves the line then */
+};
+
 /* The relay between wire (the pty master or an RFC 2217 client's socket) and
  * lib (a socket pair's end the handle serves on). */
 struct sim_relay {
@@ -51,6 +63,8 @@ struct sim_relay {
 	struct sim_uart master;     /* the master's, as last seen */
 	int verbose;
 	void *rfc;                  /* sim_rfc2217.c's state (SIM_RELAY_RFC2217) */
+	int64_t char_us;            /* > 0: paced, a character's time at --line-baud */
+	struct sim_pace to_lib, to_wire;
 	pthread_t thread;
 	bool started;
 };
@@ -66,6 +80,17 @@ void sim_relay_join(struct sim_relay *r);
 int sim_relay_open(df1_t *h, struct sim_relay *r, enum sim_relay_kind kind, int wire,
                    const struct sim_uart *line, int verbose);
 
+/* sim_pace.c: the paced queues. Queue n bytes for delivery at the line's rate
+ * (false: no room, nothing queued); write what is due to fd (emit: the
+ * relay's writer for that direction); the microseconds until the next byte
+ * is due, -1 when empty. */
+bool sim_pace_put(struct sim_pace *q, int64_t char_us, const uint8_t *b, size_t n);
+int sim_pace_flush(struct sim_relay *r, struct sim_pace *q,
+                   int (*emit)(struct sim_relay *r, const uint8_t *b, size_t n));
+int64_t sim_pace_wait_us(const struct sim_pace *q);
+/* Bytes to each side as the relay writes them (sim_line.c). */
+int sim_relay_emit_lib(struct sim_relay *r, const uint8_t *b, size_t n);
+int sim_relay_emit_wire(struct sim_relay *r, const uint8_t *b, size_t n);
 /* sim_rfc2217.c: the RFC 2217 server side of a relay. new: the state (NULL:
  * no memory); input: bytes from the client, data out into out (returns how
  * many), the negotiation answered on r->wire, r->master updated; output:

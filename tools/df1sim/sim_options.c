@@ -20,6 +20,7 @@ enum {
 	OPT_PTY = CLI_KEY_EXTRA, OPT_LISTEN, OPT_STATION, OPT_DATA_BITS, OPT_LINE_BAUD, OPT_PROCESSOR,
 	OPT_PLC5_FLOAT_SWAPPED, OPT_DATA, OPT_DROP_ACK, OPT_CORRUPT, OPT_NAK, OPT_DELAY, OPT_SILENT,
 	OPT_STALE, OPT_NOISE, OPT_SEED, OPT_LOG, OPT_SCAN_TIME, OPT_NO_EOT,
+	OPT_PLC5_REFUSE_LARGE,
 	OPT_MAX_QUEUE, OPT_EIP, OPT_EIP_ALLOW, OPT_EIP_READ_ONLY,
 	OPT_EIP_MAX_CLIENTS, OPT_EIP_REGISTER_TIMEOUT, OPT_EIP_IDLE_TIMEOUT,
 	OPT_LINE_SETTINGS = CLI_KEY_EXTRA + 100, /* tools/df1sim/sim_line.c */
@@ -57,6 +58,8 @@ static const struct cli_extra_opt sim_opt_table[] = {
 	  "half duplex: answer a poll with nothing, not DLE EOT, when no reply is ready" },
 	{ "processor", required_argument, OPT_PROCESSOR, "NAME",
 	  "the processor of the diagnostic status (default per --plc)" },
+	{ "plc5-refuse-large", no_argument, OPT_PLC5_REFUSE_LARGE, NULL,
+	  "plc5: refuse a typed read larger than one reply (STS F0 EXT 09), not cut it" },
 	{ "plc5-float-swapped", no_argument, OPT_PLC5_FLOAT_SWAPPED, NULL,
 	  "the same as --plc5-float swapped" },
 	{ "data", required_argument, OPT_DATA, "FILE", "initial values: ADDRESS=VALUE[,VALUE...] per line" },
@@ -172,6 +175,7 @@ static int on_option(struct cli *c, int key, const char *arg, void *user)
 	case OPT_LINE_BAUD: return cli_parse_int(c, "--line-baud", arg, 0, 4000000, &o->line_baud);
 	case OPT_SCAN_TIME: return cli_parse_int(c, "--scan-time", arg, 0, 10000, &o->scan_time);
 	case OPT_NO_EOT: o->no_eot = true; break;
+	case OPT_PLC5_REFUSE_LARGE: o->plc5_refuse_large = true; break;
 	case OPT_PROCESSOR: o->processor = arg; break;
 	case OPT_PLC5_FLOAT_SWAPPED:
 		c->lib_value[CLI_OPT_PLC5_FLOAT] = 1;
@@ -231,7 +235,7 @@ static const struct cli_tool sim_tool = {
 	           CLI_ACCEPT(CLI_OPT_HD_BCC) | CLI_ACCEPT(CLI_OPT_PLC5_FLOAT) |
 	           CLI_ACCEPT(CLI_OPT_PLC5_TIMER_WORDS) | CLI_ACCEPT(CLI_OPT_PLC2_ADDR) |
 	           CLI_ACCEPT(CLI_OPT_DUP_DETECT) | CLI_ACCEPT(CLI_OPT_EMBEDDED) | CLI_ACCEPT(CLI_OPT_NAK_0F) |
-	           CLI_ACCEPT(CLI_OPT_ECHO_DISCARD),
+	           CLI_ACCEPT(CLI_OPT_ECHO_DISCARD) | CLI_ACCEPT(CLI_OPT_LOW_LATENCY),
 	.plcs = CLI_PLC_BIT(DF1_PLC_SLC) | CLI_PLC_BIT(DF1_PLC_MICROLOGIX) | CLI_PLC_BIT(DF1_PLC_SLC502) |
 	        CLI_PLC_BIT(DF1_PLC_PLC5) | CLI_PLC_BIT(DF1_PLC_PLC3),
 	.common_help = {
@@ -312,6 +316,8 @@ int sim_options_parse(int argc, char **argv, struct sim_opts *o)
 		return cli_usage_error(&o->cli, "--plc5-float swapped goes with --plc plc5 only");
 	if ((o->cli.given & CLI_ACCEPT(CLI_OPT_PLC5_TIMER_WORDS)) && o->cli.plc != DF1_PLC_PLC5)
 		return cli_usage_error(&o->cli, "--plc5-timer-words goes with --plc plc5 only");
+	if (o->plc5_refuse_large && o->cli.plc != DF1_PLC_PLC5)
+		return cli_usage_error(&o->cli, "--plc5-refuse-large goes with --plc plc5 only");
 	/* a PLC-5 answers typed reads of timers with 5 words, as KF2 p.130 and VME
 	 * p.81 describe it (doc/PROTOCOL.md 4.3); --plc5-timer-words 3 for the data-table form */
 	if (o->cli.plc == DF1_PLC_PLC5 && !(o->cli.given & CLI_ACCEPT(CLI_OPT_PLC5_TIMER_WORDS))) {

@@ -36,6 +36,7 @@ struct sim_opts {
 	int line_baud;
 	int scan_time;                  /* --scan-time MS: replies at the end of the scan */
 	bool no_eot;                    /* --no-eot: half duplex, silence instead of DLE EOT */
+	bool plc5_refuse_large;         /* --plc5-refuse-large: F0/09 for a typed read too large */
 	int max_queue;                  /* full duplex: commands held before NAK */
 	const char *log;
 	int baud, data_bits;            /* -d only; the library checks them when it opens DEV */

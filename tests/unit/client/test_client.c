@@ -1168,7 +1168,8 @@ static void test_client_plc5_timer_5_words_full_reply(void **state)
 		assert_int_equal(t[e].pre, 1000 + e);
 		assert_int_equal(t[e].acc, e);
 	}
-	/* 10 five-word timers for 38 asked: not a full reply */
+	/* 10 five-word timers when asked: not a full reply (station 1 is now known to
+	 * send 5-word timers, so 23 were asked) */
 	mock_reset();
 	script_raw_hex("00 01 4F 00 00 00 99 09 66 59 0A "
 	               "00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 "
@@ -1177,7 +1178,7 @@ static void test_client_plc5_timer_5_words_full_reply(void **state)
 	               "00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 "
 	               "00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00");
 	assert_int_equal(df1_read_tcr(h, 1, "T4:0", t, 38), DF1_E_BAD_REPLY);
-	assert_non_null(strstr(df1_last_error(h)->message, "reply has 10 elements, asked 38"));
+	assert_non_null(strstr(df1_last_error(h)->message, "reply has 10 elements, asked 23"));
 	/* told the PLC sends 5 words (DF1_OPT_PLC5_TIMER_WORDS), it asks for 23 at once */
 	mock_reset();
 	assert_int_equal(df1_set_option(h, DF1_OPT_PLC5_TIMER_WORDS, 5), 0);
@@ -1190,6 +1191,108 @@ static void test_client_plc5_timer_5_words_full_reply(void **state)
 	plc5_ftype[5] = 'C';
 	assert_int_equal(df1_read_tcr(h, 1, "C5:0", t, 38), 38);
 	assert_cmd(2, "01 00 0F 00 00 00 68 00 00 26 00 06 05 00 26 00");
+}
+
+/* One reply of n five-word timers (59 0A, KF2 p.130) from element first on:
+ * CTL DN, PRE 1000 + e, ACC e, two more words. */
+static void script_timers5(size_t first, size_t n)
+{
+	struct script *sc = script_add(SC_DATA);
+	size_t k = 0;
+
+	sc->b[k++] = 0x99; sc->b[k++] = 0x09; sc->b[k++] = (uint8_t)(2 + 10 * n);
+	sc->b[k++] = 0x59; sc->b[k++] = 0x0A;
+	for (size_t i = 0; i < n; i++) {
+		size_t e = first + i;
+
+		put_le16(sc->b + k, 0x2000);
+		put_le16(sc->b + k + 2, (uint16_t)(1000 + e));
+		put_le16(sc->b + k + 4, (uint16_t)e);
+		put_le16(sc->b + k + 6, 0x1234);
+		put_le16(sc->b + k + 8, 0x5678);
+		k += 10;
+	}
+	sc->n = k;
+}
+
+static void assert_timers(const struct df1_tcr *t, size_t n)
+{
+	for (size_t e = 0; e < n; e++) {
+		assert_int_equal(t[e].ctl, 0x2000);
+		assert_int_equal(t[e].pre, 1000 + e);
+		assert_int_equal(t[e].acc, e);
+	}
+}
+
+/* A PLC-5 with 5-word timers that refuses, rather than cuts, a reply too large:
+ * 38 timers planned at 3 words get STS F0 EXT STS 09 (data too large); the
+ * packet goes again asking for 23 (5-word plan: 3 + 5 + 230 = 238), then the
+ * other 15 at PKT_OFFSET 17h. Frames worked out by hand from doc/PROTOCOL.md 4.2
+ * (BCC: two's complement of the sum; CRC-16 over the bytes and ETX). Station 1
+ * is then known to send 5 words: its next read asks for 23 at once; station 2
+ * still starts at 38. */
+static void test_client_plc5_timer_refused_planned_again(void **state)
+{
+	df1_t *h = *state;
+	static struct df1_tcr t[38];
+
+	set_plc(h, DF1_PLC_PLC5);
+	plc5_ftype[4] = 'T';
+	h->next_tns = 0x40;
+	script_sts(0xF0, 0x09, true);
+	script_timers5(0, 23);
+	script_timers5(23, 15);
+	assert_int_equal(df1_read_tcr(h, 1, "T4:0", t, 38), 38);
+	assert_int_equal(ncmds, 3);
+	assert_wire(0, DF1_CHECK_BCC, "10 02 01 00 0F 00 40 00 68 00 00 26 00 06 04 00 26 00 10 03 F2");
+	assert_wire(0, DF1_CHECK_CRC, "10 02 01 00 0F 00 40 00 68 00 00 26 00 06 04 00 26 00 10 03 E6 6B");
+	assert_wire(1, DF1_CHECK_BCC, "10 02 01 00 0F 00 41 00 68 00 00 26 00 06 04 00 17 00 10 03 00");
+	assert_wire(1, DF1_CHECK_CRC, "10 02 01 00 0F 00 41 00 68 00 00 26 00 06 04 00 17 00 10 03 B5 25");
+	assert_wire(2, DF1_CHECK_BCC, "10 02 01 00 0F 00 42 00 68 17 00 26 00 06 04 00 0F 00 10 03 F0");
+	assert_wire(2, DF1_CHECK_CRC, "10 02 01 00 0F 00 42 00 68 17 00 26 00 06 04 00 0F 00 10 03 80 AE");
+	assert_timers(t, 38);
+	assert_int_equal(df1_get_option(h, DF1_OPT_PLC5_TIMER_WORDS), 3);   /* the option is not changed */
+
+	/* learned for station 1: 23 at once, no refusal needed */
+	memset(t, 0, sizeof t);
+	script_timers5(0, 23);
+	script_timers5(23, 15);
+	assert_int_equal(df1_read_tcr(h, 1, "T4:0", t, 38), 38);
+	assert_int_equal(ncmds, 5);
+	assert_cmd(3, "01 00 0F 00 00 00 68 00 00 26 00 06 04 00 17 00");
+	assert_cmd(4, "01 00 0F 00 00 00 68 17 00 26 00 06 04 00 0F 00");
+	assert_timers(t, 38);
+
+	/* station 2 has told nothing yet: 38 asked (from the mock's 3-word table) */
+	assert_int_equal(df1_read_tcr(h, 2, "T4:0", t, 38), 38);
+	assert_int_equal(ncmds, 6);
+	assert_cmd(5, "02 00 0F 00 00 00 68 00 00 26 00 06 04 00 26 00");
+}
+
+/* The refusal is final when the option forces the size, and when the refused
+ * packet asked no more than a 5-word plan would (then it is not the timer size). */
+static void test_client_plc5_timer_refused_final(void **state)
+{
+	df1_t *h = *state;
+	static struct df1_tcr t[38];
+
+	set_plc(h, DF1_PLC_PLC5);
+	plc5_ftype[4] = 'T';
+	/* 10 timers: one packet either way */
+	script_sts(0xF0, 0x09, true);
+	assert_int_equal(df1_read_tcr(h, 1, "T4:0", t, 10), DF1_E_REMOTE);
+	assert_int_equal(ncmds, 1);
+	assert_int_equal(df1_last_error(h)->ext_sts, 0x09);
+	/* another EXT STS is not about the size */
+	script_sts(0xF0, 0x06, true);
+	assert_int_equal(df1_read_tcr(h, 1, "T4:0", t, 38), DF1_E_REMOTE);
+	assert_int_equal(ncmds, 2);
+	/* --plc5-timer-words 3 given: no second try */
+	assert_int_equal(df1_set_option(h, DF1_OPT_PLC5_TIMER_WORDS, 3), 0);
+	script_sts(0xF0, 0x09, true);
+	assert_int_equal(df1_read_tcr(h, 1, "T4:0", t, 38), DF1_E_REMOTE);
+	assert_int_equal(ncmds, 3);
+	assert_cmd(2, "01 00 0F 00 00 00 68 00 00 26 00 06 04 00 26 00");
 }
 
 /* ------------------------------------------------------------------------
@@ -1621,6 +1724,8 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_client_plc5_rmw_bits_vector, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_tcr_5_words_vector, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_timer_5_words_full_reply, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_client_plc5_timer_refused_planned_again, setup, teardown),
+		cmocka_unit_test_setup_teardown(test_client_plc5_timer_refused_final, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_split_300, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_packet_boundaries, setup, teardown),
 		cmocka_unit_test_setup_teardown(test_client_plc5_float_and_timer, setup, teardown),

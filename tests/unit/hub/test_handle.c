@@ -371,6 +371,7 @@ static void test_handle_options(void **state)
 		DF1_OPT_ACCEPT_NAK_0F, DF1_OPT_RS485, DF1_OPT_ECHO_DISCARD, DF1_OPT_EOT_WITH_BCC,
 		DF1_OPT_LOCAL_TCP, DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED, DF1_OPT_SLC_IO_CODES_82,
 		DF1_OPT_LISTEN_ONLY, DF1_OPT_PLC2_WORD_ADDR, DF1_OPT_EIP_CONNECTED,
+		DF1_OPT_LOW_LATENCY, DF1_OPT_PLC5_REFUSE_LARGE,
 	};
 	df1_t *h = *state;
 	size_t i;
@@ -433,9 +434,12 @@ static void test_handle_options(void **state)
 	assert_int_equal(df1_set_option(h, DF1_OPT_MAX_OUTSTANDING, 4), 0);
 	assert_int_equal(df1_get_option(h, DF1_OPT_MAX_OUTSTANDING), 4);
 	assert_int_equal(DF1_OPT_EIP_CONNECTED, 19);
+	/* 0.6: USB adapters in low latency mode, on by default */
+	assert_int_equal(DF1_OPT_LOW_LATENCY, 20);
+	assert_int_equal(DF1_OPT_PLC5_REFUSE_LARGE, 21);
 	/* the first value past the end is not an option */
-	assert_int_equal(df1_set_option(h, (enum df1_option)20, 1), DF1_E_INVAL);
-	assert_int_equal(df1_get_option(h, (enum df1_option)20), DF1_E_INVAL);
+	assert_int_equal(df1_set_option(h, (enum df1_option)22, 1), DF1_E_INVAL);
+	assert_int_equal(df1_get_option(h, (enum df1_option)22), DF1_E_INVAL);
 	assert_int_equal(df1_get_option(h, (enum df1_option)99), DF1_E_INVAL);
 }
 
