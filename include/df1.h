@@ -335,11 +335,11 @@ enum df1_option {
 	DF1_OPT_EIP_CONNECTED,
 	/* bool, default 1: a USB serial adapter is put in low latency mode (ASYNC_LOW_LATENCY)
 	 * at df1_open() and back at df1_close(); a latency timer still above 1 ms is logged
-	 * and kept as df1_port_note() (libdf1(7) USB ADAPTERS). Set it before df1_open(). @since 0.6 */
+	 * and kept as df1_port_note() (libdf1(7) USB ADAPTERS). Set it before df1_open(). @since 0.5 */
 	DF1_OPT_LOW_LATENCY,
 	/* bool, default 0: a responder answers a PLC-5 typed read (0F/68) that asks for more
 	 * elements than one reply holds with STS F0 EXT STS 09 (data too large) instead of
-	 * sending those that fit (df1sim --plc5-refuse-large). @since 0.6 */
+	 * sending those that fit (df1sim --plc5-refuse-large). @since 0.5 */
 	DF1_OPT_PLC5_REFUSE_LARGE,
 };
 
@@ -373,7 +373,7 @@ DF1_API int df1_set_option(df1_t *h, enum df1_option opt, int value);
  * DF1_E_NOT_OPEN. */
 DF1_API int df1_recv_raw(df1_t *h, uint8_t *buf, size_t cap, int timeout_ms, struct timespec *when);
 DF1_API int df1_port_fd(const df1_t *h);
-/* The open port's note ("" when none): a USB adapter's latency timer left above 1 ms. @since 0.6 */
+/* The open port's note ("" when none): a USB adapter's latency timer left above 1 ms. @since 0.5 */
 DF1_API const char *df1_port_note(const df1_t *h);
 DF1_API int df1_get_option(const df1_t *h, enum df1_option opt);
 
