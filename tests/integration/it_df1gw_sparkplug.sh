@@ -130,6 +130,23 @@ same "the member written as the whole element, the rest as read (df1sim's log)" 
 	"$(grep -c 'cmd=0F/AA addr=T4:0 ' "$T/sim.log")" 1
 same "one write of N7:0 in df1sim's log" "$(grep -c 'cmd=0F/AA addr=N7:0 ' "$T/sim.log")" 1
 
+# ---- DCMD at most once: the same PUBLISH again with MQTT's DUP flag (a
+# publisher's resend, forwarded again by the broker), with a payload timestamp
+# (the id ring) and without one (the same bytes within 10 s) ----
+M=$(mark)
+$HOST dcmd-dup "$MQ_PORT" Plant Line1 Mixer Name STRING "once" "$TS"
+seen "DDATA Name 'once' after the resent DCMD with a timestamp" "$M" "$(metric Name) == ['once']"
+M=$(mark)
+$HOST dcmd-dup "$MQ_PORT" Plant Line1 Mixer Name STRING "twice" none
+seen "DDATA Name 'twice' after the resent DCMD without a timestamp" "$M" "$(metric Name) == ['twice']"
+# another command with the same timestamp to the same device is a command of
+# its own (its bytes differ): executed; it also orders the log after the resends
+$HOST dcmd "$MQ_PORT" Plant Line1 Mixer Run BOOLEAN 1 "$TS"
+seen "DDATA Run true (a different DCMD with the same timestamp)" "$M" "$(metric Run) == [True]"
+same "two writes of ST9:0 in df1sim's log for two commands each sent twice" \
+	"$(grep -c 'cmd=0F/AA addr=ST9:0 ' "$T/sim.log")" 2
+check "the timestamp-less resend logged as a redelivery" "grep -q 'taken as a redelivery' '$T/gw.err'"
+
 # ---- DCMD to a read-only tag: refused, nothing sent, the true value again ----
 M=$(mark)
 $HOST dcmd "$MQ_PORT" Plant Line1 station1 Offset INT16 9
@@ -185,6 +202,15 @@ tries=20; while [ $tries -gt 0 ]; do tick; tries=$((tries - 1)); done     # 2 s 
 check "no NBIRTH while the primary host is not online" "! has $M '$NB'"
 $HOST state "$MQ_PORT" Scada online
 seen "NBIRTH once the primary host is online" "$M" "len($NB) == 1"
+# a STATE older than the last one taken: a past session's will, delivered
+# late; not a reason to leave (tck-id-operational-behavior-edge-node-termination-host-offline-timestamp)
+M=$(mark)
+OLD=$(python3 -c 'import time; print(int(time.time() * 1000) - 60000)')
+$HOST state "$MQ_PORT" Scada offline "$OLD"
+wait_for "the stale STATE logged" 100 grep -q "STATE of Scada older than the last one taken" "$T/gw.err"
+tries=10; while [ $tries -gt 0 ]; do tick; tries=$((tries - 1)); done
+check "no NDEATH for an offline STATE older than the online one" "! has $M '[r for r in R if r[\"type\"] == \"NDEATH\"]'"
+check "no NBIRTH again either (the session goes on)" "! has $M '$NB'"
 M=$(mark)
 $HOST state "$MQ_PORT" Scada offline
 seen "NDEATH when the primary host goes offline" "$M" "[r for r in R if r['type'] == 'NDEATH']"
