@@ -11,6 +11,10 @@
 #    --log; then the same with --refresh 1 (1000 publications a second).
 #  - Sparkplug B: the same CPU figure with --sparkplug on; bench_spb.c: bytes
 #    per update and updates encoded per second, JSON against Sparkplug.
+#  - end to end, JSON against Sparkplug: the same 1000 tags changing at every
+#    round (df1write over a second df1sim's --eip side writes N10:0..999 while
+#    df1gw reads the pty), messages per second and bytes per update received
+#    from the broker, df1gw CPU per round; bench_e2e.py (BENCH_E2E_ROUNDS, 20).
 # BENCH_GW_WRITES (default 50) and BENCH_GW_SECONDS (default 10) set the size.
 set -u
 B=${1:-build}
@@ -110,3 +114,26 @@ $CC -O2 -g -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE -Wall -Wextra -Iinclude -Ito
 	"$B/gen/df1gw/spb.pb-c.o" "$B/libdf1-tools.a" "$B/libdf1.a" \
 	$(pkg-config --libs libprotobuf-c 2>/dev/null || echo -lprotobuf-c) -lcsv -lm -lpthread || exit 1
 "$B/bench/bench_spb" "${BENCH_SPB_ROUNDS:-200}"
+
+# ---- end to end, JSON against Sparkplug B, through the broker ----
+if ! python3 -c 'import paho.mqtt' 2>/dev/null; then
+	echo "bench_gw: end to end: no paho-mqtt (pip install paho-mqtt): skipped"
+	exit 0
+fi
+eport=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+"$B/bin/df1sim" --pty "$T/plc2" --eip "127.0.0.1:$eport" --data "$T/plc.txt" > "$T/sim2.out" 2> "$T/sim2.err" &
+pids="$pids $!"
+wait_until 100 test -s "$T/sim2.out" || exit 1
+wait_until 100 python3 -c "import socket; socket.create_connection(('127.0.0.1', $eport), 1).close()" 2>/dev/null || exit 1
+e2e() {
+	label=$1 filt=$2 ready=$3; shift 3
+	"$B/bin/df1gw" -d "$T/plc2" --map "$T/cpu.csv" --mqtt "mqtt://127.0.0.1:$port" -q "$@" &
+	gw=$!
+	pids="$pids $gw"
+	python3 bench/bench_e2e.py "$label" "$port" "$filt" "$ready" "$gw" "$B/bin/df1write" "127.0.0.1:$eport" \
+		"${BENCH_E2E_ROUNDS:-20}"
+	kill "$gw"; wait "$gw" 2>/dev/null
+}
+echo "bench_gw: end to end, 1000 tags changing at every round, through mosquitto (QoS 0 subscriber):"
+e2e json 'bench/e2e/tag/+' 'bench/e2e/tag/T999' --prefix bench/e2e
+e2e sparkplug 'spBv1.0/Bench/DDATA/E2E/#' 'spBv1.0/Bench/DBIRTH/E2E/#' --sparkplug Bench --edge-node E2E --json no
