@@ -215,6 +215,12 @@ def check(path, what):
             elif r.get("seq") != expect:
                 fails.append("%s seq %s, expected %s" % (r["topic"], r.get("seq"), expect))
             expect = (r.get("seq", 0) + 1) % 256
+    # every DBIRTH and DDATA metric carries its time (the read's)
+    for r in recs:
+        if r["type"] in ("DBIRTH", "DDATA"):
+            for m in r["metrics"]:
+                if not m.get("timestamp"):
+                    fails.append("%s %s: metric %s without a timestamp" % (r["type"], r["device"], m["name"]))
     # every DDATA metric was in its device's last DBIRTH with the same datatype
     births = {}
     for r in recs:
