@@ -58,8 +58,17 @@ TOOL_SRCS_df1mon := $(sort $(wildcard tools/df1mon/*.c))
 TOOL_SRCS_df1sim := $(sort $(wildcard tools/df1sim/*.c))
 TOOL_SRCS_df1gw := $(sort $(wildcard tools/df1gw/*.c))
 TOOL_LIBS_df1gw := $(shell pkg-config --libs libmosquitto 2>/dev/null || echo -lmosquitto)
+# OpenSSL (optional): why the broker's certificate did not verify (gw_mqtt.c)
+ifeq ($(shell pkg-config --exists openssl 2>/dev/null && echo 1),1)
+  TOOL_LIBS_df1gw += $(shell pkg-config --libs openssl)
+  $(B)/tools/df1gw/gw_mqtt.o: TOOL_CPPFLAGS += -DGW_HAVE_OPENSSL
+endif
+# --http (tools/df1gw/gw_http.c): libmicrohttpd, and its headers' flags
+TOOL_LIBS_df1gw += $(shell pkg-config --libs libmicrohttpd 2>/dev/null || echo -lmicrohttpd) -lm
 # df1gw's modules that need no broker library, linked into its unit tests
 GW_PURE_OBJS := $(patsubst %.c,$(B)/%.o,$(filter-out tools/df1gw/df1gw.c tools/df1gw/gw_mqtt.c tools/df1gw/gw_pub.c,$(TOOL_SRCS_df1gw)))
+# ... and not the health side that reads the broker's state and serves HTTP
+GW_PURE_OBJS := $(filter-out $(patsubst %,$(B)/tools/df1gw/%.o,gw_health gw_http gw_metrics gw_status),$(GW_PURE_OBJS))
 # Sparkplug B (df1gw --sparkplug): C made from tools/df1gw/spb.proto by protoc-c
 # into the build directory, linked with libprotobuf-c; gw_spb_codec.c is the
 # only file that includes it, and df1gw's unit tests link it too.
@@ -70,6 +79,10 @@ PROTOBUF_C_LIBS := $(shell pkg-config --libs libprotobuf-c 2>/dev/null || echo -
 TOOL_LIBS_df1gw += $(SPB_GEN_OBJ) $(PROTOBUF_C_LIBS)
 GW_PURE_OBJS += $(SPB_GEN_OBJ)
 GW_TEST_LIBS := $(PROTOBUF_C_LIBS)
+# store and forward (tools/df1gw/gw_buffer*.c): SQLite, in df1gw and its tests
+SQLITE3_LIBS := $(shell pkg-config --libs sqlite3 2>/dev/null || echo -lsqlite3)
+TOOL_LIBS_df1gw += $(SQLITE3_LIBS)
+GW_TEST_LIBS += $(SQLITE3_LIBS)
 TOOL_COMMON_SRCS := $(sort $(wildcard tools/common/*.c))
 TOOL_COMMON_LIB := $(B)/libdf1-tools.a
 TOOLS := $(foreach t,$(TOOL_NAMES),$(B)/bin/$(t))

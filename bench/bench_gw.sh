@@ -8,9 +8,13 @@
 #    Scan_Ms 100 (BENCH_GW_SCAN_MS); bench_gw.c;
 #  - CPU: df1gw's user + system time per scan of 1000 tags (N10:0..999, one
 #    Read tag each, Scan_Ms 0), from /proc/PID/stat, scans counted in df1sim's
-#    --log; then the same with --refresh 1 (1000 publications a second).
+#    --log; then the same with --refresh 1 (1000 publications a second);
 #  - Sparkplug B: the same CPU figure with --sparkplug on; bench_spb.c: bytes
-#    per update and updates encoded per second, JSON against Sparkplug.
+#    per update and updates encoded per second, JSON against Sparkplug;
+#  - writes: BENCH_GW_SETS (default 2000) /set messages to 4 tags as fast as
+#    mosquitto_pub sends them, with --write-optimize all and with the default
+#    latest-non-bool (coalescing): /set answered a second, and writes that
+#    reached df1sim (its --log) a second, on a full-speed pty;
 #  - end to end, JSON against Sparkplug: the same 1000 tags changing at every
 #    round (df1write over a second df1sim's --eip side writes N10:0..999 while
 #    df1gw reads the pty), messages per second and bytes per update received
@@ -52,7 +56,8 @@ wait_until() {
 }
 port=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
 # set_tcp_nodelay: else the broker's Nagle and the clients' delayed ACKs add ~40 ms to a reply
-printf 'listener %s 127.0.0.1\npersistence false\nallow_anonymous true\nuser %s\nset_tcp_nodelay true\n' \
+# max_queued_messages: the write burst is more than a slow client's default 1000
+printf 'listener %s 127.0.0.1\npersistence false\nallow_anonymous true\nuser %s\nset_tcp_nodelay true\nmax_queued_messages 100000\n' \
 	"$port" "$(id -un)" > "$T/mq.conf"
 "$MOSQ" -c "$T/mq.conf" > "$T/mq.log" 2>&1 &
 pids="$pids $!"
@@ -114,6 +119,46 @@ $CC -O2 -g -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE -Wall -Wextra -Iinclude -Ito
 	"$B/gen/df1gw/spb.pb-c.o" "$B/libdf1-tools.a" "$B/libdf1.a" \
 	$(pkg-config --libs libprotobuf-c 2>/dev/null || echo -lprotobuf-c) -lcsv -lm -lpthread || exit 1
 "$B/bench/bench_spb" "${BENCH_SPB_ROUNDS:-200}"
+
+# ---- writes a second through /set, with and without coalescing ----
+SETS=${BENCH_GW_SETS:-2000}
+printf 'Tag,Command,Type,Station,PLC_Type,Address,Count,Scan_Ms\n' > "$T/w.csv"
+for t in 0 1 2 3; do echo "W$t,ReadWrite,INT,1,SLC,N11:$t,1,100" >> "$T/w.csv"; done
+now_s() { date +%s.%N; }
+writes_logged() { grep -c "cmd=0F/AA addr=N11:" "$T/sim.log"; }
+wbench() {
+	label=$1; shift
+	p=bench/w$label
+	"$B/bin/df1gw" -d "$T/plc" --map "$T/w.csv" --mqtt "mqtt://127.0.0.1:$port" --prefix "$p" -q \
+		--max-pending-writes 100000 --write-timeout 600000 "$@" &
+	gw=$!
+	pids="$pids $gw"
+	wait_until 100 online "$p" || return 1
+	mosquitto_sub -p "$port" -q 1 -t "$p/tag/+/result" > "$T/res.$label" 2>/dev/null &
+	sub=$!
+	pids="$pids $sub"
+	wait_until 100 sh -c "mosquitto_pub -p $port -q 1 -t '$p/tag/W0/set' -m '{\"value\":0,\"id\":\"m\"}' &&
+		grep -q '\"id\":\"m\"' '$T/res.$label'" || return 1
+	per=$((SETS / 4))
+	for t in 0 1 2 3; do
+		awk -v t=$t -v n=$per 'BEGIN { for (i = 1; i <= n; i++) printf "{\"value\":%d,\"id\":\"%d-%d\"}\n", i, t, i }' \
+			> "$T/sets$t"
+	done
+	w0=$(writes_logged); t0=$(now_s)
+	for t in 0 1 2 3; do
+		mosquitto_pub -p "$port" -q 1 -t "$p/tag/W$t/set" -l < "$T/sets$t" &
+	done
+	wait_until 3000 sh -c "[ \$(grep -c '\"id\":\"[0-3]-' '$T/res.$label') -ge $((per * 4)) ]" || return 1
+	t1=$(now_s); w1=$(writes_logged)
+	kill "$gw" "$sub"; wait "$gw" 2>/dev/null
+	awk -v n="$((per * 4))" -v w="$((w1 - w0))" -v t0="$t0" -v t1="$t1" -v l="$label" 'BEGIN {
+		el = t1 - t0
+		printf "bench_gw: writes %-16s %d /set answered in %.2f s: %.0f /set a second; %d written on the line, %.0f writes a second\n",
+		       l, n, el, n / el, w, w / el }'
+}
+echo "bench_gw: writes, $SETS /set to 4 tags (Scan_Ms 100) at once, full-speed pty, QoS 1:"
+wbench all --write-optimize all
+wbench latest-non-bool
 
 # ---- end to end, JSON against Sparkplug B, through the broker ----
 if ! python3 -c 'import paho.mqtt' 2>/dev/null; then

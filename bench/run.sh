@@ -9,6 +9,7 @@
 # one-tag-per-read poller. The last line of make bench is
 #   bench: half R1 full R2 full-pipelined R3 half-scan5 R4
 # bench_load: df1_tag_load_map of 40 000 tags, df1_map_load of a 10 MB field.
+# bench_buffer: df1gw's store and forward buffer, records/s and file bytes.
 # python/bench.py (when python3 has cffi): single-word reads per second from
 # Python next to the C figure, against one df1sim on a pty.
 set -u
@@ -27,6 +28,12 @@ mkdir -p "$B/bench"
 $CC -O2 -g -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra -Iinclude -o "$B/bench/bench_load" \
 	bench/bench_load.c "$B/libdf1.a" -lcsv -lm -lpthread || exit 1
 "$B/bench/bench_load" "$T" "${BENCH_TAGS:-40000}" || exit 1
+# bench_buffer: df1gw's store and forward buffer (records/s appended and
+# replayed, bytes of file per record), on SQLite and in memory
+$CC -O2 -g -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE -Wall -Wextra -Iinclude -Itools -o "$B/bench/bench_buffer" \
+	bench/bench_buffer.c tools/df1gw/gw_buffer.c tools/df1gw/gw_buffer_mem.c tools/df1gw/gw_buffer_sql.c \
+	$(pkg-config --libs sqlite3 2>/dev/null || echo -lsqlite3) || exit 1
+"$B/bench/bench_buffer" "$T" "${BENCH_BUFFER_RECORDS:-100000}" || exit 1
 $CC -O2 -g -std=c11 -D_DEFAULT_SOURCE -Wall -Wextra -Iinclude -o "$B/bench/bench_poll" \
 	bench/bench_poll.c "$B/libdf1.a" -lcsv -lm -lpthread || exit 1
 

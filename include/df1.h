@@ -21,9 +21,9 @@
 #include <time.h>
 
 #define DF1_VERSION_MAJOR 0
-#define DF1_VERSION_MINOR 4
+#define DF1_VERSION_MINOR 5
 #define DF1_VERSION_MICRO 0
-#define DF1_VERSION_STRING "0.4.0"
+#define DF1_VERSION_STRING "0.5.0"
 
 /* The version of the library a program runs with (as libusb_get_version()).
  * The macros above are the header a program was compiled against; with the
@@ -803,7 +803,7 @@ DF1_API int df1_tag_add(df1_t *h, const struct df1_tag_config *c);
  * the address's own (df1_addr_value_kind) when Type is empty. Returns the
  * enum df1_value_kind, or DF1_E_INVAL (not a Type) / DF1_E_TYPE (a Type that
  * cannot hold the address's values: FLOAT on a bit, INT on L or a whole
- * timer). @since 0.4 */
+ * timer). @since 0.5 */
 DF1_API int df1_tag_value_kind(const struct df1_tag_config *c);
 /* Add every row of a mapping CSV (df1_map_load). Rows with problems and
  * duplicate names are reported through issue_fn (may be NULL) and skipped; in

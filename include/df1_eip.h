@@ -85,16 +85,16 @@ struct df1_eip_server_stats {
 	uint64_t read_only_refusals; /* PCCC commands refused by read_only */
 };
 DF1_API void df1_eip_server_stats(const df1_eip_server_t *s, struct df1_eip_server_stats *st);
-/* Why the server closed a connection on its own (df1_eip_server_set_limits). @since 0.4 */
+/* Why the server closed a connection on its own (df1_eip_server_set_limits). @since 0.5 */
 enum df1_eip_close_reason {
 	DF1_EIP_CLOSE_NO_SESSION,    /* no RegisterSession within register_ms of connecting */
 	DF1_EIP_CLOSE_IDLE,          /* its session sent nothing for idle_ms */
 	DF1_EIP_CLOSE_EVICTED        /* the table was full: the longest idle, for a new client */
 };
-/* peer: "ADDR:PORT" of the client closed. @since 0.4 */
+/* peer: "ADDR:PORT" of the client closed. @since 0.5 */
 typedef void (*df1_eip_close_fn)(void *user, const char *peer, enum df1_eip_close_reason why);
 /* How long a connection may stay without a session or idle, and what a full
- * table does (df1-eip(7) "Limits"). @since 0.4 */
+ * table does (df1-eip(7) "Limits"). @since 0.5 */
 struct df1_eip_server_limits {
 	int register_ms;             /* 0 = default 5000; -1 = no limit; at most 3600000 */
 	int idle_ms;                 /* 0 = default 120000 (ODVA's encapsulation inactivity
@@ -104,9 +104,9 @@ struct df1_eip_server_limits {
 	void *user;
 };
 /* Replace the limits (the server starts with the defaults). 0, or DF1_E_INVAL
- * (s or l NULL, a value out of range). @since 0.4 */
+ * (s or l NULL, a value out of range). @since 0.5 */
 DF1_API int df1_eip_server_set_limits(df1_eip_server_t *s, const struct df1_eip_server_limits *l);
-/* Connections the limits closed, by reason. @since 0.4 */
+/* Connections the limits closed, by reason. @since 0.5 */
 struct df1_eip_server_closes {
 	uint64_t no_session, idle, evicted;
 };

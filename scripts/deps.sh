@@ -13,12 +13,19 @@ have_header stdarg.h && printf '#include <stdarg.h>\n#include <stddef.h>\n#inclu
 command -v mandoc >/dev/null 2>&1 || missing="$missing mandoc"
 command -v python3 >/dev/null 2>&1 || missing="$missing python3"
 have_header mosquitto.h || missing="$missing libmosquitto-dev"
+# df1gw's certificate errors in detail (optional in the Makefile, wanted here)
+have_header openssl/ssl.h || missing="$missing libssl-dev"
+# df1gw --http
+printf '#include <stdint.h>\n#include <sys/types.h>\n#include <sys/socket.h>\n#include <microhttpd.h>\n' \
+	| ${CC:-cc} -E -x c - >/dev/null 2>&1 || missing="$missing libmicrohttpd-dev"
 # the broker and its clients, for the gateway's tests and make demo
 command -v mosquitto >/dev/null 2>&1 || [ -x /usr/sbin/mosquitto ] || missing="$missing mosquitto"
 command -v mosquitto_sub >/dev/null 2>&1 || missing="$missing mosquitto-clients"
 # Sparkplug B in df1gw: protobuf-c's library and its compiler protoc-c
 have_header protobuf-c/protobuf-c.h || missing="$missing libprotobuf-c-dev"
 command -v protoc-c >/dev/null 2>&1 || missing="$missing protobuf-c-compiler"
+# store and forward in df1gw: SQLite
+have_header sqlite3.h || missing="$missing libsqlite3-dev"
 [ -z "$missing" ] && exit 0
 cmd="apt-get install -y$missing"
 as=

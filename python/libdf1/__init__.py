@@ -26,9 +26,9 @@ __all__ = ["open", "Plc", "Poller", "Tag", "Change", "TagState", "Quality", "Rea
            "Df1ValueError", "ConfigError", "ConfigIssue", "PortError", "strerror", "errname", "option_names",
            "library_version", "__version__"]
 
-__version__ = "0.4.0"
+__version__ = "0.5.0"
 
 
 def library_version() -> str:
-    """The version of the C library loaded (df1_version(3)), e.g. "0.4.0"."""
+    """The version of the C library loaded (df1_version(3)), e.g. "0.5.0"."""
     return ffi.string(lib.df1_version().string).decode()

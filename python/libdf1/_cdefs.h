@@ -16,7 +16,7 @@
 #define DF1_TABLE_FILES_MAX 1000
 #define DF1_VERSION_MAJOR 0
 #define DF1_VERSION_MICRO 0
-#define DF1_VERSION_MINOR 4
+#define DF1_VERSION_MINOR 5
 
 struct df1_version {
 	int major;

@@ -8,36 +8,12 @@
 # (mosquitto_sub -W, wait_for), never sleeps that hope.
 . tests/support/lib.sh
 
-MOSQ=${MOSQUITTO:-/usr/sbin/mosquitto}
 if [ ! -x "$MOSQ" ] || ! command -v mosquitto_sub >/dev/null 2>&1; then
 	echo "mosquitto or mosquitto-clients missing (apt-get install mosquitto mosquitto-clients)"
 	bad "no broker to test against"
 	finish
 fi
 GW="$BIN/df1gw"
-
-free_port() {
-	python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'
-}
-
-port_open() {
-	python3 -c "import socket; socket.create_connection(('127.0.0.1', $1), 1).close()" 2>/dev/null
-}
-
-# broker_start NAME PORT [CONFIG LINES...]: a broker on 127.0.0.1:PORT, waited for.
-broker_start() {
-	bname=$1; bport=$2; shift 2
-	{
-		echo "listener $bport 127.0.0.1"
-		echo "persistence false"
-		echo "user $(id -un)"          # as root it would become "mosquitto", who cannot read $T
-		if [ $# -gt 0 ]; then printf '%s\n' "$@"; else echo "allow_anonymous true"; fi
-	} > "$T/$bname.conf"
-	"$MOSQ" -c "$T/$bname.conf" > "$T/$bname.log" 2>&1 &
-	BROKER_PID=$!
-	echo "$BROKER_PID" >> "$T/.sims"
-	wait_for "broker $bname listens" 100 port_open "$bport"
-}
 
 MQ_PORT=$(free_port)
 broker_start broker "$MQ_PORT"

@@ -10,7 +10,6 @@
 # never from df1gw's own output. Waits are bounded loops, never sleeps that hope.
 . tests/support/lib.sh
 
-MOSQ=${MOSQUITTO:-/usr/sbin/mosquitto}
 HOST="python3 tests/support/spb_host.py"
 if [ ! -x "$MOSQ" ]; then
 	skip "mosquitto missing (apt-get install mosquitto)"
@@ -22,23 +21,8 @@ if ! python3 -c 'import pysparkplug, paho.mqtt' 2>/dev/null; then
 fi
 GW="$BIN/df1gw"
 
-free_port() {
-	python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'
-}
-port_open() {
-	python3 -c "import socket; socket.create_connection(('127.0.0.1', $1), 1).close()" 2>/dev/null
-}
-
 MQ_PORT=$(free_port)
-{
-	echo "listener $MQ_PORT 127.0.0.1"
-	echo "persistence false"
-	echo "allow_anonymous true"
-	echo "user $(id -un)"
-} > "$T/broker.conf"
-"$MOSQ" -c "$T/broker.conf" > "$T/broker.log" 2>&1 &
-echo $! >> "$T/.sims"
-wait_for "broker listens" 100 port_open "$MQ_PORT" || finish
+broker_start broker "$MQ_PORT" || finish
 
 cat > "$T/plc.txt" <<'PLC'
 N7:0=123

@@ -110,7 +110,7 @@ assert f[\"scans\"] >= 1 and f[\"CNT_MSG_PACKETS_SENT\"] >= 1 and \"CRD_CHAR_REC
 expect 2 "-f influx without --map" -- "$MON" -d "$HD" --ping -f influx
 err_has "-f influx without --map: says so" "-f influx needs --map"
 expect 2 "an unknown format lists influx" -- "$MON" -d "$HD" --map "$T/map.csv" -f xml
-err_has "the accepted formats" "plain, csv, json or influx"
+err_has "the accepted formats" "plain, csv, json, influx or prometheus"
 
 sim_stop
 finish

@@ -201,6 +201,43 @@ sim_end() {
 	return $sim_rc
 }
 
+# ---- an MQTT broker on a loopback port (the gateway's tests) ----
+MOSQ=${MOSQUITTO:-/usr/sbin/mosquitto}
+
+# free_port: a TCP port free on 127.0.0.1 now
+free_port() {
+	python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'
+}
+
+# port_open PORT: something listens on 127.0.0.1:PORT
+port_open() {
+	python3 -c "import socket; socket.create_connection(('127.0.0.1', $1), 1).close()" 2>/dev/null
+}
+
+# broker_start NAME PORT [CONFIG LINES...]: $T/NAME.conf (a listener on
+# 127.0.0.1:PORT, no persistence, the lines given or anonymous clients), then
+# broker_run. As root mosquitto would become the user "mosquitto", who cannot
+# read $T: it stays this user.
+broker_start() {
+	bname=$1; bport=$2; shift 2
+	{
+		echo "listener $bport 127.0.0.1"
+		echo "persistence false"
+		echo "user $(id -un)"
+		if [ $# -gt 0 ]; then printf '%s\n' "$@"; else echo "allow_anonymous true"; fi
+	} > "$T/$bname.conf"
+	broker_run "$bname" "$bport"
+}
+
+# broker_run NAME PORT: mosquitto on $T/NAME.conf (again, after a kill: its
+# log $T/NAME.log goes on), BROKER_PID, waited for until PORT listens.
+broker_run() {
+	"$MOSQ" -c "$T/$1.conf" >> "$T/$1.log" 2>&1 &
+	BROKER_PID=$!
+	echo "$BROKER_PID" >> "$T/.sims"
+	wait_for "broker $1 listens" 100 port_open "$2"
+}
+
 json_ok() {
 	awk '{
 		if ($0 !~ /^\{".*\}$/) { bad = 1; print "not an object: " $0; next }

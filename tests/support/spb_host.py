@@ -34,6 +34,16 @@ def client(port):
     return c
 
 
+def signed(v):
+    """An Int8/16/32 property from its uint32 int_value (the specification's
+    carrier for signed types): two's complement at the type's width."""
+    bits = {1: 8, 2: 16, 3: 32}.get(v.type)
+    x = v.int_value
+    if bits and x >= 1 << (bits - 1):
+        x -= 1 << bits
+    return x
+
+
 def props(raw):
     """Quality and Reason properties per metric name (or alias), from the raw protobuf."""
     p = pb.Payload.FromString(raw)
@@ -42,11 +52,7 @@ def props(raw):
         if m.HasField("properties"):
             d = {}
             for k, v in zip(m.properties.keys, m.properties.values):
-                if v.HasField("string_value"):
-                    d[k] = v.string_value
-                else:  # Int8/16/32 are two's complement in uint32 int_value (the specification's datatypes)
-                    bits = {1: 8, 2: 16, 3: 32}.get(v.type, 0)
-                    d[k] = v.int_value - (1 << bits) if bits and v.int_value >= 1 << (bits - 1) else v.int_value
+                d[k] = v.string_value if v.HasField("string_value") else signed(v)
             out[m.name or str(m.alias)] = d
     return out
 

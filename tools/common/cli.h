@@ -246,6 +246,10 @@ void cli_error_tag(int err, int catalog_id, char *buf, size_t cap);
  * rows with t the seconds given (CSV), or {"id":..,"mnemonic":..,"value":..}
  * objects joined by commas (JSON). Returns how many. */
 int cli_print_counters(FILE *f, const df1_t *h, enum cli_format fmt, double t);
+/* The Prometheus name of catalog counter e: "df1_link_" + its mnemonic in
+ * lower case + "_total" (df1_link_cnt_msg_packets_sent_total), the name
+ * df1gw's /metrics and df1mon -f prometheus share. */
+void cli_counter_metric_name(const struct df1_catalog_entry *e, char *buf, size_t cap);
 
 /* Logging (-v) and tracing (-vv) callbacks; user = struct cli *. */
 void cli_log(void *user, int catalog_id, enum df1_severity sev, const char *text);

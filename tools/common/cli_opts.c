@@ -144,7 +144,7 @@ static void plc_list(const struct cli *c, char *buf, size_t cap)
 	}
 }
 
-static const char *const format_names[] = { "plain", "csv", "json", "influx" };
+static const char *const format_names[] = { "plain", "csv", "json", "influx", "prometheus" };
 
 /* The formats this tool takes: "plain|csv|json" (sep "|") or "plain, csv or json". */
 static const char *format_list_sep(const struct cli *c, bool prose)
@@ -419,6 +419,8 @@ static int parse_format(struct cli *c, const char *arg)
 		v = CLI_FMT_JSON;
 	else if (strcasecmp(arg, "influx") == 0)
 		v = CLI_FMT_INFLUX;
+	else if (strcasecmp(arg, "prometheus") == 0)
+		v = CLI_FMT_PROMETHEUS;
 	else
 		v = -1;
 	if (v < 0 || !format_ok(c, (enum cli_format)v))

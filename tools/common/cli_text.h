@@ -13,7 +13,8 @@
 #include <stdio.h>
 
 /* INFLUX: InfluxDB line protocol (df1mon --map only). */
-enum cli_format { CLI_FMT_PLAIN = 0, CLI_FMT_CSV = 1, CLI_FMT_JSON = 2, CLI_FMT_INFLUX = 3 };
+enum cli_format { CLI_FMT_PLAIN = 0, CLI_FMT_CSV = 1, CLI_FMT_JSON = 2, CLI_FMT_INFLUX = 3,
+                  CLI_FMT_PROMETHEUS = 4 /* df1mon --counters: Prometheus text (cli_counters.c) */ };
 
 /* The length of the valid UTF-8 sequence at s (at most n bytes), its code
  * point in *cp_out (may be NULL); 0 if there is none (overlong, surrogate,

@@ -67,6 +67,26 @@ static void map_issue(void *user, const struct df1_config_issue *is)
 		fprintf(stderr, "%s\n", is->text);
 }
 
+#define LINE_TICK_MS 20               /* the broker served this often while the line works */
+
+/* Every byte the line sends or takes (df1_set_trace): a transaction on a slow
+ * line lasts long, a scan or a batch of writes many of them, and all run
+ * inside df1_poll(); the broker is served meanwhile (its keepalive, the
+ * PUBACKs that let it send the next /set), not only between two calls. */
+static void line_tick(void *user, enum df1_dir dir, const uint8_t *bytes, size_t n, uint64_t t_us)
+{
+	static int64_t last;
+	struct gw *g = user;
+	int64_t now = gw_now_ms();
+
+	if (g->cli.verbose >= 3 && !g->cli.quiet)
+		cli_trace(&g->cli, dir, bytes, n, t_us);
+	if (g->mq_configured && now - last >= LINE_TICK_MS) {
+		last = now;
+		gw_mqtt_turn(&g->mq, now);
+	}
+}
+
 /* A configured handle with the mapping file's tags (strict: any bad row is an
  * error). Returns 0 or the exit status, having said why. */
 static int line_build(struct gw *g, df1_t **out)
@@ -82,8 +102,8 @@ static int line_build(struct gw *g, df1_t **out)
 	/* -v is the broker side; -vv adds the link's events, -vvv every frame */
 	if (g->cli.verbose < 2)
 		df1_set_log(h, NULL, NULL);
-	if (g->cli.verbose < 3)
-		df1_set_trace(h, NULL, NULL);
+	/* the line's bytes tick the broker (line_tick); -vvv prints them too */
+	df1_set_trace(h, line_tick, g);
 	if (df1_poll_fd(h) < 0) {       /* the engine, for --eip's requests before any tag */
 		fprintf(stderr, "%s: out of memory\n", GW_PROG);
 		df1_free(h);
@@ -217,6 +237,8 @@ static int line_open(struct gw *g)
 
 		/* said once per new reason, not at every try */
 		memcpy(before, g->line_error, sizeof before);
+		if (!before[0])
+			g->line_down_ms = gw_now_ms();
 		line_error_set(g, r);
 		news = strcmp(before, g->line_error) != 0;
 		if (news && !g->cli.quiet)
@@ -226,7 +248,10 @@ static int line_open(struct gw *g)
 		                                                              : g->line_backoff_ms * 2;
 		return r;
 	}
-	if (g->line_ever_up && !g->cli.quiet)
+	if (g->line_error[0] && !g->cli.quiet)        /* the recovery of what was said */
+		fprintf(stderr, "%s: %s: open%s after %lld s\n", GW_PROG, g->cli.device, g->line_ever_up ? " again" : "",
+		        (long long)((gw_now_ms() - g->line_down_ms + 500) / 1000));
+	else if (g->line_ever_up && !g->cli.quiet)
 		fprintf(stderr, "%s: %s: open again\n", GW_PROG, g->cli.device);
 	g->line_up = true;
 	g->line_ever_up = true;
@@ -241,8 +266,10 @@ static int line_open(struct gw *g)
 static void line_lost(struct gw *g, int err)
 {
 	line_error_set(g, err);
+	g->line_down_ms = gw_now_ms();
 	if (!g->cli.quiet)
 		fprintf(stderr, "%s: %s: line lost; reopening\n", GW_PROG, g->line_error);
+	gw_writes_drop(g);      /* the writes waiting: answered "not written", not kept for later */
 	df1_close(g->h);        /* the port's settings restored; tags and writes kept */
 	g->line_up = false;
 	g->line_next_try_ms = gw_now_ms() + g->line_backoff_ms;
@@ -303,6 +330,9 @@ static void reload(struct gw *g)
 			fprintf(stderr, "%s: %s: not reloaded, the tags stay as they were\n", GW_PROG, g->map_path);
 		return;
 	}
+	snprintf(g->line_error, sizeof g->line_error, "%s: SIGHUP: the mapping file reloaded", g->cli.device);
+	gw_writes_drop(g);      /* their tag ids are the old handle's */
+	g->line_error[0] = '\0';
 	g->h = NULL;
 	df1_free(old);          /* its queued writes end (results published); the port is restored */
 	if (line_adopt(g, nh) < 0) {
@@ -386,7 +416,9 @@ static int setup(struct gw *g, int argc, char **argv)
 		return r;
 	if (g->eip.listen && (r = gw_eip_open(&g->eip, GW_PROG, g->cli.quiet)) != 0)
 		return r;
-	if (gw_ids_init(&g->ids, GW_IDS_DEFAULT) < 0) {
+	if ((r = gw_health_open(g)) != 0)       /* systemd's socket, --http */
+		return r;
+	if (gw_ids_init(&g->ids, GW_IDS_DEFAULT) < 0 || gw_writes_init(g) < 0) {
 		fprintf(stderr, "%s: out of memory\n", GW_PROG);
 		return CLI_EXIT_FAIL;
 	}
@@ -435,8 +467,8 @@ static void flush_broker(struct gw *g, int ms)
 
 /* What the loop waits on: each one's place in p, -1 when it is not there. */
 struct gw_wait {
-	struct pollfd p[5];
-	int n, sig, hup, mq, line, eip;
+	struct pollfd p[6];
+	int n, sig, hup, mq, line, eip, http;
 };
 
 static void wait_add(struct gw_wait *w, int *at, int fd, short events)
@@ -462,6 +494,7 @@ static void wait_set(const struct gw *g, int hup, struct gw_wait *w)
 	wait_add(w, &w->mq, gw_mqtt_fd(&g->mq), gw_mqtt_poll_events(&g->mq));
 	wait_add(w, &w->line, g->line_up ? df1_poll_fd(g->h) : -1, POLLIN);
 	wait_add(w, &w->eip, gw_eip_fd(&g->eip), POLLIN);
+	wait_add(w, &w->http, gw_health_fd(g), POLLIN);
 }
 
 /* Milliseconds until whatever is due next: the broker, the line's work or
@@ -482,8 +515,13 @@ static int wait_timeout(const struct gw *g, int64_t now)
 		if (d < timeout)
 			timeout = d < 0 ? 0 : (int)d;
 	}
+	t = gw_health_wait_ms(g, now);          /* the watchdog's ping, HTTP's timers */
+	if (t < timeout)
+		timeout = t;
 	if (g->refresh_s > 0 && g->next_refresh_ms - now < timeout)
 		timeout = g->next_refresh_ms - now < 0 ? 0 : (int)(g->next_refresh_ms - now);
+	if (g->wq.n && gw_wq_next_deadline(&g->wq) - now < timeout)      /* an expiry answered on time */
+		timeout = gw_wq_next_deadline(&g->wq) - now < 0 ? 0 : (int)(gw_wq_next_deadline(&g->wq) - now);
 	return timeout;
 }
 
@@ -548,12 +586,15 @@ static void loop_work(struct gw *g, const struct gw_wait *w, int hup, int64_t no
 
 		while (read(hup, &si, sizeof si) == (ssize_t)sizeof si)
 			;
-		if (!g->once)
+		if (!g->once) {
+			gw_health_reloading(g);
 			reload(g);
+		}
 	}
 	eip_mirror(g);
 	if (wait_ready(w, w->eip))
 		gw_eip_process(&g->eip);       /* requests join the line's queue */
+	gw_writes_feed(g, now);                /* a batch of MQTT writes joins it behind them */
 	if (g->line_up && (df1_poll_next_ms(g->h) == 0 || wait_ready(w, w->line)))
 		line_work(g);
 	else if (!g->line_up && now >= g->line_next_try_ms)
@@ -590,6 +631,7 @@ static int loop(struct gw *g, int hup, struct gw_once *o)
 		if (status != CLI_CONTINUE)
 			break;
 		loop_work(g, &w, hup, now);
+		gw_health_turn(g, gw_now_ms());         /* HTTP, READY, STATUS, WATCHDOG */
 		if (g->once)
 			status = once_step(g, o);
 	}
@@ -648,6 +690,7 @@ static void gw_print_counters(const struct gw *g)
 	       (unsigned long long)ps.reads, (unsigned long long)ps.read_failures,
 	       (unsigned long long)ps.writes, (unsigned long long)ps.write_failures,
 	       (unsigned long long)ps.retries);
+	gw_writes_counters(g, stdout);
 	gw_eip_counters(&g->eip, stdout);
 	gw_publish_counters(g, stdout);
 	cli_print_counters(stdout, g->h, CLI_FMT_PLAIN, 0);
@@ -656,6 +699,10 @@ static void gw_print_counters(const struct gw *g)
 
 static void shutdown_gw(struct gw *g)
 {
+	gw_health_stopping(g);
+	/* the writes waiting: answered "not written" while the broker is there */
+	snprintf(g->line_error, sizeof g->line_error, "%s stopping", GW_PROG);
+	gw_wq_free(&g->wq);
 	if (g->counters)
 		gw_print_counters(g);
 	/* queued writes and EtherNet/IP requests end first (their results go
@@ -673,6 +720,7 @@ static void shutdown_gw(struct gw *g)
 	gw_fmts_close(&g->fmts);
 	gw_pubs_free(&g->pubs);
 	gw_ids_free(&g->ids);
+	gw_outbox_free(&g->outbox);
 	gw_msg_free(&g->msg);
 	gw_msg_free(&g->will);
 	gw_buf_free(&g->key);
@@ -682,6 +730,7 @@ static void shutdown_gw(struct gw *g)
 		memset(g->password, 0, strlen(g->password));
 		free(g->password);
 	}
+	gw_health_close(g);
 	cli_cleanup(&g->cli);
 }
 
@@ -691,6 +740,7 @@ int main(int argc, char **argv)
 	int r;
 
 	g.eip.station = -1;
+	g.health.notify.fd = -1;
 	gw_pubs_init(&g.pubs);
 	gw_msg_init(&g.msg);
 	gw_msg_init(&g.will);

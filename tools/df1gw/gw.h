@@ -17,11 +17,13 @@
 #include "df1gw/gw_eip.h"
 #include "df1gw/gw_format.h"
 #include "df1gw/gw_format_sparkplug.h"
+#include "df1gw/gw_health.h"
 #include "df1gw/gw_json.h"
 #include "df1gw/gw_mqtt.h"
 #include "df1gw/gw_state.h"
 #include "df1gw/gw_url.h"
 #include "df1gw/gw_write.h"
+#include "df1gw/gw_wqueue.h"
 
 #define GW_PROG "df1gw"
 
@@ -55,6 +57,7 @@ struct gw {
 	int line_backoff_ms;
 	int64_t line_next_try_ms;
 	int64_t line_opened_ms;      /* monotonic ms of the last df1_open */
+	int64_t line_down_ms;        /* since when it is lost or cannot be opened */
 	bool stations[255];          /* stations that have tags */
 	unsigned char *dirty;        /* per tag id: changed since published */
 	int ntags;
@@ -70,7 +73,7 @@ struct gw {
 	struct gw_buf key;           /* its change key */
 	bool republish;              /* everything, at the next chance (connected, line change) */
 	int64_t next_refresh_ms;
-	unsigned writes_pending;
+	unsigned writes_pending;     /* handed to the line (df1_tag_write), not ended yet */
 
 	/* Sparkplug B (--sparkplug; df1gw(1) SPARKPLUG) */
 	struct gw_spb_conf spb;
@@ -78,6 +81,19 @@ struct gw {
 	const char *spb_state_path;  /* --sparkplug-state FILE: bdSeq kept across restarts */
 	unsigned bdseq_next;         /* the bdSeq of the next connect */
 	unsigned generation;         /* the tags' configuration: a reload changes it */
+
+	/* the write policy (gw_wqueue.h; df1gw(1), WRITE POLICY) */
+	enum gw_wopt write_optimize; /* --write-optimize */
+	int duty_cycle;              /* --duty-cycle: writes per batch, and before a due read */
+	int write_timeout_ms;        /* --write-timeout */
+	int max_pending;             /* --max-pending-writes */
+	struct gw_wq wq;             /* waiting writes; its counters are the write side's */
+	unsigned writes_since_read;  /* handed to the line since the poll engine last read */
+	uint64_t reads_seen;         /* the engine's reads + probes when last looked at */
+	struct gw_outbox outbox;     /* results that fell while the broker was away */
+
+	/* systemd notifications and --http (gw_health.h) */
+	struct gw_health health;
 };
 
 /* The command line into g (gw_options.c): CLI_CONTINUE or the exit status,
@@ -111,6 +127,16 @@ void gw_on_connecting(void *user);
 void gw_bdseq_load(struct gw *g);
 /* --counters: each format's own line. */
 void gw_publish_counters(const struct gw *g, FILE *out);
+/* The write queue: what waits handed to the line when its turn comes (a
+ * batch of at most --duty-cycle, not while a due poll read has waited behind
+ * as many), what expired answered. Once per turn of the loop. */
+void gw_writes_feed(struct gw *g, int64_t now);
+/* The queue made from the options (gw_wqueue.h). 0, or -1 (no memory). */
+int gw_writes_init(struct gw *g);
+/* The line is gone (or replaced): every waiting write is answered "not written". */
+void gw_writes_drop(struct gw *g);
+/* --counters: the write side's line. */
+void gw_writes_counters(const struct gw *g, FILE *out);
 /* A tag's configuration as one line of text (a reload compares them). */
 void gw_tag_config_text(const struct df1_tag_config *c, char *out, size_t cap);
 

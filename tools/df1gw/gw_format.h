@@ -66,6 +66,7 @@ struct gw_result_out {
 /* An incoming write, as its format parsed the payload. */
 struct gw_write_in {
 	char id[GW_WRITE_ID_MAX + 1];  /* "" when none; at most once per id */
+	long timeout_ms;             /* this write's --write-timeout, <= 0: the option's */
 	void *data;                  /* the format's parsed payload */
 };
 

@@ -150,6 +150,7 @@ static int json_write_parse(const struct gw_fmt *f, const void *payload, size_t 
 		return -1;
 	}
 	snprintf(w->id, sizeof w->id, "%s", s->id);
+	w->timeout_ms = s->timeout_ms;
 	w->data = s;
 	return 0;
 }

@@ -6,6 +6,12 @@
  * without blocking the loop, reconnecting with an exponential backoff
  * (0.5 s doubling to 30 s), the last will it is given. It carries bytes:
  * what they say is the payload formats' (gw_format.h).
+ *
+ * Faults: a try that fails in any way (TCP refused or reset, the TLS
+ * handshake, no CONNACK in time, a refusal) ends in DOWN, and the next try
+ * gets a new libmosquitto handle (df1gw(1), BROKER CONNECTION).
+ * What went wrong is said once per outage and reason, and when it recovers;
+ * -v says every try.
  */
 #ifndef DF1_TOOLS_GW_MQTT_H
 #define DF1_TOOLS_GW_MQTT_H
@@ -59,6 +65,15 @@ struct gw_mqtt {
 	int64_t next_try_ms;       /* DOWN: when to try again */
 	unsigned inflight;         /* QoS 1 publications not acknowledged yet */
 	bool drop;                 /* gw_mqtt_reconnect: leave and connect again, after the loop call */
+
+	/* faults: what the operator is told (gw_mqtt.c, mq_fail / on_connect) */
+	int64_t try_ms;            /* CONNECTING: when this try began */
+	int64_t down_since_ms;     /* the outage's first failure, 0: none */
+	unsigned tries;            /* failed tries in this outage */
+	int sock_errno;            /* this try: the socket's error seen under TLS, 0: none */
+	char tls_why[200];         /* this try: OpenSSL's reason from libmosquitto's log */
+	char said[1024];           /* the reasons printed in this outage, each ending in '\n' */
+	bool renew;                /* a new handle before the next try */
 };
 
 /* libmosquitto set up from c (copied; its strings must outlive q): TLS files,
@@ -75,6 +90,11 @@ short gw_mqtt_poll_events(const struct gw_mqtt *q);
 int gw_mqtt_wait_ms(const struct gw_mqtt *q, int64_t now);
 /* After poll(): read, write, keepalive, (re)connect when due. */
 void gw_mqtt_service(struct gw_mqtt *q, short revents, int64_t now);
+
+/* gw_mqtt_service with the socket's events as they are now (no wait): from
+ * inside the line's work (a batch of writes, a long scan), so that the broker
+ * is served whatever the line is doing. */
+void gw_mqtt_turn(struct gw_mqtt *q, int64_t now);
 
 /* Publish (queued by libmosquitto until written). 0, or -1 when not up. */
 int gw_mqtt_publish(struct gw_mqtt *q, const char *topic, const void *payload, size_t len, bool retain);

@@ -22,6 +22,9 @@ enum {
 	OPT_EIP_MAX_CLIENTS, OPT_EIP_REGISTER_TIMEOUT, OPT_EIP_IDLE_TIMEOUT,
 	/* Sparkplug B */
 	OPT_SPARKPLUG, OPT_EDGE_NODE, OPT_JSON, OPT_PRIMARY_HOST, OPT_SPB_ALIASES, OPT_DEVICE_NAME, OPT_SPB_STATE,
+	/* the write policy (gw_wqueue.h) */
+	OPT_WRITE_OPTIMIZE, OPT_DUTY_CYCLE, OPT_WRITE_TIMEOUT, OPT_MAX_PENDING,
+	OPT_HTTP,
 };
 
 static const struct cli_extra_opt gw_opts[] = {
@@ -57,7 +60,6 @@ static const struct cli_extra_opt gw_opts[] = {
 	  "--eip: close a connection without a session after S s (default 5, 0: never)" },
 	{ "eip-idle-timeout", required_argument, OPT_EIP_IDLE_TIMEOUT, "S",
 	  "--eip: close a session idle for S s (default 120, 0: never)" },
-	{ "counters", no_argument, OPT_COUNTERS, NULL, "the line's and EtherNet/IP counters on stdout at exit" },
 	{ "sparkplug", required_argument, OPT_SPARKPLUG, "GROUP_ID",
 	  "also Sparkplug B: the line an edge node of group GROUP_ID, stations its devices" },
 	{ "edge-node", required_argument, OPT_EDGE_NODE, "ID", "--sparkplug: the edge node id (default: the client id)" },
@@ -70,6 +72,18 @@ static const struct cli_extra_opt gw_opts[] = {
 	  "--sparkplug: station N's device id (default stationN; repeatable)" },
 	{ "sparkplug-state", required_argument, OPT_SPB_STATE, "FILE",
 	  "--sparkplug: keeps bdSeq across restarts (default: bdSeq starts at 0)" },
+	{ "counters", no_argument, OPT_COUNTERS, NULL,
+	  "the line's, the writes' and EtherNet/IP counters on stdout at exit" },
+	{ "write-optimize", required_argument, OPT_WRITE_OPTIMIZE, "all|latest|latest-non-bool",
+	  "a waiting write replaced by a later one to its tag (default latest-non-bool: not bits)" },
+	{ "duty-cycle", required_argument, OPT_DUTY_CYCLE, "N",
+	  "MQTT writes go N at a time, a due poll read after each N (default 10)" },
+	{ "write-timeout", required_argument, OPT_WRITE_TIMEOUT, "MS",
+	  "a write not started within MS ms: expired, not written (default 30000; \"timeout_ms\" in /set)" },
+	{ "max-pending-writes", required_argument, OPT_MAX_PENDING, "N",
+	  "more writes waiting: answered busy, not written (default 1000)" },
+	{ "http", required_argument, OPT_HTTP, "[ADDR:]PORT",
+	  "read-only status page, /metrics (Prometheus) and /api/status, on 127.0.0.1 unless ADDR is given" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -129,6 +143,16 @@ static int gw_extra(struct cli *c, int key, const char *arg, void *user)
 	case OPT_SPB_ALIASES: g->spb.aliases = true; break;
 	case OPT_DEVICE_NAME: return device_name_opt(c, g, arg);
 	case OPT_SPB_STATE: g->spb_state_path = arg; break;
+	case OPT_WRITE_OPTIMIZE:
+		if (gw_wopt_parse(arg, &g->write_optimize) < 0)
+			return cli_usage_error(c, "--write-optimize '%s': all, latest or latest-non-bool", arg);
+		break;
+	case OPT_DUTY_CYCLE: return cli_parse_int(c, "--duty-cycle", arg, 1, 1000, &g->duty_cycle);
+	case OPT_WRITE_TIMEOUT: return cli_parse_int(c, "--write-timeout", arg, 1, (int)GW_TIMEOUT_MS_MAX,
+	                                             &g->write_timeout_ms);
+	case OPT_MAX_PENDING:
+		return cli_parse_int(c, "--max-pending-writes", arg, 1, GW_WQ_MAX_LIMIT, &g->max_pending);
+	case OPT_HTTP: g->health.http_listen = arg; break;
 	default: return CLI_EXIT_USAGE;
 	}
 	return CLI_CONTINUE;
@@ -256,6 +280,10 @@ int gw_options_parse(struct gw *g, int argc, char **argv)
 	g->keepalive_s = 60;
 	g->watchdog_ms = -1;
 	g->eip.register_s = g->eip.idle_s = -1;
+	g->write_optimize = GW_WOPT_LATEST_NON_BOOL;
+	g->duty_cycle = 10;
+	g->write_timeout_ms = 30000;
+	g->max_pending = 1000;
 	r = cli_parse(&g->cli, argc, argv, g);
 	if (r != CLI_CONTINUE)
 		return r;

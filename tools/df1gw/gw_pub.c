@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <time.h>
 
 
@@ -55,8 +56,10 @@ static void publish(struct gw *g, const struct gw_msg *m)
 
 	for (size_t i = 0; i < m->body.len && text; i++)
 		text = (unsigned char)body[i] >= 0x20 || body[i] == '\n' || body[i] == '\t';
-	if (gw_mqtt_publish_qos(&g->mq, m->topic, body, m->body.len, m->qos, m->retain) == 0 && g->cli.verbose &&
-	    !g->cli.quiet) {
+	if (gw_mqtt_publish_qos(&g->mq, m->topic, body, m->body.len, m->qos, m->retain) < 0)
+		return;
+	g->health.published++;          /* df1_mqtt_publications_total (gw_metrics.c) */
+	if (g->cli.verbose && !g->cli.quiet) {
 		if (text)
 			fprintf(stderr, "%s: > %s %.*s\n", GW_PROG, m->topic, (int)m->body.len, body);
 		else            /* a binary payload (Sparkplug's protobuf) */
@@ -134,6 +137,7 @@ void gw_on_tag(void *user, int id, const struct df1_tag_state *st)
 	tag_publish(g, id, st, false, now);
 	if (st->config && st->config->station >= 0 && st->config->station < 255)
 		station_publish(g, st->config->station, false, now);
+	gw_mqtt_turn(&g->mq, now);      /* a long scan does not silence the broker */
 }
 
 /* ---- stations ---- */
@@ -231,54 +235,106 @@ void gw_on_connected(void *user)
 	}
 	g->republish = true;
 	gw_publish_changes(g, true);
+	/* the results that fell while the broker was away, once each */
+	for (size_t i = 0; i < g->outbox.n; i++)
+		publish(g, &g->outbox.v[i]);
+	for (size_t i = 0; i < g->outbox.n; i++)
+		gw_msg_free(&g->outbox.v[i]);
+	g->outbox.n = 0;
 }
 
 /* ---- writes ---- */
 
+/* A write's owner: the format it came in (its result goes out the same way). */
 struct gw_wr {
 	struct gw *g;
-	const struct gw_fmt *f;      /* the format it came in: its result goes out the same way */
+	const struct gw_fmt *f;
 	char tag[80];
 	char id[GW_WRITE_ID_MAX + 1];
+	long timeout_ms;             /* the deadline it was given */
 };
+
+/* The one result of a write: ok, or error (then unconfirmed says whether the
+ * PLC may have executed it), with the tag's true value and quality for a
+ * format that answers with them (Sparkplug). While the broker is away a
+ * result waits in the outbox; a session format's births say it all then. */
+static void result_send(struct gw *g, const struct gw_fmt *f, const char *tag, const char *id,
+                        const char *error, bool unconfirmed)
+{
+	struct gw_result_out r = { tag, id, error == NULL, error, error ? unconfirmed : false, NULL };
+	struct df1_tag_state st;
+	struct gw_tag_out now;
+	char nowerr[256];
+	int tid = g->h ? df1_tag_find(g->h, tag) : -1;
+
+	if (!g->cli.quiet && error && (g->cli.verbose || f->ops->session))
+		fprintf(stderr, "%s: write %s%s%s: %s\n", GW_PROG, tag, *id ? " id " : "", id, error);
+	if (tid >= 0 && df1_tag_get(g->h, tid, &st) == 0 && tag_out(g, &st, true, &now, nowerr, sizeof nowerr))
+		r.now = &now;
+	if (f->ops->result(f, &r, &g->msg) < 0)
+		return;
+	if (gw_mqtt_up(&g->mq))
+		fmt_publish(g, f, &g->msg);
+	else if (!f->ops->session)
+		gw_outbox_add(&g->outbox, &g->msg);     /* published when the broker is back */
+}
 
 static void result_publish(struct gw *g, const struct gw_fmt *f, const char *tag, const char *id, int err,
                            const char *detail)
 {
-	struct gw_result_out r = { tag, id, err == 0, NULL, false, NULL };
-	struct df1_tag_state st;
-	struct gw_tag_out now;
-	char text[1024], nowerr[256];
-	int tid = g->h ? df1_tag_find(g->h, tag) : -1;
+	char text[1024], base[256];
 
-	if (err) {
-		char base[256];
-
-		err_text(err, 0, 0, base, sizeof base);
-		if (detail)
-			snprintf(text, sizeof text, "%s: %s", base, detail);
-		else
-			snprintf(text, sizeof text, "%s", base);
-		r.error = text;
-		r.unconfirmed = gw_write_unconfirmed(err);
+	if (!err) {
+		result_send(g, f, tag, id, NULL, false);
+		return;
 	}
-	if (!g->cli.quiet && err && (g->cli.verbose || f->ops->session))
-		fprintf(stderr, "%s: write %s%s%s: %s\n", GW_PROG, tag, *id ? " id " : "", id, text);
-	if (tid >= 0 && df1_tag_get(g->h, tid, &st) == 0 && tag_out(g, &st, true, &now, nowerr, sizeof nowerr))
-		r.now = &now;
-	if (f->ops->result(f, &r, &g->msg) == 0)
-		fmt_publish(g, f, &g->msg);
+	err_text(err, 0, 0, base, sizeof base);
+	if (detail)
+		snprintf(text, sizeof text, "%s: %s", base, detail);
+	else
+		snprintf(text, sizeof text, "%s", base);
+	result_send(g, f, tag, id, text, gw_write_unconfirmed(err));
 }
 
+/* A write the line has done (from inside df1_poll): its result, and the
+ * broker served, so that a batch on a slow line never silences it. */
 static void write_done(void *user, int tag_id, int write_id, int result)
 {
 	struct gw_wr *w = user;
+	struct gw *g = w->g;
 
 	(void)tag_id;
 	(void)write_id;
-	result_publish(w->g, w->f, w->tag, w->id, result, NULL);
-	if (w->g->writes_pending)
-		w->g->writes_pending--;
+	if (result == 0)
+		g->wq.c.written++;
+	else
+		g->wq.c.failed++;
+	result_publish(g, w->f, w->tag, w->id, result, NULL);
+	if (g->writes_pending)
+		g->writes_pending--;
+	free(w);
+	if (g->mq_configured)
+		gw_mqtt_turn(&g->mq, gw_now_ms());
+}
+
+/* The queue's end of a write that was not handed to the line. */
+static void write_ended(void *ctx, struct gw_witem *it, enum gw_wend why, const struct gw_witem *by)
+{
+	struct gw *g = ctx;
+	struct gw_wr *w = it->user;
+	char text[800];
+
+	if (why == GW_WEND_SUPERSEDED) {
+		const struct gw_wr *b = by->user;
+
+		snprintf(text, sizeof text, "superseded by a later write (%s%s), not written", b->id[0] ? "id " : "no id",
+		         b->id);
+	} else if (why == GW_WEND_EXPIRED) {
+		snprintf(text, sizeof text, "expired, not written: not started within %ld ms", w->timeout_ms);
+	} else {
+		snprintf(text, sizeof text, "not written: %s", g->line_error[0] ? g->line_error : "the line closed");
+	}
+	result_send(g, w->f, w->tag, w->id, text, false);
 	free(w);
 }
 
@@ -303,6 +359,7 @@ static bool write_check(struct gw *g, const struct gw_fmt *f, const char *name, 
 		if (gw_ids_seen(&g->ids, w->id)) {
 			if (g->cli.verbose && !g->cli.quiet)
 				fprintf(stderr, "%s: write %s id %s: seen before, not executed again\n", GW_PROG, name, w->id);
+			*id = -2;               /* no result: not counted as refused */
 			return false;
 		}
 		gw_ids_add(&g->ids, w->id);
@@ -331,35 +388,76 @@ static bool write_check(struct gw *g, const struct gw_fmt *f, const char *name, 
 
 static void write_go(struct gw *g, const struct gw_fmt *f, const char *name, struct gw_write_in *w_in, bool retain);
 
-/* A write that came in format f's topic for tag name: parsed, then write_go. */
+/* A bit or a BOOL tag: every write kept under latest-non-bool (a push
+ * button's 1 and its 0). */
+static bool write_keeps(const struct gw *g, int id)
+{
+	struct df1_tag_state st;
+
+	if (df1_tag_get(g->h, id, &st) < 0)
+		return true;
+	return st.config->addr.bit != DF1_ADDR_NONE || strcasecmp(st.config->type, "BOOL") == 0;
+}
+
+/* Into the queue (gw_wqueue.h): waiting, or answered busy at once. */
+static void write_queue(struct gw *g, struct gw_wr *w, int id, const struct df1_value *vals, size_t n)
+{
+	struct gw_witem *it;
+
+	it = gw_witem_new(id, write_keeps(g, id), gw_now_ms() + w->timeout_ms, vals, n, w);
+	if (!it) {
+		g->wq.c.refused++;
+		result_publish(g, w->f, w->tag, w->id, DF1_E_NOMEM, NULL);
+		free(w);
+		return;
+	}
+	if (gw_wq_push(&g->wq, it) < 0) {
+		char text[200];
+
+		snprintf(text, sizeof text, "busy, not written: %u writes wait already (--max-pending-writes)",
+		         (unsigned)g->wq.n);
+		result_send(g, w->f, w->tag, w->id, text, false);
+		free(w);
+		free(it);
+	}
+}
+
+/* A write that came in format f's topic for tag name: parsed (an invalid
+ * one answered at once, without the line), then write_go. */
 static void write_take(struct gw *g, const struct gw_fmt *f, const char *name, const void *payload, int len,
                        bool retain)
 {
 	struct gw_write_in in;
 	char err[700];
 
+	g->wq.c.received++;
 	if (f->ops->write_parse(f, payload, (size_t)(len < 0 ? 0 : len), &in, err, sizeof err) < 0) {
+		g->wq.c.refused++;
 		result_publish(g, f, name, "", DF1_E_INVAL, err);
 		return;
 	}
 	write_go(g, f, name, &in, retain);
 }
 
-/* A write parsed (in, taken): checked, then queued with df1_tag_write(); one result either way. */
+/* A write parsed (in, taken): checked, then into the write queue (gw_wqueue.h);
+ * one result either way. */
 static void write_go(struct gw *g, const struct gw_fmt *f, const char *name, struct gw_write_in *w_in, bool retain)
 {
+	static struct df1_value vals[1000];     /* one message at a time: not on the stack */
 	struct gw_write_in in = *w_in;
-	struct df1_value vals[1000];
 	struct gw_wr *w;
 	size_t n;
-	int id, r;
+	int id = -1;
 
 	if (!write_check(g, f, name, &in, retain, &id, vals, sizeof vals / sizeof vals[0], &n)) {
+		if (id != -2)
+			g->wq.c.refused++;
 		f->ops->write_free(&in);
 		return;
 	}
 	w = calloc(1, sizeof *w);
 	if (!w) {
+		g->wq.c.refused++;
 		result_publish(g, f, name, in.id, DF1_E_NOMEM, NULL);
 		f->ops->write_free(&in);
 		return;
@@ -368,14 +466,78 @@ static void write_go(struct gw *g, const struct gw_fmt *f, const char *name, str
 	w->f = f;
 	snprintf(w->tag, sizeof w->tag, "%s", name);
 	snprintf(w->id, sizeof w->id, "%s", in.id);
+	w->timeout_ms = in.timeout_ms > 0 ? in.timeout_ms : g->write_timeout_ms;
 	f->ops->write_free(&in);
-	r = df1_tag_write(g->h, id, vals, n, write_done, w);
-	if (r < 0) {
-		result_publish(g, f, name, w->id, r, NULL);
-		free(w);
-		return;
+	write_queue(g, w, id, vals, n);
+}
+
+/* Reads (and probes) the poll engine made since the last look: the duty
+ * cycle counts writes between two of them. */
+static void writes_reads_seen(struct gw *g)
+{
+	struct df1_poll_stats ps;
+
+	if (df1_poll_stats(g->h, &ps) == 0 && ps.reads + ps.probes != g->reads_seen) {
+		g->reads_seen = ps.reads + ps.probes;
+		g->writes_since_read = 0;
 	}
-	g->writes_pending++;
+}
+
+void gw_writes_feed(struct gw *g, int64_t now)
+{
+	if (!g->wq.v)
+		return;
+	gw_wq_expire(&g->wq, now);
+	/* a batch at a time: the next when the last has ended */
+	if (!g->h || !g->line_up || g->writes_pending > 0 || g->wq.n == 0)
+		return;
+	writes_reads_seen(g);
+	/* a poll read that is due goes first once a batch has run since the last read */
+	if (g->writes_since_read >= (unsigned)g->duty_cycle && df1_poll_next_ms(g->h) == 0)
+		return;
+	for (int k = 0; k < g->duty_cycle; k++) {
+		struct gw_witem *it = gw_wq_pop(&g->wq, now);
+		struct gw_wr *w;
+		int r;
+
+		if (!it)
+			break;
+		w = it->user;
+		r = df1_tag_write(g->h, it->tag, it->v, it->n, write_done, w);
+		free(it);
+		if (r < 0) {
+			g->wq.c.failed++;
+			result_publish(g, w->f, w->tag, w->id, r, NULL);
+			free(w);
+			continue;
+		}
+		g->writes_pending++;
+		g->writes_since_read++;
+	}
+}
+
+void gw_writes_drop(struct gw *g)
+{
+	if (g->wq.v)
+		gw_wq_drop_all(&g->wq);
+}
+
+int gw_writes_init(struct gw *g)
+{
+	if (gw_outbox_init(&g->outbox, (size_t)g->max_pending) < 0)
+		return -1;
+	return gw_wq_init(&g->wq, g->write_optimize, (unsigned)g->max_pending, write_ended, g);
+}
+
+void gw_writes_counters(const struct gw *g, FILE *out)
+{
+	const struct gw_wcounters *c = &g->wq.c;
+
+	fprintf(out, "writes %llu received, %llu written, %llu failed, %llu refused, %llu superseded, "
+	        "%llu expired, %llu refused busy, %llu dropped, queue high-water %u\n",
+	        (unsigned long long)c->received, (unsigned long long)c->written, (unsigned long long)c->failed,
+	        (unsigned long long)c->refused, (unsigned long long)c->superseded, (unsigned long long)c->expired,
+	        (unsigned long long)c->refused_busy, (unsigned long long)c->dropped, c->high_water);
 }
 
 void gw_on_message(void *user, const char *topic, const void *payload, int len, bool retain)
@@ -470,7 +632,10 @@ static int node_subscribe(void *user, const char *pattern)
 
 static void node_write(void *user, const struct gw_fmt *f, const char *tag, struct gw_write_in *w, bool retain)
 {
-	write_go(user, f, tag, w, retain);
+	struct gw *g = user;
+
+	g->wq.c.received++;
+	write_go(g, f, tag, w, retain);
 }
 
 static void node_reconnect(void *user)

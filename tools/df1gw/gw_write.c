@@ -16,6 +16,29 @@ void gw_set_free(struct gw_set *s)
 	s->root = NULL;
 	s->value = NULL;
 	s->id[0] = '\0';
+	s->timeout_ms = -1;
+}
+
+/* "timeout_ms": an integer of milliseconds, 1..GW_TIMEOUT_MS_MAX. */
+static int set_timeout(struct gw_set *s, char *err, size_t errcap)
+{
+	const struct gw_jv *t = gw_jv_get(s->root, "timeout_ms");
+	char *end;
+	long v;
+
+	if (!t)
+		return 0;
+	if (t->type != GW_JNUMBER || strpbrk(t->text, ".eE-")) {
+		snprintf(err, errcap, "\"timeout_ms\" must be a whole number of milliseconds");
+		return -1;
+	}
+	v = strtol(t->text, &end, 10);
+	if (*end || v < 1 || v > GW_TIMEOUT_MS_MAX) {
+		snprintf(err, errcap, "\"timeout_ms\" %s: must be 1..%ld", t->text, GW_TIMEOUT_MS_MAX);
+		return -1;
+	}
+	s->timeout_ms = v;
+	return 0;
 }
 
 int gw_set_parse(const char *payload, size_t n, struct gw_set *s, char *err, size_t errcap)
@@ -30,16 +53,22 @@ int gw_set_parse(const char *payload, size_t n, struct gw_set *s, char *err, siz
 		return -1;
 	}
 	s->value = s->root;
+	s->timeout_ms = -1;
 	if (s->root->type != GW_JOBJECT || !gw_jv_get(s->root, "value"))
 		return 0;
-	/* the wrapper: {"value": ..., "id": ...} and nothing else */
+	/* the wrapper: {"value": ..., "id": ..., "timeout_ms": ...} and nothing else */
 	for (size_t i = 0; i < s->root->n; i++) {
-		if (strcmp(s->root->keys[i], "value") != 0 && strcmp(s->root->keys[i], "id") != 0) {
-			snprintf(err, errcap, "unknown member \"%s\" beside \"value\" (only \"id\" may be there)",
-			         s->root->keys[i]);
+		if (strcmp(s->root->keys[i], "value") != 0 && strcmp(s->root->keys[i], "id") != 0 &&
+		    strcmp(s->root->keys[i], "timeout_ms") != 0) {
+			snprintf(err, errcap, "unknown member \"%s\" beside \"value\" (only \"id\" and \"timeout_ms\" "
+			         "may be there)", s->root->keys[i]);
 			gw_set_free(s);
 			return -1;
 		}
+	}
+	if (set_timeout(s, err, errcap) < 0) {
+		gw_set_free(s);
+		return -1;
 	}
 	s->value = gw_jv_get(s->root, "value");
 	id = gw_jv_get(s->root, "id");

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw_write - the write side of df1gw, pure parts: a .../set payload taken
- * apart (a bare JSON value, or {"value": ..., "id": ...}), the ring of write
+ * apart (a bare JSON value, or {"value": ..., "id": ..., "timeout_ms": ...}), the ring of write
  * ids seen lately (at most once per id), and the result payload
  * {"id":..,"ok":..,"error":..,"unconfirmed":..}.
  */
@@ -22,10 +22,14 @@ struct gw_set {
 	struct gw_jv *root;
 	const struct gw_jv *value;
 	char id[GW_ID_MAX + 1];
+	long timeout_ms;             /* "timeout_ms": this write's --write-timeout; -1: none given */
 };
 
+#define GW_TIMEOUT_MS_MAX 86400000L  /* "timeout_ms" at most (a day) */
+
 /* Parse payload into *s. Returns 0, or -1 with err (bad JSON, an id that is
- * not a string or a number or is too long, members other than value and id
+ * not a string or a number or is too long, a timeout_ms that is not an
+ * integer 1..GW_TIMEOUT_MS_MAX, members other than value, id and timeout_ms
  * beside "value"). gw_set_free() in both cases. */
 int gw_set_parse(const char *payload, size_t n, struct gw_set *s, char *err, size_t errcap);
 void gw_set_free(struct gw_set *s);

@@ -237,6 +237,9 @@ static int check_combination(struct mon *m)
 		return cli_usage_error(&m->cli, "-1/--once needs --map");
 	if (m->cli.format == CLI_FMT_INFLUX && m->mode != MODE_MAP)
 		return cli_usage_error(&m->cli, "-f influx needs --map (tags as InfluxDB lines)");
+	if (m->cli.format == CLI_FMT_PROMETHEUS && m->mode != MODE_COUNTERS)
+		return cli_usage_error(&m->cli, "-f prometheus goes with --counters alone (the line's counters "
+		                       "for node-exporter's textfile collector)");
 	if (m->cli.format == CLI_FMT_CSV && !(f & TAKES_CSV))
 		return cli_usage_error(&m->cli, "-f csv does not go with %s (plain or json)", d->option);
 	/* operands: hex for --decode, a station range for --who */
@@ -294,7 +297,7 @@ static const struct cli_tool mon_tool = {
 	           "poll tags, show counters.",
 	.accepts = CLI_ACCEPT_ALL,
 	.formats = CLI_FMT_BIT(CLI_FMT_PLAIN) | CLI_FMT_BIT(CLI_FMT_CSV) | CLI_FMT_BIT(CLI_FMT_JSON) |
-	           CLI_FMT_BIT(CLI_FMT_INFLUX),
+	           CLI_FMT_BIT(CLI_FMT_INFLUX) | CLI_FMT_BIT(CLI_FMT_PROMETHEUS),
 	.check_auto = true,
 	.extra = mon_opts,
 	.on_extra = on_option,
@@ -302,7 +305,8 @@ static const struct cli_tool mon_tool = {
 	             "--who: a station answered), 1 a bad frame, a communication error or no\n"
 	             "answer, 2 usage error, bad hex or unreadable input.",
 	.help_tail = "\nDecoding modes (--decode, --read, --sniff) take --check crc|bcc|auto (default\n"
-	             "auto) and -f plain|json; --ping, --who, --map and --counters take -f csv too.\n"
+	             "auto) and -f plain|json; --ping, --who, --map and --counters take -f csv too;\n"
+	             "--counters alone takes -f prometheus (one snapshot at the end).\n"
 	             "--who waits 200 ms per station unless -o is given. SIGINT, SIGTERM and\n"
 	             "--duration end a live mode normally: port settings restored, results printed.\n"
 	             "See df1mon(1).\n",

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * mon_counters - df1mon: the counter table (ID MNEMONIC VALUE) and --counters
- * alone.
+ * alone; with -f prometheus one snapshot in the text exposition format, at
+ * the end (node-exporter's textfile collector reads whole files).
  */
 #include "df1mon/mon.h"
 
@@ -12,6 +13,8 @@ void mon_print_counters(struct mon *m, bool final)
 
 	if (!m->h)
 		return;
+	if (m->cli.format == CLI_FMT_PROMETHEUS && !final)
+		return;         /* one snapshot: a family appears once in a file */
 	switch (m->cli.format) {
 	case CLI_FMT_INFLUX: /* refused without --map */
 	case CLI_FMT_PLAIN:
@@ -21,6 +24,8 @@ void mon_print_counters(struct mon *m, bool final)
 	case CLI_FMT_CSV:
 		if (!m->counter_prints)
 			fputs("t,id,mnemonic,value\n", f);
+		break;
+	case CLI_FMT_PROMETHEUS:
 		break;
 	case CLI_FMT_JSON:
 		fprintf(f, "{\"t\":%.3f,\"final\":%s,\"counters\":[", mon_elapsed(m), final ? "true" : "false");

@@ -26,6 +26,7 @@ static void ping_line_ok(const struct mon *m, long seq, double link_ms, double e
 {
 	switch (m->cli.format) {
 	case CLI_FMT_INFLUX: /* refused without --map */
+	case CLI_FMT_PROMETHEUS: /* refused without --counters */
 	case CLI_FMT_PLAIN:
 		printf("station %d: seq=%ld link=%.3f ms echo=%.3f ms (%d bytes)\n", m->cli.station, seq,
 		       link_ms, echo_ms, PING_BYTES);
@@ -49,6 +50,7 @@ static void ping_line_fail(const struct mon *m, long seq, const char *stage, int
 	cli_error_text(m->h, err, text, sizeof text);
 	switch (m->cli.format) {
 	case CLI_FMT_INFLUX: /* refused without --map */
+	case CLI_FMT_PROMETHEUS: /* refused without --counters */
 	case CLI_FMT_PLAIN:
 		printf("station %d: seq=%ld no answer (%s): %s\n", m->cli.station, seq, stage, text);
 		break;
@@ -75,6 +77,7 @@ static void ping_summary(const struct mon *m, unsigned long sent, unsigned long 
 
 	switch (m->cli.format) {
 	case CLI_FMT_INFLUX: /* refused without --map */
+	case CLI_FMT_PROMETHEUS: /* refused without --counters */
 	case CLI_FMT_PLAIN:
 		printf("--- station %d: %lu probe%s sent, %lu answered, %.0f%% loss\n", m->cli.station, sent,
 		       sent == 1 ? "" : "s", recvd, loss);

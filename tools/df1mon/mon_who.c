@@ -36,6 +36,7 @@ static void who_line(const struct mon *m, int stn, const struct df1_diag_status 
 {
 	switch (m->cli.format) {
 	case CLI_FMT_INFLUX: /* refused without --map */
+	case CLI_FMT_PROMETHEUS: /* refused without --counters */
 	case CLI_FMT_PLAIN:
 		if (err)
 			printf("station %d: answers; diagnostic status failed: %s\n", stn, err);

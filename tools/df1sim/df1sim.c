@@ -74,6 +74,7 @@ struct sim {
 	/* --line-settings and --listen rfc2217:// (tools/df1sim/sim_line.c) */
 	struct sim_uart line;           /* baud 0: none given */
 	bool rfc2217;
+	struct sim_ramps ramps;         /* --ramp (tools/df1sim/sim_ramp.c) */
 };
 
 static struct df1_table *sim_table_for(struct sim *s, int station)
@@ -86,8 +87,10 @@ static struct df1_table *sim_table_for(struct sim *s, int station)
 /* Each station its own table, served by the data table's own callbacks. */
 static int sim_read(void *user, int station, const struct df1_addr *a, uint8_t *buf, size_t nbytes)
 {
-	struct df1_table *t = sim_table_for(user, station);
+	struct sim *s = user;
+	struct df1_table *t = sim_table_for(s, station);
 
+	sim_ramp_apply(&s->ramps, s->tables, s->stations, s->nstations);
 	return df1_table_server_ops(t)->read(t, station, a, buf, nbytes);
 }
 
@@ -507,6 +510,14 @@ static int sim_build(struct sim *s, const struct sim_opts *o)
 	if (o->data && df1_table_load(tmpl, o->data) < 0) {
 		msg("%s", df1_table_error_text(tmpl));
 		return CLI_EXIT_USAGE;
+	}
+	s->ramps = o->ramps;
+	if (s->ramps.n) {
+		char err[200];
+		if (sim_ramp_start(&s->ramps, o->cli.plc, tmpl, err, sizeof err) < 0) {
+			cli_usage_error(&o->cli, "%s", err);
+			return CLI_EXIT_USAGE;
+		}
 	}
 	for (int i = 1; i < s->nstations; i++) {
 		if (df1_table_clone(&s->tables[s->stations[i]], tmpl) < 0) {

@@ -23,6 +23,7 @@ enum {
 	OPT_MAX_QUEUE, OPT_EIP, OPT_EIP_ALLOW, OPT_EIP_READ_ONLY,
 	OPT_EIP_MAX_CLIENTS, OPT_EIP_REGISTER_TIMEOUT, OPT_EIP_IDLE_TIMEOUT,
 	OPT_LINE_SETTINGS = CLI_KEY_EXTRA + 100, /* tools/df1sim/sim_line.c */
+	OPT_RAMP = CLI_KEY_EXTRA + 110,          /* tools/df1sim/sim_ramp.c */
 };
 
 /* -d, --station and -b are df1sim's own: -d is the device served (never
@@ -69,6 +70,8 @@ static const struct cli_extra_opt sim_opt_table[] = {
 	{ "max-queue", required_argument, OPT_MAX_QUEUE, "N",
 	  "full duplex: commands held unanswered before NAK 0-8 (default 8; 0: one)" },
 	{ "log", required_argument, OPT_LOG, "FILE", "one line per command answered" },
+	{ "ramp", required_argument, OPT_RAMP, "ADDR[,STEP][@MS]",
+	  "add STEP (default 1) to ADDR every MS ms (default 100; a bit toggles); repeatable" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -192,6 +195,12 @@ static int on_option(struct cli *c, int key, const char *arg, void *user)
 			return cli_bad_value(c, "--line-settings", arg, "BAUD or BAUD,DPS such as 9600,8E1 "
 			                     "(data bits 5-8, parity N E O, stop bits 1 or 2)");
 		break;
+	case OPT_RAMP: {
+		char err[160];
+		if (!sim_ramp_parse(&o->ramps, arg, err, sizeof err))
+			return cli_bad_value(c, "--ramp", arg, err);
+		break;
+	}
 	default:
 		if (key >= OPT_DROP_ACK && key <= OPT_NOISE)
 			return set_fault(o, key - OPT_DROP_ACK, arg);

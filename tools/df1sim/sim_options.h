@@ -13,6 +13,7 @@
 #include "df1.h"
 #include "common/cli.h"
 #include "df1sim/sim_line.h"
+#include "df1sim/sim_ramp.h"
 
 struct fault_opt {
 	enum df1_fault kind;
@@ -45,6 +46,7 @@ struct sim_opts {
 	/* --line-settings, --listen rfc2217:// (tools/df1sim/sim_line.h) */
 	struct sim_uart line;
 	bool rfc2217;
+	struct sim_ramps ramps;         /* --ramp (tools/df1sim/sim_ramp.c) */
 };
 
 /* CLI_CONTINUE to go on, else the exit status (having said why). */
