@@ -115,9 +115,9 @@ measure refresh --refresh 1
 echo "bench_gw: CPU with --sparkplug (JSON and Sparkplug B both on), as above:"
 measure sparkplug --sparkplug Bench --edge-node B1
 $CC -O2 -g -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE -Wall -Wextra -Iinclude -Itools -o "$B/bench/bench_spb" \
-	bench/bench_spb.c $(ls "$B"/tools/df1gw/*.o | grep -v '/df1gw\.o$\|/gw_mqtt\.o$\|/gw_pub\.o$') \
+	bench/bench_spb.c $(ls "$B"/tools/df1gw/*.o | grep -v '/df1gw\.o$\|/gw_mqtt\.o$\|/gw_pub\.o$\|/gw_health\.o$\|/gw_http\.o$\|/gw_metrics\.o$\|/gw_status\.o$') \
 	"$B/gen/df1gw/spb.pb-c.o" "$B/libdf1-tools.a" "$B/libdf1.a" \
-	$(pkg-config --libs libprotobuf-c 2>/dev/null || echo -lprotobuf-c) -lcsv -lm -lpthread || exit 1
+	$(pkg-config --libs libprotobuf-c 2>/dev/null || echo -lprotobuf-c) -lsqlite3 -lcsv -lm -lpthread || exit 1
 "$B/bench/bench_spb" "${BENCH_SPB_ROUNDS:-200}"
 
 # ---- writes a second through /set, with and without coalescing ----
