@@ -14,7 +14,11 @@
 #  - writes: BENCH_GW_SETS (default 2000) /set messages to 4 tags as fast as
 #    mosquitto_pub sends them, with --write-optimize all and with the default
 #    latest-non-bool (coalescing): /set answered a second, and writes that
-#    reached df1sim (its --log) a second, on a full-speed pty.
+#    reached df1sim (its --log) a second, on a full-speed pty;
+#  - end to end, JSON against Sparkplug: the same 1000 tags changing at every
+#    round (df1write over a second df1sim's --eip side writes N10:0..999 while
+#    df1gw reads the pty), messages per second and bytes per update received
+#    from the broker, df1gw CPU per round; bench_e2e.py (BENCH_E2E_ROUNDS, 20).
 # BENCH_GW_WRITES (default 50) and BENCH_GW_SECONDS (default 10) set the size.
 set -u
 B=${1:-build}
@@ -111,10 +115,11 @@ measure refresh --refresh 1
 echo "bench_gw: CPU with --sparkplug (JSON and Sparkplug B both on), as above:"
 measure sparkplug --sparkplug Bench --edge-node B1
 $CC -O2 -g -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE -Wall -Wextra -Iinclude -Itools -o "$B/bench/bench_spb" \
-	bench/bench_spb.c $(ls "$B"/tools/df1gw/*.o | grep -v '/df1gw\.o$\|/gw_mqtt\.o$\|/gw_pub\.o$') \
+	bench/bench_spb.c $(ls "$B"/tools/df1gw/*.o | grep -v '/df1gw\.o$\|/gw_mqtt\.o$\|/gw_pub\.o$\|/gw_health\.o$\|/gw_http\.o$\|/gw_metrics\.o$\|/gw_status\.o$') \
 	"$B/gen/df1gw/spb.pb-c.o" "$B/libdf1-tools.a" "$B/libdf1.a" \
-	$(pkg-config --libs libprotobuf-c 2>/dev/null || echo -lprotobuf-c) -lcsv -lm -lpthread || exit 1
+	$(pkg-config --libs libprotobuf-c 2>/dev/null || echo -lprotobuf-c) -lsqlite3 -lcsv -lm -lpthread || exit 1
 "$B/bench/bench_spb" "${BENCH_SPB_ROUNDS:-200}"
+
 # ---- writes a second through /set, with and without coalescing ----
 SETS=${BENCH_GW_SETS:-2000}
 printf 'Tag,Command,Type,Station,PLC_Type,Address,Count,Scan_Ms\n' > "$T/w.csv"
@@ -154,3 +159,26 @@ wbench() {
 echo "bench_gw: writes, $SETS /set to 4 tags (Scan_Ms 100) at once, full-speed pty, QoS 1:"
 wbench all --write-optimize all
 wbench latest-non-bool
+
+# ---- end to end, JSON against Sparkplug B, through the broker ----
+if ! python3 -c 'import paho.mqtt' 2>/dev/null; then
+	echo "bench_gw: end to end: no paho-mqtt (pip install paho-mqtt): skipped"
+	exit 0
+fi
+eport=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+"$B/bin/df1sim" --pty "$T/plc2" --eip "127.0.0.1:$eport" --data "$T/plc.txt" > "$T/sim2.out" 2> "$T/sim2.err" &
+pids="$pids $!"
+wait_until 100 test -s "$T/sim2.out" || exit 1
+wait_until 100 python3 -c "import socket; socket.create_connection(('127.0.0.1', $eport), 1).close()" 2>/dev/null || exit 1
+e2e() {
+	label=$1 filt=$2 ready=$3; shift 3
+	"$B/bin/df1gw" -d "$T/plc2" --map "$T/cpu.csv" --mqtt "mqtt://127.0.0.1:$port" -q "$@" &
+	gw=$!
+	pids="$pids $gw"
+	python3 bench/bench_e2e.py "$label" "$port" "$filt" "$ready" "$gw" "$B/bin/df1write" "127.0.0.1:$eport" \
+		"${BENCH_E2E_ROUNDS:-20}"
+	kill "$gw"; wait "$gw" 2>/dev/null
+}
+echo "bench_gw: end to end, 1000 tags changing at every round, through mosquitto (QoS 0 subscriber):"
+e2e json 'bench/e2e/tag/+' 'bench/e2e/tag/T999' --prefix bench/e2e
+e2e sparkplug 'spBv1.0/Bench/DDATA/E2E/#' 'spBv1.0/Bench/DBIRTH/E2E/#' --sparkplug Bench --edge-node E2E --json no

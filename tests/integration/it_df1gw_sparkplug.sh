@@ -53,7 +53,9 @@ err_has "--edge-node alone refused" "go with --sparkplug"
 expect 2 "--device-name without a station" -- "$GW" -d /dev/null --map "$T/map.csv" --mqtt mqtt://127.0.0.1:1 --sparkplug G --device-name x=A
 err_has "--device-name refused" "N=NAME"
 
-sim_start plc --station 1,2 --data "$T/plc.txt" --log "$T/sim.log" || finish
+# df1sim's EtherNet/IP side changes its data while df1gw reads the pty (the seq wrap below)
+EIP_PORT=$(free_port)
+sim_start plc --station 1,2 --data "$T/plc.txt" --log "$T/sim.log" --eip "127.0.0.1:$EIP_PORT" || finish
 SIM=$SIM_PID
 
 REC="$T/rec.jsonl"
@@ -104,6 +106,8 @@ TS=$(python3 -c 'import time; print(int(time.time() * 1000))')
 $HOST dcmd "$MQ_PORT" Plant Line1 station1 Speed INT16 77 "$TS"
 $HOST dcmd "$MQ_PORT" Plant Line1 station1 Speed INT16 77 "$TS"    # the same message again
 seen "DDATA Speed 77 after the DCMD" "$M" "$(metric Speed) == [77]"
+check "its metric's timestamp is the read's: after the command was sent, before it was received" \
+	"has $M \"[m['timestamp'] for r in R if r['type'] == 'DDATA' for m in r['metrics'] if m['name'] == 'Speed' and $TS <= m['timestamp'] <= r['t'] * 1000 + 1000]\""
 $HOST dcmd "$MQ_PORT" Plant Line1 Mixer Run BOOLEAN 0
 seen "DDATA Run false" "$M" "$(metric Run) == [False]"
 M2=$(mark)
@@ -113,6 +117,23 @@ seen "a timer member written: DDATA of that member only" "$M2" \
 same "the member written as the whole element, the rest as read (df1sim's log)" \
 	"$(grep -c 'cmd=0F/AA addr=T4:0 ' "$T/sim.log")" 1
 same "one write of N7:0 in df1sim's log" "$(grep -c 'cmd=0F/AA addr=N7:0 ' "$T/sim.log")" 1
+
+# ---- DCMD at most once: the same PUBLISH again with MQTT's DUP flag (a
+# publisher's resend, forwarded again by the broker), with a payload timestamp
+# (the id ring) and without one (the same bytes within 10 s) ----
+M=$(mark)
+$HOST dcmd-dup "$MQ_PORT" Plant Line1 Mixer Name STRING "once" "$TS"
+seen "DDATA Name 'once' after the resent DCMD with a timestamp" "$M" "$(metric Name) == ['once']"
+M=$(mark)
+$HOST dcmd-dup "$MQ_PORT" Plant Line1 Mixer Name STRING "twice" none
+seen "DDATA Name 'twice' after the resent DCMD without a timestamp" "$M" "$(metric Name) == ['twice']"
+# another command with the same timestamp to the same device is a command of
+# its own (its bytes differ): executed; it also orders the log after the resends
+$HOST dcmd "$MQ_PORT" Plant Line1 Mixer Run BOOLEAN 1 "$TS"
+seen "DDATA Run true (a different DCMD with the same timestamp)" "$M" "$(metric Run) == [True]"
+same "two writes of ST9:0 in df1sim's log for two commands each sent twice" \
+	"$(grep -c 'cmd=0F/AA addr=ST9:0 ' "$T/sim.log")" 2
+check "the timestamp-less resend logged as a redelivery" "grep -q 'taken as a redelivery' '$T/gw.err'"
 
 # ---- DCMD to a read-only tag: refused, nothing sent, the true value again ----
 M=$(mark)
@@ -131,8 +152,15 @@ check "same bdSeq on rebirth" "has $M '[m[\"value\"] for m in $NB[0][\"metrics\"
 
 # ---- a silenced PLC: DDEATH within the watchdog; DBIRTH when it answers ----
 M=$(mark)
+K=$(python3 -c 'import time; print(time.time())')
 kill -USR1 "$SIM"
-seen "DDEATH of both devices" "$M" "{r['device'] for r in R if r['type'] == 'DDEATH'} == {'station1', 'Mixer'}"
+wait_for "DDEATH of both devices" 200 has "$M" "{r['device'] for r in R if r['type'] == 'DDEATH'} == {'station1', 'Mixer'}"
+# the poll engine judges a station when one of its attempts fails after the
+# watchdog (1.5 s) has passed (df1_poll_set_watchdog(3)); the attempts queued
+# when df1sim went silent fail one after the other, 1 s (--cmd-timeout) each,
+# over the two stations' 7 blocks: about 8 s on an idle host, 14 s allowed
+check "DDEATH within the watchdog and the failed attempts it waits for (14 s)" \
+	"has $M \"max(r['t'] for r in R if r['type'] == 'DDEATH') - $K < 14\""
 Q='[p for r in R if r["type"] == "DDATA" for p in r["props"].values() if p.get("Quality") in (1073742081, -2147483126) and p.get("Reason")]'
 if has "$M" "$Q"; then ok; else
 	bad "not answering: DDATA with a quality (Uncertain_LastKnownValue 1073742081, Bad_NotConnected -2147483126) and its reason before the DDEATH"
@@ -169,6 +197,15 @@ tries=20; while [ $tries -gt 0 ]; do tick; tries=$((tries - 1)); done     # 2 s 
 check "no NBIRTH while the primary host is not online" "! has $M '$NB'"
 $HOST state "$MQ_PORT" Scada online
 seen "NBIRTH once the primary host is online" "$M" "len($NB) == 1"
+# a STATE older than the last one taken: a past session's will, delivered
+# late; not a reason to leave (tck-id-operational-behavior-edge-node-termination-host-offline-timestamp)
+M=$(mark)
+OLD=$(python3 -c 'import time; print(int(time.time() * 1000) - 60000)')
+$HOST state "$MQ_PORT" Scada offline "$OLD"
+wait_for "the stale STATE logged" 100 grep -q "STATE of Scada older than the last one taken" "$T/gw.err"
+tries=10; while [ $tries -gt 0 ]; do tick; tries=$((tries - 1)); done
+check "no NDEATH for an offline STATE older than the online one" "! has $M '[r for r in R if r[\"type\"] == \"NDEATH\"]'"
+check "no NBIRTH again either (the session goes on)" "! has $M '$NB'"
 M=$(mark)
 $HOST state "$MQ_PORT" Scada offline
 seen "NDEATH when the primary host goes offline" "$M" "[r for r in R if r['type'] == 'NDEATH']"
@@ -201,6 +238,16 @@ M2=$(mark)
 kill -HUP "$GW_PID"
 seen "NBIRTH and DBIRTHs after a reload" "$M2" "len($NB) == 1 and len([r for r in R if r['type'] == 'DBIRTH']) == 2"
 check "no NDEATH on a reload" "! has $M2 '[r for r in R if r[\"type\"] == \"NDEATH\"]'"
+# seq past 255 in one session: values changed through df1sim's EtherNet/IP side
+# (Offset, Level, Total) until a DDATA of seq 255 is followed by one of seq 0;
+# the rules below check that every seq on the way was the next one
+WRAP='[1 for a, b in zip(R, R[1:]) if a.get("seq") == 255 and b.get("seq") == 0]'
+i=1; tries=600
+while [ $tries -gt 0 ] && ! has "$M2" "$WRAP"; do
+	"$BIN/df1write" -d "eip://127.0.0.1:$EIP_PORT" -q N7:1=$i F8:0=$i L10:0=$i 2>> "$T/eip.err" || break
+	i=$((i + 1)); tries=$((tries - 1))
+done
+check "seq wrapped from 255 to 0 within the session (values from df1sim's EtherNet/IP side)" "has $M2 '$WRAP'"
 check "Node Control/Rebirth never aliased" "has $M '[m for r in R if r[\"type\"] == \"NBIRTH\" for m in r[\"metrics\"] if m[\"name\"] == \"Node Control/Rebirth\" and not m[\"alias\"]]'"
 kill -TERM "$GW_PID"
 lib_reap "$GW_PID"

@@ -5,7 +5,10 @@
 #   record PORT FILE     every message on spBv1.0/#, decoded, one JSON line each
 #   ncmd PORT GROUP EDGE [alias]       Node Control/Rebirth = true
 #   dcmd PORT GROUP EDGE DEVICE NAME TYPE VALUE [TS]   one metric written
-#   state PORT HOST online|offline     the primary host's retained STATE (3.0 JSON)
+#   dcmd-dup PORT GROUP EDGE DEVICE NAME TYPE VALUE TS|none   the same DCMD sent twice
+#                        over a plain socket, the second a resend with MQTT's DUP flag
+#                        (QoS 1, the same packet id); "none": no timestamp at all
+#   state PORT HOST online|offline [TS]  the primary host's retained STATE (3.0 JSON)
 #   check FILE           the Sparkplug rules over a recording (see check())
 #   alias FILE NAME      the alias of metric NAME in the last DBIRTH recorded (dcmd takes #ALIAS)
 #   has FILE FROM EXPR   exit 0 when the Python EXPR holds over R, the records from line FROM on
@@ -119,7 +122,7 @@ def ncmd(port, group, edge, alias=None):
     publish(port, "spBv1.0/%s/NCMD/%s" % (group, edge), p.encode(include_dtypes=True))
 
 
-def dcmd(port, group, edge, device, name, dtype, value, ts=None):
+def dcmd_payload(name, dtype, value, ts):
     dt = spb.DataType[dtype]
     if dt in (spb.DataType.FLOAT, spb.DataType.DOUBLE):
         v = float(value)
@@ -134,12 +137,62 @@ def dcmd(port, group, edge, device, name, dtype, value, ts=None):
         m = spb.Metric(timestamp=now, name=None, alias=int(name[1:]), datatype=dt, value=v)
     else:
         m = spb.Metric(timestamp=now, name=name, datatype=dt, value=v)
-    p = spb.DCmd(timestamp=now, metrics=(m,))
-    publish(port, "spBv1.0/%s/DCMD/%s/%s" % (group, edge, device), p.encode(include_dtypes=True))
+    return spb.DCmd(timestamp=now, metrics=(m,)).encode(include_dtypes=True)
 
 
-def state(port, host, online):
-    body = json.dumps({"online": online == "online", "timestamp": spb.get_current_timestamp()})
+def dcmd(port, group, edge, device, name, dtype, value, ts=None):
+    publish(port, "spBv1.0/%s/DCMD/%s/%s" % (group, edge, device), dcmd_payload(name, dtype, value, ts))
+
+
+def mqtt_string(s):
+    b = s.encode()
+    return len(b).to_bytes(2, "big") + b
+
+
+def mqtt_packet(first, body):
+    n, rl = len(body), b""
+    while True:
+        d, n = n % 128, n // 128
+        rl += bytes([d | (0x80 if n else 0)])
+        if not n:
+            return bytes([first]) + rl + body
+
+
+def dcmd_dup(port, group, edge, device, name, dtype, value, ts):
+    """The DCMD published twice as MQTT 3.1.1 packets written by hand (OASIS
+    MQTT 3.1.1 3.1, 3.3): PUBLISH QoS 1 packet id 7, then the same packet with
+    DUP set, as a publisher resends it when its PUBACK was lost. The broker
+    forwards both (QoS 1 is at least once)."""
+    import socket
+    raw = dcmd_payload(name, dtype, value, None if ts == "none" else ts)
+    if ts == "none":  # no payload or metric timestamp at all
+        p = pb.Payload.FromString(raw)
+        p.ClearField("timestamp")
+        for m in p.metrics:
+            m.ClearField("timestamp")
+        raw = p.SerializeToString()
+    topic = "spBv1.0/%s/DCMD/%s/%s" % (group, edge, device)
+    s = socket.create_connection(("127.0.0.1", int(port)), 5)
+    s.settimeout(5)
+    s.sendall(mqtt_packet(0x10, mqtt_string("MQTT") + bytes([4, 2]) + (30).to_bytes(2, "big") +
+                          mqtt_string("dup%d" % time.time_ns())))
+    if s.recv(4)[:1] != b"\x20":
+        sys.exit("dcmd-dup: no CONNACK")
+    body = mqtt_string(topic) + (7).to_bytes(2, "big") + raw
+    s.sendall(mqtt_packet(0x32, body))          # PUBLISH, QoS 1
+    s.sendall(mqtt_packet(0x3A, body))          # the same, DUP set
+    got = b""
+    while len(got) < 8:                         # two PUBACKs of 4 bytes
+        c = s.recv(8 - len(got))
+        if not c:
+            sys.exit("dcmd-dup: the broker closed")
+        got += c
+    s.sendall(bytes([0xE0, 0]))                 # DISCONNECT
+    s.close()
+
+
+def state(port, host, online, ts=None):
+    body = json.dumps({"online": online == "online", "timestamp": int(ts) if ts else spb.get_current_timestamp()})
     publish(port, "spBv1.0/STATE/%s" % host, body.encode(), retain=True)
 
 
@@ -153,7 +206,7 @@ def check(path, what):
     recs = [r for r in load(path) if r["type"] != "STATE"]
     fails = []
     for r in recs:
-        if "error" in r:
+        if "error" in r and r["type"] not in ("NCMD", "DCMD"):  # the node's messages; commands are the test's
             fails.append("%s: pysparkplug could not decode it: %s" % (r["topic"], r["error"]))
     # seq: NBIRTH is 0, then +1 mod 256 over every message of the node (NDEATH has none)
     expect = None
@@ -168,6 +221,12 @@ def check(path, what):
             elif r.get("seq") != expect:
                 fails.append("%s seq %s, expected %s" % (r["topic"], r.get("seq"), expect))
             expect = (r.get("seq", 0) + 1) % 256
+    # every DBIRTH and DDATA metric carries its time (the read's)
+    for r in recs:
+        if r["type"] in ("DBIRTH", "DDATA"):
+            for m in r["metrics"]:
+                if not m.get("timestamp"):
+                    fails.append("%s %s: metric %s without a timestamp" % (r["type"], r["device"], m["name"]))
     # every DDATA metric was in its device's last DBIRTH with the same datatype
     births = {}
     for r in recs:
@@ -205,6 +264,8 @@ def main():
         ncmd(*a[1:])
     elif a[0] == "dcmd":
         dcmd(*a[1:])
+    elif a[0] == "dcmd-dup":
+        dcmd_dup(*a[1:])
     elif a[0] == "state":
         state(*a[1:])
     elif a[0] == "check":

@@ -23,6 +23,8 @@
 
 #define NS "spBv1.0"
 #define NDATA_MS 10000           /* node metrics at most this often */
+#define DUP_MS 10000             /* a DCMD without timestamp: the same bytes again within this are one command */
+#define DUP_RING 32              /* such commands remembered */
 
 /* The node metrics after "Node Control/Rebirth" and "bdSeq", aliases 1... */
 enum { NM_DEVICE, NM_UP, NM_SCANS, NM_TRANSACTIONS, NM_READ_FAIL, NM_WRITE_FAIL, NM_RETRIES, NM_BIRTHS,
@@ -54,6 +56,17 @@ struct spb {
 	} *told;
 	size_t ntold;
 	uint64_t sent;               /* DDATA made: every change key is new */
+	/* DCMDs without a payload timestamp lately taken: a hash of device and
+	 * bytes, and when (monotonic ms), to know a redelivery (dcmd_again) */
+	struct spb_dup {
+		uint64_t h;
+		int64_t ms;
+	} dup[DUP_RING];
+	unsigned dup_next;
+	/* the primary host's last STATE timestamp taken (has_host_ts): an older
+	 * STATE is a past session's, ignored (host_state) */
+	bool has_host_ts;
+	uint64_t host_ts;
 };
 
 /* A command's metric, as the write path carries it. */
@@ -163,13 +176,18 @@ static int64_t tag_ms(const struct gw_tag_out *t)
 	return t->wall_ms;
 }
 
+static uint64_t fnv1a_more(uint64_t h, const void *p, size_t n)
+{
+	const unsigned char *c = p;
+
+	for (size_t i = 0; i < n; i++)
+		h = (h ^ c[i]) * 1099511628211ull;
+	return h;
+}
+
 static uint64_t fnv1a(const struct gw_buf *b)
 {
-	uint64_t h = 14695981039346656037ull;
-
-	for (size_t i = 0; i < b->len; i++)
-		h = (h ^ (unsigned char)b->p[i]) * 1099511628211ull;
-	return h;
+	return fnv1a_more(14695981039346656037ull, b->p, b->len);
 }
 
 /* The host now knows tag id's metrics as h[0..n) (taken); chg[i] (when
@@ -661,14 +679,25 @@ static void say(const struct gw_node *n, const char *fmt, const char *a, const c
 	n->log(n->user, text);
 }
 
-/* spBv1.0/STATE/HOST: {"online":true|false,"timestamp":...} (3.0); STATE/HOST: ONLINE / OFFLINE (2.x). */
+/* spBv1.0/STATE/HOST: {"online":true|false,"timestamp":...} (3.0); STATE/HOST:
+ * ONLINE / OFFLINE (2.x, no timestamp). A STATE whose timestamp is older than
+ * the last one taken is a past session's (an old will delivered late): ignored,
+ * as tck-id-message-flow-edge-node-birth-publish-phid-wait-timestamp and
+ * tck-id-operational-behavior-edge-node-termination-host-offline-timestamp ask. */
 static void host_state(struct spb *s, const struct gw_node *n, const char *p, size_t len)
 {
-	char err[120];
+	char err[120], *end;
 	struct gw_jv *v = gw_json_parse(p, len, err, sizeof err);
 	const struct gw_jv *on = v && v->type == GW_JOBJECT ? gw_jv_get(v, "online") : NULL;
+	const struct gw_jv *ts = v && v->type == GW_JOBJECT ? gw_jv_get(v, "timestamp") : NULL;
 	int online = on && on->type == GW_JBOOL ? on->b : -1;
+	bool has_ts = false;
+	uint64_t t = 0;
 
+	if (online >= 0 && ts && ts->type == GW_JNUMBER && ts->text[0] != '-') {
+		t = strtoull(ts->text, &end, 10);
+		has_ts = end != ts->text && *end == '\0';
+	}
 	gw_jv_free(v);
 	if (online < 0 && len == 6 && memcmp(p, "ONLINE", 6) == 0)
 		online = 1;
@@ -677,6 +706,18 @@ static void host_state(struct spb *s, const struct gw_node *n, const char *p, si
 	if (online < 0) {
 		say(n, "sparkplug: STATE of %s: not a state payload%s", s->c->primary_host, "");
 		return;
+	}
+	if (has_ts && s->has_host_ts && t < s->host_ts) {
+		char a[48];
+
+		snprintf(a, sizeof a, "%llu < %llu", (unsigned long long)t, (unsigned long long)s->host_ts);
+		say(n, "sparkplug: STATE of %s older than the last one taken (timestamp %s): ignored",
+		    s->c->primary_host, a);
+		return;
+	}
+	if (has_ts) {
+		s->has_host_ts = true;
+		s->host_ts = t;
 	}
 	s->host_online = online;
 	if (online && !s->node_born) {
@@ -746,12 +787,43 @@ static bool cmd_tag(const struct gw_node *n, const struct gw_spb_metric *m, stru
 	return true;
 }
 
-/* DCMD: each metric a write of its tag, through the gateway's write path. */
+/* A DCMD without a payload timestamp (tck-id-payloads-dcmd-timestamp says it
+ * has one; Ignition's MQTT Engine always sends it) that is the same bytes to
+ * the same device as one taken less than DUP_MS ago: a redelivery (QoS 1 DUP,
+ * a publisher's resend), not executed again. Else it is remembered. */
+static bool dcmd_again(struct spb *s, const struct gw_node *n, const char *device, const void *p, size_t len)
+{
+	struct df1_poll_stats ps;
+	struct gw_line_out l;
+	uint64_t h = fnv1a_more(14695981039346656037ull, device, strlen(device) + 1);
+
+	h = fnv1a_more(h, p, len);
+	n->line(n->user, &l, &ps);
+	for (unsigned i = 0; i < DUP_RING; i++)
+		if (s->dup[i].ms && s->dup[i].h == h && l.now_ms - s->dup[i].ms < DUP_MS)
+			return true;
+	s->dup[s->dup_next].h = h;
+	s->dup[s->dup_next].ms = l.now_ms ? l.now_ms : 1;
+	s->dup_next = (s->dup_next + 1) % DUP_RING;
+	return false;
+}
+
+/* DCMD: each metric a write of its tag, through the gateway's write path, at
+ * most once (df1gw(1), SPARKPLUG): with a payload timestamp, each metric's
+ * id is device, timestamp, a hash of the payload's bytes and the metric's
+ * index, remembered by the gateway's id ring as a JSON write's id is; without
+ * one, the same bytes within DUP_MS are taken once (dcmd_again). */
 static void dcmd(struct spb *s, const struct gw_fmt *f, const struct gw_node *n, const char *device,
-                 const struct gw_spb_in *in, bool retain)
+                 const struct gw_spb_in *in, const void *p, size_t len, bool retain)
 {
 	int want = device_station(s, device);
+	uint64_t h = fnv1a_more(14695981039346656037ull, p, len);
 
+	if (!in->has_timestamp && !retain && dcmd_again(s, n, device, p, len)) {
+		say(n, "sparkplug: DCMD %s: the same payload again without a timestamp: taken as a redelivery, "
+		    "not executed again%s", device, "");
+		return;
+	}
 	for (size_t i = 0; i < in->n; i++) {
 		struct gw_write_in w;
 		struct spb_wr *x = calloc(1, sizeof *x);
@@ -769,9 +841,9 @@ static void dcmd(struct spb *s, const struct gw_fmt *f, const struct gw_node *n,
 			continue;
 		}
 		memset(&w, 0, sizeof w);
-		/* a redelivered command (the same payload again) is not executed twice */
 		if (in->has_timestamp)
-			snprintf(w.id, sizeof w.id, "spb:%s:%llu:%zu", device, (unsigned long long)in->timestamp, i);
+			snprintf(w.id, sizeof w.id, "spb:%s:%llu:%016llx:%zu", device,
+			         (unsigned long long)in->timestamp, (unsigned long long)h, i);
 		w.data = x;
 		n->write(n->user, f, tag, &w, retain);
 	}
@@ -808,7 +880,7 @@ static bool spb_message(const struct gw_fmt *f, const struct gw_node *n, const c
 	if (strstr(topic, "/NCMD/"))
 		ncmd(s, n, &in);
 	else
-		dcmd(s, f, n, topic + strlen(pre), &in, retain);
+		dcmd(s, f, n, topic + strlen(pre), &in, payload, len, retain);
 	gw_spb_in_free(&in);
 	return true;
 }
