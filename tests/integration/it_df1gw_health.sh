@@ -301,6 +301,15 @@ if [ -x "$MOSQ" ] && command -v mosquitto_sub >/dev/null 2>&1; then
 	get /api/status
 	check "/api/status: the broker connected" 'grep -q "\"broker\":{[^}]*\"state\":\"connected\"" "$T/body"'
 	gw_stop "$GW_PID"
+	# a payload format's own counters: Sparkplug's births (NBIRTH, then the
+	# station's DBIRTH) as df1_sparkplug_births_total, bdSeq 0 the first session
+	gw_start spb -d "$SIM_DEV" --map "$T/map1.csv" --mqtt "mqtt://127.0.0.1:$MQ_PORT" --prefix health \
+		--sparkplug Health --edge-node H1 --json no --http 0
+	wait_for "Sparkplug's NBIRTH and DBIRTH counted in /metrics" 100 scraped 'df1_sparkplug_births_total 2'
+	check "Sparkplug: no death, no command, bdSeq 0" \
+		'scraped "df1_sparkplug_deaths_total 0" && scraped "df1_sparkplug_commands_total 0" &&
+		 scraped "df1_sparkplug_bdseq 0"'
+	gw_stop "$GW_PID"
 	sim_stop
 else
 	skip "mosquitto missing: READY with a broker, MQTT figures"

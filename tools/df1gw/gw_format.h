@@ -108,6 +108,13 @@ struct gw_node {
 	void (*log)(void *user, const char *text);
 };
 
+/* A format's counter as a metric (gw_format.figures): a name in Prometheus'
+ * form ("births_total"), what it counts, and its value. */
+struct gw_figure {
+	const char *name, *type, *help;
+	double value;
+};
+
 /* What a format does. Every function is given but open and close; a message
  * function fills all of *m (topic, body, retain) and returns 0, or -1 when it
  * has nothing to say or no memory. */
@@ -164,6 +171,10 @@ struct gw_format {
 	void (*stamp)(const struct gw_fmt *f, struct gw_msg *m);
 	/* Its counters as one line of text (--counters) into out; -1: none. */
 	int (*counters)(const struct gw_fmt *f, char *out, size_t cap);
+	/* The same counters as figures for /metrics and /api/status
+	 * (gw_metrics.c: df1_<format>_<name>); how many were put in out (NULL:
+	 * none). */
+	size_t (*figures)(const struct gw_fmt *f, struct gw_figure *out, size_t cap);
 };
 
 /* An enabled format. */

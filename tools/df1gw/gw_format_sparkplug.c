@@ -901,6 +901,23 @@ static int spb_counters(const struct gw_fmt *f, char *out, size_t cap)
 	return 0;
 }
 
+static size_t spb_figures(const struct gw_fmt *f, struct gw_figure *out, size_t cap)
+{
+	const struct spb *s = S(f);
+	const struct gw_figure v[] = {
+		{ "births_total", "counter", "Sparkplug NBIRTH and DBIRTH messages published", (double)s->births },
+		{ "deaths_total", "counter", "Sparkplug NDEATH and DDEATH messages published", (double)s->deaths },
+		{ "commands_total", "counter", "Sparkplug NCMD and DCMD messages taken", (double)s->commands },
+		{ "commands_rejected_total", "counter", "Sparkplug commands refused", (double)s->rejected },
+		{ "rebirths_total", "counter", "Sparkplug rebirths asked by Node Control/Rebirth", (double)s->rebirths },
+		{ "bdseq", "gauge", "the bdSeq of the Sparkplug session", (double)s->bdseq },
+	};
+	size_t n = sizeof v / sizeof v[0] < cap ? sizeof v / sizeof v[0] : cap;
+
+	memcpy(out, v, n * sizeof *out);
+	return n;
+}
+
 const struct gw_format gw_format_sparkplug = {
 	.name = "sparkplug",
 	.open = spb_open,
@@ -923,4 +940,5 @@ const struct gw_format gw_format_sparkplug = {
 	.message = spb_message,
 	.stamp = spb_stamp,
 	.counters = spb_counters,
+	.figures = spb_figures,
 };

@@ -242,6 +242,26 @@ static void scan_histogram(const struct gw_mctx *c, struct gw_msink *s)
 	gw_msink_sample(s, "df1_scan_duration_seconds_count", NULL, (double)h->scan_count);
 }
 
+/* Each payload format's own counters (gw_format.figures): df1_<format>_<name>. */
+static void format_figures(const struct gw_mctx *c, struct gw_msink *s)
+{
+	const struct gw *g = c->g;
+
+	for (int i = 0; i < g->fmts.n; i++) {
+		const struct gw_fmt *f = &g->fmts.v[i];
+		struct gw_figure v[16];
+		size_t n = f->ops->figures ? f->ops->figures(f, v, sizeof v / sizeof v[0]) : 0;
+
+		for (size_t k = 0; k < n; k++) {
+			char name[96];
+
+			snprintf(name, sizeof name, "df1_%s_%s", f->ops->name, v[k].name);
+			gw_msink_family(s, name, v[k].type, v[k].help);
+			gw_msink_sample(s, name, NULL, v[k].value);
+		}
+	}
+}
+
 /* The families with labels, in the order written. */
 static void (*const gw_families[])(const struct gw_mctx *, struct gw_msink *) = {
 	build_info,
@@ -249,6 +269,7 @@ static void (*const gw_families[])(const struct gw_mctx *, struct gw_msink *) = 
 	stations,
 	tag_qualities,
 	scan_histogram,
+	format_figures,
 };
 
 void gw_metrics_write(const struct gw *g, struct gw_buf *b, bool json)
