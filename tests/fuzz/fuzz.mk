@@ -25,6 +25,15 @@ FUZZ_TARGETS += gw_set
 FUZZ_EXTRA_gw_set := $(patsubst %.c,$(FUZZ_B)/%.o,tools/df1gw/gw_json.c tools/df1gw/gw_write.c \
 	tools/df1gw/gw_value.c tools/common/cli_text.c)
 FUZZ_DICT_gw_set := json
+# Sparkplug B commands: the protobuf payload (protobuf-c's code made from
+# tools/df1gw/spb.proto by the main Makefile) and the values for a tag
+FUZZ_TARGETS += spb_cmd
+FUZZ_SPB_GEN_OBJ := $(FUZZ_B)/gen/df1gw/spb.pb-c.o
+FUZZ_EXTRA_spb_cmd := $(patsubst %.c,$(FUZZ_B)/%.o,tools/df1gw/gw_spb_codec.c tools/df1gw/gw_spb_cmd.c \
+	tools/df1gw/gw_spb_metrics.c tools/df1gw/gw_value.c tools/df1gw/gw_json.c tools/common/cli_text.c) \
+	$(FUZZ_SPB_GEN_OBJ)
+FUZZ_LIBS_spb_cmd := $(PROTOBUF_C_LIBS)
+FUZZ_DICT_spb_cmd := spb
 # rfc2217://: the Telnet framing of a device server's bytes (lib/proto/telnet.c)
 FUZZ_TARGETS += telnet
 FUZZ_DICT_telnet := telnet
@@ -64,6 +73,11 @@ $(FUZZ_B)/tools/%.o: tools/%.c $(wildcard include/*.h) $(TOOL_HDRS)
 	$(FUZZ_COMPILE) -c -o $@ $<
 $(FUZZ_B)/tests/%.o: tests/%.c $(LIB_HDRS) $(wildcard tests/support/*.h) $(wildcard tests/fuzz/*.h)
 	$(FUZZ_COMPILE) -c -o $@ $<
+
+$(FUZZ_SPB_GEN_OBJ): $(SPB_GEN_DIR)/spb.pb-c.c
+	$(FUZZ_COMPILE) $(PROTOBUF_C_CFLAGS) -I$(SPB_GEN_DIR) -c -o $@ $<
+$(FUZZ_B)/tools/df1gw/gw_spb_codec.o: $(SPB_GEN_DIR)/spb.pb-c.h
+$(FUZZ_B)/tools/df1gw/gw_spb_codec.o: FUZZ_CFLAGS += -I$(SPB_GEN_DIR) $(PROTOBUF_C_CFLAGS)
 
 $(FUZZ_B)/libdf1.a: $(FUZZ_LIB_OBJS)
 	@rm -f $@

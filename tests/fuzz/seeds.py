@@ -272,6 +272,43 @@ def main():
     cp.add("telnet", b"".join(answers))
     for _, _, w in vecs[:8]:
         cp.add("telnet", bytes(w).replace(iac, iac + iac))
+    # spb_cmd: [tag as gw_set's] + DCMD payloads in the protobuf wire format
+    # of tools/df1gw/spb.proto: a metric per value kind, by name, member and alias
+    def pb_varint(x):
+        out = b""
+        while True:
+            b7 = x & 0x7F
+            x >>= 7
+            if x:
+                out += bytes([b7 | 0x80])
+            else:
+                return out + bytes([b7])
+
+    def pb_len(field, data):
+        return pb_varint(field << 3 | 2) + pb_varint(len(data)) + data
+
+    def pb_int(field, x):
+        return pb_varint(field << 3) + pb_varint(x)
+
+    def metric(name, datatype, value, alias=None):
+        m = pb_len(1, name.encode()) if name is not None else b""
+        if alias is not None:
+            m += pb_int(2, alias)
+        return pb_len(2, m + pb_int(4, datatype) + value)
+
+    f32 = struct.pack("<f", 1.5)
+    metrics = [
+        metric("t", 2, pb_int(10, 5)), metric("t/ACC", 2, pb_int(10, 7)), metric("t/DN", 11, pb_int(14, 1)),
+        metric("t", 9, pb_varint(12 << 3 | 5) + f32), metric("t", 11, pb_int(14, 1)),
+        metric("t", 12, pb_len(15, b"hi")), metric(None, 3, pb_int(10, 0xFFFFFFFF), alias=(1 << 16) | 3),
+        metric("t", 3, pb_int(10, 70000)), metric("t", 22, pb_len(16, b"\x01\x00\x02\x00")),
+        metric("t/3/ACC", 2, pb_int(10, 9)), metric("Node Control/Rebirth", 11, pb_int(14, 1)),
+    ]
+    for tag in (0x00, 0x01, 0x02, 0x03, 0x44, 0x15, 0x26, 0x08, 0x39):
+        for mt in metrics:
+            cp.add("spb_cmd", bytes([tag]) + pb_int(1, 1700000000000) + mt)
+        cp.add("spb_cmd", bytes([tag]) + b"".join(metrics))
+
     for t in sorted(cp.count):
         print("seeds: %-13s %d" % (t, cp.count[t]))
 

@@ -7,6 +7,7 @@
  */
 #include "df1gw/gw_spb_metrics.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -116,6 +117,12 @@ static int scalar_from(const struct gw_spb_metric *m, enum df1_value_kind k, str
 			snprintf(err, errcap, "a number is needed (datatype %s)", gw_spb_type_name(m->datatype));
 			return DF1_E_TYPE;
 		}
+		/* NaN, an infinity or beyond a float's range: refused as /set
+		 * refuses them (gw_value.c through df1_value_parse) */
+		if (!isfinite(x) || fabs(x) > FLT_MAX) {
+			snprintf(err, errcap, "%g does not fit a float", x);
+			return DF1_E_RANGE;
+		}
 		v->v.f = (float)x;
 		return 0;
 	case DF1_VAL_STRING:
@@ -174,6 +181,10 @@ static int array_from(const struct gw_spb_metric *m, enum df1_value_kind k, size
 			memcpy(&out[i].v.f, b + 4 * i, 4);
 		else
 			out[i].v.bit = (b[4 + i / 8] >> (7 - i % 8)) & 1;
+		if (k == DF1_VAL_FLOAT && !isfinite(out[i].v.f)) {
+			snprintf(err, errcap, "element %zu is not a finite float", i);
+			return DF1_E_RANGE;
+		}
 	}
 	*n = want;
 	return 0;

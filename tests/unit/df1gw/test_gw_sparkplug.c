@@ -19,6 +19,7 @@
 #include <setjmp.h>
 #include <cmocka.h>
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -401,6 +402,38 @@ static void test_commands(void **state)
 	assert_int_equal(gw_spb_write_values(&m, "", 0, &cn, NULL, out, 4, &n, err, sizeof err), DF1_E_TYPE);
 }
 
+/* A float tag takes no NaN, infinity or number beyond a float's range, as
+ * /set refuses them (found by tests/fuzz/fuzz_spb_cmd.c) */
+static void test_command_floats(void **state)
+{
+	struct df1_tag_config cf = cfg("Level", "F8:0", 1), cf2 = cfg("Levels", "F8:0", 2);
+	static const uint8_t nan_array[8] = { 0, 0, 0x80, 0x3f, 0xff, 0xff, 0xff, 0xff };  /* 1.0, NaN */
+	struct gw_spb_metric m;
+	struct df1_value out[4];
+	char err[128];
+	size_t n;
+
+	(void)state;
+	gw_spb_metric_init(&m);
+	m.name = "Level";
+	m.datatype = GW_SPB_FLOAT;
+	m.kind = GW_SPB_V_FLOAT;
+	m.v.f = NAN;
+	assert_int_equal(gw_spb_write_values(&m, "", 0, &cf, NULL, out, 4, &n, err, sizeof err), DF1_E_RANGE);
+	m.datatype = GW_SPB_DOUBLE;
+	m.kind = GW_SPB_V_DOUBLE;
+	m.v.d = 1e300;
+	assert_int_equal(gw_spb_write_values(&m, "", 0, &cf, NULL, out, 4, &n, err, sizeof err), DF1_E_RANGE);
+	m.v.d = 2.5;
+	assert_int_equal(gw_spb_write_values(&m, "", 0, &cf, NULL, out, 4, &n, err, sizeof err), 0);
+	assert_true(n == 1 && out[0].v.f == 2.5f);
+	m.datatype = GW_SPB_FLOAT_ARRAY;
+	m.kind = GW_SPB_V_BYTES;
+	m.bytes = nan_array;
+	m.nbytes = sizeof nan_array;
+	assert_int_equal(gw_spb_write_values(&m, "", 0, &cf2, NULL, out, 4, &n, err, sizeof err), DF1_E_RANGE);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -413,6 +446,7 @@ int main(void)
 		cmocka_unit_test(test_tag_timer_and_quality),
 		cmocka_unit_test(test_boolean_array_layout),
 		cmocka_unit_test(test_commands),
+		cmocka_unit_test(test_command_floats),
 	};
 
 	return cmocka_run_group_tests(tests, NULL, NULL);
