@@ -875,6 +875,10 @@ DF1_API int df1_poll_fd(df1_t *h);
 typedef void (*df1_pccc_done_fn)(void *user, int result, const uint8_t *reply, size_t n);
 DF1_API int df1_poll_submit_pccc(df1_t *h, int station, const uint8_t *pccc, size_t n,
                                  df1_pccc_done_fn done, void *user);
+/* Every write and command queued and not yet started ends now, done() with
+ * DF1_E_NOT_OPEN, nothing sent: for a closed line whose queue must not run late
+ * after the next df1_open(). Returns how many, or DF1_E_INVAL. @since 0.5 */
+DF1_API int df1_poll_cancel_queued(df1_t *h);
 
 /* Station health (doc/REQUIREMENTS.md 000): a station goes offline when absolute_retries > 0
  * and more than that many attempts in a row failed, or else when watchdog_ms

@@ -2,7 +2,7 @@
 /*
  * engine.c - the poll engine's allocation (on first use) and teardown (df1_free),
  * the names of qualities, reasons and station states, the settings, the
- * statistics and df1_station_health().
+ * statistics and df1_station_health(); the queue's end (df1_poll_cancel_queued).
  */
 #include "poll/poll_int.h"
 
@@ -179,18 +179,17 @@ int df1_poll_station(const df1_t *h, int station, struct df1_station_health *out
  * Teardown (df1_free)
  * ------------------------------------------------------------------------ */
 
-static void poll_free_engine(struct df1 *h)
+/* Everything queued ends with DF1_E_NOT_OPEN, unsent; how many. */
+static int poll_wq_cancel(struct poll_engine *e)
 {
-	struct poll_engine *e = h->poll;
 	struct wnode *w;
+	int n = 0;
 
-	if (!e)
-		return;
-	/* every accepted write ends once: those never sent fail now */
 	pthread_mutex_lock(&e->mu);
 	w = e->wq_head;
 	e->wq_head = e->wq_tail = NULL;
 	e->wq_len = 0;
+	e->pccc_len = 0;
 	pthread_mutex_unlock(&e->mu);
 	while (w) {
 		struct wnode *next = w->next;
@@ -201,7 +200,26 @@ static void poll_free_engine(struct df1 *h)
 			w->done(w->user, w->tag, w->wid, DF1_E_NOT_OPEN);
 		free(w);
 		w = next;
+		n++;
 	}
+	return n;
+}
+
+int df1_poll_cancel_queued(df1_t *h)
+{
+	if (!h)
+		return DF1_E_INVAL;
+	return h->poll ? poll_wq_cancel(h->poll) : 0;
+}
+
+static void poll_free_engine(struct df1 *h)
+{
+	struct poll_engine *e = h->poll;
+
+	if (!e)
+		return;
+	/* every accepted write ends once: those never sent fail now */
+	poll_wq_cancel(e);
 	for (size_t i = 0; i < e->ntags; i++) {
 		free(e->tags[i]->values);
 		free(e->tags[i]);

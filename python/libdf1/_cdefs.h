@@ -520,6 +520,7 @@ int df1_poll_next_ms(const df1_t *h);
 int df1_poll_fd(df1_t *h);
 typedef void (*df1_pccc_done_fn)(void *user, int result, const uint8_t *reply, size_t n);
 int df1_poll_submit_pccc(df1_t *h, int station, const uint8_t *pccc, size_t n, df1_pccc_done_fn done, void *user);
+int df1_poll_cancel_queued(df1_t *h);
 int df1_poll_set_watchdog(df1_t *h, int watchdog_ms, int absolute_retries);
 int df1_poll_set_station_range(df1_t *h, int lo, int hi);
 struct df1_poll_stats {

@@ -208,4 +208,34 @@ kill "$SUB" 2>/dev/null
 kill -TERM "$GW_PID"
 lib_reap "$GW_PID"
 
+# ---- the line lost during a backlog: every write answered once, and none
+# of those handed to the poll engine written late after the reopen
+# (df1_poll_cancel_queued) ----
+"$GW" -d "$SIM_DEV" --map "$T/map.csv" --mqtt "mqtt://127.0.0.1:$PORT" --prefix "$P" --keepalive 5 \
+	--write-optimize all --duty-cycle 8 > "$T/gw3.out" 2> "$T/gw3.err" &
+GW_PID=$!
+echo "$GW_PID" >> "$T/.sims"
+wait_for "status online (3)" 100 has "$P/status" online
+mosquitto_sub -h 127.0.0.1 -p "$PORT" -q 1 -t "$P/tag/+/result" -v > "$T/results3.txt" 2>&1 &
+SUB=$!
+echo "$SUB" >> "$T/.sims"
+marker3() { pub "$P/tag/S0/set" '{"value":0,"id":"m3"}' && grep -q '"id":"m3"' "$T/results3.txt"; }
+wait_for "result subscriber ready (3)" 100 marker3
+awk 'BEGIN { for (i = 1; i <= 60; i++) printf "{\"value\": %d, \"id\": \"l-%d\"}\n", i, i }' > "$T/burst_l.txt"
+mosquitto_pub -h 127.0.0.1 -p "$PORT" -q 1 -t "$P/tag/S2/set" -l < "$T/burst_l.txt"
+l_some() { [ "$(grep -c '"id":"l-' "$T/results3.txt")" -ge 2 ]; }
+wait_for "the backlog is being written (line lost)" 100 l_some
+sim_stop "$SIM_PID"
+l_all() { [ "$(grep -c '"id":"l-' "$T/results3.txt")" -ge 60 ]; }
+wait_for "a result for each of the 60 writes across the lost line" 300 l_all
+same "one result per id (line lost)" "$(grep -o '"id":"l-[0-9]*"' "$T/results3.txt" | sort | uniq -d | head -3)" ""
+check "writes not done answered not ok" 'grep -q "\"id\":\"l-[0-9]*\",\"ok\":false" "$T/results3.txt"'
+sim_start plc --data "$T/plc.txt" --log "$T/sim3.log" --line-baud 2400 || finish
+wait_for "the line back (3)" 400 has "$P/tag/S2" '"quality":"GOOD"'
+n=20; while [ $n -gt 0 ]; do tick; n=$((n - 1)); done
+check "no write of the backlog after the reopen" '! grep -q "cmd=0F/AA" "$T/sim3.log"'
+kill "$SUB" 2>/dev/null
+kill -TERM "$GW_PID"
+lib_reap "$GW_PID"
+
 finish

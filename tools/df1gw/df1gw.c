@@ -270,7 +270,11 @@ static void line_lost(struct gw *g, int err)
 	if (!g->cli.quiet)
 		fprintf(stderr, "%s: %s: line lost; reopening\n", GW_PROG, g->line_error);
 	gw_writes_drop(g);      /* the writes waiting: answered "not written", not kept for later */
-	df1_close(g->h);        /* the port's settings restored; tags and writes kept */
+	df1_close(g->h);        /* the port's settings restored; tags kept */
+	/* and those already handed to the poll engine (at most --duty-cycle,
+	 * and bridged EtherNet/IP requests): ended "not written" now, never
+	 * written late after the reopen */
+	df1_poll_cancel_queued(g->h);
 	g->line_up = false;
 	g->line_next_try_ms = gw_now_ms() + g->line_backoff_ms;
 	g->republish = true;

@@ -431,8 +431,16 @@ static void test_api_tags(void **state)
 	assert_int_equal(df1_poll_set_station_range(h, -1, 0), 0);
 	assert_int_equal(df1_poll_next_ms(h), 0);   /* a write is queued */
 	assert_true(df1_poll_fd(h) >= 0);
-	df1_free(h);
+	/* df1_poll_cancel_queued ends it now, unsent, once */
+	assert_int_equal(df1_poll_cancel_queued(h), 1);
 	assert_int_equal(done_rec.calls, 1);
+	assert_int_equal(done_rec.result, DF1_E_NOT_OPEN);
+	assert_int_equal(df1_poll_cancel_queued(h), 0);
+	assert_int_equal(df1_poll_cancel_queued(NULL), DF1_E_INVAL);
+	/* one queued again ends at df1_free */
+	assert_true(df1_tag_write(h, w, &v, 1, on_done_rec, NULL) > 0);
+	df1_free(h);
+	assert_int_equal(done_rec.calls, 2);
 	assert_int_equal(done_rec.result, DF1_E_NOT_OPEN);
 }
 
