@@ -23,14 +23,15 @@ FUZZ_TARGETS += eip
 # df1gw's .../set payloads: its JSON reader, the values for a tag, the result
 FUZZ_TARGETS += gw_set
 FUZZ_EXTRA_gw_set := $(patsubst %.c,$(FUZZ_B)/%.o,tools/df1gw/gw_json.c tools/df1gw/gw_write.c \
-	tools/df1gw/gw_value.c tools/common/cli_text.c)
+	tools/df1gw/gw_value.c tools/common/cli_text.c tests/fuzz/fuzz_tag.c)
 FUZZ_DICT_gw_set := json
 # Sparkplug B commands: the protobuf payload (protobuf-c's code made from
 # tools/df1gw/spb.proto by the main Makefile) and the values for a tag
 FUZZ_TARGETS += spb_cmd
 FUZZ_SPB_GEN_OBJ := $(FUZZ_B)/gen/df1gw/spb.pb-c.o
 FUZZ_EXTRA_spb_cmd := $(patsubst %.c,$(FUZZ_B)/%.o,tools/df1gw/gw_spb_codec.c tools/df1gw/gw_spb_cmd.c \
-	tools/df1gw/gw_spb_metrics.c tools/df1gw/gw_value.c tools/df1gw/gw_json.c tools/common/cli_text.c) \
+	tools/df1gw/gw_spb_metrics.c tools/df1gw/gw_value.c tools/df1gw/gw_json.c tools/common/cli_text.c \
+	tests/fuzz/fuzz_tag.c) \
 	$(FUZZ_SPB_GEN_OBJ)
 FUZZ_LIBS_spb_cmd := $(PROTOBUF_C_LIBS)
 FUZZ_DICT_spb_cmd := spb

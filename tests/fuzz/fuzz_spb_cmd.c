@@ -5,7 +5,7 @@
  * protobuf-c), each metric's target read (a tag by name, "Tag/MEMBER", or
  * an alias) and its value converted for a tag (gw_spb_cmd.c
  * gw_spb_write_values), as gw_format_sparkplug.c does for every DCMD.
- * Input: byte 0 picks the tag (bits 0-3 its address from the table below,
+ * Input: byte 0 picks the tag (fuzz_tag.h: bits 0-3 its address,
  * bits 4-5 its Count 1, 2, 4 or 10, bit 6 a current value for T/C/R members
  * not given); the rest is the payload. Properties: a payload is decoded or
  * refused, never half; each metric's fields stay inside the payload's
@@ -14,18 +14,13 @@
  * DF1_E_TYPE, DF1_E_RANGE or DF1_E_INVAL with its text.
  */
 #include "fuzz.h"
+#include "fuzz_tag.h"
 
-#include <math.h>
 #include <string.h>
 
 #include "df1.h"
 #include "df1gw/gw_spb_codec.h"
 #include "df1gw/gw_spb_metrics.h"
-
-static const char *const addrs[16] = {
-	"N7:0", "F8:0", "B3:0/5", "ST9:0", "T4:0", "C5:0", "R6:0", "L10:0",
-	"T4:0.ACC", "C5:0/DN", "S2:1", "O:0", "I:1", "A11:0", "B3/17", "N7:0/15",
-};
 
 int LLVMFuzzerInitialize(int *argc, char ***argv)
 {
@@ -35,41 +30,11 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
 	return 0;
 }
 
-static void tag_of(uint8_t o, struct df1_tag_config *c)
-{
-	static const int counts[4] = { 1, 2, 4, 10 };
-
-	memset(c, 0, sizeof *c);
-	snprintf(c->name, sizeof c->name, "t");
-	c->access = DF1_ACCESS_READWRITE;
-	c->station = 1;
-	c->plc = DF1_PLC_SLC;
-	if (df1_addr_parse(addrs[o & 15], &c->addr) < 0)
-		abort();
-	c->count = df1_addr_value_kind(&c->addr) == DF1_VAL_BIT ? 1 : counts[(o >> 4) & 3];
-	c->scan_ms = 1000;
-}
-
-static void check_values(const struct df1_tag_config *c, const struct df1_value *v, size_t n)
-{
-	int kind = df1_tag_value_kind(c);
-
-	FUZZ_CHECK(n >= 1 && n <= (size_t)c->count, "%zu values for Count %d", n, c->count);
-	for (size_t i = 0; i < n; i++) {
-		FUZZ_CHECK((int)v[i].kind == kind, "value %zu of kind %d, the tag's is %d", i, v[i].kind, kind);
-		if (kind == DF1_VAL_FLOAT)
-			FUZZ_CHECK(isfinite(v[i].v.f), "value %zu: a float that is not finite", i);
-		if (kind == DF1_VAL_STRING)
-			FUZZ_CHECK(v[i].v.str.len <= DF1_STRING_MAX && v[i].v.str.text[v[i].v.str.len] == '\0',
-			           "value %zu: a string of %u bytes", i, v[i].v.str.len);
-	}
-}
-
 /* One metric: its target, then its values for tag c. */
 static void one_metric(const struct gw_spb_metric *m, const struct df1_tag_config *c,
                        const struct df1_tag_state *cur)
 {
-	struct df1_value out[10];
+	struct df1_value out[FUZZ_TAG_VALUES];
 	char tag[80], err[256];
 	const char *member = "";
 	unsigned alias_member = 0;
@@ -84,7 +49,7 @@ static void one_metric(const struct gw_spb_metric *m, const struct df1_tag_confi
 	err[0] = '\0';
 	r = gw_spb_write_values(m, member, alias_member, c, cur, out, sizeof out / sizeof out[0], &n, err, sizeof err);
 	if (r == 0) {
-		check_values(c, out, n);
+		fuzz_tag_check_values(c, out, n);
 	} else {
 		FUZZ_CHECK(r == DF1_E_TYPE || r == DF1_E_RANGE || r == DF1_E_INVAL, "gw_spb_write_values returned %d",
 		           r);
@@ -96,20 +61,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
 	struct df1_tag_config c;
 	struct df1_tag_state cur;
-	struct df1_value curv[10];
+	struct df1_value curv[FUZZ_TAG_VALUES];
 	struct gw_spb_in in;
 
 	if (size < 1)
 		return 0;
-	tag_of(data[0], &c);
-	memset(&cur, 0, sizeof cur);
-	memset(curv, 0, sizeof curv);
-	for (int i = 0; i < 10; i++)
-		curv[i].kind = (enum df1_value_kind)df1_tag_value_kind(&c);
-	cur.config = &c;
-	cur.count = (size_t)c.count;
-	cur.values = curv;
-	cur.has_value = (data[0] & 64) != 0;
+	fuzz_tag_of(data[0], false, &c);
+	fuzz_tag_state(&c, (data[0] & 64) != 0, &cur, curv);
 	memset(&in, 0, sizeof in);
 	if (gw_spb_decode(data + 1, size - 1, &in) < 0) {
 		FUZZ_CHECK(in.pb == NULL, "a refused payload kept its message");
