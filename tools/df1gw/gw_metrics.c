@@ -168,7 +168,7 @@ static void stations(const struct gw_mctx *c, struct gw_msink *s)
 		gw_msink_family(s, fam[f][0], fam[f][1], fam[f][2]);
 		for (int stn = 0; stn < 255; stn++) {
 			struct df1_station_health sh;
-			char num[8];
+			char num[12];                  /* an int's text, whatever the compiler knows of stn */
 			const char *l[] = { "station", num, NULL, NULL, NULL };
 
 			if (!c->g->stations[stn] || df1_station_health(c->g->h, stn, &sh) < 0)
