@@ -152,7 +152,8 @@ size_t make_reply(uint8_t *app, uint8_t dst, uint8_t src, uint8_t cmd, uint8_t s
 	app[3] = sts;
 	app[4] = (uint8_t)(tns & 0xFF);
 	app[5] = (uint8_t)(tns >> 8);
-	memcpy(app + 6, data, dn);
+	if (dn)                 /* no data: data may be NULL, which memcpy may not take */
+		memcpy(app + 6, data, dn);
 	return 6 + dn;
 }
 
