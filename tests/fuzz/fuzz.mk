@@ -38,6 +38,14 @@ FUZZ_DICT_spb_cmd := spb
 # rfc2217://: the Telnet framing of a device server's bytes (lib/proto/telnet.c)
 FUZZ_TARGETS += telnet
 FUZZ_DICT_telnet := telnet
+# df1gw --http: a gateway set up whole (gw_setup()), its HTTP server fed one
+# client connection per input; df1gw.c's main() renamed out of libFuzzer's way
+FUZZ_TARGETS += http
+FUZZ_GW_OBJS := $(patsubst %.c,$(FUZZ_B)/%.o,$(TOOL_SRCS_df1gw) $(TOOL_COMMON_SRCS))
+FUZZ_EXTRA_http := $(FUZZ_GW_OBJS) $(FUZZ_SPB_GEN_OBJ)
+FUZZ_LIBS_http := $(filter-out $(SPB_GEN_OBJ),$(TOOL_LIBS_df1gw))
+FUZZ_DICT_http := http
+$(FUZZ_B)/tools/df1gw/df1gw.o: FUZZ_CFLAGS += -Dmain=df1gw_main
 FUZZ_BINS := $(FUZZ_TARGETS:%=$(FUZZ_B)/bin/fuzz_%)
 FUZZ_LIB_OBJS := $(LIB_SRCS:%.c=$(FUZZ_B)/%.o)
 FUZZ_COMMON_OBJS := $(FUZZ_B)/tests/fuzz/fuzz_file.o

@@ -309,6 +309,24 @@ def main():
             cp.add("spb_cmd", bytes([tag]) + pb_int(1, 1700000000000) + mt)
         cp.add("spb_cmd", bytes([tag]) + b"".join(metrics))
 
+    # http: requests a client sends to df1gw --http (df1gw(1) HEALTH): each
+    # path it serves by GET and HEAD, methods it refuses, HTTP/1.0, keep-alive
+    # with two requests, a body by length and chunked, and a malformed line
+    paths = [b"/", b"/index.html", b"/app.js", b"/app.css", b"/metrics", b"/api/status", b"/nothing",
+             b"/metrics?x=1", b"/%2e%2e/etc/passwd"]
+    for p in paths:
+        cp.add("http", b"GET " + p + b" HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")
+        cp.add("http", b"HEAD " + p + b" HTTP/1.0\r\n\r\n")
+    cp.add("http", b"POST /api/status HTTP/1.1\r\nHost: a\r\nContent-Length: 5\r\n\r\nhello")
+    cp.add("http", b"PUT /metrics HTTP/1.1\r\nHost: a\r\nTransfer-Encoding: chunked\r\n\r\n"
+                   b"5\r\nhello\r\n0\r\n\r\n")
+    cp.add("http", b"GET /metrics HTTP/1.1\r\nHost: a\r\nConnection: keep-alive\r\n\r\n"
+                   b"GET /api/status HTTP/1.1\r\nHost: a\r\nConnection: close\r\n\r\n")
+    cp.add("http", b"GET / HTTP/1.1\r\nHost: a\r\nExpect: 100-continue\r\nContent-Length: 3\r\n\r\nabc")
+    cp.add("http", b"\r\nGET /metrics HTTP/1.1\r\nHost: a\r\n\r\n")
+    cp.add("http", b"GET /metrics HTTP/9.9\r\n\r\n")
+    cp.add("http", b"GET\r\n\r\n")
+
     for t in sorted(cp.count):
         print("seeds: %-13s %d" % (t, cp.count[t]))
 

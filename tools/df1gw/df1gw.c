@@ -395,10 +395,16 @@ static int broker_setup(struct gw *g)
 	return 0;
 }
 
-static int setup(struct gw *g, int argc, char **argv)
+int gw_setup(struct gw *g, int argc, char **argv)
 {
 	int r;
 
+	g->eip.station = -1;
+	g->health.notify.fd = -1;
+	gw_pubs_init(&g->pubs);
+	gw_msg_init(&g->msg);
+	gw_msg_init(&g->will);
+	gw_buf_init(&g->key);
 	r = gw_options_parse(g, argc, argv);
 	if (r != CLI_CONTINUE)
 		return r;
@@ -701,7 +707,7 @@ static void gw_print_counters(const struct gw *g)
 	fflush(stdout);
 }
 
-static void shutdown_gw(struct gw *g)
+void gw_shutdown(struct gw *g)
 {
 	gw_health_stopping(g);
 	/* the writes waiting: answered "not written" while the broker is there */
@@ -743,20 +749,14 @@ int main(int argc, char **argv)
 	static struct gw g;
 	int r;
 
-	g.eip.station = -1;
-	g.health.notify.fd = -1;
-	gw_pubs_init(&g.pubs);
-	gw_msg_init(&g.msg);
-	gw_msg_init(&g.will);
-	gw_buf_init(&g.key);
-	r = setup(&g, argc, argv);
+	r = gw_setup(&g, argc, argv);
 	if (r != CLI_CONTINUE) {
-		shutdown_gw(&g);
+		gw_shutdown(&g);
 		return r;
 	}
 	r = run(&g);
 	if (cli_stop && !g.cli.quiet && g.cli.verbose)
 		fprintf(stderr, "%s: %s: stopping\n", GW_PROG, cli_signal_name(cli_stop_signal()));
-	shutdown_gw(&g);
+	gw_shutdown(&g);
 	return r;
 }

@@ -99,6 +99,13 @@ struct gw {
 /* The command line into g (gw_options.c): CLI_CONTINUE or the exit status,
  * having said why. */
 int gw_options_parse(struct gw *g, int argc, char **argv);
+/* df1gw.c: g (zeroed) made from the command line, up to its loop: the line built (not opened), the broker's
+ * client made (not connected), the listeners open. CLI_CONTINUE or the exit
+ * status, having said why. gw_shutdown() ends what it made, also after a
+ * failure. The HTTP fuzz target (tests/fuzz/fuzz_http.c) sets a gateway up
+ * with them. */
+int gw_setup(struct gw *g, int argc, char **argv);
+void gw_shutdown(struct gw *g);
 
 /* Monotonic and wall-clock milliseconds. */
 int64_t gw_now_ms(void);

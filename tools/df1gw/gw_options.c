@@ -3,7 +3,7 @@
  * gw_options - df1gw's command line: the option table, what each option sets
  * in struct gw, the checks between options, and what follows from them (the
  * password read from its file, the client id, the topic prefix). df1gw.c's
- * setup() calls gw_options_parse() first and then opens what they name.
+ * gw_setup() calls gw_options_parse() first and then opens what they name.
  * A new concern adds its options here and its state to struct gw (gw.h).
  */
 #include <errno.h>
