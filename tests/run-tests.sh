@@ -5,35 +5,58 @@
 # tests/integration/*.sh script. Last line: "N passed, N failed"; exit status
 # non-zero if anything failed. Each PASS or FAIL line ends with the seconds
 # the test took, to see where a run's time goes.
+#
+# TEST_JOBS=N runs up to N integration scripts at once (default 1: one after
+# the other). Each script has its own temporary folder, ports the kernel
+# picks and its own processes, so they can share a machine; their timing
+# bounds are generous, but a loaded machine is slower: the Debian package's
+# build (debian/rules), which runs the suite a second time, uses 2.
+#
+# `sh tests/run-tests.sh --one SCRIPT` runs one integration script as the
+# runner does (its log, its PASS or FAIL line, its result in the log folder).
 B=${B:-build}
 export B
 export DF1_BIN="$(cd "$B" && pwd)/bin"
 export DF1_SHARED="${DF1_SHARED:-$(cd "$(dirname "$0")/../../shared" 2>/dev/null && pwd)}"
+log_dir="$B/test-logs"
+mkdir -p "$log_dir"
+
+# one test: its output in $log_dir/NAME.log, "0" or "1" in $log_dir/NAME.result
+run_one() {
+	name=$1; shift
+	start=$(date +%s)
+	if "$@" > "$log_dir/$name.log" 2>&1; then
+		echo 0 > "$log_dir/$name.result"
+		echo "PASS $name ($(($(date +%s) - start)) s)"
+	else
+		echo 1 > "$log_dir/$name.result"
+		# one block per failure, also when several scripts end at once
+		{ echo "FAIL $name ($(($(date +%s) - start)) s)"; tail -n 40 "$log_dir/$name.log"; } > "$log_dir/$name.fail"
+		cat "$log_dir/$name.fail"
+	fi
+}
+
+if [ "${1:-}" = --one ]; then
+	run_one "$(basename "$2" .sh)" timeout 600 sh "$2"
+	exit 0
+fi
+
+rm -f "$log_dir"/*.result "$log_dir"/*.fail
+for t in ${TEST_BINS:-"$B"/tests/test_*}; do
+	[ -x "$t" ] || continue
+	run_one "$(basename "$t")" "$t"
+done
+ls tests/integration/*.sh 2>/dev/null | xargs -r -n 1 -P "${TEST_JOBS:-1}" sh "$0" --one
+
 passed=0
 failed=0
 failures=""
-log_dir="$B/test-logs"
-mkdir -p "$log_dir"
-for t in ${TEST_BINS:-"$B"/tests/test_*}; do
-	[ -x "$t" ] || continue
-	name=$(basename "$t")
-	start=$(date +%s)
-	if "$t" > "$log_dir/$name.log" 2>&1; then
-		passed=$((passed + 1)); echo "PASS $name ($(($(date +%s) - start)) s)"
+for r in "$log_dir"/*.result; do
+	[ -f "$r" ] || continue
+	if [ "$(cat "$r")" = 0 ]; then
+		passed=$((passed + 1))
 	else
-		failed=$((failed + 1)); failures="$failures $name"; echo "FAIL $name ($(($(date +%s) - start)) s)"
-		tail -n 40 "$log_dir/$name.log"
-	fi
-done
-for t in tests/integration/*.sh; do
-	[ -f "$t" ] || continue
-	name=$(basename "$t" .sh)
-	start=$(date +%s)
-	if timeout 600 sh "$t" > "$log_dir/$name.log" 2>&1; then
-		passed=$((passed + 1)); echo "PASS $name ($(($(date +%s) - start)) s)"
-	else
-		failed=$((failed + 1)); failures="$failures $name"; echo "FAIL $name ($(($(date +%s) - start)) s)"
-		tail -n 40 "$log_dir/$name.log"
+		failed=$((failed + 1)); failures="$failures $(basename "$r" .result)"
 	fi
 done
 [ -n "$failures" ] && echo "failed:$failures"
