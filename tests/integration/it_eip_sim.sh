@@ -123,7 +123,7 @@ expect 0 "a client inside --eip-allow is served" -- $PROBE "$EIP" read-write
 sim_stop "$AL"
 
 expect 2 "--eip-allow without --eip" -- "$BIN/df1sim" --pty "$T/x" --eip-allow 10.0.0.0/8
-err_has "says what goes with what" "--eip-allow and --eip-read-only go with --eip"
+err_has "says what goes with what" "--eip-allow, --eip-read-only, --eip-max-clients, --eip-register-timeout and --eip-idle-timeout go with --eip"
 expect 2 "--eip-allow that is no network" -- "$BIN/df1sim" --eip 0 --eip-allow 10.0.0.0/33
 err_has "names the bad network" "10.0.0.0/33"
 expect 2 "--eip 0:PORT (every interface, not written out)" -- "$BIN/df1sim" --eip 0:0

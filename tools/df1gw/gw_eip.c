@@ -126,11 +126,6 @@ void gw_eip_identify(struct gw_eip *e, df1_t *h)
 	df1_eip_server_set_identity(e->s, &id);
 }
 
-int gw_eip_limit_ms(int seconds)
-{
-	return seconds < 0 ? 0 : seconds == 0 ? -1 : seconds * 1000;
-}
-
 /* Each connection a limit closed: logged (df1gw(1) EtherNet/IP, "Limits"). */
 static void gw_eip_closed(void *user, const char *peer, enum df1_eip_close_reason why)
 {
@@ -140,9 +135,9 @@ static void gw_eip_closed(void *user, const char *peer, enum df1_eip_close_reaso
 		return;
 	if (why == DF1_EIP_CLOSE_NO_SESSION)
 		fprintf(stderr, "df1gw: eip: closed %s: no RegisterSession within %d s\n", peer,
-		        e->register_s < 0 ? 5 : e->register_s);
+		        cli_eip_register_s(&e->opts));
 	else if (why == DF1_EIP_CLOSE_IDLE)
-		fprintf(stderr, "df1gw: eip: closed %s: session idle for %d s\n", peer, e->idle_s < 0 ? 120 : e->idle_s);
+		fprintf(stderr, "df1gw: eip: closed %s: session idle for %d s\n", peer, cli_eip_idle_s(&e->opts));
 	else
 		fprintf(stderr, "df1gw: eip: closed %s: the longest idle of a full table, for a new client\n", peer);
 }
@@ -162,9 +157,7 @@ int gw_eip_open(struct gw_eip *e, const char *prog, bool quiet)
 
 	memset(&c, 0, sizeof c);
 	c.listen = strncmp(e->listen, "tcp://", 6) == 0 ? e->listen + 6 : e->listen;
-	c.allow = e->allow;
-	c.read_only = e->read_only;
-	c.max_clients = e->max_clients;
+	cli_eip_server_config(&e->opts, &c, &lim);
 	c.identity = gw_identity;
 	r = df1_eip_server_new(&e->s, &c, gw_eip_pccc, e);
 	if (r < 0) {
@@ -172,8 +165,6 @@ int gw_eip_open(struct gw_eip *e, const char *prog, bool quiet)
 		return r == DF1_E_INVAL ? CLI_EXIT_USAGE : CLI_EXIT_FAIL;
 	}
 	e->quiet = quiet;
-	lim.register_ms = gw_eip_limit_ms(e->register_s);
-	lim.idle_ms = gw_eip_limit_ms(e->idle_s);
 	lim.on_close = gw_eip_closed;
 	lim.user = e;
 	if (df1_eip_server_set_limits(e->s, &lim) < 0) {

@@ -14,6 +14,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "common/cli_eip.h"
 #include "df1.h"
 
 /* PCCC STS of the reply when the controller does not answer: "remote station
@@ -27,11 +28,8 @@
 struct gw_eip {
 	/* options */
 	const char *listen;          /* --eip [ADDR:]PORT, NULL: off */
-	const char *allow;           /* --eip-allow CIDR[,CIDR] */
 	int station;                 /* --eip-station N (-1: the line's -a) */
-	bool read_only;              /* --eip-read-only */
-	int max_clients;             /* --eip-max-clients N (0: the library's 32) */
-	int register_s, idle_s;      /* --eip-register-timeout S, --eip-idle-timeout S (-1: default, 0: none) */
+	struct cli_eip opts;         /* --eip-allow, --eip-read-only and the limits (tools/common/cli_eip.h) */
 	bool quiet;                  /* -q: the closes are counted, not logged */
 
 	df1_eip_server_t *s;
@@ -52,8 +50,6 @@ void gw_eip_process(struct gw_eip *e);
  * bridge SLC 5/04", and the product code its type code); the plain bridge
  * identity when it does not answer. One transaction, when the line opens. */
 void gw_eip_identify(struct gw_eip *e, df1_t *h);
-/* Seconds as df1_eip_server_limits takes them (-1 default, 0 none -> ms). */
-int gw_eip_limit_ms(int seconds);
 /* The counters, one line, for --counters. */
 void gw_eip_counters(const struct gw_eip *e, FILE *f);
 /* After the line's handle is freed (its requests ended). NULL-safe. */

@@ -18,8 +18,9 @@
 enum {
 	OPT_MAP = CLI_KEY_EXTRA, OPT_MQTT, OPT_CAFILE, OPT_CERT, OPT_KEY, OPT_CLIENT_ID, OPT_USERNAME,
 	OPT_PASSWORD_FILE, OPT_PASSWORD, OPT_PREFIX, OPT_QOS, OPT_KEEPALIVE, OPT_REFRESH, OPT_ONCE,
-	OPT_WATCHDOG, OPT_EIP, OPT_EIP_STATION, OPT_EIP_ALLOW, OPT_EIP_READ_ONLY, OPT_COUNTERS,
-	OPT_EIP_MAX_CLIENTS, OPT_EIP_REGISTER_TIMEOUT, OPT_EIP_IDLE_TIMEOUT,
+	OPT_WATCHDOG, OPT_EIP, OPT_EIP_STATION, OPT_COUNTERS,
+	OPT_EIP_SHARED, /* the CLI_EIP_OPT_COUNT_ keys of tools/common/cli_eip.h from here */
+	OPT_EIP_SHARED_END_ = OPT_EIP_SHARED + CLI_EIP_OPT_COUNT_ - 1,
 	/* Sparkplug B */
 	OPT_SPARKPLUG, OPT_EDGE_NODE, OPT_JSON, OPT_PRIMARY_HOST, OPT_SPB_ALIASES, OPT_DEVICE_NAME, OPT_SPB_STATE,
 	/* the write policy (gw_wqueue.h) */
@@ -51,15 +52,7 @@ static const struct cli_extra_opt gw_opts[] = {
 	  "also an EtherNet/IP bridge (PCCC), on 127.0.0.1 unless ADDR is given (44818 is the standard port)" },
 	{ "eip-station", required_argument, OPT_EIP_STATION, "N",
 	  "--eip: the station of requests without a route path (default 1)" },
-	{ "eip-allow", required_argument, OPT_EIP_ALLOW, "CIDR[,CIDR]", "--eip: only these clients" },
-	{ "eip-read-only", no_argument, OPT_EIP_READ_ONLY, NULL,
-	  "--eip: refuse commands that write or change mode (STS 60h)" },
-	{ "eip-max-clients", required_argument, OPT_EIP_MAX_CLIENTS, "N",
-	  "--eip: connections at once, 1-255 (default 32; full: the longest idle makes room)" },
-	{ "eip-register-timeout", required_argument, OPT_EIP_REGISTER_TIMEOUT, "S",
-	  "--eip: close a connection without a session after S s (default 5, 0: never)" },
-	{ "eip-idle-timeout", required_argument, OPT_EIP_IDLE_TIMEOUT, "S",
-	  "--eip: close a session idle for S s (default 120, 0: never)" },
+	CLI_EIP_OPTS(OPT_EIP_SHARED),
 	{ "sparkplug", required_argument, OPT_SPARKPLUG, "GROUP_ID",
 	  "also Sparkplug B: the line an edge node of group GROUP_ID, stations its devices" },
 	{ "edge-node", required_argument, OPT_EDGE_NODE, "ID", "--sparkplug: the edge node id (default: the client id)" },
@@ -103,6 +96,8 @@ static int gw_extra(struct cli *c, int key, const char *arg, void *user)
 {
 	struct gw *g = user;
 
+	if (cli_eip_is_option(key, OPT_EIP_SHARED))
+		return cli_eip_option(c, &g->eip.opts, key, OPT_EIP_SHARED, arg);
 	switch (key) {
 	case OPT_MAP: g->map_path = arg; break;
 	case OPT_MQTT: g->mqtt_url = arg; break;
@@ -125,12 +120,6 @@ static int gw_extra(struct cli *c, int key, const char *arg, void *user)
 	case OPT_ONCE: g->once = true; break;
 	case OPT_EIP: g->eip.listen = arg; break;
 	case OPT_EIP_STATION: return cli_parse_int(c, "--eip-station", arg, 0, 254, &g->eip.station);
-	case OPT_EIP_ALLOW: g->eip.allow = arg; break;
-	case OPT_EIP_READ_ONLY: g->eip.read_only = true; break;
-	case OPT_EIP_MAX_CLIENTS: return cli_parse_int(c, "--eip-max-clients", arg, 1, 255, &g->eip.max_clients);
-	case OPT_EIP_REGISTER_TIMEOUT:
-		return cli_parse_int(c, "--eip-register-timeout", arg, 0, 3600, &g->eip.register_s);
-	case OPT_EIP_IDLE_TIMEOUT: return cli_parse_int(c, "--eip-idle-timeout", arg, 0, 3600, &g->eip.idle_s);
 	case OPT_COUNTERS: g->counters = true; break;
 	case OPT_SPARKPLUG: g->spb.group = arg; break;
 	case OPT_EDGE_NODE: g->spb.edge_node = arg; break;
@@ -279,7 +268,7 @@ int gw_options_parse(struct gw *g, int argc, char **argv)
 	g->qos = 1;
 	g->keepalive_s = 60;
 	g->watchdog_ms = -1;
-	g->eip.register_s = g->eip.idle_s = -1;
+	cli_eip_init(&g->eip.opts);
 	g->write_optimize = GW_WOPT_LATEST_NON_BOOL;
 	g->duty_cycle = 10;
 	g->write_timeout_ms = 30000;
@@ -289,11 +278,10 @@ int gw_options_parse(struct gw *g, int argc, char **argv)
 		return r;
 	if (g->cli.argc > 0)
 		return cli_usage_error(&g->cli, "unexpected operand '%s'", g->cli.argv[0]);
-	if (!g->eip.listen && (g->eip.allow || g->eip.read_only || g->eip.station >= 0))
-		return cli_usage_error(&g->cli, "--eip-station, --eip-allow and --eip-read-only go with --eip");
-	if (!g->eip.listen && (g->eip.max_clients || g->eip.register_s >= 0 || g->eip.idle_s >= 0))
-		return cli_usage_error(&g->cli, "--eip-max-clients, --eip-register-timeout and --eip-idle-timeout "
-		                       "go with --eip");
+	if (!g->eip.listen && g->eip.station >= 0)
+		return cli_usage_error(&g->cli, "--eip-station goes with --eip");
+	if ((r = cli_eip_check(&g->cli, &g->eip.opts, g->eip.listen != NULL)) != CLI_CONTINUE)
+		return r;
 	if (!g->map_path && !g->eip.listen)
 		return cli_usage_error(&g->cli, "no tags: give --map FILE.csv (or --eip PORT for a bridge)");
 	if (!g->mqtt_url && !g->eip.listen)

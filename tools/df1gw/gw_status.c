@@ -164,7 +164,7 @@ static void eip_json(const struct gw *g, struct gw_buf *b)
 	              "\"no_answer\":%llu,\"read_only\":%s}", (unsigned long long)es.sessions_open,
 	              (unsigned long long)es.sessions, (unsigned long long)es.requests,
 	              (unsigned long long)g->eip.forwarded, (unsigned long long)g->eip.no_answer,
-	              g->eip.read_only ? "true" : "false");
+	              g->eip.opts.read_only ? "true" : "false");
 }
 
 /* The summary of STATUS= and the page (gw_health.h). */

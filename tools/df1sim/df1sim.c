@@ -370,12 +370,6 @@ static void sim_eip_closed(void *user, const char *peer, enum df1_eip_close_reas
 	                                : "the longest idle of a full table, for a new client");
 }
 
-/* -1 (default) -> 0, 0 (never) -> -1, seconds -> ms: df1_eip_server_limits. */
-static int sim_eip_ms(int seconds)
-{
-	return seconds < 0 ? 0 : seconds == 0 ? -1 : seconds * 1000;
-}
-
 /* The EtherNet/IP server of --eip [tcp://]ADDR, and the one descriptor the
  * link waits on: the signal pipe and the server's. Prints nothing yet. */
 static int sim_eip_open(struct sim *s, const struct sim_opts *o, df1_t *h)
@@ -390,17 +384,13 @@ static int sim_eip_open(struct sim *s, const struct sim_opts *o, df1_t *h)
 
 	memset(&c, 0, sizeof c);
 	c.listen = strncmp(spec, "tcp://", 6) == 0 ? spec + 6 : spec;
-	c.allow = o->eip_allow;
-	c.read_only = o->eip_read_only;
-	c.max_clients = o->eip_max_clients;
+	cli_eip_server_config(&o->eip_opts, &c, &lim);
 	c.identity = sim_identity;
 	r = df1_eip_server_new(&s->eip, &c, sim_eip_pccc, s);
 	if (r < 0) {
 		msg("--eip %s: %s", spec, df1_eip_server_error(NULL));
 		return r == DF1_E_INVAL ? CLI_EXIT_USAGE : CLI_EXIT_FAIL;
 	}
-	lim.register_ms = sim_eip_ms(o->eip_register_s);
-	lim.idle_ms = sim_eip_ms(o->eip_idle_s);
 	lim.on_close = sim_eip_closed;
 	if (df1_eip_server_set_limits(s->eip, &lim) < 0) {
 		msg("--eip: %s", df1_eip_server_error(s->eip));

@@ -21,8 +21,9 @@ enum {
 	OPT_PLC5_FLOAT_SWAPPED, OPT_DATA, OPT_DROP_ACK, OPT_CORRUPT, OPT_NAK, OPT_DELAY, OPT_SILENT,
 	OPT_STALE, OPT_NOISE, OPT_SEED, OPT_LOG, OPT_SCAN_TIME, OPT_NO_EOT,
 	OPT_PLC5_REFUSE_LARGE,
-	OPT_MAX_QUEUE, OPT_EIP, OPT_EIP_ALLOW, OPT_EIP_READ_ONLY,
-	OPT_EIP_MAX_CLIENTS, OPT_EIP_REGISTER_TIMEOUT, OPT_EIP_IDLE_TIMEOUT,
+	OPT_MAX_QUEUE, OPT_EIP,
+	OPT_EIP_SHARED, /* the CLI_EIP_OPT_COUNT_ keys of tools/common/cli_eip.h from here */
+	OPT_EIP_SHARED_END_ = OPT_EIP_SHARED + CLI_EIP_OPT_COUNT_ - 1,
 	OPT_LINE_SETTINGS = CLI_KEY_EXTRA + 100, /* tools/df1sim/sim_line.c */
 	OPT_RAMP = CLI_KEY_EXTRA + 110,          /* tools/df1sim/sim_ramp.c */
 	OPT_MSG = CLI_KEY_EXTRA + 120,           /* tools/df1sim/sim_msg.c */
@@ -36,14 +37,7 @@ static const struct cli_extra_opt sim_opt_table[] = {
 	{ "device", required_argument, 'd', "DEV", "serve a serial port (or tcp://HOST:PORT as a client)" },
 	{ "listen", required_argument, OPT_LISTEN, "ADDR", "serve TCP clients one after another on ADDR" },
 	{ "eip", required_argument, OPT_EIP, "ADDR", "also serve PCCC over EtherNet/IP on ADDR (TCP and UDP)" },
-	{ "eip-allow", required_argument, OPT_EIP_ALLOW, "CIDR[,CIDR]", "--eip: only these clients (default any)" },
-	{ "eip-read-only", no_argument, OPT_EIP_READ_ONLY, NULL, "--eip: refuse commands that write (STS 60)" },
-	{ "eip-max-clients", required_argument, OPT_EIP_MAX_CLIENTS, "N",
-	  "--eip: connections at once, 1-255 (default 32; full: the longest idle makes room)" },
-	{ "eip-register-timeout", required_argument, OPT_EIP_REGISTER_TIMEOUT, "S",
-	  "--eip: close a connection without a session after S s (default 5, 0: never)" },
-	{ "eip-idle-timeout", required_argument, OPT_EIP_IDLE_TIMEOUT, "S",
-	  "--eip: close a session idle for S s (default 120, 0: never)" },
+	CLI_EIP_OPTS(OPT_EIP_SHARED),
 	{ "station", required_argument, OPT_STATION, "N[,N...]",
 	  "stations served 0-254, ranges A-B allowed (default 1)" },
 	{ "baud", required_argument, 'b', "N", "-d only: baud rate (default 19200)" },
@@ -162,6 +156,8 @@ static int on_option(struct cli *c, int key, const char *arg, void *user)
 	char *end;
 	char why[120];
 
+	if (cli_eip_is_option(key, OPT_EIP_SHARED))
+		return cli_eip_option(c, &o->eip_opts, key, OPT_EIP_SHARED, arg);
 	switch (key) {
 	case OPT_PTY: o->pty = arg; o->where++; break;
 	case 'd': o->device = arg; o->where++; break;
@@ -192,12 +188,6 @@ static int on_option(struct cli *c, int key, const char *arg, void *user)
 	case OPT_LOG: o->log = arg; break;
 	case OPT_MAX_QUEUE: return cli_parse_int(c, "--max-queue", arg, 0, 8, &o->max_queue);
 	case OPT_EIP: o->eip = arg; break;
-	case OPT_EIP_ALLOW: o->eip_allow = arg; break;
-	case OPT_EIP_READ_ONLY: o->eip_read_only = true; break;
-	case OPT_EIP_MAX_CLIENTS: return cli_parse_int(c, "--eip-max-clients", arg, 1, 255, &o->eip_max_clients);
-	case OPT_EIP_REGISTER_TIMEOUT:
-		return cli_parse_int(c, "--eip-register-timeout", arg, 0, 3600, &o->eip_register_s);
-	case OPT_EIP_IDLE_TIMEOUT: return cli_parse_int(c, "--eip-idle-timeout", arg, 0, 3600, &o->eip_idle_s);
 	case OPT_MSG:
 		if (o->nmsgs >= SIM_MSG_MAX)
 			return cli_usage_error(c, "at most %d --msg", SIM_MSG_MAX);
@@ -293,7 +283,7 @@ int sim_options_parse(int argc, char **argv, struct sim_opts *o)
 	o->max_queue = 8;
 	o->baud = 19200;
 	o->data_bits = 8;
-	o->eip_register_s = o->eip_idle_s = -1;
+	cli_eip_init(&o->eip_opts);
 	r = cli_parse(&o->cli, argc, argv, o);
 	if (r != CLI_CONTINUE)
 		return r;
@@ -306,11 +296,8 @@ int sim_options_parse(int argc, char **argv, struct sim_opts *o)
 		return CLI_EXIT_USAGE;
 	if (o->nmsgs && o->cli.half_duplex)
 		return cli_usage_error(&o->cli, "--msg needs full duplex (a half-duplex slave's MSG is not done yet)");
-	if ((o->eip_allow || o->eip_read_only) && !o->eip)
-		return cli_usage_error(&o->cli, "--eip-allow and --eip-read-only go with --eip");
-	if ((o->eip_max_clients || o->eip_register_s >= 0 || o->eip_idle_s >= 0) && !o->eip)
-		return cli_usage_error(&o->cli, "--eip-max-clients, --eip-register-timeout and --eip-idle-timeout "
-		                       "go with --eip");
+	if ((r = cli_eip_check(&o->cli, &o->eip_opts, o->eip != NULL)) != CLI_CONTINUE)
+		return r;
 	if (cli_lib_option_set(&o->cli, CLI_OPT_PLC5_FLOAT) && o->cli.lib_value[CLI_OPT_PLC5_FLOAT] &&
 	    o->cli.plc != DF1_PLC_PLC5)
 		return cli_usage_error(&o->cli, "--plc5-float swapped goes with --plc plc5 only");

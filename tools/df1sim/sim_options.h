@@ -12,6 +12,7 @@
 
 #include "df1.h"
 #include "common/cli.h"
+#include "common/cli_eip.h"
 #include "df1sim/sim_line.h"
 #include "df1sim/sim_ramp.h"
 #include "df1sim/sim_msg.h"
@@ -41,10 +42,7 @@ struct sim_opts {
 	const char *log;
 	int baud, data_bits;            /* -d only; the library checks them when it opens DEV */
 	const char *eip;                /* --eip ADDR */
-	const char *eip_allow;          /* --eip-allow CIDR[,CIDR] */
-	bool eip_read_only;             /* --eip-read-only */
-	int eip_max_clients;            /* --eip-max-clients N (0: 32) */
-	int eip_register_s, eip_idle_s; /* --eip-register-timeout S, --eip-idle-timeout S (-1: default) */
+	struct cli_eip eip_opts;        /* --eip-allow, --eip-read-only and the limits (tools/common/cli_eip.h) */
 	/* --line-settings, --listen rfc2217:// (tools/df1sim/sim_line.h) */
 	struct sim_uart line;
 	bool rfc2217;
