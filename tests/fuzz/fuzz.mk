@@ -45,7 +45,7 @@ FUZZ_GW_OBJS := $(patsubst %.c,$(FUZZ_B)/%.o,$(TOOL_SRCS_df1gw) $(TOOL_COMMON_SR
 FUZZ_EXTRA_http := $(FUZZ_GW_OBJS) $(FUZZ_SPB_GEN_OBJ)
 FUZZ_LIBS_http := $(filter-out $(SPB_GEN_OBJ),$(TOOL_LIBS_df1gw))
 FUZZ_DICT_http := http
-$(FUZZ_B)/tools/df1gw/df1gw.o: FUZZ_CFLAGS += -Dmain=df1gw_main
+$(FUZZ_B)/tools/df1gw/df1gw.o: FUZZ_CFLAGS += -Dmain=df1gw_main -Wno-missing-prototypes
 FUZZ_BINS := $(FUZZ_TARGETS:%=$(FUZZ_B)/bin/fuzz_%)
 FUZZ_LIB_OBJS := $(LIB_SRCS:%.c=$(FUZZ_B)/%.o)
 FUZZ_COMMON_OBJS := $(FUZZ_B)/tests/fuzz/fuzz_file.o
