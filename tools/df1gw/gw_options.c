@@ -164,7 +164,10 @@ static const struct cli_tool gw_tool = {
 	.summary = "Keep a DF1 line's tags in an MQTT broker, and take writes back; bridge EtherNet/IP to it.",
 	.accepts = (CLI_ACCEPT_LINK & ~CLI_ACCEPT(CLI_OPT_STATION)) | CLI_ACCEPT(CLI_OPT_VERBOSE) |
 	           CLI_ACCEPT(CLI_OPT_QUIET),
-	.common_help = { [CLI_OPT_VERBOSE] = "what is published and received; -vv link events, -vvv frames" },
+	.common_help = { [CLI_OPT_VERBOSE] = "what is published and received; -vv link events, -vvv frames",
+	                 [CLI_OPT_DUPLEX] = "full (default), half (master), half-slave (a slave station serving its\n"
+	                                    "Receive rows at --src)" },
+	.half_slave = true,
 	.extra = gw_opts,
 	.on_extra = gw_extra,
 	.help_tail = "\nTopics: PREFIX/tag/NAME (retained JSON), PREFIX/tag/NAME/set (a write),\n"

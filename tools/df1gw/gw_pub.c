@@ -188,6 +188,8 @@ void gw_publish_changes(struct gw *g, bool force)
 	for (int stn = 0; stn < 255; stn++)
 		if (g->stations[stn])
 			station_publish(g, stn, force, now);
+	if (force)
+		gw_rx_publish_all(g);   /* Receive tags: as the table holds them */
 	gw_session_tick(g);
 }
 
@@ -449,6 +451,8 @@ static void write_go(struct gw *g, const struct gw_fmt *f, const char *name, str
 	size_t n;
 	int id = -1;
 
+	if (gw_rx_write(g, f, name, w_in, retain))
+		return;         /* a Receive tag: df1gw's own table, never the line */
 	if (!write_check(g, f, name, &in, retain, &id, vals, sizeof vals / sizeof vals[0], &n)) {
 		if (id != -2)
 			g->wq.c.refused++;
