@@ -11,6 +11,16 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+
+/* ms since the epoch (gw_pub.c's gw_wall_ms is not called from here: it calls us) */
+static int64_t rx_wall_ms(void)
+{
+	struct timespec ts;
+
+	clock_gettime(CLOCK_REALTIME, &ts);
+	return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
+}
 
 /* ---- the rows ---- */
 
@@ -203,7 +213,7 @@ static void rx_publish(struct gw *g, struct gw_rx_tag *e)
 
 	if (!gw_mqtt_up(&g->mq) || rx_state(&g->rx, e, &st, vals) < 0)
 		return;
-	t = (struct gw_tag_out){ .st = &st, .quality = -1, .wall_ms = gw_wall_ms() };
+	t = (struct gw_tag_out){ .st = &st, .quality = -1, .wall_ms = rx_wall_ms() };
 	for (int i = 0; i < g->fmts.n; i++) {
 		const struct gw_fmt *f = &g->fmts.v[i];
 
@@ -288,7 +298,7 @@ static int rx_op_write(void *user, int station, const struct df1_addr *a, const 
 		if (e->c.addr.type != a->type || e->c.addr.file != a->file || e->hi <= lo || e->lo >= hi)
 			continue;
 		e->from = df1_server_source(g->h);
-		e->wall_ms = gw_wall_ms();
+		e->wall_ms = rx_wall_ms();
 		rx->received++;
 		rx_publish(g, e);
 	}
@@ -377,7 +387,7 @@ bool gw_rx_write(struct gw *g, const struct gw_fmt *f, const char *name, struct 
 		rx_result(g, f, name, in->id, err);
 	} else {
 		e->from = -1;           /* the table's value, not a PLC's message */
-		e->wall_ms = gw_wall_ms();
+		e->wall_ms = rx_wall_ms();
 		rx_result(g, f, name, in->id, NULL);
 		rx_publish(g, e);
 	}

@@ -1,0 +1,160 @@
+#!/bin/sh
+# SPDX-License-Identifier: MPL-2.0
+# it_df1gw_receive - df1gw's Receive rows (df1gw(1), RECEIVE) against real
+# parts: Debian's mosquitto on a free loopback port, mosquitto_sub as the
+# plant's client, df1sim as the controller whose MSG instructions write to
+# df1gw (df1sim --msg; its stderr reports DN or ER per message, the PLC's
+# view), and df1read/df1write as the half-duplex master of a df1gw slave
+# station, over two pseudo-terminals joined back to back
+# (tests/support/pty_join.py).
+#  - full duplex, df1gw polling df1sim meanwhile (--outstanding 1 and 4, and
+#    under df1sim's NAK, drop-ACK and corrupt-reply faults): every message
+#    lands once and in order (df1sim numbers them in N7:0), is published
+#    once with "from":1, and df1sim sees DN for each;
+#  - a write outside the regions: df1sim sees ER STS F0h EXT STS 06h (no such
+#    file) and 0Ah (running past the region), nothing published;
+#  - /set to a Receive tag: never on the line (df1sim's log), and df1sim's
+#    MSG read gets the new value;
+#  - half-duplex slave: df1write/df1read --duplex half reach df1gw at its
+#    station; what they write is published with "from":0 (their SRC), what
+#    MQTT writes is what they read, and the diagnostic status names the
+#    emulated processor (df1mon --who);
+#  - a mapping with Read rows in slave mode, and a Receive row at another
+#    station: refused with a clear message.
+. tests/support/lib.sh
+
+if [ ! -x "$MOSQ" ] || ! command -v mosquitto_sub >/dev/null 2>&1; then
+	bad "no broker to test against (apt-get install mosquitto mosquitto-clients)"
+	finish
+fi
+GW="$BIN/df1gw"
+MQ_PORT=$(free_port)
+broker_start broker "$MQ_PORT"
+pub() { mosquitto_pub -h 127.0.0.1 -p "$MQ_PORT" -q 1 -t "$1" -m "$2"; }
+sub1() { mosquitto_sub -h 127.0.0.1 -p "$MQ_PORT" -t "$1" -C 1 -W 2 2>/dev/null; }
+
+# listen NAME TOPIC: a subscriber writing TOPIC's messages to $T/NAME.sub
+listen() {
+	mosquitto_sub -h 127.0.0.1 -p "$MQ_PORT" -t "$2" -v > "$T/$1.sub" 2>&1 &
+	echo $! >> "$T/.sims"
+	LISTEN=$!
+}
+gw_run() {
+	name=$1; shift
+	"$GW" --mqtt "mqtt://127.0.0.1:$MQ_PORT" -v "$@" > "$T/$name.gwout" 2> "$T/$name.gwerr" &
+	GW_PID=$!
+	echo "$GW_PID" >> "$T/.sims"
+}
+
+cat > "$T/map.csv" <<'EOF'
+Tag,Command,Type,Station,PLC_Type,Address,Count,Scan_Ms
+Batch_Report,Receive,INT,0,SLC,N50:0,10,
+Setpoint,Receive,INT,0,SLC,N52:0,5,
+Speed,Read,INT,1,SLC,N7:0,1,100
+EOF
+
+# ---- full duplex: df1sim's MSG writes while df1gw polls it ----
+# run NAME OUTSTANDING [DF1SIM OPTIONS...]
+run() {
+	name=$1; out=$2; shift 2
+	P="rx/$name"
+	sim_start "$name" --station 1 --msg write,N7:0,10,0,N50:0,100,seq "$@" || return 1
+	listen "$name" "$P/tag/Batch_Report"
+	gw_run "$name" -d "$SIM_DEV" --map "$T/map.csv" --prefix "$P" --outstanding "$out"
+	# 4 s of messages, at least 20 of them seen by df1sim as done
+	wait_for "$name: 20 MSGs done" 100 sh -c "[ \$(grep -c ': DN\$' '$T/$name.err') -ge 20 ]"
+	kill -TERM "$GW_PID"; lib_reap "$GW_PID"
+	sim_stop "$SIM_PID"
+	kill -TERM "$LISTEN"; lib_reap "$LISTEN"
+	# the numbers published with "from":1, in order; those df1sim saw DN for
+	sed -n 's/^.*{"value":\[\([0-9]*\),.*"from":1}$/\1/p' "$T/$name.sub" > "$T/$name.got"
+	sed -n 's/^df1sim: MSG write .*(first \([0-9]*\)): DN$/\1/p' "$T/$name.err" > "$T/$name.dn"
+	got=$(wc -l < "$T/$name.got"); dn=$(wc -l < "$T/$name.dn")
+	check "$name: at least 20 messages published ($got)" "[ $got -ge 20 ]"
+	check "$name: each published once, in order (1..$got)" "seq 1 $got | cmp -s - '$T/$name.got'"
+	check "$name: DN for each ($dn of $got)" "seq 1 $dn | cmp -s - '$T/$name.dn' && [ $got -le \$(($dn + 1)) ]"
+	er=$(sed -n 's/^df1sim: MSG write .*(first \([0-9]*\)): ER.*/\1/p' "$T/$name.err" | awk -v d="$dn" '$1 <= d' | wc -l)
+	check "$name: no MSG ended in error while df1gw ran" "[ $er -eq 0 ]"
+	check "$name: the polled tag was published meanwhile" "grep -q '\"quality\":\"GOOD\"' '$T/$name.gwerr'"
+	check "$name: the rest of the region as df1sim sent it (N7:1..9 = 1..9)" \
+		"grep -q '^$P/tag/Batch_Report {\"value\":\[$got,1,2,3,4,5,6,7,8,9\],\"quality\":\"GOOD\"' '$T/$name.sub'"
+}
+run plain 1
+run pipelined 4
+run faults 1 --nak 10 --drop-ack 10 --corrupt 10 --seed 7
+run faults-pipelined 4 --nak 10 --drop-ack 10 --corrupt 10 --seed 11
+
+# ---- outside the regions; /set then a MSG read ----
+P=rx/edge
+if sim_start edge --station 1 --log "$T/edge.log" --msg write,N7:0,10,0,N51:0,300 \
+	--msg write,N7:0,10,0,N50:5,300 --msg read,N7:20,5,0,N52:0,200; then
+	listen edge "$P/tag/#"
+	gw_run edge -d "$SIM_DEV" --map "$T/map.csv" --prefix "$P"
+	wait_for "edge: df1gw online" 50 grep -q "^$P/tag/Setpoint .*GOOD" "$T/edge.sub"
+	before=$(grep -c "addr=N52" "$T/edge.log")
+	pub "$P/tag/Setpoint/set" '{"value":[4321,2,3,4,5],"id":"s1"}'
+	wait_for "edge: /set result" 50 grep -q "^$P/tag/Setpoint/result {\"id\":\"s1\",\"ok\":true" "$T/edge.sub"
+	wait_for "edge: df1sim's MSG read gets 4321" 50 \
+		grep -q "^df1sim: MSG read N7:20,5 from station 0 N52:0 (first 4321): DN" "$T/edge.err"
+	wait_for "edge: an ER for N51" 50 grep -q "MSG write N7:0,10 to station 0 N51:0 (first [0-9]*): ER STS F0h EXT STS 06h" "$T/edge.err"
+	wait_for "edge: an ER for N50:5,10 (past the region)" 50 \
+		grep -q "MSG write N7:0,10 to station 0 N50:5 (first [0-9]*): ER STS F0h EXT STS 0Ah" "$T/edge.err"
+	kill -TERM "$GW_PID"; lib_reap "$GW_PID"
+	sim_stop "$SIM_PID"
+	kill -TERM "$LISTEN"; lib_reap "$LISTEN"
+	check "edge: /set never reached the line (no command to df1sim names N52)" "[ \$(grep -c 'addr=N52' '$T/edge.log') -eq $before ]"
+	check "edge: Setpoint published with the MQTT value, without from" \
+		"grep -q '^$P/tag/Setpoint {\"value\":\[4321,2,3,4,5\],\"quality\":\"GOOD\",.*\"station\":0}$' '$T/edge.sub'"
+	check "edge: no refused write published" "! grep -q 'Batch_Report {.*\"from\"' '$T/edge.sub'"
+	check "edge: no N50:5 DN" "! grep -q 'N50:5 (first [0-9]*): DN' '$T/edge.err'"
+fi
+
+# ---- half-duplex slave station: df1write / df1read as its master ----
+P=rx/slave
+python3 tests/support/pty_join.py "$T/la" "$T/lb" > "$T/join.out" 2> "$T/join.err" &
+JOIN=$!
+echo "$JOIN" >> "$T/.sims"
+wait_for "pty_join ready" 50 grep -q ready "$T/join.out"
+cat > "$T/slave.csv" <<'EOF'
+Tag,Command,Type,Station,PLC_Type,Address,Count
+Batch_Report,Receive,INT,3,SLC,N50:0,10
+Flags,Receive,BOOL,3,SLC,B53:0/2,3
+EOF
+listen slave "$P/tag/#"
+gw_run slave -d "$T/la" --duplex half-slave --src 3 --plc micrologix --map "$T/slave.csv" --prefix "$P"
+wait_for "slave: online" 50 sh -c "mosquitto_sub -h 127.0.0.1 -p $MQ_PORT -t '$P/tag/Flags' -C 1 -W 2 | grep -q GOOD"
+H="--duplex half -d $T/lb --timeout 500"
+expect 0 "slave: df1write N50:2=77,88" -- "$BIN/df1write" $H -a 3 N50:2=77,88
+wait_for "slave: the write published with from 0" 50 \
+	grep -q "^$P/tag/Batch_Report {\"value\":\[0,1,77,88,4,5,6,7,8,9\],.*\"station\":3,\"from\":0}$" "$T/slave.sub"
+same "slave: published once" "$(grep -c '"from":0' "$T/slave.sub")" 1
+expect 0 "slave: df1write a bit" -- "$BIN/df1write" $H -a 3 B53:0/3=1
+wait_for "slave: Flags published" 50 grep -q "^$P/tag/Flags {\"value\":\[false,true,false\],.*\"from\":0}$" "$T/slave.sub"
+pub "$P/tag/Batch_Report/set" '[9,8,7,6,5,4,3,2,1,0]'
+wait_for "slave: /set result" 50 grep -q "^$P/tag/Batch_Report/result {\"id\":null,\"ok\":true" "$T/slave.sub"
+expect 0 "slave: df1read N50:0,3" -- "$BIN/df1read" $H -a 3 N50:0,3
+out_is "slave: the master reads what MQTT wrote" "9
+8
+7"
+expect 1 "slave: df1read outside the region" -- "$BIN/df1read" $H -a 3 N50:10
+err_has "slave: EXT STS 07" "EXT STS 0x07"
+expect 1 "slave: df1read of a file not declared" -- "$BIN/df1read" $H -a 3 N51:0
+err_has "slave: EXT STS 06" "EXT STS 0x06"
+expect 1 "slave: another station does not answer" -- "$BIN/df1read" $H -a 4 N50:0
+expect 0 "slave: df1mon --who 3 names the emulated MicroLogix" -- "$BIN/df1mon" $H --who 3-3
+check "slave: a MicroLogix in --who" "grep -qi 'micrologix' '$T/out'"
+kill -TERM "$GW_PID"; lib_reap "$GW_PID"
+kill -TERM "$LISTEN"; lib_reap "$LISTEN"
+
+# ---- refused configurations ----
+printf 'Tag,Command,Type,Station,PLC_Type,Address\nA,Receive,INT,3,SLC,N50:0\nB,Read,INT,1,SLC,N7:0\n' > "$T/mixed.csv"
+expect 2 "slave with Read rows" -- "$GW" -d "$T/la" --duplex half-slave --src 3 --map "$T/mixed.csv" \
+	--mqtt "mqtt://127.0.0.1:$MQ_PORT" --prefix bad
+err_has "slave with Read rows: why" "polls nothing"
+printf 'Tag,Command,Type,Station,PLC_Type,Address\nA,Receive,INT,5,SLC,N50:0\n' > "$T/other.csv"
+expect 2 "Receive at another station" -- "$GW" -d "$T/la" --map "$T/other.csv" --mqtt "mqtt://127.0.0.1:$MQ_PORT" --prefix bad
+err_has "Receive at another station: why" "is not df1gw's own station 0"
+expect 2 "--duplex half-slave is df1gw's only" -- "$BIN/df1read" --duplex half-slave -d "$T/la" N7:0
+kill -TERM "$JOIN"; lib_reap "$JOIN"
+
+finish
