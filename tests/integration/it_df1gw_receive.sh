@@ -19,6 +19,9 @@
 #    station; what they write is published with "from":0 (their SRC), what
 #    MQTT writes is what they read, and the diagnostic status names the
 #    emulated processor (df1mon --who);
+#  - df1mon --serve: each write a PLC's MSG makes printed once with its
+#    sender (full duplex, and as a half-duplex slave for df1write/df1read),
+#    and df1mon's decoder showing a PLC's command and its reply;
 #  - a mapping with Read rows in slave mode, and a Receive row at another
 #    station: refused with a clear message.
 . tests/support/lib.sh
@@ -145,6 +148,51 @@ expect 0 "slave: df1mon --who 3 names the emulated MicroLogix" -- "$BIN/df1mon" 
 check "slave: a MicroLogix in --who" "grep -qi 'micrologix' '$T/out'"
 kill -TERM "$GW_PID"; lib_reap "$GW_PID"
 kill -TERM "$LISTEN"; lib_reap "$LISTEN"
+
+# ---- df1mon --serve: what a PLC sends, without a gateway ----
+if sim_start mon --station 1 --msg write,N7:0,3,0,N50:0,100,seq --msg write,N7:0,3,0,N51:0,300; then
+	bounded "$BIN/df1mon" -d "$SIM_DEV" --serve N50:0,10 --duration 2 > "$T/mon.out" 2> "$T/mon.err"
+	rc=$?
+	sim_stop "$SIM_PID"
+	check "mon: ran its 2 s (status $rc)" "[ $rc -eq 0 ]"
+	sed -n 's/^[0-9:.]* from 1 to 0: N50:0 = \([0-9]*\) 1 2 (6 bytes)$/\1/p' "$T/mon.out" > "$T/mon.got"
+	sed -n 's/^df1sim: MSG write N7:0,3 to station 0 N50:0 (first \([0-9]*\)): DN$/\1/p' "$T/mon.err" > "$T/mon.dn"
+	got=$(wc -l < "$T/mon.got"); dn=$(wc -l < "$T/mon.dn")
+	check "mon: each write printed once, in order ($got)" "[ $got -ge 8 ] && seq 1 $got | cmp -s - '$T/mon.got'"
+	check "mon: DN for each ($dn)" "seq 1 $dn | cmp -s - '$T/mon.dn' && [ $got -le \$(($dn + 1)) ]"
+	check "mon: N51 refused with EXT STS 06h" "grep -q 'N51:0 (first [0-9]*): ER STS F0h EXT STS 06h' '$T/mon.err'"
+	check "mon: nothing else printed" "[ \$(wc -l < '$T/mon.out') -eq $got ]"
+fi
+"$BIN/df1mon" -d "$T/la" --serve N50:0,10 --duplex half-slave --src 3 --duration 4 > "$T/monh.out" 2> "$T/monh.err" &
+MONH=$!
+echo "$MONH" >> "$T/.sims"
+wait_for "mon half-slave: serving" 50 grep -q "serving 1 region on" "$T/monh.err"
+expect 0 "mon half-slave: df1write N50:1=5,6" -- "$BIN/df1write" $H -a 3 N50:1=5,6
+expect 0 "mon half-slave: df1read N50:0,3" -- "$BIN/df1read" $H -a 3 N50:0,3
+out_is "mon half-slave: the master reads what it wrote" "0
+5
+6"
+lib_reap "$MONH"
+check "mon half-slave: the write printed with its sender" "grep -q ' from 0 to 3: N50:1 = 5 6 (4 bytes)\$' '$T/monh.out'"
+# the decoder shows a PLC's command to the computer and its reply like any other:
+# DLE STX, DST 0 SRC 1 CMD 0F STS 0 TNS 0x360D, AA (typed write, 3 fields) 6 bytes
+# to N50:0 (file 0x32, type 0x89, element 0, sub 0) = 1 1 2; CRC-16 over the
+# application bytes and ETX (doc/PROTOCOL.md 1.4)
+frame() { python3 -c '
+import sys
+app = bytes.fromhex(sys.argv[1])
+crc = 0
+for b in app + b"\x03":
+    crc ^= b
+    for _ in range(8):
+        crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
+body = app.replace(b"\x10", b"\x10\x10")
+print((b"\x10\x02" + body + b"\x10\x03" + bytes([crc & 255, crc >> 8])).hex(" "))' "$1"; }
+CMD=$(frame "00 01 0F 00 0D 36 AA 06 32 89 00 00 01 00 01 00 02 00")
+REP=$(frame "01 00 4F 00 0D 36")
+expect 0 "decode: a PLC's MSG and its reply" -- sh -c "printf '%s %s\n' '$CMD' '$REP' | '$BIN/df1mon' --decode --check crc"
+check "decode: the command, from station 1 to 0" "grep -q 'dst   0  src   1  tns 360D  0F/AA .*N50:0 size 6  = 1 1 2' '$T/out'"
+check "decode: its reply, matched to it" "grep -q 'dst   1  src   0  tns 360D  4F .*reply to 0F/AA .*N50:0 .*sts 00' '$T/out'"
 
 # ---- refused configurations ----
 printf 'Tag,Command,Type,Station,PLC_Type,Address\nA,Receive,INT,3,SLC,N50:0\nB,Read,INT,1,SLC,N7:0\n' > "$T/mixed.csv"
