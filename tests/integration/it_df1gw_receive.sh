@@ -87,6 +87,16 @@ run pipelined 4
 run faults 1 --nak 10 --drop-ack 10 --corrupt 10 --seed 7
 run faults-pipelined 4 --nak 10 --drop-ack 10 --corrupt 10 --seed 11
 
+# the network file's Mode Peer: the same full-duplex station (Station 0 from the file)
+printf 'Station,Mode,PLC_Type\n0,Peer,SLC\n' > "$T/peer_net.csv"
+if sim_start peer --station 1 --msg write,N7:0,10,0,N50:0,100,seq; then
+	gw_run peer -N "$T/peer_net.csv" -d "$SIM_DEV" --map "$T/map.csv" --prefix rx/peer
+	wait_for "Mode Peer: 5 MSGs done" 100 sh -c "[ \$(grep -c ': DN\$' '$T/peer.err') -ge 5 ]"
+	kill -TERM "$GW_PID"; lib_reap "$GW_PID"
+	sim_stop "$SIM_PID"
+	check "Mode Peer: published with from 1" "grep -q 'tag/Batch_Report {\"value\":\[5,1,2,3,4,5,6,7,8,9\],.*\"from\":1}' '$T/peer.gwerr'"
+fi
+
 # ---- outside the regions; /set then a MSG read ----
 P=rx/edge
 if sim_start edge --station 1 --log "$T/edge.log" --msg write,N7:0,10,0,N51:0,300 \
@@ -148,6 +158,17 @@ expect 0 "slave: df1mon --who 3 names the emulated MicroLogix" -- "$BIN/df1mon" 
 check "slave: a MicroLogix in --who" "grep -qi 'micrologix' '$T/out'"
 kill -TERM "$GW_PID"; lib_reap "$GW_PID"
 kill -TERM "$LISTEN"; lib_reap "$LISTEN"
+
+# the network file's Mode Slave (Station 3, an SLC 5/04 emulated) does the same
+printf 'Station,Mode,PLC_Type,NAK_Retries\n3,Slave,SLC,3\n' > "$T/slave_net.csv"
+gw_run netslave -N "$T/slave_net.csv" -d "$T/la" --map "$T/slave.csv" --prefix "$P"
+wait_for "Mode Slave: serving" 50 grep -q "connected" "$T/netslave.gwerr"
+expect 0 "Mode Slave: df1write N50:0=11" -- "$BIN/df1write" $H -a 3 N50:0=11
+wait_for "Mode Slave: published with from 0" 50 \
+	grep -q "tag/Batch_Report {\"value\":\[11,1,2,3,4,5,6,7,8,9\],.*\"from\":0}" "$T/netslave.gwerr"
+expect 0 "Mode Slave: df1mon --who 3 names an SLC 5/04" -- "$BIN/df1mon" $H --who 3-3
+check "Mode Slave: SLC 5/04 in --who" "grep -qi 'SLC 5/04' '$T/out'"
+kill -TERM "$GW_PID"; lib_reap "$GW_PID"
 
 # ---- df1mon --serve: what a PLC sends, without a gateway ----
 if sim_start mon --station 1 --msg write,N7:0,3,0,N50:0,100,seq --msg write,N7:0,3,0,N51:0,300; then
