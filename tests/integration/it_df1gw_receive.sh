@@ -22,6 +22,9 @@
 #  - df1mon --serve: each write a PLC's MSG makes printed once with its
 #    sender (full duplex, and as a half-duplex slave for df1write/df1read),
 #    and df1mon's decoder showing a PLC's command and its reply;
+#  - Sparkplug: the Receive tags in the DBIRTH of df1gw's own station's
+#    device, a PLC's write as DDATA and a DCMD what the PLC's MSG reads,
+#    decoded by an independent host (tests/support/spb_host.py, pysparkplug);
 #  - a mapping with Read rows in slave mode, and a Receive row at another
 #    station: refused with a clear message.
 . tests/support/lib.sh
@@ -214,6 +217,37 @@ REP=$(frame "01 00 4F 00 0D 36")
 expect 0 "decode: a PLC's MSG and its reply" -- sh -c "printf '%s %s\n' '$CMD' '$REP' | '$BIN/df1mon' --decode --check crc"
 check "decode: the command, from station 1 to 0" "grep -q 'dst   0  src   1  tns 360D  0F/AA .*N50:0 size 6  = 1 1 2' '$T/out'"
 check "decode: its reply, matched to it" "grep -q 'dst   1  src   0  tns 360D  4F .*reply to 0F/AA .*N50:0 .*sts 00' '$T/out'"
+
+# ---- Sparkplug: the Receive tags are metrics of the device of df1gw's own station ----
+HOST="python3 tests/support/spb_host.py"
+if ! python3 -c 'import pysparkplug, paho.mqtt' 2>/dev/null; then
+	skip "pysparkplug missing (pip install pysparkplug): no independent Sparkplug host"
+	bad "Sparkplug: no independent host to decode with"
+elif sim_start spb --station 1 --msg write,N7:0,3,0,N50:0,300,seq --msg read,N7:20,1,0,N53:0,200; then
+	REC="$T/rec.jsonl"
+	: > "$REC"
+	$HOST record "$MQ_PORT" "$REC" 2> "$T/host.err" &
+	echo $! >> "$T/.sims"
+	REC_PID=$!
+	wait_for "recorder subscribed" 100 sh -c "mosquitto_pub -h 127.0.0.1 -p $MQ_PORT -t spBv1.0/STATE/probe -m x 2>/dev/null; grep -q probe '$REC'"
+	printf 'Tag,Command,Type,Station,PLC_Type,Address,Count\nBatch,Receive,INT,0,SLC,N50:0,3\nRecipe,Receive,INT,0,SLC,N53:0,1\n' > "$T/spb.csv"
+	gw_run spb -d "$SIM_DEV" --map "$T/spb.csv" --sparkplug Plant --edge-node Line1 --json no
+	DB='[r for r in R if r["type"] == "DBIRTH" and r["device"] == "station0"]'
+	DD='[r for r in R if r["type"] == "DDATA" and r["device"] == "station0"]'
+	wait_for "Sparkplug: DBIRTH of station0 with Batch and Recipe" 100 $HOST has "$REC" 0 \
+		"{(m['name'], m['datatype']) for m in $DB[0]['metrics']} == {('Batch', 'INT16_ARRAY'), ('Recipe', 'INT16')}"
+	wait_for "Sparkplug: a PLC's write as DDATA [3, 1, 2]" 100 $HOST has "$REC" 0 \
+		"any(m['name'] == 'Batch' and m['value'] == [3, 1, 2] for r in $DD for m in r['metrics'])"
+	$HOST dcmd "$MQ_PORT" Plant Line1 station0 Recipe INT16 55
+	wait_for "Sparkplug: DCMD Recipe=55 is what the PLC's MSG reads" 100 \
+		grep -q "MSG read N7:20,1 from station 0 N53:0 (first 55): DN" "$T/spb.err"
+	wait_for "Sparkplug: DDATA Recipe 55" 50 $HOST has "$REC" 0 \
+		"any(m['name'] == 'Recipe' and m['value'] == 55 for r in $DD for m in r['metrics'])"
+	kill -TERM "$GW_PID"; lib_reap "$GW_PID"
+	sim_stop "$SIM_PID"
+	kill -TERM "$REC_PID"; lib_reap "$REC_PID"
+	check "Sparkplug: every message decoded, the rules kept" "$HOST check '$REC' > '$T/spbcheck.out' 2>&1"
+fi
 
 # ---- refused configurations ----
 printf 'Tag,Command,Type,Station,PLC_Type,Address\nA,Receive,INT,3,SLC,N50:0\nB,Read,INT,1,SLC,N7:0\n' > "$T/mixed.csv"

@@ -87,6 +87,8 @@ static int rx_row(void *user, const struct df1_tag_config *c)
 	e = &rx->v[rx->n++];
 	memset(e, 0, sizeof *e);
 	e->c = *c;
+	e->shown = *c;
+	e->shown.access = DF1_ACCESS_READWRITE;
 	e->lo = (size_t)c->addr.element * esize;
 	e->hi = (size_t)(rx_last_element(c) + 1) * esize;
 	e->from = -1;
@@ -178,8 +180,8 @@ static int rx_state(struct gw_rx *rx, struct gw_rx_tag *e, struct df1_tag_state 
 	if (n < 0)
 		return n;
 	memset(st, 0, sizeof *st);
-	st->id = -1;
-	st->config = &e->c;
+	st->id = rx->g->ntags + (int)(e - rx->v);        /* Sparkplug's record of what it told */
+	st->config = &e->shown;
 	st->count = (size_t)n;
 	st->values = vals;
 	st->value = vals[0];
@@ -203,8 +205,8 @@ static int rx_json_from(struct gw_msg *m, int from)
 	return b->oom ? -1 : 0;
 }
 
-/* Tag e by every format that is not a session one (Sparkplug's births
- * name the polled tags only: df1gw(1) RECEIVE). */
+/* Tag e by every format (JSON: with "from"; Sparkplug: a DDATA of the
+ * metrics that changed, df1gw(1) RECEIVE). */
 static void rx_publish(struct gw *g, struct gw_rx_tag *e)
 {
 	static struct df1_value vals[DF1_TABLE_ELEMENTS_MAX];
@@ -217,12 +219,34 @@ static void rx_publish(struct gw *g, struct gw_rx_tag *e)
 	for (int i = 0; i < g->fmts.n; i++) {
 		const struct gw_fmt *f = &g->fmts.v[i];
 
-		if (f->ops->session || f->ops->tag(f, &t, &g->msg, &g->key) < 0)
-			continue;
+		if (f->ops->tag(f, &t, &g->msg, &g->key) < 0)
+			continue;       /* Sparkplug: no DDATA when no metric changed */
 		if (e->from >= 0 && strcmp(f->ops->name, "json") == 0 && rx_json_from(&g->msg, e->from) < 0)
 			continue;
 		rx_emit(g, f, &g->msg);
 	}
+}
+
+bool gw_rx_node_tag(struct gw *g, int i, struct df1_tag_state *st, struct gw_tag_out *t)
+{
+	static struct df1_value vals[DF1_TABLE_ELEMENTS_MAX];
+
+	if (i < 0 || (size_t)i >= g->rx.n || rx_state(&g->rx, &g->rx.v[i], st, vals) < 0)
+		return false;
+	*t = (struct gw_tag_out){ .st = st, .quality = -1, .wall_ms = rx_wall_ms() };
+	return true;
+}
+
+bool gw_rx_node_station(struct gw *g, int stn, struct gw_station_out *s, struct df1_station_health *sh)
+{
+	if (!g->rx.n || stn != g->rx.station || g->stations[stn])
+		return false;
+	memset(sh, 0, sizeof *sh);
+	sh->station = stn;
+	sh->state = g->line_up ? DF1_STATION_OK : DF1_STATION_OFFLINE;
+	sh->tags = (int)g->rx.n;
+	*s = (struct gw_station_out){ stn, g->line_up ? "ok" : "offline", NULL, sh, 0 };
+	return true;
 }
 
 void gw_rx_publish_all(struct gw *g)
@@ -379,7 +403,7 @@ bool gw_rx_write(struct gw *g, const struct gw_fmt *f, const char *name, struct 
 		rx_result(g, f, name, in->id, "a retained message is not a write: publish .../set without the "
 		          "retain flag");
 	} else if ((r = rx_state(&g->rx, e, &st, cur)) < 0 ? snprintf(err, sizeof err, "%s", df1_strerror(r)) :
-	           (r = f->ops->write_values(f, in, &e->c, &st, vals, DF1_TABLE_ELEMENTS_MAX, &n, err,
+	           (r = f->ops->write_values(f, in, &e->shown, &st, vals, DF1_TABLE_ELEMENTS_MAX, &n, err,
 	                                     sizeof err)) < 0) {
 		rx_result(g, f, name, in->id, err);
 	} else if ((r = df1_table_write_addr(g->rx.t, &e->c.addr, vals, n)) < 0) {

@@ -26,6 +26,7 @@ struct gw_write_in;
 /* One Receive row. */
 struct gw_rx_tag {
 	struct df1_tag_config c;
+	struct df1_tag_config shown; /* c as the formats see it: read-write (Sparkplug's metric) */
 	size_t lo, hi;               /* its bytes in its file: [lo, hi) */
 	int from;                    /* the station of the last write, -1: none yet */
 	int64_t wall_ms;             /* when it was written (ms since the epoch), 0: never */
@@ -56,6 +57,11 @@ int gw_rx_fd(const struct gw *g);
 int gw_rx_serve(struct gw *g, bool readable);
 /* Every Receive tag as it is now (a connect, --refresh). */
 void gw_rx_publish_all(struct gw *g);
+/* Sparkplug (a session format) sees Receive tag i as tag id g->ntags + i of
+ * the device of df1gw's own station: its state (false: no such tag), and
+ * that station's health (false: not the Receive station, or it is polled). */
+bool gw_rx_node_tag(struct gw *g, int i, struct df1_tag_state *st, struct gw_tag_out *t);
+bool gw_rx_node_station(struct gw *g, int stn, struct gw_station_out *s, struct df1_station_health *sh);
 /* A write from format f's topic to Receive tag name: into the table, one
  * result. false when name is not a Receive tag (nothing done, in kept). */
 bool gw_rx_write(struct gw *g, const struct gw_fmt *f, const char *name, struct gw_write_in *in, bool retain);
