@@ -104,6 +104,11 @@ static int line_receive(struct gw *g, df1_t *h, int n)
 		        "Mode Slave) polls nothing and only serves its Receive rows\n", GW_PROG, g->map_path, n);
 		return CLI_EXIT_USAGE;
 	}
+	if (g->once && n == 0) {
+		fprintf(stderr, "%s: --once ends after the first scan: it needs Read rows (Receive rows "
+		        "wait for the PLCs)\n", GW_PROG);
+		return CLI_EXIT_USAGE;
+	}
 	if ((r = gw_rx_attach(g, h)) < 0) {
 		fprintf(stderr, "%s: Receive rows: %s\n", GW_PROG, df1_strerror(r));
 		return CLI_EXIT_FAIL;

@@ -314,6 +314,7 @@ static const struct cli_tool mon_tool = {
 	           CLI_FMT_BIT(CLI_FMT_INFLUX) | CLI_FMT_BIT(CLI_FMT_PROMETHEUS),
 	.check_auto = true,
 	.half_slave = true,             /* --serve as a slave station */
+	.common_help = { [CLI_OPT_DUPLEX] = "full (default), half (master), half-slave (--serve at --src)" },
 	.extra = mon_opts,
 	.on_extra = on_option,
 	.exit_text = "0 success (decoding: every frame good; --ping: every probe answered;\n"
