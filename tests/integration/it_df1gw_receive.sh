@@ -257,6 +257,12 @@ err_has "slave with Read rows: why" "polls nothing"
 printf 'Tag,Command,Type,Station,PLC_Type,Address\nA,Receive,INT,5,SLC,N50:0\n' > "$T/other.csv"
 expect 2 "Receive at another station" -- "$GW" -d "$T/la" --map "$T/other.csv" --mqtt "mqtt://127.0.0.1:$MQ_PORT" --prefix bad
 err_has "Receive at another station: why" "is not df1gw's own station 0"
+expect 2 "slave with --eip" -- "$GW" -d "$T/la" --duplex half-slave --src 3 --map "$T/slave.csv" \
+	--mqtt "mqtt://127.0.0.1:$MQ_PORT" --prefix bad --eip 127.0.0.1:0
+err_has "slave with --eip: why" "a slave station"
+expect 2 "--once with Receive rows alone" -- "$GW" -d "$T/la" --map "$T/slave.csv" --src 3 \
+	--mqtt "mqtt://127.0.0.1:$MQ_PORT" --prefix bad --once
+err_has "--once with Receive rows alone: why" "needs Read rows"
 expect 2 "--duplex half-slave is df1gw's only" -- "$BIN/df1read" --duplex half-slave -d "$T/la" N7:0
 kill -TERM "$JOIN"; lib_reap "$JOIN"
 

@@ -104,6 +104,11 @@ static int line_receive(struct gw *g, df1_t *h, int n)
 		        "Mode Slave) polls nothing and only serves its Receive rows\n", GW_PROG, g->map_path, n);
 		return CLI_EXIT_USAGE;
 	}
+	if (g->cli.half_slave && g->eip.listen) {
+		fprintf(stderr, "%s: --eip bridges to a line df1gw is the master of; a slave station "
+		        "(--duplex half-slave, Mode Slave) sends nothing of its own\n", GW_PROG);
+		return CLI_EXIT_USAGE;
+	}
 	if (g->once && n == 0) {
 		fprintf(stderr, "%s: --once ends after the first scan: it needs Read rows (Receive rows "
 		        "wait for the PLCs)\n", GW_PROG);
@@ -137,6 +142,12 @@ static int line_build(struct gw *g, df1_t **out)
 		fprintf(stderr, "%s: out of memory\n", GW_PROG);
 		df1_free(h);
 		return CLI_EXIT_FAIL;
+	}
+	if (!g->map_path && g->cli.half_slave) {
+		fprintf(stderr, "%s: a slave station (--duplex half-slave, Mode Slave) serves the Receive rows "
+		        "of --map\n", GW_PROG);
+		df1_free(h);
+		return CLI_EXIT_USAGE;
 	}
 	if (!g->map_path) {             /* --eip alone: a pure bridge */
 		*out = h;
