@@ -110,7 +110,7 @@ int cli_configure(struct cli *c, df1_t **out)
 	/* the tools that talk are masters (or peers): a network file for a slave
 	 * module does not describe them, unless --duplex says how to run */
 	if (c->have_net && c->net.mode == DF1_MODE_SLAVE && !(c->given & CLI_ACCEPT(CLI_OPT_DUPLEX)) &&
-	    !c->tool->half_slave) {
+	    !c->half_slave) {
 		const struct df1_catalog_entry *e = df1_catalog_by_id(DF1_ID_CRT_UNSUPPORTED_MODE);
 		fprintf(stderr, "%s: %s: [2554] %s: Unsupported Driver Mode (Slave), Supported Mode(s): "
 		        "Master, Peer (or give --duplex)\n", c->name, c->net_file,

@@ -239,8 +239,11 @@ static int check_combination(struct mon *m)
 	if ((m->given & (GIVEN_WRITE | GIVEN_SNIFF_B)) && m->mode != MODE_SNIFF)
 		return cli_usage_error(&m->cli, "%s needs --sniff",
 		                       (m->given & GIVEN_WRITE) ? "-w/--write" : "--sniff-b");
-	if (m->cli.half_slave && m->mode != MODE_SERVE)
-		return cli_usage_error(&m->cli, "--duplex half-slave needs --serve");
+	if (m->cli.half_slave && m->mode != MODE_SERVE) {
+		if (m->cli.given & CLI_ACCEPT(CLI_OPT_DUPLEX))
+			return cli_usage_error(&m->cli, "--duplex half-slave needs --serve");
+		m->cli.half_slave = false;      /* -N's Mode Slave: refused (2554) at the open */
+	}
 	if (m->mode == MODE_SERVE && m->cli.half_duplex && !m->cli.half_slave)
 		return cli_usage_error(&m->cli, "--serve: a half-duplex master does not serve; use --duplex "
 		                       "half-slave (a slave station at --src) or full");
