@@ -385,34 +385,44 @@ static void rx_result(struct gw *g, const struct gw_fmt *f, const char *tag, con
 		rx_emit(g, f, &g->msg);
 }
 
-bool gw_rx_write(struct gw *g, const struct gw_fmt *f, const char *name, struct gw_write_in *in, bool retain)
+/* Write in's values into tag e's region: NULL, or why not (in err's room). */
+static const char *rx_set(struct gw *g, const struct gw_fmt *f, struct gw_rx_tag *e, const struct gw_write_in *in,
+                          bool retain, char *err, size_t cap)
 {
 	static struct df1_value cur[DF1_TABLE_ELEMENTS_MAX], vals[DF1_TABLE_ELEMENTS_MAX];
-	struct gw_rx_tag *e = NULL;
 	struct df1_tag_state st;
-	char err[700];
 	size_t n = 0;
 	int r;
+
+	if (retain)
+		return "a retained message is not a write: publish .../set without the retain flag";
+	if ((r = rx_state(&g->rx, e, &st, cur)) < 0)
+		return df1_strerror(r);
+	if (f->ops->write_values(f, in, &e->shown, &st, vals, DF1_TABLE_ELEMENTS_MAX, &n, err, cap) < 0)
+		return err;
+	if (df1_table_write_addr(g->rx.t, &e->c.addr, vals, n) < 0) {
+		snprintf(err, cap, "%s", df1_table_error_text(g->rx.t));
+		return err;
+	}
+	return NULL;
+}
+
+bool gw_rx_write(struct gw *g, const struct gw_fmt *f, const char *name, struct gw_write_in *in, bool retain)
+{
+	struct gw_rx_tag *e = NULL;
+	const char *why;
+	char err[700];
 
 	for (size_t i = 0; i < g->rx.n && !e; i++)
 		if (strcmp(g->rx.v[i].c.name, name) == 0)
 			e = &g->rx.v[i];
 	if (!e)
 		return false;
-	if (retain) {
-		rx_result(g, f, name, in->id, "a retained message is not a write: publish .../set without the "
-		          "retain flag");
-	} else if ((r = rx_state(&g->rx, e, &st, cur)) < 0 ? snprintf(err, sizeof err, "%s", df1_strerror(r)) :
-	           (r = f->ops->write_values(f, in, &e->shown, &st, vals, DF1_TABLE_ELEMENTS_MAX, &n, err,
-	                                     sizeof err)) < 0) {
-		rx_result(g, f, name, in->id, err);
-	} else if ((r = df1_table_write_addr(g->rx.t, &e->c.addr, vals, n)) < 0) {
-		snprintf(err, sizeof err, "%s", df1_table_error_text(g->rx.t));
-		rx_result(g, f, name, in->id, err);
-	} else {
+	why = rx_set(g, f, e, in, retain, err, sizeof err);
+	rx_result(g, f, name, in->id, why);
+	if (!why) {
 		e->from = -1;           /* the table's value, not a PLC's message */
 		e->wall_ms = rx_wall_ms();
-		rx_result(g, f, name, in->id, NULL);
 		rx_publish(g, e);
 	}
 	f->ops->write_free(in);
