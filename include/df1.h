@@ -596,6 +596,9 @@ DF1_API int df1_server_set_max_queue(df1_t *h, int max_queue);
  * with ops (a df1_table's or the caller's), interleaved with its own; NULL
  * ops: STS 10h (df1_set_responder(3)). 0 or DF1_E_*. @since 0.5 */
 DF1_API int df1_set_responder(df1_t *h, const struct df1_server_ops *ops, void *user);
+/* Inside a struct df1_server_ops callback: the SRC of the command being answered (the
+ * PLC whose MSG writes); -1 outside one (df1_server_source(3)). @since 0.5 */
+DF1_API int df1_server_source(const df1_t *h);
 /* Pace transmitted bytes as a line at this baud rate (0 = off). */
 DF1_API int df1_set_line_baud(df1_t *h, int baud);
 /* Answer one PCCC command without a link, as df1_serve() would (EtherNet/IP
@@ -735,7 +738,9 @@ DF1_API int df1_net_config_load(const char *path, struct df1_net_config *c, df1_
 /* Apply a network config to a handle (serial settings, link, timeouts, retries...). */
 DF1_API int df1_apply_net_config(df1_t *h, const struct df1_net_config *c);
 
-enum df1_access { DF1_ACCESS_READ = 1, DF1_ACCESS_WRITE = 2, DF1_ACCESS_READWRITE = 3 };
+/* RECEIVE (Command Receive, @since 0.5): a region of the loader's own table that PLCs
+ * write with MSG (df1gw(1)); df1_tag_load_map() skips it, df1_tag_add() refuses it. */
+enum df1_access { DF1_ACCESS_READ = 1, DF1_ACCESS_WRITE = 2, DF1_ACCESS_READWRITE = 3, DF1_ACCESS_RECEIVE = 4 };
 
 struct df1_tag_config {
 	char name[64];

@@ -5,7 +5,8 @@
  *
  * Mapping file (doc/REQUIREMENTS.md 004, "Mapping Parameters"): columns Tag, Station, PLC_Type,
  * Address are required (a missing column fails the load); Command (Read, Write,
- * ReadWrite; also RW and "Read/Write"; default Read), Type (the kind of the tag's
+ * ReadWrite; also RW and "Read/Write"; Receive: a region of the loader's own
+ * data table, df1gw(1) RECEIVE; default Read), Type (the kind of the tag's
  * values, lib/proto/value_type.h: INT, DINT or LONG, REAL or FLOAT, BOOL, STRING,
  * TIMER, COUNTER, CONTROL, any case; empty: the address's own; one that is not a
  * Type or cannot hold the address's values is a bad row), Count (elements, 1-1000,
@@ -80,10 +81,12 @@ static void cfg_map_name(struct cfg_load *l, struct cfg_row *row, struct df1_tag
 			t->access = DF1_ACCESS_WRITE;
 		else if (strcmp(u, "READWRITE") == 0 || strcmp(u, "RW") == 0)
 			t->access = DF1_ACCESS_READWRITE;
+		else if (strcmp(u, "RECEIVE") == 0)
+			t->access = DF1_ACCESS_RECEIVE;
 		else
 			cfg_report(l, 0, item, line,
-			           "Item: %d, Invalid Command (%.64s) should be one of Read, Write, or "
-			           "ReadWrite", item, v);
+			           "Item: %d, Invalid Command (%.64s) should be one of Read, Write, "
+			           "ReadWrite, or Receive", item, v);
 	}
 
 	v = cfg_value(l, row, MF_TYPE);

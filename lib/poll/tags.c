@@ -350,6 +350,9 @@ static int poll_load_row(void *user, const struct df1_tag_config *tag)
 {
 	struct poll_load *l = user;
 
+	if (tag->access == DF1_ACCESS_RECEIVE)
+		return 0;       /* not polled: the loader's own table (df1gw(1) RECEIVE) */
+
 	if (l->n == l->cap) {
 		size_t ncap = l->cap ? l->cap * 2 : 64;
 		struct df1_tag_config *nr = realloc(l->rows, ncap * sizeof *nr);

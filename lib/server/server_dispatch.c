@@ -203,6 +203,13 @@ static void dispatch(struct srv *s, const uint8_t *cmd)
 	}
 }
 
+/* The responder's state: the server's, lent to link_serve() (below). */
+struct server_state {
+	struct link_responder resp;  /* reply slots, faults, stations served */
+	struct server_ctx peer;      /* df1_set_responder: a master answering its peer */
+	int src;                     /* df1_server_source(): SRC of the command being answered + 1, 0 none */
+};
+
 int server_handle(struct df1 *h, void *ctx, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap)
 {
 	static const struct df1_server_ops no_ops;
@@ -235,7 +242,11 @@ int server_handle(struct df1 *h, void *ctx, const uint8_t *cmd, size_t n, uint8_
 	s->user = c ? c->user : NULL;
 	s->station = m.dst;
 	s->m = &m;
+	if (h && h->srv)
+		h->srv->src = m.src + 1;        /* df1_server_source() in the callbacks */
 	dispatch(s, cmd);
+	if (h && h->srv)
+		h->srv->src = 0;
 	if (s->sts == 0xF0 && !pccc_cmd_has_ext_sts(m.cmd))
 		s->sts = 0x10;
 	rc = pccc_encode_reply(reply, cap, &m, s->sts, s->ext, s->sts ? NULL : s->data, s->sts ? 0 : s->len);
@@ -247,11 +258,6 @@ int server_handle(struct df1 *h, void *ctx, const uint8_t *cmd, size_t n, uint8_
 /* ------------------------------------------------------------------------
  * The responder's state: the server's, lent to link_serve()
  * ------------------------------------------------------------------------ */
-
-struct server_state {
-	struct link_responder resp;  /* reply slots, faults, stations served */
-	struct server_ctx peer;      /* df1_set_responder: a master answering its peer */
-};
 
 static void server_free(struct df1 *h)
 {
@@ -292,4 +298,9 @@ DF1_API int df1_set_responder(df1_t *h, const struct df1_server_ops *ops, void *
 	h->peer_ctx = &h->srv->peer;
 	h->peer_fn = server_handle;
 	return 0;
+}
+
+DF1_API int df1_server_source(const df1_t *h)
+{
+	return h && h->srv ? h->srv->src - 1 : -1;
 }

@@ -403,6 +403,7 @@ int df1_server_set_fault(df1_t *h, enum df1_fault f, int per_mille, int value);
 void df1_server_set_seed(df1_t *h, uint64_t seed);
 int df1_server_set_max_queue(df1_t *h, int max_queue);
 int df1_set_responder(df1_t *h, const struct df1_server_ops *ops, void *user);
+int df1_server_source(const df1_t *h);
 int df1_set_line_baud(df1_t *h, int baud);
 int df1_serve_pccc(df1_t *h, const struct df1_server_ops *ops, void *user, int station, const uint8_t *pccc, size_t n, uint8_t *reply, size_t cap);
 struct df1_table;
@@ -460,7 +461,8 @@ int df1_apply_net_config(df1_t *h, const struct df1_net_config *c);
 enum df1_access {
 	DF1_ACCESS_READ = 1,
 	DF1_ACCESS_WRITE = 2,
-	DF1_ACCESS_READWRITE = 3
+	DF1_ACCESS_READWRITE = 3,
+	DF1_ACCESS_RECEIVE = 4
 };
 struct df1_tag_config {
 	char name[64];

@@ -127,6 +127,7 @@ struct cli_tool {
 	uint64_t accepts;                  /* CLI_ACCEPT(...) bits */
 	unsigned formats;                  /* CLI_FMT_BIT(...); plain is always accepted */
 	bool check_auto;                   /* --check auto is allowed (decoders) */
+	bool half_slave;                   /* --duplex half-slave and Mode Slave: a slave station (df1gw) */
 	unsigned plcs;                     /* CLI_PLC_BIT(...) --plc accepts; 0: every one */
 	/* --help text of a common option where the tool's meaning differs (a responder's
 	 * --duplex half); NULL: the common text */
@@ -152,6 +153,7 @@ struct cli {
 	char parity;                       /* 'N' 'E' 'O' */
 	bool handshake;
 	bool half_duplex;
+	bool half_slave;                   /* --duplex half-slave (tool->half_slave only) */
 	enum df1_check check;
 	enum df1_plc plc;
 	int timeout_ms, cmd_timeout_ms;

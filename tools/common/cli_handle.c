@@ -109,7 +109,8 @@ int cli_configure(struct cli *c, df1_t **out)
 	}
 	/* the tools that talk are masters (or peers): a network file for a slave
 	 * module does not describe them, unless --duplex says how to run */
-	if (c->have_net && c->net.mode == DF1_MODE_SLAVE && !(c->given & CLI_ACCEPT(CLI_OPT_DUPLEX))) {
+	if (c->have_net && c->net.mode == DF1_MODE_SLAVE && !(c->given & CLI_ACCEPT(CLI_OPT_DUPLEX)) &&
+	    !c->half_slave) {
 		const struct df1_catalog_entry *e = df1_catalog_by_id(DF1_ID_CRT_UNSUPPORTED_MODE);
 		fprintf(stderr, "%s: %s: [2554] %s: Unsupported Driver Mode (Slave), Supported Mode(s): "
 		        "Master, Peer (or give --duplex)\n", c->name, c->net_file,
@@ -129,7 +130,8 @@ int cli_configure(struct cli *c, df1_t **out)
 #define SET(what, call) do { if ((r = (call)) < 0) { set_failed(c, h, what, r); df1_free(h); return CLI_EXIT_USAGE; } } while (0)
 	SET("serial settings", df1_set_serial(h, c->baud, c->data_bits, c->parity, c->stop_bits));
 	SET("--handshake", df1_set_handshake(h, c->handshake));
-	SET("--duplex", df1_set_duplex(h, c->half_duplex ? DF1_HALF_DUPLEX_MASTER : DF1_FULL_DUPLEX));
+	SET("--duplex", df1_set_duplex(h, c->half_slave ? DF1_HALF_DUPLEX_SLAVE
+	                                 : c->half_duplex ? DF1_HALF_DUPLEX_MASTER : DF1_FULL_DUPLEX));
 	if (c->check != DF1_CHECK_AUTO)
 		SET("--check", df1_set_check(h, c->check));
 	SET("--src", df1_set_station(h, c->src));

@@ -57,6 +57,8 @@ int cli_load_net(struct cli *c)
 	TAKE(CLI_OPT_PARITY, parity, k->parity);
 	TAKE(CLI_OPT_HANDSHAKE, handshake, k->handshake);
 	TAKE(CLI_OPT_DUPLEX, half_duplex, k->duplex_half);
+	/* Mode Slave: the tool is a slave station where it can be one (df1gw) */
+	TAKE(CLI_OPT_DUPLEX, half_slave, c->tool->half_slave && k->mode == DF1_MODE_SLAVE);
 	TAKE(CLI_OPT_PLC, plc, k->plc);
 	TAKE(CLI_OPT_TIMEOUT, timeout_ms, k->timeout_ms);
 	TAKE(CLI_OPT_CMD_TIMEOUT, cmd_timeout_ms, k->cmd_timeout_ms);

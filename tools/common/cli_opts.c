@@ -354,8 +354,11 @@ static int parse_duplex(struct cli *c, const char *arg)
 		c->half_duplex = false;
 	else if (strcasecmp(arg, "half") == 0)
 		c->half_duplex = true;
+	else if (strcasecmp(arg, "half-slave") == 0 && c->tool->half_slave)
+		c->half_duplex = c->half_slave = true;
 	else
-		return cli_bad_value(c, "--duplex", arg, "full or half");
+		return cli_bad_value(c, "--duplex", arg, c->tool->half_slave ? "full, half or half-slave"
+		                                                               : "full or half");
 	return CLI_CONTINUE;
 }
 

@@ -87,6 +87,40 @@ static void line_tick(void *user, enum df1_dir dir, const uint8_t *bytes, size_t
 	}
 }
 
+/* The Receive rows (read once: a reload keeps them) and their table on h;
+ * n polled tags. 0 or the exit status, having said why. */
+static int line_receive(struct gw *g, df1_t *h, int n)
+{
+	int r = g->rx.t ? 0 : gw_rx_load(g, h);
+
+	if (r)
+		return r;
+	if (n == 0 && !g->rx.n) {
+		fprintf(stderr, "%s: %s: no tags\n", GW_PROG, g->map_path);
+		return CLI_EXIT_USAGE;
+	}
+	if (g->cli.half_slave && n > 0) {
+		fprintf(stderr, "%s: %s: %d Read/Write rows: a half-duplex slave station (--duplex half-slave, "
+		        "Mode Slave) polls nothing and only serves its Receive rows\n", GW_PROG, g->map_path, n);
+		return CLI_EXIT_USAGE;
+	}
+	if (g->cli.half_slave && g->eip.listen) {
+		fprintf(stderr, "%s: --eip bridges to a line df1gw is the master of; a slave station "
+		        "(--duplex half-slave, Mode Slave) sends nothing of its own\n", GW_PROG);
+		return CLI_EXIT_USAGE;
+	}
+	if (g->once && n == 0) {
+		fprintf(stderr, "%s: --once ends after the first scan: it needs Read rows (Receive rows "
+		        "wait for the PLCs)\n", GW_PROG);
+		return CLI_EXIT_USAGE;
+	}
+	if ((r = gw_rx_attach(g, h)) < 0) {
+		fprintf(stderr, "%s: Receive rows: %s\n", GW_PROG, df1_strerror(r));
+		return CLI_EXIT_FAIL;
+	}
+	return 0;
+}
+
 /* A configured handle with the mapping file's tags (strict: any bad row is an
  * error). Returns 0 or the exit status, having said why. */
 static int line_build(struct gw *g, df1_t **out)
@@ -109,6 +143,12 @@ static int line_build(struct gw *g, df1_t **out)
 		df1_free(h);
 		return CLI_EXIT_FAIL;
 	}
+	if (!g->map_path && g->cli.half_slave) {
+		fprintf(stderr, "%s: a slave station (--duplex half-slave, Mode Slave) serves the Receive rows "
+		        "of --map\n", GW_PROG);
+		df1_free(h);
+		return CLI_EXIT_USAGE;
+	}
 	if (!g->map_path) {             /* --eip alone: a pure bridge */
 		*out = h;
 		return 0;
@@ -126,10 +166,9 @@ static int line_build(struct gw *g, df1_t **out)
 		df1_free(h);
 		return CLI_EXIT_USAGE;
 	}
-	if (n == 0) {
-		fprintf(stderr, "%s: %s: no tags\n", GW_PROG, g->map_path);
+	if ((r = line_receive(g, h, n)) != 0) {
 		df1_free(h);
-		return CLI_EXIT_USAGE;
+		return r;
 	}
 	for (int id = 0; id < n; id++) {
 		struct df1_tag_state st;
@@ -317,6 +356,16 @@ static void line_work(struct gw *g)
 		line_lost(g, r);
 }
 
+/* The Receive table's side of the line between two polls (the only side of
+ * a slave station). */
+static void line_serve(struct gw *g, bool readable)
+{
+	int r = gw_rx_serve(g, readable);
+
+	if (r < 0 && r != DF1_E_INTR)
+		line_lost(g, r);
+}
+
 /* SIGHUP: the mapping file again. A bad file is reported and the old one kept. */
 static void reload(struct gw *g)
 {
@@ -477,8 +526,8 @@ static void flush_broker(struct gw *g, int ms)
 
 /* What the loop waits on: each one's place in p, -1 when it is not there. */
 struct gw_wait {
-	struct pollfd p[6];
-	int n, sig, hup, mq, line, eip, http;
+	struct pollfd p[7];
+	int n, sig, hup, mq, line, eip, http, rx;
 };
 
 static void wait_add(struct gw_wait *w, int *at, int fd, short events)
@@ -505,6 +554,7 @@ static void wait_set(const struct gw *g, int hup, struct gw_wait *w)
 	wait_add(w, &w->line, g->line_up ? df1_poll_fd(g->h) : -1, POLLIN);
 	wait_add(w, &w->eip, gw_eip_fd(&g->eip), POLLIN);
 	wait_add(w, &w->http, gw_health_fd(g), POLLIN);
+	wait_add(w, &w->rx, gw_rx_fd(g), POLLIN);       /* a PLC's MSG between two polls */
 }
 
 /* Milliseconds until whatever is due next: the broker, the line's work or
@@ -525,6 +575,8 @@ static int wait_timeout(const struct gw *g, int64_t now)
 		if (d < timeout)
 			timeout = d < 0 ? 0 : (int)d;
 	}
+	if (g->rx.n && g->line_up && timeout > GW_RX_TICK_MS)
+		timeout = GW_RX_TICK_MS;        /* the responder's ACK timer and retries */
 	t = gw_health_wait_ms(g, now);          /* the watchdog's ping, HTTP's timers */
 	if (t < timeout)
 		timeout = t;
@@ -605,7 +657,9 @@ static void loop_work(struct gw *g, const struct gw_wait *w, int hup, int64_t no
 	if (wait_ready(w, w->eip))
 		gw_eip_process(&g->eip);       /* requests join the line's queue */
 	gw_writes_feed(g, now);                /* a batch of MQTT writes joins it behind them */
-	if (g->line_up && (df1_poll_next_ms(g->h) == 0 || wait_ready(w, w->line)))
+	if (g->line_up && g->rx.n)
+		line_serve(g, wait_ready(w, w->rx));
+	if (g->line_up && !g->rx.slave && (df1_poll_next_ms(g->h) == 0 || wait_ready(w, w->line)))
 		line_work(g);
 	else if (!g->line_up && now >= g->line_next_try_ms)
 		line_open(g);
@@ -702,6 +756,8 @@ static void gw_print_counters(const struct gw *g)
 	       (unsigned long long)ps.retries);
 	gw_writes_counters(g, stdout);
 	gw_eip_counters(&g->eip, stdout);
+	if (g->rx.n)
+		printf("receive: %llu writes from the line landed\n", (unsigned long long)g->rx.received);
 	gw_publish_counters(g, stdout);
 	cli_print_counters(stdout, g->h, CLI_FMT_PLAIN, 0);
 	fflush(stdout);
@@ -736,6 +792,7 @@ void gw_shutdown(struct gw *g)
 	gw_buf_free(&g->key);
 	free(g->dirty);
 	free(g->pub_of);
+	gw_rx_free(&g->rx);
 	if (g->password) {
 		memset(g->password, 0, strlen(g->password));
 		free(g->password);

@@ -20,6 +20,7 @@
 #include "df1gw/gw_health.h"
 #include "df1gw/gw_json.h"
 #include "df1gw/gw_mqtt.h"
+#include "df1gw/gw_receive.h"
 #include "df1gw/gw_state.h"
 #include "df1gw/gw_url.h"
 #include "df1gw/gw_write.h"
@@ -91,6 +92,9 @@ struct gw {
 	unsigned writes_since_read;  /* handed to the line since the poll engine last read */
 	uint64_t reads_seen;         /* the engine's reads + probes when last looked at */
 	struct gw_outbox outbox;     /* results that fell while the broker was away */
+
+	/* Receive rows: df1gw's own data table on the line (gw_receive.h) */
+	struct gw_rx rx;
 
 	/* systemd notifications and --http (gw_health.h) */
 	struct gw_health health;

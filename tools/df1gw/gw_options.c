@@ -153,12 +153,15 @@ static const struct cli_tool gw_tool = {
 	.summary = "Keep a DF1 line's tags in an MQTT broker, and take writes back; bridge EtherNet/IP to it.",
 	.accepts = (CLI_ACCEPT_LINK & ~CLI_ACCEPT(CLI_OPT_STATION)) | CLI_ACCEPT(CLI_OPT_VERBOSE) |
 	           CLI_ACCEPT(CLI_OPT_QUIET),
-	.common_help = { [CLI_OPT_VERBOSE] = "what is published and received; -vv link events, -vvv frames" },
+	.common_help = { [CLI_OPT_VERBOSE] = "what is published and received; -vv link events, -vvv frames",
+	                 [CLI_OPT_DUPLEX] = "full (default), half (master), half-slave (Receive rows at --src)" },
+	.half_slave = true,
 	.extra = gw_opts,
 	.on_extra = gw_extra,
 	.help_tail = "\nTopics: PREFIX/tag/NAME (retained JSON), PREFIX/tag/NAME/set (a write),\n"
 	             "PREFIX/tag/NAME/result, PREFIX/station/N, PREFIX/status (online/offline).\n"
 	             "Sparkplug B: spBv1.0/GROUP/{NBIRTH,NDATA,NDEATH,NCMD}/EDGE[/DEVICE], DBIRTH, DDATA, DDEATH, DCMD.\n"
+	             "Rows with Command Receive: df1gw's own table, written by PLCs' MSG and published.\n"
 	             "SIGTERM/SIGINT: offline, line closed, exit 0; SIGHUP: reload the mapping file.\n"
 	             "See df1gw(1).\n",
 	.exit_text = "0 stopped by SIGTERM or SIGINT (--once: published, no tag BAD), 1 the broker refused\n"

@@ -188,6 +188,8 @@ void gw_publish_changes(struct gw *g, bool force)
 	for (int stn = 0; stn < 255; stn++)
 		if (g->stations[stn])
 			station_publish(g, stn, force, now);
+	if (force)
+		gw_rx_publish_all(g);   /* Receive tags: as the table holds them */
 	gw_session_tick(g);
 }
 
@@ -449,6 +451,8 @@ static void write_go(struct gw *g, const struct gw_fmt *f, const char *name, str
 	size_t n;
 	int id = -1;
 
+	if (gw_rx_write(g, f, name, w_in, retain))
+		return;         /* a Receive tag: df1gw's own table, never the line */
 	if (!write_check(g, f, name, &in, retain, &id, vals, sizeof vals / sizeof vals[0], &n)) {
 		if (id != -2)
 			g->wq.c.refused++;
@@ -576,7 +580,9 @@ static bool node_tag(void *user, int id, struct df1_tag_state *st, struct gw_tag
 {
 	struct gw *g = user;
 
-	if (!g->h || id < 0 || id >= g->ntags || df1_tag_get(g->h, id, st) < 0)
+	if (id >= g->ntags)
+		return gw_rx_node_tag(g, id - g->ntags, st, t);        /* Receive rows (gw_receive.h) */
+	if (!g->h || id < 0 || df1_tag_get(g->h, id, st) < 0)
 		return false;
 	tag_out(g, st, true, t, err, cap);
 	return true;
@@ -586,6 +592,8 @@ static bool node_station(void *user, int stn, struct gw_station_out *s, struct d
 {
 	struct gw *g = user;
 
+	if (gw_rx_node_station(g, stn, s, sh))
+		return true;    /* df1gw's own station: its Receive rows */
 	if (!g->h || stn < 0 || stn >= 255 || !g->stations[stn] || df1_station_health(g->h, stn, sh) < 0)
 		return false;
 	*s = (struct gw_station_out){ stn, df1_station_state_name(sh->state), NULL, sh, 0 };
@@ -655,7 +663,7 @@ static void node_log(void *user, const char *text)
 
 static struct gw_node node_of(struct gw *g)
 {
-	return (struct gw_node){ g, g->ntags, node_tag, node_station, node_line, node_emit, node_subscribe,
+	return (struct gw_node){ g, g->ntags + (int)g->rx.n, node_tag, node_station, node_line, node_emit, node_subscribe,
 	                         node_write, node_reconnect, node_log };
 }
 

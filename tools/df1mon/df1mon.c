@@ -77,6 +77,7 @@ static const struct mon_mode_def modes[MODE_COUNT_] = {
 	[MODE_MAP] = { "--map", mon_run_map, LIVE | TALKS | TAKES_INTERVAL | TAKES_COUNTERS | TAKES_CSV },
 	[MODE_COUNTERS] = { "--counters", mon_run_counters, LIVE | TALKS | TAKES_COUNT | TAKES_INTERVAL | TAKES_CSV },
 	[MODE_AUTOCONF] = { "--autoconf", mon_run_autoconf, LIVE | TALKS },
+	[MODE_SERVE] = { "--serve", mon_run_serve, LIVE | TALKS },
 };
 
 static const struct cli_extra_opt mon_opts[] = {
@@ -97,6 +98,8 @@ static const struct cli_extra_opt mon_opts[] = {
 	  "find the line's settings; prints them as options (-w: a network CSV)" },
 	{ "stations", required_argument, KEY_STATIONS, "LO-HI",
 	  "--autoconf: half-duplex stations to poll (default 0-31)" },
+	{ "serve", required_argument, KEY_SERVE, "REGION[,..]",
+	  "answer a PLC's MSG from a table of ADDR[,COUNT] regions; print each write" },
 	{ "count", required_argument, 'c', "N", "probes (--ping, 4), frames (--sniff), tables; 0: no limit" },
 	{ "interval", required_argument, 'i', "SECONDS", "between probes, tables or scans (default 1; fractions allowed)" },
 	{ "duration", required_argument, KEY_DURATION, "SECONDS", "stop a live mode after this time" },
@@ -169,6 +172,9 @@ static int on_option(struct cli *c, int key, const char *arg, void *user)
 	case KEY_MAP:
 		m->map_file = arg;
 		return set_mode(m, MODE_MAP);
+	case KEY_SERVE:
+		m->serve_spec = arg;
+		return set_mode(m, MODE_SERVE);
 	case KEY_COUNTERS:
 		m->counters = true;
 		m->given |= GIVEN_COUNTERS;
@@ -233,6 +239,16 @@ static int check_combination(struct mon *m)
 	if ((m->given & (GIVEN_WRITE | GIVEN_SNIFF_B)) && m->mode != MODE_SNIFF)
 		return cli_usage_error(&m->cli, "%s needs --sniff",
 		                       (m->given & GIVEN_WRITE) ? "-w/--write" : "--sniff-b");
+	if (m->cli.half_slave && m->mode != MODE_SERVE) {
+		if (m->cli.given & CLI_ACCEPT(CLI_OPT_DUPLEX))
+			return cli_usage_error(&m->cli, "--duplex half-slave needs --serve");
+		m->cli.half_slave = false;      /* -N's Mode Slave: refused (2554) at the open */
+	}
+	if (m->mode == MODE_SERVE && m->cli.half_duplex && !m->cli.half_slave)
+		return cli_usage_error(&m->cli, "--serve: a half-duplex master does not serve; use --duplex "
+		                       "half-slave (a slave station at --src) or full");
+	if (m->mode == MODE_SERVE && mon_serve_check(m) != CLI_CONTINUE)
+		return CLI_EXIT_USAGE;
 	if ((m->given & GIVEN_ONCE) && m->mode != MODE_MAP)
 		return cli_usage_error(&m->cli, "-1/--once needs --map");
 	if (m->cli.format == CLI_FMT_INFLUX && m->mode != MODE_MAP)
@@ -292,13 +308,16 @@ static const struct cli_tool mon_tool = {
 	            "--who [LO-HI] [--counters] [OPTIONS]\n"
 	            "--map FILE.csv [-1] [-i SECONDS] [--counters] [OPTIONS]\n"
 	            "--counters [-i SECONDS] [-c COUNT] [OPTIONS]\n"
-	            "--autoconf [--stations LO-HI] [-w NET.csv] [OPTIONS]",
+	            "--autoconf [--stations LO-HI] [-w NET.csv] [OPTIONS]\n"
+	            "--serve REGION[,REGION...] [--duplex full|half-slave] [--src STATION] [OPTIONS]",
 	.summary = "DF1 diagnostics: decode frames, captures or a tap; ping, find stations, "
 	           "poll tags, show counters.",
 	.accepts = CLI_ACCEPT_ALL,
 	.formats = CLI_FMT_BIT(CLI_FMT_PLAIN) | CLI_FMT_BIT(CLI_FMT_CSV) | CLI_FMT_BIT(CLI_FMT_JSON) |
 	           CLI_FMT_BIT(CLI_FMT_INFLUX) | CLI_FMT_BIT(CLI_FMT_PROMETHEUS),
 	.check_auto = true,
+	.half_slave = true,             /* --serve as a slave station */
+	.common_help = { [CLI_OPT_DUPLEX] = "full (default), half (master), half-slave (--serve at --src)" },
 	.extra = mon_opts,
 	.on_extra = on_option,
 	.exit_text = "0 success (decoding: every frame good; --ping: every probe answered;\n"

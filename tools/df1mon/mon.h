@@ -15,6 +15,7 @@
  *   mon_ping.c      --ping
  *   mon_who.c       --who, on df1_discover()
  *   mon_map.c       --map's live table (its own interface: mon_map.h)
+ *   mon_serve.c     --serve: a data table answering a PLC's MSG
  *
  * Every mode's run function returns CLI_CONTINUE (the exit status then comes
  * from the decoding tallies) or an exit status.
@@ -41,6 +42,7 @@ enum mon_mode {
 	MODE_MAP,
 	MODE_COUNTERS,   /* --counters alone */
 	MODE_AUTOCONF,   /* --autoconf: mon_autoconf.c */
+	MODE_SERVE,      /* --serve: mon_serve.c */
 	MODE_COUNT_
 };
 
@@ -55,6 +57,7 @@ enum {
 	KEY_DURATION,
 	KEY_AUTOCONF,    /* mon_autoconf.c */
 	KEY_STATIONS,
+	KEY_SERVE,       /* mon_serve.c */
 };
 
 /* Options given, for the checks of what goes with which mode. */
@@ -90,6 +93,7 @@ struct mon {
 	const char *sniff_b;       /* --sniff-b DEV2 */
 	const char *pcap_path;     /* -w FILE */
 	const char *map_file;      /* --map FILE */
+	const char *serve_spec;    /* --serve REGION[,REGION...] */
 	const char *who_range;     /* --who=LO-HI or the operand */
 	int who_lo, who_hi;
 	df1_t *h;                  /* the handle of a talking mode */
@@ -179,6 +183,8 @@ int mon_run_counters(struct mon *m);          /* mon_counters.c */
 int mon_run_ping(struct mon *m);              /* mon_ping.c */
 int mon_run_who(struct mon *m);               /* mon_who.c */
 int mon_run_autoconf(struct mon *m);          /* mon_autoconf.c */
+int mon_run_serve(struct mon *m);             /* mon_serve.c */
+int mon_serve_check(struct mon *m);           /* --serve's regions parse: CLI_CONTINUE, else exit 2 */
 bool mon_who_is_eip(const struct mon *m);     /* mon_who.c: an eip:// device */
 /* --who's operand "N" or "LO-HI" (0..254) into m->who_lo, who_hi; exit 2 if bad. */
 int mon_parse_range(struct mon *m, const char *arg);

@@ -1108,6 +1108,37 @@ static void test_config_map_scan_ms_zero_is_every_scan(void **state)
 	assert_int_equal(r.issues.v[1].item, 4);
 }
 
+/* Command Receive: a row of the loader's own table (df1gw(1) RECEIVE), which
+ * the poll engine does not poll. */
+static void test_config_map_receive_rows(void **state)
+{
+	struct map_result r = { 0 };
+	char path[] = "/tmp/test_config_receive_XXXXXX";
+	int fd = mkstemp(path);
+	df1_t *h = NULL;
+
+	(void)state;
+	assert_int_equal(map_load_text("Tag,Command,Type,Station,PLC_Type,Address,Count\n"
+	                               "Batch_Report,Receive,INT,0,SLC,N50:0,10\n"
+	                               "Speed,Read,INT,1,SLC,N7:0,1\n"
+	                               "Bad,Send,INT,1,SLC,N7:1,1\n", false, &r), 2);
+	assert_int_equal(r.tags.v[0].access, DF1_ACCESS_RECEIVE);
+	assert_int_equal(r.tags.v[0].count, 10);
+	assert_int_equal(r.tags.v[1].access, DF1_ACCESS_READ);
+	assert_int_equal(r.issues.n, 1);
+	assert_non_null(strstr(r.issues.v[0].text, "ReadWrite, or Receive"));
+	assert_true(fd >= 0);
+	assert_true(dprintf(fd, "Tag,Command,Station,PLC_Type,Address\nR,Receive,0,SLC,N50:0\n"
+	                    "S,Read,1,SLC,N7:0\n") > 0);
+	close(fd);
+	assert_int_equal(df1_new(&h), 0);
+	assert_int_equal(df1_tag_load_map(h, path, true, NULL, NULL), 1);
+	assert_true(df1_tag_find(h, "R") < 0);
+	assert_int_equal(df1_tag_find(h, "S"), 0);
+	df1_free(h);
+	unlink(path);
+}
+
 static void test_config_map_row_fn_error_stops(void **state)
 {
 	struct map_result r = { 0 };
@@ -1178,6 +1209,7 @@ int main(void)
 		cmocka_unit_test(test_config_map_row_fields_limits),
 		cmocka_unit_test(test_config_nul_byte_in_a_cell_is_an_error),
 		cmocka_unit_test(test_config_map_scan_ms_zero_is_every_scan),
+		cmocka_unit_test(test_config_map_receive_rows),
 		cmocka_unit_test(test_config_field_over_the_limit_is_an_error),
 		cmocka_unit_test(test_config_map_row_fn_error_stops),
 		cmocka_unit_test(test_config_map_missing_file_names_path),

@@ -35,6 +35,7 @@ struct table {
 	struct tfile *files[32];
 	int reads, writes, probes;
 	int last_station;
+	int last_source;          /* df1_server_source() inside the write */
 	int mode;
 	int diag_calls;
 	bool fail_read_with_neg;  /* read returns -0x20 (STS 20) */
@@ -114,6 +115,7 @@ static int t_write(void *user, int station, const struct df1_addr *a, const uint
 	int rc;
 
 	t->last_station = station;
+	t->last_source = df1_server_source(&handle);
 	t->writes++;
 	rc = locate(a, nbytes, &p);
 	if (rc)
@@ -289,6 +291,22 @@ static void test_server_slc_write_sets_word(void **state)
 	expect_reply("01 00 0F 00 03 00 A9 04 07 89 06 11 11 22 22", "00 01 4F 00 03 00");
 	assert_int_equal(word(7, 6), 0x1111);
 	assert_int_equal(word(7, 7), 0x2222);
+}
+
+/* df1_server_source(): inside a callback the command's SRC (the PLC whose MSG
+ * writes), not its DST; -1 outside one and on a handle without responder state. */
+static void test_server_source_is_the_commands_src(void **state)
+{
+	(void)state;
+	assert_int_equal(df1_server_source(NULL), -1);
+	assert_int_equal(df1_server_source(&handle), -1);
+	assert_non_null(server_responder(&handle));
+	/* derived-slc-AA-write-N7:5, sent by station 3 (SRC 03) to station 1 */
+	expect_reply("01 03 0F 00 02 00 AA 02 07 89 05 00 34 12", "03 01 4F 00 02 00");
+	assert_int_equal(tbl.last_source, 3);
+	assert_int_equal(tbl.last_station, 1);
+	assert_int_equal(df1_server_source(&handle), -1);
+	handle.srv_free(&handle);
 }
 
 static void test_server_slc_masked_write_touches_masked_bits_only(void **state)
@@ -814,6 +832,7 @@ int main(void)
 		cmocka_unit_test_setup(test_server_slc_read_float_gives_spec_reply, setup),
 		cmocka_unit_test_setup(test_server_slc_read_20_bytes_gives_words, setup),
 		cmocka_unit_test_setup(test_server_slc_write_sets_word, setup),
+		cmocka_unit_test_setup(test_server_source_is_the_commands_src, setup),
 		cmocka_unit_test_setup(test_server_slc_masked_write_touches_masked_bits_only, setup),
 		cmocka_unit_test_setup(test_server_slc_errors, setup),
 		cmocka_unit_test_setup(test_server_slc_io_codes_82_83_and_8b_8c, setup),
