@@ -605,6 +605,23 @@ static int half_slave_msg(struct df1 *h, const struct df1_symbol *s, link_handle
 	return 1;
 }
 
+/* A broadcast master message (station 255): run, neither ACKed nor answered
+ * (doc/PROTOCOL.md 2.3; a slave's broadcast that its master forwards, route.c). */
+static void half_slave_broadcast(struct df1 *h, const struct df1_symbol *s, link_handler_fn fn,
+                                 void *ctx)
+{
+	uint8_t out[FRAME_MAX_DATA];
+
+	if (!s->check_ok || (s->data[2] & 0x40)) {
+		if (!s->check_ok)
+			link_bad_check(h, s);
+		return;
+	}
+	df1_count(h, DF1_ID_CNT_MSG_PACKETS_RCVD);
+	df1_count(h, DF1_ID_CNT_CMD_MSGS_RCVD);
+	(void)fn(h, ctx, s->data, s->len, out, sizeof out);
+}
+
 int half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms)
 {
 	bool any_added = false;
@@ -617,7 +634,7 @@ int half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms
 		int r, awaiting;
 		bool awaiting_stale;
 
-		if (df1_now_ms() >= deadline_ms)
+		if (df1_now_ms() >= deadline_ms || half_msg_over(h))
 			return served;
 		if (served > 0 && h->rx_pos >= h->rx_len && !frame_decoder_busy(&h->dec))
 			return served;
@@ -657,6 +674,10 @@ int half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms
 				r = half_slave_poll(h, s.station);
 			break;
 		case DF1_SYM_FRAME:
+			if (s.master_msg && s.station == 255) {
+				half_slave_broadcast(h, &s, fn, ctx);
+				break;
+			}
 			/* slave messages on the line are other stations' business */
 			if (s.master_msg && half_serves(h, s.station, any_added) &&
 			    !link_fault_silent(h->resp, s.station)) {

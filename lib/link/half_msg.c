@@ -34,6 +34,13 @@ struct link_own_msg {
 	int rc;
 };
 
+bool half_msg_over(const struct df1 *h)
+{
+	const struct link_own_msg *m = h->own_msg;
+
+	return m && (m->done || (m->cmd[0] == 255 && m->acked));
+}
+
 void half_msg_acked(struct df1 *h, const struct link_reply *r)
 {
 	struct link_own_msg *m = h->own_msg;

@@ -161,5 +161,7 @@ int half_slave_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *re
 int half_msg_reply(struct df1 *h, const struct df1_symbol *s);
 /* ... and our command went out and was ACKed (slot r). */
 void half_msg_acked(struct df1 *h, const struct link_reply *r);
+/* ... and it is over (its reply in, or a broadcast ACKed): half_serve returns. */
+bool half_msg_over(const struct df1 *h);
 
 #endif

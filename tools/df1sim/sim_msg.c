@@ -71,8 +71,8 @@ int sim_msg_parse(const char *spec, struct sim_msg *m, char *err, size_t cap)
 		snprintf(err, cap, "count '%s' is not 1-120", f[2]);
 		return -1;
 	}
-	if (sim_msg_int(f[3], 0, 254, &m->station)) {
-		snprintf(err, cap, "station '%s' is not 0-254", f[3]);
+	if (sim_msg_int(f[3], 0, 255, &m->station)) {
+		snprintf(err, cap, "station '%s' is not 0-255 (255: broadcast)", f[3]);
 		return -1;
 	}
 	for (int i = 5; i < n; i++) {
