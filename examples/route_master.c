@@ -6,13 +6,13 @@
  * COUNT"), those for another slave are forwarded to it and its reply sent
  * back (DF1_OPT_ROUTE; libdf1(7) UNSOLICITED MESSAGES).
  *
- *   route_master DEVICE SECONDS ROUTE serve|poll STATION... [-- READ_STATION ADDR]
+ *   route_master DEVICE SECONDS ROUTE serve|poll STATION... [-- STATION ADDR...]
  *
  * serve: df1_serve() with the stations added (df1_server_add_station);
  * poll: the poll engine reads N7:0 of each station every 500 ms and polls the
- * slaves between its scans. ROUTE is 1 or 0. At the end it prints
- * "stats EXECUTED ROUTED BROADCASTS ROUTE_REPLIES UNDELIVERABLE" and, with
- * "-- STATION ADDR", "read STATION ADDR VALUE" (the word read there).
+ * slaves between its scans. ROUTE is 1 or 0. At the end it prints, for each
+ * pair after "--", "read STATION ADDR VALUE" (the word read there), then
+ * "stats EXECUTED ROUTED BROADCASTS ROUTE_REPLIES UNDELIVERABLE".
  * tests/integration/it_route.sh runs it against three df1sim slaves.
  */
 #include <df1.h>
@@ -109,7 +109,7 @@ int main(int argc, char **argv)
 	int last = argc, rc;
 
 	if (argc < 6) {
-		fprintf(stderr, "usage: %s DEVICE SECONDS ROUTE serve|poll STATION... [-- STATION ADDR]\n",
+		fprintf(stderr, "usage: %s DEVICE SECONDS ROUTE serve|poll STATION... [-- STATION ADDR...]\n",
 		        argv[0]);
 		return 2;
 	}
@@ -126,18 +126,20 @@ int main(int argc, char **argv)
 		return 1;
 	}
 	run(h, strcmp(argv[4], "poll") == 0, atoi(argv[2]));
+	for (int i = last + 1; i + 1 < argc; i += 2) {
+		int16_t v = 0;
+
+		rc = df1_read_int16(h, atoi(argv[i]), argv[i + 1], &v, 1);
+		if (rc < 0)
+			printf("read %s %s error\n", argv[i], argv[i + 1]);
+		else
+			printf("read %s %s %d\n", argv[i], argv[i + 1], v);
+	}
+	/* after the reads: their polls may have brought more */
 	df1_route_stats(h, &st);
 	printf("stats %llu %llu %llu %llu %llu\n", (unsigned long long)st.executed,
 	       (unsigned long long)st.routed, (unsigned long long)st.broadcasts,
 	       (unsigned long long)st.route_replies, (unsigned long long)st.undeliverable);
-	if (last + 2 < argc) {
-		int16_t v = 0;
-
-		rc = df1_read_int16(h, atoi(argv[last + 1]), argv[last + 2], &v, 1);
-		printf("read %s %s %s\n", argv[last + 1], argv[last + 2], rc < 0 ? "error" : "");
-		if (rc >= 0)
-			printf("value %d\n", v);
-	}
 	fflush(stdout);
 	df1_close(h);
 	df1_free(h);
