@@ -6,11 +6,12 @@
  * COUNT"), those for another slave are forwarded to it and its reply sent
  * back (DF1_OPT_ROUTE; libdf1(7) UNSOLICITED MESSAGES).
  *
- *   route_master DEVICE SECONDS ROUTE serve|poll STATION... [-- STATION ADDR...]
+ *   route_master DEVICE SECONDS ROUTE serve|poll|both STATION... [-- STATION ADDR...]
  *
  * serve: df1_serve() with the stations added (df1_server_add_station);
  * poll: the poll engine reads N7:0 of each station every 500 ms and polls the
- * slaves between its scans. ROUTE is 1 or 0. At the end it prints, for each
+ * slaves between its scans; both: df1_poll and df1_serve in turn on the one
+ * handle. ROUTE is 1 or 0. At the end it prints, for each
  * pair after "--", "read STATION ADDR VALUE" (the word read there), then
  * "stats EXECUTED ROUTED BROADCASTS ROUTE_REPLIES UNDELIVERABLE".
  * tests/integration/it_route.sh runs it against three df1sim slaves.
@@ -72,7 +73,7 @@ static int add_tag(df1_t *h, int station)
 
 static int setup(df1_t *h, int argc, char **argv, int first, int last, int route)
 {
-	bool poll = strcmp(argv[4], "poll") == 0;
+	bool poll = strcmp(argv[4], "serve") != 0;
 
 	df1_set_duplex(h, DF1_HALF_DUPLEX_MASTER);
 	df1_set_station(h, 0);
@@ -90,9 +91,13 @@ static int setup(df1_t *h, int argc, char **argv, int first, int last, int route
 	return 0;
 }
 
-static void run(df1_t *h, bool poll, int seconds)
+/* mode: 1 df1_poll, 0 df1_serve, 2 both in turn on the one handle (one thread) */
+static void run(df1_t *h, int mode, int seconds)
 {
-	for (long long end = now_ms() + (long long)seconds * 1000; now_ms() < end;) {
+	int i = 0;
+
+	for (long long end = now_ms() + (long long)seconds * 1000; now_ms() < end; i++) {
+		bool poll = mode == 1 || (mode == 2 && i % 2);
 		int rc = poll ? df1_poll(h, 50) : df1_serve(h, &rx_ops, NULL, 50);
 
 		if (rc < 0 && rc != DF1_E_TIMEOUT) {
@@ -109,7 +114,7 @@ int main(int argc, char **argv)
 	int last = argc, rc;
 
 	if (argc < 6) {
-		fprintf(stderr, "usage: %s DEVICE SECONDS ROUTE serve|poll STATION... [-- STATION ADDR...]\n",
+		fprintf(stderr, "usage: %s DEVICE SECONDS ROUTE serve|poll|both STATION... [-- STATION ADDR...]\n",
 		        argv[0]);
 		return 2;
 	}
@@ -125,7 +130,7 @@ int main(int argc, char **argv)
 		fprintf(stderr, "route_master: %s\n", df1_last_error(h)->message);
 		return 1;
 	}
-	run(h, strcmp(argv[4], "poll") == 0, atoi(argv[2]));
+	run(h, !strcmp(argv[4], "poll") ? 1 : !strcmp(argv[4], "both") ? 2 : 0, atoi(argv[2]));
 	for (int i = last + 1; i + 1 < argc; i += 2) {
 		int16_t v = 0;
 

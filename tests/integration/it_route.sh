@@ -5,7 +5,8 @@
 # df1sim slaves (stations 1-3, --msg) share one multidrop line
 # (tests/support/multidrop.py) with examples/route_master, a half-duplex
 # master at station 0 that serves N50 and keeps the slaves polled, by
-# df1_serve() or by the poll engine between its scans.
+# df1_serve(), by the poll engine between its scans, and by both in turn on
+# the one handle.
 #  - station 1 writes to the master (N50:0, a running number): each lands once,
 #    in order, and station 1 sees DN for each;
 #  - station 2 writes to station 3 (N7:40, routed): station 3's word changes to
@@ -84,6 +85,7 @@ run_routed() {
 
 run_routed serve serve
 run_routed poll poll
+run_routed both both
 
 # --route no: the routed write is dropped and times out at the sender
 L=noroute
