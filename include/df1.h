@@ -341,11 +341,8 @@ enum df1_option {
 	 * elements than one reply holds with STS F0 EXT STS 09 (data too large) instead of
 	 * sending those that fit (df1sim --plc5-refuse-large). @since 0.5 */
 	DF1_OPT_PLC5_REFUSE_LARGE,
-	/* bool, default 1: a half-duplex master forwards a slave's message for another
-	 * slave (and 255, a broadcast, to every slave it polls) and the reply back, as
-	 * the DF1 manuals say a master does; 0: such messages are dropped and the
-	 * sender's MSG times out (df1_route_stats(3), libdf1(7) UNSOLICITED MESSAGES).
-	 * @since 0.5 */
+	/* bool, default 1: a half-duplex master forwards its slaves' commands for other slaves
+	 * and the replies (libdf1(7) UNSOLICITED MESSAGES); 0: dropped. @since 0.5 */
 	DF1_OPT_ROUTE,
 };
 
@@ -602,16 +599,9 @@ DF1_API int df1_server_set_max_queue(df1_t *h, int max_queue);
  * with ops (a df1_table's or the caller's), interleaved with its own; NULL
  * ops: STS 10h (df1_set_responder(3)). 0 or DF1_E_*. @since 0.5 */
 DF1_API int df1_set_responder(df1_t *h, const struct df1_server_ops *ops, void *user);
-/* What a half-duplex master did with the messages its slaves sent it when polled
- * (df1_route_stats(3)); fields are only ever added at the end. @since 0.5 */
-struct df1_route_stats {
-	uint64_t executed;       /* commands to our own station, run by the responder */
-	uint64_t routed;         /* commands forwarded to another slave */
-	uint64_t broadcasts;     /* broadcasts (DST 255) forwarded to the slaves */
-	uint64_t route_replies;  /* replies of those slaves forwarded back to the sender */
-	uint64_t undeliverable;  /* not forwarded: target silent, no reply, or DF1_OPT_ROUTE 0 */
-};
-/* Copies the counters (all zero before the first message). 0 or DF1_E_INVAL. @since 0.5 */
+/* A half-duplex master's slave commands run, forwarded, broadcast, replies forwarded, not
+ * delivered (df1_route_stats(3); fields are only added at the end). @since 0.5 */
+struct df1_route_stats { uint64_t executed, routed, broadcasts, route_replies, undeliverable; };
 DF1_API int df1_route_stats(const df1_t *h, struct df1_route_stats *out);
 /* Pace transmitted bytes as a line at this baud rate (0 = off). */
 DF1_API int df1_set_line_baud(df1_t *h, int baud);

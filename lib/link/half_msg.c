@@ -24,58 +24,6 @@
 
 #include "link/link_int.h"
 
-struct link_own_msg {
-	const uint8_t *cmd;
-	struct link_reply *slot;
-	uint32_t seq;                /* the slot's, while it holds our command */
-	bool acked, done;
-	uint8_t *reply;
-	size_t cap, len;
-	int rc;
-};
-
-bool half_msg_over(const struct df1 *h)
-{
-	const struct link_own_msg *m = h->own_msg;
-
-	return m && (m->done || (m->cmd[0] == 255 && m->acked));
-}
-
-void half_msg_acked(struct df1 *h, const struct link_reply *r)
-{
-	struct link_own_msg *m = h->own_msg;
-
-	if (m && r == m->slot && r->seq == m->seq)
-		m->acked = true;
-}
-
-int half_msg_reply(struct df1 *h, const struct df1_symbol *s)
-{
-	struct link_own_msg *m = h->own_msg;
-	const uint8_t *d = s->data, *c = m ? m->cmd : NULL;
-	int r;
-
-	if (!m || m->done || d[0] != c[1] || d[1] != c[0] || d[2] != (uint8_t)(c[2] | 0x40) ||
-	    d[4] != c[4] || d[5] != c[5])
-		return 0;
-	r = link_send_sym(h, DF1_ACK);
-	link_remember(h, s->station, d, s->len);
-	df1_count(h, DF1_ID_CNT_MSG_PACKETS_RCVD);
-	df1_count(h, DF1_ID_CNT_REPLY_MSGS_RCVD);
-	if (d[3] != 0)
-		df1_count(h, DF1_ID_CNT_ERROR_MSGS_RCVD);
-	m->done = true;
-	m->acked = true;
-	if (r < 0)
-		m->rc = r;
-	else if (s->len > m->cap)
-		m->rc = df1_fail(h, DF1_E_NOSPACE, d[1], "reply of %zu bytes, buffer holds %zu", s->len,
-		                 m->cap);
-	else
-		memcpy(m->reply, d, m->len = s->len);
-	return 1;
-}
-
 /* The master's commands while our MSG waits: df1_set_responder's ops. */
 static int half_msg_handler(struct df1 *h, void *ctx, const uint8_t *cmd, size_t n, uint8_t *reply,
                             size_t cap)

@@ -129,6 +129,14 @@ struct link_route {
 	link_handler_fn fn;          /* df1_serve's handler while a round runs, else NULL */
 	void *ctx;
 };
+/* The handle's routing state, allocated on first use (NULL: no memory). */
+struct link_route *route_state(struct df1 *h);
+/* The oldest message queued for stn and not yet sent, or NULL. */
+struct route_msg *route_next(struct link_route *r, uint8_t stn);
+/* m, a routed command, becomes the master's reply with sts to its sender. */
+void route_error_reply(struct route_msg *m, uint8_t sts);
+/* Routed commands whose reply did not come within Cmd_Timeout: STS 05h to their senders. */
+void route_expire(struct df1 *h, struct link_route *r);
 /* A station the master has a command for: polled in the rounds from now on. */
 void route_seen(struct df1 *h, uint8_t stn);
 /* A reply for our own station (link_take_reply's), not one to route? */
@@ -156,7 +164,17 @@ int half_poll_station(struct df1 *h, uint8_t stn);
  * our station, the polls and the master's commands served meanwhile, until
  * the master brings its reply. Reply length or DF1_E_*. */
 int half_slave_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap);
-/* half_serve's hook for it: the master message s (good check, not a
+/* A half-duplex slave's own command while it waits (half_msg.c; h->own_msg). */
+struct link_own_msg {
+	const uint8_t *cmd;
+	struct link_reply *slot;
+	uint32_t seq;                /* the slot's, while it holds our command */
+	bool acked, done;
+	uint8_t *reply;
+	size_t cap, len;
+	int rc;
+};
+/* half_serve's hooks for it (half_msg_rx.c): the master message s (good check, not a
  * duplicate) is the reply our command waits for: ACKed and taken (1), or 0. */
 int half_msg_reply(struct df1 *h, const struct df1_symbol *s);
 /* ... and our command went out and was ACKed (slot r). */

@@ -2,8 +2,7 @@
 /*
  * route.c - what a half-duplex master does with the messages its slaves send
  * it when polled (doc/PROTOCOL.md 2.5, libdf1(7) UNSOLICITED MESSAGES), and
- * the rounds of polls that let them leave (link_route_round: df1_serve on a
- * master handle, the poll engine between its scans).
+ * the queue of what the master sends on (lib/link/route_round.c sends it).
  *
  * Decisions (relied on by tests/unit/link/test_route.c and
  * tests/integration/it_route.sh):
@@ -25,9 +24,7 @@
  *  - DF1_OPT_ROUTE 0: commands for other stations and broadcasts are ACKed
  *    and dropped (counted undeliverable): the sender's MSG times out, as
  *    under a master that does not route.
- *  - Stations polled in a round: those given (df1_server_add_station for
- *    df1_serve, the scan list's for the poll engine), those the master has
- *    sent commands to, and those a routed command waits for.
+ *  - The rounds of polls that deliver them are lib/link/route_round.c's.
  */
 #include "link/link.h"
 
@@ -36,16 +33,11 @@
 
 #include "link/link_int.h"
 
-/* The local-error STS the master answers a routed command with (doc/PROTOCOL.md 3.2). */
-#define ROUTE_STS_NO_ACK 0x02
+/* The local-error STS the master answers with when a reply does not come (doc/PROTOCOL.md 3.2). */
 #define ROUTE_STS_NO_REPLY 0x05
-/* Messages a slave may send in a row when polled before the next station's turn. */
-#define ROUTE_POLLS_PER_TURN 4
-/* ms between df1_serve's rounds of polls (a master polls on and on; this
- * keeps an idle line from being a busy loop) */
-#define ROUTE_ROUND_GAP_MS 10
 
-static struct link_route *route_state(struct df1 *h)
+
+struct link_route *route_state(struct df1 *h)
 {
 	if (!h->route)
 		h->route = calloc(1, sizeof *h->route); /* once per handle */
@@ -97,7 +89,7 @@ static struct route_msg *route_queue(struct link_route *r, enum route_kind kind,
 }
 
 /* The reply to a command (cmd) that the master gives in the target's name. */
-static void route_error_reply(struct route_msg *m, uint8_t sts)
+void route_error_reply(struct route_msg *m, uint8_t sts)
 {
 	uint8_t sender = m->app[1], target = m->app[0], cmdb = m->app[2];
 
@@ -181,7 +173,7 @@ int route_take(struct df1 *h, const struct df1_symbol *s)
 }
 
 /* The oldest message to send to stn now. */
-static struct route_msg *route_next(struct link_route *r, uint8_t stn)
+struct route_msg *route_next(struct link_route *r, uint8_t stn)
 {
 	struct route_msg *best = NULL;
 
@@ -197,7 +189,7 @@ static struct route_msg *route_next(struct link_route *r, uint8_t stn)
 }
 
 /* Routed commands whose reply did not come within Cmd_Timeout: STS 05h to their senders. */
-static void route_expire(struct df1 *h, struct link_route *r)
+void route_expire(struct df1 *h, struct link_route *r)
 {
 	int64_t now = df1_now_ms();
 
@@ -209,100 +201,5 @@ static void route_expire(struct df1 *h, struct link_route *r)
 			df1_count(h, DF1_ID_CNT_COMMAND_TIMEOUTS);
 			route_error_reply(m, ROUTE_STS_NO_REPLY);
 		}
-	}
-}
-
-/* Send what is queued for stn: 0 or DF1_E_*. */
-static int route_deliver(struct df1 *h, struct link_route *r, uint8_t stn)
-{
-	struct route_msg *m;
-
-	while ((m = route_next(r, stn)) != NULL) {
-		int rc = half_send_msg(h, stn, m->app, m->len);
-
-		if (rc < 0)
-			return rc;
-		if (m->kind == ROUTE_CMD && rc == 1) {
-			m->waiting = true;
-			m->deadline_ms = df1_now_ms() + (h->cfg.cmd_timeout_ms > 0 ? h->cfg.cmd_timeout_ms
-			                                                          : link_timeout_ms(h));
-		} else if (m->kind == ROUTE_CMD) {
-			r->st.undeliverable++; /* the target did not ACK: the sender hears STS 02h */
-			route_error_reply(m, ROUTE_STS_NO_ACK);
-		} else {
-			if (rc == 0 && m->kind == ROUTE_REPLY)
-				r->st.undeliverable++;
-			m->used = false;
-		}
-	}
-	return 0;
-}
-
-/* stn's turn: what is queued for it, then polls while it has messages. */
-static int route_turn(struct df1 *h, struct link_route *r, uint8_t stn)
-{
-	for (int k = 0; k < ROUTE_POLLS_PER_TURN; k++) {
-		int rc = route_deliver(h, r, stn);
-
-		if (rc < 0)
-			return rc;
-		rc = half_poll_station(h, stn);
-		if (rc <= 0)
-			return rc;
-	}
-	return route_deliver(h, r, stn);
-}
-
-int link_route_round(struct df1 *h, const bool *stations, link_handler_fn fn, void *ctx)
-{
-	struct link_route *r = route_state(h);
-	int rc = 0;
-
-	if (!r)
-		return df1_fail(h, DF1_E_NOMEM, -1, "no memory for the routing state");
-	r->fn = fn;
-	r->ctx = ctx;
-	route_expire(h, r);
-	rc = route_deliver(h, r, 255);
-	for (int stn = 0; stn < 255 && rc >= 0; stn++) {
-		if (stn == h->cfg.station)
-			continue; /* ourselves */
-		if ((stations && stations[stn]) || r->poll[stn])
-			rc = route_turn(h, r, (uint8_t)stn);
-	}
-	r->fn = NULL;
-	r->ctx = NULL;
-	return rc;
-}
-
-static uint64_t route_handled(const struct link_route *r)
-{
-	return r->st.executed + r->st.routed + r->st.broadcasts + r->st.route_replies;
-}
-
-int link_master_serve(struct df1 *h, struct link_responder *resp, link_handler_fn fn, void *ctx,
-                      int64_t deadline_ms)
-{
-	struct link_route *r = route_state(h);
-	uint64_t before;
-
-	if (!r)
-		return df1_fail(h, DF1_E_NOMEM, -1, "no memory for the routing state");
-	before = route_handled(r);
-	for (;;) {
-		struct df1_symbol s;
-		int64_t now, dl;
-		int rc = link_route_round(h, resp->serve_station, fn, ctx);
-
-		if (rc < 0)
-			return rc;
-		now = df1_now_ms();
-		if (route_handled(r) != before || now >= deadline_ms)
-			return (int)(route_handled(r) - before);
-		/* the pause between rounds is a read: a quiet line, anything is noise */
-		dl = now + ROUTE_ROUND_GAP_MS < deadline_ms ? now + ROUTE_ROUND_GAP_MS : deadline_ms;
-		rc = link_read_symbol(h, dl, &s);
-		if (rc < 0)
-			return rc;
 	}
 }

@@ -252,6 +252,7 @@ enum df1_option {
 	DF1_OPT_EIP_CONNECTED,
 	DF1_OPT_LOW_LATENCY,
 	DF1_OPT_PLC5_REFUSE_LARGE,
+	DF1_OPT_ROUTE,
 };
 int df1_new(df1_t **out);
 void df1_free(df1_t *h);
@@ -403,6 +404,10 @@ int df1_server_set_fault(df1_t *h, enum df1_fault f, int per_mille, int value);
 void df1_server_set_seed(df1_t *h, uint64_t seed);
 int df1_server_set_max_queue(df1_t *h, int max_queue);
 int df1_set_responder(df1_t *h, const struct df1_server_ops *ops, void *user);
+struct df1_route_stats {
+	uint64_t executed, routed, broadcasts, route_replies, undeliverable;
+};
+int df1_route_stats(const df1_t *h, struct df1_route_stats *out);
 int df1_set_line_baud(df1_t *h, int baud);
 int df1_serve_pccc(df1_t *h, const struct df1_server_ops *ops, void *user, int station, const uint8_t *pccc, size_t n, uint8_t *reply, size_t cap);
 struct df1_table;

@@ -26,7 +26,7 @@ command -v python3 > /dev/null || { skip "python3 missing"; finish; }
 line() {
 	python3 tests/support/multidrop.py "$T/$1" 4 > "$T/$1.md" 2>&1 &
 	echo $! >> "$T/.sims"
-	wait_for "$1: the line is up" 50 grep -q ready "$T/$1.md"
+	wait_for "$1: the line is up" 50 grep -qs ready "$T/$1.md"
 }
 
 # slave NAME STATION OPTIONS...: a df1sim slave on the line NAME
