@@ -6,6 +6,9 @@
  * every MS ms. It goes out on the handle df1sim serves with, as a master's
  * command (df1_write / df1_read); while it waits, the commands of the
  * station that polls us are still answered (df1_set_responder, lib/link/peer.c).
+ * As a half-duplex slave the same calls queue it for the master's next poll
+ * and wait for the reply it brings (lib/link/half_msg.c); station 255 is a
+ * broadcast.
  * Its outcome is printed as the MSG block shows it: DN, or ER with the STS
  * (and EXT STS) the target answered, or the link error.
  */
