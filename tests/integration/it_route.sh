@@ -83,6 +83,14 @@ run_routed() {
 		"[ ${1:-0} -ge $got ] && [ ${2:-0} -ge $d2 ] && [ ${3:-0} -ge $d3 ] && [ ${4:-0} -ge $d2 ] && [ ${5:-0} -ge 1 ]"
 }
 
+# --route on the command line of a tool that can be a half-duplex master
+"$BIN/df1read" -d /dev/null --duplex half --route maybe N7:0 > "$T/opt.out" 2> "$T/opt.err"
+rc=$?
+check "df1read --route maybe: usage error (status $rc)" "[ $rc -eq 2 ]"
+check "df1read --route maybe: says what is wrong" \
+	"grep -q -- \"--route: invalid value 'maybe' (expected yes or no)\" '$T/opt.err'"
+check "df1read --help shows --route" "'$BIN/df1read' --help | grep -q -- '--route yes|no'"
+
 run_routed serve serve
 run_routed poll poll
 run_routed both both
