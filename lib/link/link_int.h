@@ -110,6 +110,7 @@ enum route_kind {
 	ROUTE_REPLY = 1,  /* a reply for a slave: ours, a routed one, or our error for it */
 	ROUTE_CMD,        /* a slave's command for another slave */
 	ROUTE_BCAST,      /* a slave's broadcast (DST 255) */
+	ROUTE_EXEC,       /* a command for our station, to run in the next round */
 };
 struct route_msg {
 	bool used;
@@ -128,6 +129,7 @@ struct link_route {
 	struct df1_route_stats st;
 	link_handler_fn fn;          /* df1_serve's handler while a round runs, else NULL */
 	void *ctx;
+	bool in_round;
 };
 /* The handle's routing state, allocated on first use (NULL: no memory). */
 struct link_route *route_state(struct df1 *h);
@@ -135,6 +137,8 @@ struct link_route *route_state(struct df1 *h);
 struct route_msg *route_next(struct link_route *r, uint8_t stn);
 /* m, a routed command, becomes the master's reply with sts to its sender. */
 void route_error_reply(struct route_msg *m, uint8_t sts);
+/* Commands for our station kept for a round (ROUTE_EXEC) run now: 0 or DF1_E_*. */
+int route_run_kept(struct df1 *h, struct link_route *r);
 /* Routed commands whose reply did not come within Cmd_Timeout: STS 05h to their senders. */
 void route_expire(struct df1 *h, struct link_route *r);
 /* A station the master has a command for: polled in the rounds from now on. */

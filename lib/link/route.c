@@ -10,6 +10,9 @@
  *    (df1_serve's ops, else df1_set_responder's, else STS 10h as
  *    lib/link/peer.c answers) and its reply goes to the sender as a master
  *    message before the sender's next poll ("polled report by exception").
+ *    One that comes outside a round (in the polls of our own command) with
+ *    no df1_set_responder ops waits for the next round, where df1_serve's
+ *    may run it.
  *  - A command for another station is sent on to it as a master message
  *    (DF1_OPT_ROUTE, default on); the reply that station gives when polled
  *    (DST = the sender, SRC = it, the sender's TNS) is sent on to the sender.
@@ -103,17 +106,48 @@ void route_error_reply(struct route_msg *m, uint8_t sts)
 	m->len = 6;
 }
 
-/* A command for our own station: run, its reply queued for the sender. */
-static int route_exec(struct df1 *h, struct link_route *r, const uint8_t *d, size_t n)
+/* A command for our own station, run: its reply in m (which held the command)
+ * for the sender, or m freed when there is none. 0 or DF1_E_*. */
+static int route_run(struct df1 *h, struct link_route *r, struct route_msg *m)
 {
 	uint8_t out[FRAME_MAX_DATA];
-	int len = r->fn ? r->fn(h, r->ctx, d, n, out, sizeof out) : peer_answer(h, d, n, out, sizeof out);
+	uint8_t sender = m->app[1];
+	int len = r->fn ? r->fn(h, r->ctx, m->app, m->len, out, sizeof out)
+	                : peer_answer(h, m->app, m->len, out, sizeof out);
 
+	m->used = false;
 	if (len < 0)
 		return len;
 	r->st.executed++;
-	if (len > 0 && (size_t)len <= sizeof out && !route_queue(r, ROUTE_REPLY, d[1], out, (size_t)len))
-		return df1_fail(h, DF1_E_NOSPACE, d[1], "no room for the reply to station %d", d[1]);
+	if (len > 0 && (size_t)len <= sizeof out) {
+		m->used = true;
+		m->kind = ROUTE_REPLY;
+		m->dst = sender;
+		m->len = (size_t)len;
+		memcpy(m->app, out, (size_t)len);
+	}
+	return 0;
+}
+
+/* A command for our own station: run now in a round or with df1_set_responder's
+ * ops; else kept for the next round, where df1_serve's ops may run it. */
+static int route_exec(struct df1 *h, struct link_route *r, const uint8_t *d, size_t n)
+{
+	struct route_msg *m = route_queue(r, ROUTE_EXEC, d[1], d, n);
+
+	if (!m)
+		return df1_fail(h, DF1_E_NOSPACE, d[1], "no room for the command of station %d", d[1]);
+	return r->in_round || h->peer_fn ? route_run(h, r, m) : 0;
+}
+
+int route_run_kept(struct df1 *h, struct link_route *r)
+{
+	for (int i = 0; i < ROUTE_SLOTS; i++) {
+		int rc = r->q[i].used && r->q[i].kind == ROUTE_EXEC ? route_run(h, r, &r->q[i]) : 0;
+
+		if (rc < 0)
+			return rc;
+	}
 	return 0;
 }
 
@@ -180,7 +214,7 @@ struct route_msg *route_next(struct link_route *r, uint8_t stn)
 	for (int i = 0; i < ROUTE_SLOTS; i++) {
 		struct route_msg *m = &r->q[i];
 
-		if (!m->used || m->waiting || m->dst != stn)
+		if (!m->used || m->waiting || m->dst != stn || m->kind == ROUTE_EXEC)
 			continue;
 		if (!best || (int32_t)(m->seq - best->seq) < 0)
 			best = m;

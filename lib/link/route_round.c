@@ -84,8 +84,11 @@ int link_route_round(struct df1 *h, const bool *stations, link_handler_fn fn, vo
 		return df1_fail(h, DF1_E_NOMEM, -1, "no memory for the routing state");
 	r->fn = fn;
 	r->ctx = ctx;
+	r->in_round = true;
 	route_expire(h, r);
-	rc = route_deliver(h, r, 255);
+	rc = route_run_kept(h, r);
+	if (rc >= 0)
+		rc = route_deliver(h, r, 255);
 	for (int stn = 0; stn < 255 && rc >= 0; stn++) {
 		if (stn == h->cfg.station)
 			continue; /* ourselves */
@@ -94,6 +97,7 @@ int link_route_round(struct df1 *h, const bool *stations, link_handler_fn fn, vo
 	}
 	r->fn = NULL;
 	r->ctx = NULL;
+	r->in_round = false;
 	return rc;
 }
 
