@@ -14,6 +14,7 @@
 #include <setjmp.h>
 #include <cmocka.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <string.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -26,7 +27,7 @@ struct slave {
 	int rc;                /* the MSG's result */
 	const char *remote;
 	int station;
-	volatile int done;
+	atomic_int done;       /* set by the slave thread, read by the master's */
 };
 
 static void *slave_run(void *arg)
