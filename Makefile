@@ -264,7 +264,8 @@ install: all install-wireshark
 	install -m 755 $(SHARED) $(DESTDIR)$(LIBDIR)/
 	ln -sf $(SO_FILE) $(DESTDIR)$(LIBDIR)/libdf1.so.$(MAJOR)
 	ln -sf libdf1.so.$(MAJOR) $(DESTDIR)$(LIBDIR)/libdf1.so
-	install -m 644 include/df1.h include/df1_catalog.h include/df1_eip.h include/df1_probe.h $(DESTDIR)$(INCLUDEDIR)/
+	install -m 644 include/df1.h include/df1_catalog.h include/df1_eip.h include/df1_probe.h include/df1_server.h \
+		$(DESTDIR)$(INCLUDEDIR)/
 	# generated here, so that the PREFIX of this install is the one recorded
 	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
 	    -e 's|@INCLUDEDIR@|$(INCLUDEDIR)|' -e 's|@VERSION@|$(VERSION)|' libdf1.pc.in \
@@ -288,7 +289,7 @@ uninstall: uninstall-wireshark
 	rm -f $(TOOL_NAMES:%=$(DESTDIR)$(BINDIR)/%)
 	rm -f $(DESTDIR)$(LIBDIR)/libdf1.a $(DESTDIR)$(LIBDIR)/libdf1.so*
 	rm -f $(DESTDIR)$(INCLUDEDIR)/df1.h $(DESTDIR)$(INCLUDEDIR)/df1_catalog.h $(DESTDIR)$(INCLUDEDIR)/df1_eip.h \
-		$(DESTDIR)$(INCLUDEDIR)/df1_probe.h \
+		$(DESTDIR)$(INCLUDEDIR)/df1_probe.h $(DESTDIR)$(INCLUDEDIR)/df1_server.h \
 		$(DESTDIR)$(PKGCONFIGDIR)/libdf1.pc
 	for f in man/man1/*.1; do rm -f $(DESTDIR)$(MANDIR)/man1/$$(basename $$f); done
 	for f in man/man3/*.3; do rm -f $(DESTDIR)$(MANDIR)/man3/$$(basename $$f); done

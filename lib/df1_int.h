@@ -47,6 +47,7 @@ struct df1_config {
 	bool no_eot;                 /* DF1_OPT_NO_EOT: half-duplex slave sends no EOT */
 	bool low_latency;            /* DF1_OPT_LOW_LATENCY: USB adapters in low latency mode */
 	bool plc5_refuse_large;      /* DF1_OPT_PLC5_REFUSE_LARGE: responder, F0/09, not a cut reply */
+	bool route;                  /* DF1_OPT_ROUTE: half-duplex master forwards slave messages */
 	int max_outstanding;         /* DF1_OPT_MAX_OUTSTANDING: full-duplex commands in flight */
 };
 
@@ -163,6 +164,11 @@ struct df1 {
 	void *peer_ctx;
 	struct link_responder *peer_resp;
 	struct link_responder *peer_own;
+	/* A half-duplex master's messages from slaves (lib/link/route.c),
+	 * allocated on the first; a half-duplex slave's own MSG while it waits
+	 * for its reply (lib/link/half_msg.c), on the caller's stack. */
+	struct link_route *route;
+	struct link_own_msg *own_msg;
 	void *poll;                  /* poll engine state (lib/poll/) */
 	/* Destructors of the state above, set by the module that allocates it; df1_free()
 	 * calls them (or plain free() when NULL). */

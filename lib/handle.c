@@ -217,6 +217,7 @@ int df1_new(df1_t **out)
 	h->cfg.nak_0f = true;
 	h->cfg.rs485 = false;
 	h->cfg.low_latency = true;
+	h->cfg.route = true;
 	h->cfg.echo_discard = false;
 	h->cfg.eot_bcc = false;
 	h->cfg.local_tcp = true;
@@ -255,6 +256,7 @@ void df1_free(df1_t *h)
 	else
 		free(h->poll);
 	free(h->peer_own);
+	free(h->route);
 	free(h);
 }
 
@@ -473,6 +475,7 @@ static const char *handle_option_name(enum df1_option opt)
 	case DF1_OPT_EIP_CONNECTED: return "EIP_CONNECTED";
 	case DF1_OPT_LOW_LATENCY: return "LOW_LATENCY";
 	case DF1_OPT_PLC5_REFUSE_LARGE: return "PLC5_REFUSE_LARGE";
+	case DF1_OPT_ROUTE: return "ROUTE";
 	}
 	return NULL;
 }
@@ -497,6 +500,7 @@ static bool *handle_option_flag(struct df1_config *c, enum df1_option opt)
 	case DF1_OPT_EIP_CONNECTED: return &c->eip_connected;
 	case DF1_OPT_LOW_LATENCY: return &c->low_latency;
 	case DF1_OPT_PLC5_REFUSE_LARGE: return &c->plc5_refuse_large;
+	case DF1_OPT_ROUTE: return &c->route;
 	case DF1_OPT_MAX_PACKET: case DF1_OPT_PLC5_TIMER_WORDS:
 	case DF1_OPT_POLL_TIMEOUT_MS: case DF1_OPT_SCAN_TIME_MS: case DF1_OPT_MAX_OUTSTANDING:
 		return NULL;

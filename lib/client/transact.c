@@ -72,6 +72,9 @@ int client_check(struct df1 *h, int station)
 {
 	if (!h)
 		return DF1_E_INVAL;
+	/* a half-duplex slave's MSG may be a broadcast (lib/link/half_msg.c) */
+	if (station == 255 && h->cfg.duplex == DF1_HALF_DUPLEX_SLAVE)
+		return 0;
 	if (station < 0 || station > 254)
 		return df1_fail(h, DF1_E_INVAL, station, "station %d out of range 0-254", station);
 	return 0;

@@ -146,6 +146,11 @@ static int half_answer(struct df1 *h, uint8_t stn, const uint8_t *cmd, int64_t d
 			if (r < 0)
 				return r;
 			link_remember(h, stn, s.data, s.len);
+			if (!route_is_ours(h, s.data)) {
+				/* a slave's own command, or a reply for another slave (route.c) */
+				r = route_take(h, &s);
+				return r < 0 ? r : ANS_SKIP;
+			}
 			r = link_take_reply(h, cmd, &s, reply, cap, len);
 			if (r < 0)
 				return r;
@@ -255,6 +260,52 @@ static int half_probe(struct df1 *h, uint8_t stn)
 		return 0;
 	df1_log(h, DF1_ID_ERR_INACTIVE_STATION, (int)stn);
 	return df1_fail(h, DF1_E_INACTIVE, stn, "slave station %d inactive", stn);
+}
+
+int half_poll_station(struct df1 *h, uint8_t stn)
+{
+	size_t len = 0;
+	int cause = 0, r = half_send_poll(h, stn);
+
+	if (r < 0)
+		return r;
+	r = half_answer(h, stn, NULL, link_after_tx_ms(h, half_poll_answer_ms(h)), NULL, 0, &len, &cause);
+	if (r < 0)
+		return r;
+	if (r == ANS_EOT || r == ANS_SKIP)
+		h->stations[stn].active = true;
+	return r == ANS_SKIP ? 1 : 0;
+}
+
+int half_send_msg(struct df1 *h, uint8_t stn, const uint8_t *app, size_t n)
+{
+	uint8_t wire[FRAME_MAX_WIRE];
+	size_t wn = frame_encode_master(link_tx_check(h), stn, h->cfg.hd_bcc_stx, app, n, wire, sizeof wire);
+	int cause = 0, r;
+
+	if (wn == 0)
+		return df1_fail(h, DF1_E_INVAL, stn, "message of %zu bytes does not fit a frame", n);
+	for (int tries = 0;; tries++) {
+		r = link_send_raw(h, wire, wn);
+		if (r < 0)
+			return r;
+		df1_count(h, DF1_ID_CNT_MSG_PACKETS_SENT);
+		if (tries == 0)
+			df1_count(h, app[2] & 0x40 ? DF1_ID_CNT_REPLY_MSGS_SENT : DF1_ID_CNT_CMD_MSGS_SENT);
+		if (stn == 255)
+			return 1; /* a broadcast: nobody ACKs it (doc/PROTOCOL.md 2.3) */
+		r = half_wait_ack(h, link_after_tx_ms(h, link_timeout_ms(h)), &cause);
+		if (r != 0)
+			return r;
+		if (tries >= h->cfg.nak_retries) {
+			df1_count(h, DF1_ID_CNT_NAK_LIMIT_EXCEEDED);
+			df1_log(h, DF1_ID_NTC_NAK_LIMIT_EXCEEDED, h->cfg.nak_retries);
+			h->stations[stn].active = false;
+			return 0;
+		}
+		df1_count(h, DF1_ID_CNT_NAK_RETRIES);
+		df1_log(h, DF1_ID_NTC_NAK_RETRY, tries + 1, cause);
+	}
 }
 
 /* A link failure of a transaction: the station leaves the active list. */
@@ -403,6 +454,7 @@ int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 	t.wait = h->cfg.cmd_timeout_ms > 0 ? h->cfg.cmd_timeout_ms : link_timeout_ms(h);
 	if (t.wn == 0)
 		return df1_fail(h, DF1_E_INVAL, t.stn, "command of %zu bytes does not fit a frame", n);
+	route_seen(h, t.stn); /* polled between our transactions too (route.c) */
 	if (!h->stations[t.stn].active) {
 		r = half_probe(h, t.stn);
 		if (r < 0)
@@ -528,6 +580,8 @@ static int half_slave_msg(struct df1 *h, const struct df1_symbol *s, link_handle
 	}
 	/* a duplicate is not run again (and one with other bytes drops the reply
 	 * queued under its header: core.c) */
+	if ((d[2] & 0x40) && !link_is_dup(h, stn, d, s->len) && half_msg_reply(h, s))
+		return 0; /* the reply to our own MSG (half_msg.c) */
 	r = link_serve_screen(h, stn, s);
 	if (r <= 0)
 		return r;
@@ -551,6 +605,23 @@ static int half_slave_msg(struct df1 *h, const struct df1_symbol *s, link_handle
 	return 1;
 }
 
+/* A broadcast master message (station 255): run, neither ACKed nor answered
+ * (doc/PROTOCOL.md 2.3; a slave's broadcast that its master forwards, route.c). */
+static void half_slave_broadcast(struct df1 *h, const struct df1_symbol *s, link_handler_fn fn,
+                                 void *ctx)
+{
+	uint8_t out[FRAME_MAX_DATA];
+
+	if (!s->check_ok || (s->data[2] & 0x40)) {
+		if (!s->check_ok)
+			link_bad_check(h, s);
+		return;
+	}
+	df1_count(h, DF1_ID_CNT_MSG_PACKETS_RCVD);
+	df1_count(h, DF1_ID_CNT_CMD_MSGS_RCVD);
+	(void)fn(h, ctx, s->data, s->len, out, sizeof out);
+}
+
 int half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms)
 {
 	bool any_added = false;
@@ -563,7 +634,7 @@ int half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms
 		int r, awaiting;
 		bool awaiting_stale;
 
-		if (df1_now_ms() >= deadline_ms)
+		if (df1_now_ms() >= deadline_ms || half_msg_over(h))
 			return served;
 		if (served > 0 && h->rx_pos >= h->rx_len && !frame_decoder_busy(&h->dec))
 			return served;
@@ -586,8 +657,10 @@ int half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms
 		case DF1_SYM_ACK:
 			if (awaiting > 0) {
 				df1_count(h, DF1_ID_CNT_ACKS_RCVD);
-				if (!awaiting_stale)
+				if (!awaiting_stale) {
+					half_msg_acked(h, &h->resp->replies[awaiting - 1]);
 					h->resp->replies[awaiting - 1].used = false;
+				}
 			}
 			break;
 		case DF1_SYM_NAK:
@@ -601,6 +674,10 @@ int half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms
 				r = half_slave_poll(h, s.station);
 			break;
 		case DF1_SYM_FRAME:
+			if (s.master_msg && s.station == 255) {
+				half_slave_broadcast(h, &s, fn, ctx);
+				break;
+			}
 			/* slave messages on the line are other stations' business */
 			if (s.master_msg && half_serves(h, s.station, any_added) &&
 			    !link_fault_silent(h->resp, s.station)) {

@@ -36,9 +36,9 @@ int link_transact(struct df1 *h, uint8_t *cmd, size_t cmd_len, uint8_t *reply, s
 	r = link_setup(h);
 	if (r < 0)
 		return r;
-	if (h->cfg.duplex == DF1_HALF_DUPLEX_SLAVE && !h->own_link)
-		return df1_fail(h, DF1_E_NOTSUP, cmd[0], "a half-duplex slave does not send commands");
 	link_stamp(h, cmd);
+	if (h->cfg.duplex == DF1_HALF_DUPLEX_SLAVE && !h->own_link)
+		return half_slave_transact(h, cmd, cmd_len, reply, reply_cap); /* our own MSG */
 	if (h->own_link)
 		return h->own_link->transact(h, cmd, cmd_len, reply, reply_cap);
 	if (h->cfg.duplex == DF1_HALF_DUPLEX_MASTER)
@@ -105,9 +105,9 @@ int link_serve(struct df1 *h, struct link_responder *resp, link_handler_fn fn, v
 	if (h->own_link)
 		return df1_fail(h, DF1_E_NOTSUP, -1, "%s: an %s target is a client: it does not "
 		                "serve", h->port_name, h->own_link->scheme);
-	/* a half-duplex master has nothing to serve; full duplex is a peer */
+	/* a half-duplex master serves by polling: its slaves' messages (route.c) */
 	if (h->cfg.duplex == DF1_HALF_DUPLEX_MASTER)
-		return df1_fail(h, DF1_E_NOTSUP, -1, "a half-duplex master does not serve");
+		return link_master_serve(h, resp, fn, ctx, deadline_ms);
 	h->resp = resp; /* lent for this call: the modes reach it as h->resp */
 	if (h->cfg.duplex == DF1_HALF_DUPLEX_SLAVE)
 		r = half_serve(h, fn, ctx, deadline_ms);

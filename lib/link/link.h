@@ -94,6 +94,13 @@ typedef int (*link_handler_fn)(struct df1 *h, void *ctx, const uint8_t *cmd, siz
 int link_serve(struct df1 *h, struct link_responder *r, link_handler_fn fn, void *ctx,
                int64_t deadline_ms);
 
+/* Half-duplex master (lib/link/route.c): one round of the line's service:
+ * what is queued for the slaves (replies, routed messages) sent, and each
+ * station polled (those marked in stations, may be NULL, and those the
+ * master already talks to) so that their own messages come in; commands for
+ * our station run through fn (NULL: df1_set_responder's). 0 or DF1_E_*. */
+int link_route_round(struct df1 *h, const bool *stations, link_handler_fn fn, void *ctx);
+
 /* The frame decoder's FRAME_OPT_* for the handle's configuration. */
 unsigned link_decoder_opts(const struct df1 *h);
 

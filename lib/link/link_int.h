@@ -98,9 +98,92 @@ int peer_timeout(struct df1 *h, int64_t dl);
 int link_pipe_submit(struct df1 *h, const uint8_t *cmd, size_t n);
 int pipe_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap);
 
+/* The reply a full-duplex master gives its peer's command: df1_set_responder's
+ * handler, or STS 10h without one (peer.c). Its length, 0, or DF1_E_*. */
+int peer_answer(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *out, size_t cap);
+/* Those replies' queue: df1_set_responder's (the server's), else the link's own; NULL: no memory. */
+struct link_responder *peer_responder(struct df1 *h);
+
+/* A half-duplex master's messages from slaves (route.c). */
+#define ROUTE_SLOTS 16
+enum route_kind {
+	ROUTE_REPLY = 1,  /* a reply for a slave: ours, a routed one, or our error for it */
+	ROUTE_CMD,        /* a slave's command for another slave */
+	ROUTE_BCAST,      /* a slave's broadcast (DST 255) */
+	ROUTE_EXEC,       /* a command for our station, to run in the next round */
+};
+struct route_msg {
+	bool used;
+	bool waiting;                /* ROUTE_CMD: ACKed by its target, the reply not in yet */
+	enum route_kind kind;
+	uint8_t dst;                 /* the station it goes to, 255 for a broadcast */
+	uint32_t seq;                /* queue order */
+	int64_t deadline_ms;         /* waiting: Cmd_Timeout */
+	size_t len;
+	uint8_t app[FRAME_MAX_DATA];
+};
+struct link_route {
+	struct route_msg q[ROUTE_SLOTS];
+	uint32_t seq;
+	bool poll[256];              /* stations polled in a round */
+	struct df1_route_stats st;
+	link_handler_fn fn;          /* df1_serve's handler while a round runs, else NULL */
+	void *ctx;
+	bool in_round;
+};
+/* The handle's routing state, allocated on first use (NULL: no memory). */
+struct link_route *route_state(struct df1 *h);
+/* The oldest message queued for stn and not yet sent, or NULL. */
+struct route_msg *route_next(struct link_route *r, uint8_t stn);
+/* m, a routed command, becomes the master's reply with sts to its sender. */
+void route_error_reply(struct route_msg *m, uint8_t sts);
+/* Commands for our station kept for a round (ROUTE_EXEC) run now: 0 or DF1_E_*. */
+int route_run_kept(struct df1 *h, struct link_route *r);
+/* Routed commands whose reply did not come within Cmd_Timeout: STS 05h to their senders. */
+void route_expire(struct df1 *h, struct link_route *r);
+/* A station the master has a command for: polled in the rounds from now on. */
+void route_seen(struct df1 *h, uint8_t stn);
+/* A reply for our own station (link_take_reply's), not one to route? */
+bool route_is_ours(const struct df1 *h, const uint8_t *d);
+/* Any other good slave message the master ACKed: run, queued or dropped; 0 or DF1_E_*. */
+int route_take(struct df1 *h, const struct df1_symbol *s);
+/* df1_serve on a half-duplex master: rounds (link_route_round) of the
+ * stations in resp->serve_station and those the master talks to, until
+ * deadline or a round that handled a slave's message; their number. */
+int link_master_serve(struct df1 *h, struct link_responder *resp, link_handler_fn fn, void *ctx,
+                      int64_t deadline_ms);
+
 /* half duplex (half.c) */
 int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap);
 int half_test(struct df1 *h, uint8_t station);
 int half_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms);
+/* A master message to stn with no reply awaited by us (a routed message):
+ * 1 ACKed (at once for 255: a broadcast is not ACKed), 0 not ACKed within
+ * the NAK retries (the station leaves the active list), DF1_E_*. */
+int half_send_msg(struct df1 *h, uint8_t stn, const uint8_t *app, size_t n);
+/* One poll of stn with no command of ours outstanding, waiting the poll-answer
+ * time: 1 it sent a message (taken: route.c), 0 EOT or nothing, DF1_E_*. */
+int half_poll_station(struct df1 *h, uint8_t stn);
+/* A half-duplex slave's own command (half_msg.c): queued for the next poll of
+ * our station, the polls and the master's commands served meanwhile, until
+ * the master brings its reply. Reply length or DF1_E_*. */
+int half_slave_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap);
+/* A half-duplex slave's own command while it waits (half_msg.c; h->own_msg). */
+struct link_own_msg {
+	const uint8_t *cmd;
+	struct link_reply *slot;
+	uint32_t seq;                /* the slot's, while it holds our command */
+	bool acked, done;
+	uint8_t *reply;
+	size_t cap, len;
+	int rc;
+};
+/* half_serve's hooks for it (half_msg_rx.c): the master message s (good check, not a
+ * duplicate) is the reply our command waits for: ACKed and taken (1), or 0. */
+int half_msg_reply(struct df1 *h, const struct df1_symbol *s);
+/* ... and our command went out and was ACKed (slot r). */
+void half_msg_acked(struct df1 *h, const struct link_reply *r);
+/* ... and it is over (its reply in, or a broadcast ACKed): half_serve returns. */
+bool half_msg_over(const struct df1 *h);
 
 #endif

@@ -128,6 +128,11 @@ static struct link_responder *peer_slots(struct df1 *h, bool alloc)
 	return h->peer_own;
 }
 
+struct link_responder *peer_responder(struct df1 *h)
+{
+	return peer_slots(h, true);
+}
+
 /* The oldest reply (on the line or next to go), with h->resp lent to core.c. */
 static struct link_reply *peer_oldest(struct df1 *h, struct link_responder **saved)
 {
@@ -216,7 +221,7 @@ int peer_timeout(struct df1 *h, int64_t dl)
 }
 
 /* The reply to cmd: the responder's, or STS 10h without one. Its length, 0, or DF1_E_*. */
-static int peer_answer(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *out, size_t cap)
+int peer_answer(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *out, size_t cap)
 {
 	if (h->peer_fn)
 		return h->peer_fn(h, h->peer_ctx, cmd, n, out, cap);

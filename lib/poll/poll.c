@@ -5,6 +5,11 @@
  */
 #include "poll/poll_int.h"
 
+#include "link/link.h"
+
+/* ms between a half-duplex master's rounds of polls while no scan is due */
+#define POLL_SERVICE_GAP_MS 10
+
 static void poll_drain_wake(struct poll_engine *e)
 {
 	uint64_t v;
@@ -71,6 +76,25 @@ static int poll_wait(struct df1 *h, struct poll_engine *e, int64_t until)
 	return p[0].revents ? 1 : 0;
 }
 
+/* The wait between scans. A half-duplex master polls its slaves meanwhile
+ * (lib/link/route.c): their own messages leave only when they are polled,
+ * and what is queued for them goes out. As poll_wait. */
+static int poll_service(struct df1 *h, struct poll_engine *e, int64_t until)
+{
+	int64_t now, step;
+	int r;
+
+	if (h->cfg.duplex != DF1_HALF_DUPLEX_MASTER || h->own_link)
+		return poll_wait(h, e, until);
+	r = link_route_round(h, NULL, NULL, NULL);
+	if (r < 0)
+		return r;
+	now = df1_now_ms();
+	step = now + POLL_SERVICE_GAP_MS;
+	r = poll_wait(h, e, until == POLL_NEVER || step < until ? step : until);
+	return r;
+}
+
 /* poll_work with the ACKs of replies held for our next frame (one write: the
  * ACK and the next block's command); none is left held on return. */
 static int poll_work_merged(struct df1 *h, struct poll_engine *e)
@@ -108,7 +132,7 @@ int df1_poll(df1_t *h, int timeout_ms)
 
 		if (until <= df1_now_ms())
 			break;
-		r = poll_wait(h, e, until);
+		r = poll_service(h, e, until);
 		if (r < 0)
 			return r;
 		if (r == 2)

@@ -252,6 +252,7 @@ enum df1_option {
 	DF1_OPT_EIP_CONNECTED,
 	DF1_OPT_LOW_LATENCY,
 	DF1_OPT_PLC5_REFUSE_LARGE,
+	DF1_OPT_ROUTE,
 };
 int df1_new(df1_t **out);
 void df1_free(df1_t *h);
@@ -381,49 +382,6 @@ struct df1_msg {
 };
 int df1_msg_decode(const uint8_t *app, size_t n, struct df1_msg *m);
 int df1_values_decode(enum df1_file_type t, const uint8_t *bytes, size_t n, struct df1_value *out, size_t max);
-struct df1_server_ops {
-	int (*read)(void *user, int station, const struct df1_addr *a, uint8_t *buf, size_t nbytes);
-	int (*write)(void *user, int station, const struct df1_addr *a, const uint8_t *buf, const uint8_t *mask, size_t nbytes);
-	int (*diag_status)(void *user, int station, uint8_t *buf, size_t cap);
-	int (*change_mode)(void *user, int station, int mode);
-	int (*command)(void *user, int station, const struct df1_msg *cmd, uint8_t *reply, size_t cap);
-};
-int df1_server_add_station(df1_t *h, int station);
-int df1_serve(df1_t *h, const struct df1_server_ops *ops, void *user, int timeout_ms);
-enum df1_fault {
-	DF1_FAULT_DROP_ACK = 1,
-	DF1_FAULT_CORRUPT_REPLY,
-	DF1_FAULT_NAK_COMMAND,
-	DF1_FAULT_DELAY_REPLY,
-	DF1_FAULT_SILENT_STATION,
-	DF1_FAULT_STALE_REPLY,
-	DF1_FAULT_NOISE,
-};
-int df1_server_set_fault(df1_t *h, enum df1_fault f, int per_mille, int value);
-void df1_server_set_seed(df1_t *h, uint64_t seed);
-int df1_server_set_max_queue(df1_t *h, int max_queue);
-int df1_set_responder(df1_t *h, const struct df1_server_ops *ops, void *user);
-int df1_server_source(const df1_t *h);
-int df1_set_line_baud(df1_t *h, int baud);
-int df1_serve_pccc(df1_t *h, const struct df1_server_ops *ops, void *user, int station, const uint8_t *pccc, size_t n, uint8_t *reply, size_t cap);
-struct df1_table;
-int df1_table_new(struct df1_table **out, enum df1_plc plc);
-void df1_table_free(struct df1_table *t);
-int df1_table_clone(struct df1_table **out, const struct df1_table *t);
-int df1_table_add_file(struct df1_table *t, enum df1_file_type type, int number, int elements);
-int df1_table_add_default_files(struct df1_table *t);
-int df1_table_file(const struct df1_table *t, int number, enum df1_file_type *type);
-int df1_table_read(struct df1_table *t, const char *addr, struct df1_value *out, size_t n);
-int df1_table_write(struct df1_table *t, const char *addr, const struct df1_value *in, size_t n);
-int df1_table_read_addr(struct df1_table *t, const struct df1_addr *a, struct df1_value *out, size_t n);
-int df1_table_write_addr(struct df1_table *t, const struct df1_addr *a, const struct df1_value *in, size_t n);
-int df1_table_set_processor(struct df1_table *t, const char *name);
-int df1_table_mode(const struct df1_table *t);
-int df1_table_set_mode(struct df1_table *t, int mode);
-int df1_table_load(struct df1_table *t, const char *path);
-int df1_table_save(struct df1_table *t, const char *path);
-const char *df1_table_error_text(const struct df1_table *t);
-const struct df1_server_ops *df1_table_server_ops(const struct df1_table *t);
 enum df1_mode {
 	DF1_MODE_MASTER = 0,
 	DF1_MODE_SLAVE = 1,
@@ -571,6 +529,53 @@ int df1_read_multi(df1_t *h, int station, struct df1_read_req *reqs, size_t n, u
 int df1_packet_max(enum df1_plc plc, _Bool write);
 int df1_station_health(const df1_t *h, int station, struct df1_station_health *out);
 int df1_poll_station(const df1_t *h, int station, struct df1_station_health *out) ;
+struct df1_server_ops {
+	int (*read)(void *user, int station, const struct df1_addr *a, uint8_t *buf, size_t nbytes);
+	int (*write)(void *user, int station, const struct df1_addr *a, const uint8_t *buf, const uint8_t *mask, size_t nbytes);
+	int (*diag_status)(void *user, int station, uint8_t *buf, size_t cap);
+	int (*change_mode)(void *user, int station, int mode);
+	int (*command)(void *user, int station, const struct df1_msg *cmd, uint8_t *reply, size_t cap);
+};
+int df1_server_add_station(df1_t *h, int station);
+int df1_serve(df1_t *h, const struct df1_server_ops *ops, void *user, int timeout_ms);
+enum df1_fault {
+	DF1_FAULT_DROP_ACK = 1,
+	DF1_FAULT_CORRUPT_REPLY,
+	DF1_FAULT_NAK_COMMAND,
+	DF1_FAULT_DELAY_REPLY,
+	DF1_FAULT_SILENT_STATION,
+	DF1_FAULT_STALE_REPLY,
+	DF1_FAULT_NOISE,
+};
+int df1_server_set_fault(df1_t *h, enum df1_fault f, int per_mille, int value);
+void df1_server_set_seed(df1_t *h, uint64_t seed);
+int df1_server_set_max_queue(df1_t *h, int max_queue);
+int df1_set_responder(df1_t *h, const struct df1_server_ops *ops, void *user);
+int df1_server_source(const df1_t *h);
+struct df1_route_stats {
+	uint64_t executed, routed, broadcasts, route_replies, undeliverable;
+};
+int df1_route_stats(const df1_t *h, struct df1_route_stats *out);
+int df1_set_line_baud(df1_t *h, int baud);
+int df1_serve_pccc(df1_t *h, const struct df1_server_ops *ops, void *user, int station, const uint8_t *pccc, size_t n, uint8_t *reply, size_t cap);
+struct df1_table;
+int df1_table_new(struct df1_table **out, enum df1_plc plc);
+void df1_table_free(struct df1_table *t);
+int df1_table_clone(struct df1_table **out, const struct df1_table *t);
+int df1_table_add_file(struct df1_table *t, enum df1_file_type type, int number, int elements);
+int df1_table_add_default_files(struct df1_table *t);
+int df1_table_file(const struct df1_table *t, int number, enum df1_file_type *type);
+int df1_table_read(struct df1_table *t, const char *addr, struct df1_value *out, size_t n);
+int df1_table_write(struct df1_table *t, const char *addr, const struct df1_value *in, size_t n);
+int df1_table_read_addr(struct df1_table *t, const struct df1_addr *a, struct df1_value *out, size_t n);
+int df1_table_write_addr(struct df1_table *t, const struct df1_addr *a, const struct df1_value *in, size_t n);
+int df1_table_set_processor(struct df1_table *t, const char *name);
+int df1_table_mode(const struct df1_table *t);
+int df1_table_set_mode(struct df1_table *t, int mode);
+int df1_table_load(struct df1_table *t, const char *path);
+int df1_table_save(struct df1_table *t, const char *path);
+const char *df1_table_error_text(const struct df1_table *t);
+const struct df1_server_ops *df1_table_server_ops(const struct df1_table *t);
 typedef struct df1_eip_server df1_eip_server_t;
 struct df1_eip_identity {
 	uint16_t vendor_id, device_type, product_code;

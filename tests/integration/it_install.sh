@@ -36,7 +36,7 @@ ok
 U="$STAGE/usr"
 
 # ---- what was installed, where ----
-for f in bin/df1read bin/df1write bin/df1mon bin/df1sim bin/df1gw include/df1.h include/df1_catalog.h include/df1_eip.h include/df1_probe.h lib/libdf1.a \
+for f in bin/df1read bin/df1write bin/df1mon bin/df1sim bin/df1gw include/df1.h include/df1_catalog.h include/df1_eip.h include/df1_probe.h include/df1_server.h lib/libdf1.a \
 	lib/pkgconfig/libdf1.pc share/man/man1/df1read.1 share/man/man1/df1write.1 \
 	share/man/man1/df1mon.1 share/man/man1/df1sim.1 share/man/man1/df1gw.1 share/man/man7/libdf1.7 \
 	share/man/man3/df1_open.3 share/man/man3/df1_read_int16.3; do

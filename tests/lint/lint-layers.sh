@@ -8,7 +8,7 @@
 #     include each other in a loop;
 #   - an include that is not a path from its root: every #include "..." in
 #     lib/ names a file relative to lib/, in tools/ one relative to tools/
-#     (the public df1.h, df1_catalog.h, df1_eip.h, df1_probe.h excepted); a bare name found
+#     (the public df1.h, df1_catalog.h, df1_eip.h, df1_probe.h, df1_server.h excepted); a bare name found
 #     only beside the file is refused, and so is any lib/ header in tools/;
 #   - an upward edge between lib/ wings: WINGS below lists them bottom first,
 #     and a wing may call or include only wings below it. The top of lib/ (the
@@ -25,7 +25,7 @@ python3 - "$B" "$VERBOSE" <<'PY'
 import subprocess, sys, glob, os
 # lib/'s wings, bottom first (doc/ARCHITECTURE.md 2.1)
 WINGS = ["proto", "base", "port", "link", "eip", "client", "table", "server", "config", "poll"]
-PUBLIC = {"df1.h", "df1_catalog.h", "df1_eip.h", "df1_probe.h"}
+PUBLIC = {"df1.h", "df1_catalog.h", "df1_eip.h", "df1_probe.h", "df1_server.h"}
 b, verbose = sys.argv[1], sys.argv[2] == "1"
 objs = sorted(o for o in glob.glob(b + "/lib/**/*.o", recursive=True) + glob.glob(b + "/tools/**/*.o", recursive=True)
               if os.path.exists(os.path.relpath(o, b)[:-2] + ".c"))  # not stale ones

@@ -55,6 +55,7 @@ static const struct lib_opt lib_opts[] = {
 	{ CLI_OPT_OUTSTANDING, DF1_OPT_MAX_OUTSTANDING, "--outstanding", NULL, NULL, 1, 16, false },
 	{ CLI_OPT_EIP_CONNECTED, DF1_OPT_EIP_CONNECTED, "--eip-connected", NULL, NULL, 1, 1, false },
 	{ CLI_OPT_LOW_LATENCY, DF1_OPT_LOW_LATENCY, "--low-latency", w_yes_no, "yes or no", 0, 0, false },
+	{ CLI_OPT_ROUTE, DF1_OPT_ROUTE, "--route", w_yes_no, "yes or no", 0, 0, false },
 };
 
 #define N_LIB_OPTS (sizeof lib_opts / sizeof lib_opts[0])

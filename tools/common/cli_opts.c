@@ -81,6 +81,8 @@ const struct cli_common_opt cli_common_opts[] = {
 	  "eip:// target: connected messaging (Forward Open)" },
 	{ CLI_OPT_LOW_LATENCY, "low-latency", required_argument, LONG_ONLY(CLI_OPT_LOW_LATENCY), "yes|no",
 	  "USB serial adapter in low latency mode (default yes)" },
+	{ CLI_OPT_ROUTE, "route", required_argument, LONG_ONLY(CLI_OPT_ROUTE), "yes|no",
+	  "half-duplex master: forward a slave's messages for other slaves (default yes)" },
 };
 
 const size_t cli_n_common = sizeof cli_common_opts / sizeof cli_common_opts[0];

@@ -434,6 +434,7 @@ static int setup_handle(df1_t *h, const struct sim_opts *o, struct sim *s)
 	r = r < 0 ? r : df1_set_check(h, o->cli.check);
 	r = r < 0 ? r : df1_set_plc(h, o->cli.plc);
 	r = r < 0 ? r : df1_set_station(h, o->stations[0]);
+	r = r < 0 ? r : df1_set_cmd_timeout_ms(h, o->cli.cmd_timeout_ms); /* a MSG's timeout */
 	for (int i = 0; r >= 0 && i < o->nstations; i++)
 		r = df1_server_add_station(h, o->stations[i]);
 	if (r >= 0 && o->device)

@@ -6,6 +6,9 @@
  * every MS ms. It goes out on the handle df1sim serves with, as a master's
  * command (df1_write / df1_read); while it waits, the commands of the
  * station that polls us are still answered (df1_set_responder, lib/link/peer.c).
+ * As a half-duplex slave the same calls queue it for the master's next poll
+ * and wait for the reply it brings (lib/link/half_msg.c); station 255 is a
+ * broadcast.
  * Its outcome is printed as the MSG block shows it: DN, or ER with the STS
  * (and EXT STS) the target answered, or the link error.
  */
@@ -71,8 +74,8 @@ int sim_msg_parse(const char *spec, struct sim_msg *m, char *err, size_t cap)
 		snprintf(err, cap, "count '%s' is not 1-120", f[2]);
 		return -1;
 	}
-	if (sim_msg_int(f[3], 0, 254, &m->station)) {
-		snprintf(err, cap, "station '%s' is not 0-254", f[3]);
+	if (sim_msg_int(f[3], 0, 255, &m->station)) {
+		snprintf(err, cap, "station '%s' is not 0-255 (255: broadcast)", f[3]);
 		return -1;
 	}
 	for (int i = 5; i < n; i++) {

@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * sim_msg - df1sim's MSG instructions (--msg, df1sim(1)): messages the
- * simulated controller sends on its own, in full duplex, and what each got
- * back (DN, or ER with the code), as a ladder's MSG block shows it.
+ * simulated controller sends on its own, in full duplex or as a half-duplex
+ * slave, and what each got back (DN, or ER with the code), as a ladder's MSG
+ * block shows it.
  */
 #ifndef DF1_TOOLS_SIM_MSG_H
 #define DF1_TOOLS_SIM_MSG_H
@@ -23,7 +24,7 @@ struct sim_msg {
 
 /* Parse KIND,LOCAL,COUNT,STATION,REMOTE[,MS][,seq]; 0, or -1 with why in err. */
 int sim_msg_parse(const char *spec, struct sim_msg *m, char *err, size_t cap);
-/* Run the MSGs that are due on h (full duplex, responder set); what each got
+/* Run the MSGs that are due on h (responder set); what each got
  * back goes to stderr and to log when not NULL. Returns ms until the next
  * one is due (at most max_ms). */
 int sim_msg_run(df1_t *h, struct df1_table *t, struct sim_msg *m, int n, FILE *log, int max_ms);

@@ -225,7 +225,8 @@ static const struct cli_tool sim_tool = {
 	           CLI_ACCEPT(CLI_OPT_HD_BCC) | CLI_ACCEPT(CLI_OPT_PLC5_FLOAT) |
 	           CLI_ACCEPT(CLI_OPT_PLC5_TIMER_WORDS) | CLI_ACCEPT(CLI_OPT_PLC2_ADDR) |
 	           CLI_ACCEPT(CLI_OPT_DUP_DETECT) | CLI_ACCEPT(CLI_OPT_EMBEDDED) | CLI_ACCEPT(CLI_OPT_NAK_0F) |
-	           CLI_ACCEPT(CLI_OPT_ECHO_DISCARD) | CLI_ACCEPT(CLI_OPT_LOW_LATENCY),
+	           CLI_ACCEPT(CLI_OPT_ECHO_DISCARD) | CLI_ACCEPT(CLI_OPT_LOW_LATENCY) |
+	           CLI_ACCEPT(CLI_OPT_CMD_TIMEOUT),
 	.plcs = CLI_PLC_BIT(DF1_PLC_SLC) | CLI_PLC_BIT(DF1_PLC_MICROLOGIX) | CLI_PLC_BIT(DF1_PLC_SLC502) |
 	        CLI_PLC_BIT(DF1_PLC_PLC5) | CLI_PLC_BIT(DF1_PLC_PLC3),
 	.common_help = {
@@ -233,6 +234,7 @@ static const struct cli_tool sim_tool = {
 		[CLI_OPT_STOP_BITS] = "-d only: stop bits (default 1)",
 		[CLI_OPT_DUPLEX] = "full-duplex peer or half-duplex slave (default full)",
 		[CLI_OPT_VERBOSE] = "link events on stderr; -vv also every byte",
+		[CLI_OPT_CMD_TIMEOUT] = "--msg: how long a MSG waits for its reply (default 1000)",
 		[CLI_OPT_HD_BCC] = "master message BCC: STN+data or +STX (default stn)",
 		[CLI_OPT_PLC5_TIMER_WORDS] = "plc5: typed-read timers of 3 or 5 words (default 5)",
 		[CLI_OPT_PLC2_ADDR] = "PLC-2 command addresses (default bytes)",
@@ -294,8 +296,6 @@ int sim_options_parse(int argc, char **argv, struct sim_opts *o)
 		                                         : "one of --pty PATH, -d DEV, --listen ADDR or --eip ADDR is required");
 	if (sim_line_check(o) != CLI_CONTINUE)
 		return CLI_EXIT_USAGE;
-	if (o->nmsgs && o->cli.half_duplex)
-		return cli_usage_error(&o->cli, "--msg needs full duplex (a half-duplex slave's MSG is not done yet)");
 	if ((r = cli_eip_check(&o->cli, &o->eip_opts, o->eip != NULL)) != CLI_CONTINUE)
 		return r;
 	if (cli_lib_option_set(&o->cli, CLI_OPT_PLC5_FLOAT) && o->cli.lib_value[CLI_OPT_PLC5_FLOAT] &&

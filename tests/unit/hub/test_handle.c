@@ -437,9 +437,15 @@ static void test_handle_options(void **state)
 	/* 0.6: USB adapters in low latency mode, on by default */
 	assert_int_equal(DF1_OPT_LOW_LATENCY, 20);
 	assert_int_equal(DF1_OPT_PLC5_REFUSE_LARGE, 21);
+	/* 0.5: a half-duplex master routes its slaves' messages, on by default */
+	assert_int_equal(DF1_OPT_ROUTE, 22);
+	assert_int_equal(df1_get_option(h, DF1_OPT_ROUTE), 1);
+	assert_int_equal(df1_set_option(h, DF1_OPT_ROUTE, 0), 0);
+	assert_int_equal(df1_get_option(h, DF1_OPT_ROUTE), 0);
+	expect_config_range(h, df1_set_option(h, DF1_OPT_ROUTE, 2), "ROUTE", "0 or 1");
 	/* the first value past the end is not an option */
-	assert_int_equal(df1_set_option(h, (enum df1_option)22, 1), DF1_E_INVAL);
-	assert_int_equal(df1_get_option(h, (enum df1_option)22), DF1_E_INVAL);
+	assert_int_equal(df1_set_option(h, (enum df1_option)23, 1), DF1_E_INVAL);
+	assert_int_equal(df1_get_option(h, (enum df1_option)23), DF1_E_INVAL);
 	assert_int_equal(df1_get_option(h, (enum df1_option)99), DF1_E_INVAL);
 }
 

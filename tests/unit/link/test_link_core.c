@@ -27,7 +27,10 @@ static void test_mode_mismatch_and_flush(void **state)
 	uint8_t out[300];
 
 	h->cfg.duplex = DF1_HALF_DUPLEX_SLAVE;
-	assert_int_equal(transact_a2(h, out, sizeof out), DF1_E_NOTSUP);
+	/* a slave's own command waits for a poll that never comes (lib/link/half_msg.c) */
+	h->cfg.cmd_timeout_ms = 50;
+	assert_int_equal(transact_a2(h, out, sizeof out), DF1_E_TIMEOUT);
+	h->cfg.cmd_timeout_ms = 1000;
 	assert_int_equal(link_test(h, 1), DF1_E_NOTSUP);
 	h->cfg.duplex = DF1_HALF_DUPLEX_MASTER;
 	assert_int_equal(link_serve(h, server_responder(h), NULL, NULL, df1_now_ms()), DF1_E_INVAL);
