@@ -184,9 +184,15 @@ static void sim_eip_process(struct sim *s)
 		(void)df1_eip_server_process(s->eip);
 }
 
-static void hexdump(enum df1_dir dir, const uint8_t *b, size_t n)
+/* -vv: the bytes; -vvv: also when the handle took or handed them, in seconds
+ * of CLOCK_MONOTONIC (the clock of df1_set_trace(3)), to line them up with a
+ * master's trace (bench/bench_poll.c --trace) */
+static void hexdump(enum df1_dir dir, const uint8_t *b, size_t n, int verbose, uint64_t t_us)
 {
 	fprintf(stderr, "%s: %s", PROG, dir == DF1_DIR_TX ? "TX" : "RX");
+	if (verbose >= 3)
+		fprintf(stderr, " @%llu.%06llu", (unsigned long long)(t_us / 1000000),
+		        (unsigned long long)(t_us % 1000000));
 	for (size_t i = 0; i < n; i++)
 		fprintf(stderr, " %02X", b[i]);
 	fputc('\n', stderr);
@@ -196,9 +202,8 @@ static void on_trace(void *user, enum df1_dir dir, const uint8_t *bytes, size_t 
 {
 	struct sim *s = user;
 
-	(void)t_us;
 	if (s->verbose >= 2)
-		hexdump(dir, bytes, n);
+		hexdump(dir, bytes, n, s->verbose, t_us);
 	sim_cmdlog_feed(&s->log, dir, bytes, n);
 }
 
