@@ -67,6 +67,7 @@
  */
 #include "link/link.h"
 
+#include <poll.h>
 #include <string.h>
 
 #include "link/link_int.h"
@@ -485,6 +486,22 @@ int link_read_symbol(struct df1 *h, int64_t deadline_ms, struct df1_symbol *sym)
 		memset(sym, 0, sizeof *sym);
 		return 0;
 	}
+}
+
+/* A pause until deadline_us that input ends early, to the microsecond (a
+ * read's deadline is a whole ms, up to one late: the half-duplex master's
+ * pause before a poll, lib/link/half.c). What is held goes out first, as
+ * before any wait for input. 1: input is there (buffered or readable), 0: the
+ * time came, DF1_E_*. */
+int link_wait_input_us(struct df1 *h, int64_t deadline_us)
+{
+	int r = link_tx_flush(h);
+
+	if (r < 0)
+		return r;
+	if (h->rx_pos < h->rx_len)
+		return 1;
+	return port_wait_us(h, h->fd, POLLIN, deadline_us);
 }
 
 /* 2506/2507 with counters 2547/2546 for a frame (or poll) with a bad check. */

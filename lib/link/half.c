@@ -321,13 +321,25 @@ static int half_cmd_timeout(struct df1 *h, struct half_cmd *t)
 	                 "no reply from station %d within %lld ms", t->stn, (long long)t->wait));
 }
 
-/* A poll when one is due (polled), else the pause before it: the end of the
- * read for what comes (*dl, at most Cmd_Timeout). 0 or DF1_E_*. */
-static int half_cmd_poll(struct df1 *h, struct half_cmd *t, int64_t now_us, bool polled, int64_t *dl)
+/* A poll when one is due (*polled), else the pause before it: the end of the
+ * read for what comes (*dl, at most Cmd_Timeout). The pause is waited to the
+ * microsecond first (the read's deadline is a whole ms, on average half a ms
+ * late after every ACK): when it ends with nothing come, the poll is due and
+ * goes now. 0 or DF1_E_*. */
+static int half_cmd_poll(struct df1 *h, struct half_cmd *t, int64_t now_us, bool *polled, int64_t *dl)
 {
 	int r;
 
-	if (polled) {
+	if (!*polled) {
+		r = link_wait_input_us(h, t->poll_at_us);
+		if (r < 0)
+			return r;
+		if (r == 0) {
+			*polled = true;
+			now_us = (int64_t)df1_now_us();
+		}
+	}
+	if (*polled) {
 		t->poll_us = now_us;
 		r = half_send_poll(h, t->stn);
 		if (r < 0)
@@ -426,7 +438,7 @@ int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 
 		if (now >= t.deadline)
 			return half_cmd_timeout(h, &t);
-		r = half_cmd_poll(h, &t, now_us, polled, &dl);
+		r = half_cmd_poll(h, &t, now_us, &polled, &dl);
 		if (r < 0)
 			return r;
 		r = half_answer(h, t.stn, cmd, dl, reply, cap, &len, &t.cause);
