@@ -19,8 +19,9 @@
  * its station's scan, so it waits MS/2 on average (df1sim(1)).
  * The half-duplex case also runs a naive poller (one read per tag) to compare.
  * A benchmark reports numbers; it asserts nothing. Its last output line is
- *   case NAME ratio R
- * for bench/run.sh, R = measured / the bound that applies (see above).
+ *   case NAME ratio R [one-direction R1]
+ * for bench/run.sh, R = measured / the bound that applies (see above), R1 (full
+ * duplex) = measured / the one-direction bound.
  *
  * With --trace FILE every chunk the master writes and reads goes to FILE, one
  * line each: seconds of CLOCK_MONOTONIC, tx or rx, the bytes in hex (df1sim
@@ -273,7 +274,10 @@ int main(int argc, char **argv)
 	 * bound too, so that below 1.00 shows both directions at work at once */
 	bound = scan_time ? serial + waits : serial;
 	ratio = scan_ms / bound;
-	printf("case %s ratio %.2f\n", name, ratio);
+	if (full)
+		printf("case %s ratio %.3f one-direction %.3f\n", name, ratio, scan_ms / one_dir);
+	else
+		printf("case %s ratio %.3f\n", name, ratio);
 	df1_free(h);
 	if (trace_fp)
 		fclose(trace_fp);
