@@ -377,15 +377,21 @@ static int link_fill(struct df1 *h, int64_t deadline_ms, bool *expired)
 		n = h->port->read(h, h->rxbuf, chunk < 1 ? 1 : chunk, deadline_ms);
 		if (n > 0) {
 			int64_t now = (int64_t)df1_now_us();
-			int64_t due = h->rx_due_us + (int64_t)n * link_char_us(h, h->cfg.line_baud);
+			int64_t char_us = link_char_us(h, h->cfg.line_baud);
+			int64_t due = h->rx_due_us + (int64_t)n * char_us;
 			int r;
 
 			/* the line delivers each byte a character after the one before
 			 * it, and none before it was written: a burst (a UART's write)
 			 * trickles in, bytes a paced sender handed over at line rate
-			 * are taken as they come, not delayed once more */
+			 * are taken as they come, not delayed once more. Each of those
+			 * is read a wake-up after it was written, some later than
+			 * others: the account, started at the first, would carry the
+			 * latest wake-up to the frame's end and delay every answer
+			 * (bench/README.md), so being up to a character behind it is
+			 * our own lateness and not waited for */
 			h->rx_due_us = due > now ? due : now;
-			r = link_pause_us(h, h->rx_due_us);
+			r = link_pause_us(h, h->rx_due_us - char_us);
 			if (r < 0)
 				return r;
 		}

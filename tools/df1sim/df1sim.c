@@ -190,13 +190,23 @@ static void sim_eip_process(struct sim *s)
  * master's trace (bench/bench_poll.c --trace) */
 static void hexdump(enum df1_dir dir, const uint8_t *b, size_t n, int verbose, uint64_t t_us)
 {
-	fprintf(stderr, "%s: %s", PROG, dir == DF1_DIR_TX ? "TX" : "RX");
+	char line[64 + 3 * 256];
+	int k = snprintf(line, sizeof line, "%s: %s", PROG, dir == DF1_DIR_TX ? "TX" : "RX");
+
 	if (verbose >= 3)
-		fprintf(stderr, " @%llu.%06llu", (unsigned long long)(t_us / 1000000),
-		        (unsigned long long)(t_us % 1000000));
-	for (size_t i = 0; i < n; i++)
-		fprintf(stderr, " %02X", b[i]);
-	fputc('\n', stderr);
+		k += snprintf(line + k, sizeof line - (size_t)k, " @%llu.%06llu",
+		              (unsigned long long)(t_us / 1000000), (unsigned long long)(t_us % 1000000));
+	/* one write per chunk (stderr is unbuffered): a trace that costs little
+	 * time changes the timing it shows little */
+	for (size_t i = 0; i < n; i++) {
+		if ((size_t)k + 5 > sizeof line) {
+			fputs(line, stderr);
+			k = 0;
+		}
+		k += snprintf(line + k, sizeof line - (size_t)k, " %02X", b[i]);
+	}
+	line[k++] = '\n';
+	fwrite(line, 1, (size_t)k, stderr);
 }
 
 static void on_trace(void *user, enum df1_dir dir, const uint8_t *bytes, size_t n, uint64_t t_us)
