@@ -697,6 +697,8 @@ static void gw_print_counters(const struct gw *g)
 	gw_writes_counters(g, stdout);
 	gw_eip_counters(&g->eip, stdout);
 	gw_publish_counters(g, stdout);
+	if (*df1_port_note(g->h))
+		printf("port note: %s\n", df1_port_note(g->h));
 	cli_print_counters(stdout, g->h, CLI_FMT_PLAIN, 0);
 	fflush(stdout);
 }
