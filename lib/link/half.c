@@ -396,10 +396,13 @@ static int half_cmd_answer(struct df1 *h, struct half_cmd *t, int a, bool polled
 		h->stations[t->stn].active = true;
 		/* the reply was ready when the poll that drew it arrived (not
 		 * when the reply had arrived: its own wire time is no latency) */
-		/* after a "not yet", between the two polls' arrivals: the midpoint
-		 * (the later one alone would teach a latency a whole EOT round late,
-		 * and each poll after it would wait that much longer) */
-		repoll_learn(t->lat, (t->prev_poll_us ? (t->prev_poll_us + t->poll_us) / 2 : t->poll_us) +
+		/* after a "not yet" from a poll shortly before (a scan's few ms),
+		 * between the two polls' arrivals: the midpoint (the later one
+		 * alone teaches a latency a whole EOT round late, and every first
+		 * poll after it waits that much longer). Polls far apart (a slow
+		 * reply polled sparsely) keep the later one: fewer polls next time. */
+		repoll_learn(t->lat, (t->prev_poll_us && t->poll_us - t->prev_poll_us <= HD_REPOLL_MAX_GAP_US / 2
+		                      ? (t->prev_poll_us + t->poll_us) / 2 : t->poll_us) +
 		                     half_poll_wire_us(h) - t->ack_us);
 		return 1;
 	case ANS_TIMEOUT:
