@@ -1,7 +1,12 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * bench_poll - the poll engine on a simulated 19200-baud line with five
- * stations (bench/run.sh starts df1sim --line-baud 19200 for each case): 200
+ * stations (bench/run.sh starts df1sim --line-baud 19200 for each case). In
+ * half duplex both ends pace what they send (df1_set_line_baud); in full
+ * duplex df1sim's relay is the line, a UART per direction
+ * (tools/df1sim/sim_pace.c), and the master writes its frames at once as into
+ * a real UART's buffer (pacing them here too would put each frame on the line
+ * twice, a chunk's time late). 200
  * tags, the scan time measured against the wire-time bounds computed from the
  * bytes the scan sends and receives (the link counters 2560/2561, 10 bits per
  * character):
@@ -14,16 +19,24 @@
  * its station's scan, so it waits MS/2 on average (df1sim(1)).
  * The half-duplex case also runs a naive poller (one read per tag) to compare.
  * A benchmark reports numbers; it asserts nothing. Its last output line is
- *   case NAME ratio R
- * for bench/run.sh, R = measured / the bound that applies (see above).
+ *   case NAME ratio R [one-direction R1]
+ * for bench/run.sh, R = measured / the bound that applies (see above), R1 (full
+ * duplex) = measured / the one-direction bound.
+ *
+ * With --trace FILE every chunk the master writes and reads goes to FILE, one
+ * line each: seconds of CLOCK_MONOTONIC, tx or rx, the bytes in hex (df1sim
+ * -vvv prints its side with the same clock): bench/README.md says how the two
+ * line up into each frame's first and last byte.
  *
  * usage: bench_poll DEVICE half|full [SCANS] [--outstanding N] [--scan-time MS]
- *                   [--name NAME]
+ *                   [--name NAME] [--trace FILE] [--no-naive]
+ * (--no-naive: without the naive poller, for the rounds after the first)
  */
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/prctl.h>
 #include <time.h>
 
 #include "df1.h"
@@ -57,6 +70,17 @@ static struct bytes chars(df1_t *h)
 static double wire_ms(double bytes)
 {
 	return bytes * BITS_PER_CHAR * 1000.0 / BAUD;
+}
+
+static void on_trace(void *user, enum df1_dir dir, const uint8_t *b, size_t n, uint64_t t_us)
+{
+	FILE *fp = user;
+
+	fprintf(fp, "%llu.%06llu %s", (unsigned long long)(t_us / 1000000),
+	        (unsigned long long)(t_us % 1000000), dir == DF1_DIR_TX ? "tx" : "rx");
+	for (size_t i = 0; i < n; i++)
+		fprintf(fp, " %02X", b[i]);
+	fputc('\n', fp);
 }
 
 static uint64_t transactions(df1_t *h)
@@ -125,19 +149,24 @@ int main(int argc, char **argv)
 	struct df1_poll_stats ps;
 	struct bytes b0, b1;
 	df1_t *h;
-	int n = 0, scans = 10, naive_scans = 2, outstanding = 1, scan_time = 0;
+	int n = 0, scans = 10, naive_scans = 2, naive = 1, outstanding = 1, scan_time = 0;
 	bool full;
-	const char *name = NULL;
+	const char *name = NULL, *trace = NULL;
+	FILE *trace_fp = NULL;
 	uint64_t t0tx;
 	int64_t t0;
 	double scan_ms, tx, rx, serial, one_dir, waits, trans, bound, ratio;
 
 	if (argc < 3 || (strcmp(argv[2], "half") && strcmp(argv[2], "full"))) {
 		fprintf(stderr, "usage: bench_poll DEVICE half|full [SCANS] [--outstanding N] "
-		        "[--scan-time MS] [--name NAME]\n");
+		        "[--scan-time MS] [--name NAME] [--trace FILE] [--no-naive]\n");
 		return 2;
 	}
 	full = strcmp(argv[2], "full") == 0;
+	/* a paced write is due to the microsecond: without this the kernel may
+	 * wake the pause up to 50 us late (timer slack), and the last chunk of
+	 * each frame, late, delays the turnaround after it (bench/README.md) */
+	prctl(PR_SET_TIMERSLACK, 1UL, 0, 0, 0);
 	for (int i = 3; i < argc; i++) {
 		if (!strcmp(argv[i], "--outstanding") && i + 1 < argc)
 			outstanding = atoi(argv[++i]);
@@ -145,6 +174,10 @@ int main(int argc, char **argv)
 			scan_time = atoi(argv[++i]);
 		else if (!strcmp(argv[i], "--name") && i + 1 < argc)
 			name = argv[++i];
+		else if (!strcmp(argv[i], "--no-naive"))
+			naive = 0;
+		else if (!strcmp(argv[i], "--trace") && i + 1 < argc)
+			trace = argv[++i];
 		else
 			scans = atoi(argv[i]);
 	}
@@ -154,7 +187,7 @@ int main(int argc, char **argv)
 		name = argv[2];
 	if (df1_new(&h) < 0 ||
 	    df1_set_duplex(h, full ? DF1_FULL_DUPLEX : DF1_HALF_DUPLEX_MASTER) < 0 ||
-	    df1_set_line_baud(h, BAUD) < 0 ||
+	    (!full && df1_set_line_baud(h, BAUD) < 0) ||
 	    (outstanding > 1 && df1_set_option(h, DF1_OPT_MAX_OUTSTANDING, outstanding) < 0) ||
 	    df1_open(h, argv[1]) < 0) {
 		fprintf(stderr, "bench_poll: %s: %s\n", argv[1], h ? df1_last_error(h)->message : "no memory");
@@ -162,6 +195,14 @@ int main(int argc, char **argv)
 	}
 	if (add_tags(h, tags, &n) < 0)
 		return 1;
+	if (trace) {
+		trace_fp = fopen(trace, "w");
+		if (!trace_fp) {
+			perror(trace);
+			return 1;
+		}
+		df1_set_trace(h, on_trace, trace_fp);
+	}
 
 	/* the poll engine: one warm-up scan, then `scans` scans */
 	if (scan_n(h, 1, &ps) < 0)
@@ -202,7 +243,7 @@ int main(int argc, char **argv)
 		printf(", %.2f x (serial bound + waits)", scan_ms / (serial + waits));
 	printf("\n");
 
-	if (!full && !scan_time) {
+	if (!full && !scan_time && naive) {
 		/* the naive poller: one read per tag */
 		double naive_ms, naive_bytes, naive_tx;
 
@@ -233,8 +274,13 @@ int main(int argc, char **argv)
 	 * bound too, so that below 1.00 shows both directions at work at once */
 	bound = scan_time ? serial + waits : serial;
 	ratio = scan_ms / bound;
-	printf("case %s ratio %.2f\n", name, ratio);
+	if (full)
+		printf("case %s ratio %.3f one-direction %.3f\n", name, ratio, scan_ms / one_dir);
+	else
+		printf("case %s ratio %.3f\n", name, ratio);
 	df1_free(h);
+	if (trace_fp)
+		fclose(trace_fp);
 	return 0;
 fail:
 	fprintf(stderr, "bench_poll: %s\n", df1_last_error(h)->message);

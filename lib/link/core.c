@@ -67,6 +67,7 @@
  */
 #include "link/link.h"
 
+#include <poll.h>
 #include <string.h>
 
 #include "link/link_int.h"
@@ -376,15 +377,21 @@ static int link_fill(struct df1 *h, int64_t deadline_ms, bool *expired)
 		n = h->port->read(h, h->rxbuf, chunk < 1 ? 1 : chunk, deadline_ms);
 		if (n > 0) {
 			int64_t now = (int64_t)df1_now_us();
-			int64_t due = h->rx_due_us + (int64_t)n * link_char_us(h, h->cfg.line_baud);
+			int64_t char_us = link_char_us(h, h->cfg.line_baud);
+			int64_t due = h->rx_due_us + (int64_t)n * char_us;
 			int r;
 
 			/* the line delivers each byte a character after the one before
 			 * it, and none before it was written: a burst (a UART's write)
 			 * trickles in, bytes a paced sender handed over at line rate
-			 * are taken as they come, not delayed once more */
+			 * are taken as they come, not delayed once more. Each of those
+			 * is read a wake-up after it was written, some later than
+			 * others: the account, started at the first, would carry the
+			 * latest wake-up to the frame's end and delay every answer
+			 * (bench/README.md), so being up to a character behind it is
+			 * our own lateness and not waited for */
 			h->rx_due_us = due > now ? due : now;
-			r = link_pause_us(h, h->rx_due_us);
+			r = link_pause_us(h, h->rx_due_us - char_us);
 			if (r < 0)
 				return r;
 		}
@@ -485,6 +492,22 @@ int link_read_symbol(struct df1 *h, int64_t deadline_ms, struct df1_symbol *sym)
 		memset(sym, 0, sizeof *sym);
 		return 0;
 	}
+}
+
+/* A pause until deadline_us that input ends early, to the microsecond (a
+ * read's deadline is a whole ms, up to one late: the half-duplex master's
+ * pause before a poll, lib/link/half.c). What is held goes out first, as
+ * before any wait for input. 1: input is there (buffered or readable), 0: the
+ * time came, DF1_E_*. */
+int link_wait_input_us(struct df1 *h, int64_t deadline_us)
+{
+	int r = link_tx_flush(h);
+
+	if (r < 0)
+		return r;
+	if (h->rx_pos < h->rx_len)
+		return 1;
+	return port_wait_us(h, h->fd, POLLIN, deadline_us);
 }
 
 /* 2506/2507 with counters 2547/2546 for a frame (or poll) with a bad check. */

@@ -89,6 +89,16 @@ static int64_t half_poll_answer_ms(const struct df1 *h)
 	return ms < link_timeout_ms(h) ? ms : link_timeout_ms(h);
 }
 
+/* How long a poll takes to reach the slave (DLE ENQ STN BCC: four characters)
+ * on a paced line (df1_set_line_baud): the reply needs to be ready when the
+ * poll arrives, not when it is sent. Elsewhere 0: a serial port may be a
+ * pseudo-terminal that carries the bytes at once, and a poll sent early by
+ * a wire time it does not take would draw more EOTs (TCP takes none). */
+static int64_t half_poll_wire_us(const struct df1 *h)
+{
+	return h->cfg.line_baud > 0 ? 4 * link_char_us(h, h->cfg.line_baud) : 0;
+}
+
 enum half_answer {
 	ANS_TIMEOUT = 0, /* nothing within the deadline */
 	ANS_EOT,         /* DLE EOT: nothing to send yet */
@@ -326,6 +336,7 @@ struct half_cmd {
 	int64_t deadline;            /* ms: the ACK plus wait */
 	int64_t ack_us;              /* the ACK */
 	int64_t poll_at_us, poll_us; /* the next poll, the last one sent */
+	int64_t prev_poll_us;        /* the one before it (answered "not yet"), 0 none */
 	struct repoll_est *lat;
 };
 
@@ -372,13 +383,26 @@ static int half_cmd_timeout(struct df1 *h, struct half_cmd *t)
 	                 "no reply from station %d within %lld ms", t->stn, (long long)t->wait));
 }
 
-/* A poll when one is due (polled), else the pause before it: the end of the
- * read for what comes (*dl, at most Cmd_Timeout). 0 or DF1_E_*. */
-static int half_cmd_poll(struct df1 *h, struct half_cmd *t, int64_t now_us, bool polled, int64_t *dl)
+/* A poll when one is due (*polled), else the pause before it: the end of the
+ * read for what comes (*dl, at most Cmd_Timeout). The pause is waited to the
+ * microsecond first (the read's deadline is a whole ms, on average half a ms
+ * late after every ACK): when it ends with nothing come, the poll is due and
+ * goes now. 0 or DF1_E_*. */
+static int half_cmd_poll(struct df1 *h, struct half_cmd *t, int64_t now_us, bool *polled, int64_t *dl)
 {
 	int r;
 
-	if (polled) {
+	if (!*polled) {
+		r = link_wait_input_us(h, t->poll_at_us);
+		if (r < 0)
+			return r;
+		if (r == 0) {
+			*polled = true;
+			now_us = (int64_t)df1_now_us();
+		}
+	}
+	if (*polled) {
+		t->prev_poll_us = t->poll_us;
 		t->poll_us = now_us;
 		r = half_send_poll(h, t->stn);
 		if (r < 0)
@@ -421,9 +445,16 @@ static int half_cmd_answer(struct df1 *h, struct half_cmd *t, int a, bool polled
 	switch (a) {
 	case ANS_REPLY:
 		h->stations[t->stn].active = true;
-		/* the reply was ready when the poll that drew it went out (not
-		 * when it had arrived: its own wire time is no latency) */
-		repoll_learn(t->lat, t->poll_us - t->ack_us);
+		/* the reply was ready when the poll that drew it arrived (not
+		 * when the reply had arrived: its own wire time is no latency) */
+		/* after a "not yet" from a poll shortly before (a scan's few ms),
+		 * between the two polls' arrivals: the midpoint (the later one
+		 * alone teaches a latency a whole EOT round late, and every first
+		 * poll after it waits that much longer). Polls far apart (a slow
+		 * reply polled sparsely) keep the later one: fewer polls next time. */
+		repoll_learn(t->lat, (t->prev_poll_us && t->poll_us - t->prev_poll_us <= HD_REPOLL_MAX_GAP_US / 2
+		                      ? (t->prev_poll_us + t->poll_us) / 2 : t->poll_us) +
+		                     half_poll_wire_us(h) - t->ack_us);
 		return 1;
 	case ANS_TIMEOUT:
 		if (!polled)
@@ -432,8 +463,8 @@ static int half_cmd_answer(struct df1 *h, struct half_cmd *t, int a, bool polled
 		__attribute__((fallthrough));
 	case ANS_EOT:
 		/* the message is outstanding: poll again when it is likely ready */
-		t->poll_at_us = now_us + repoll_next_us(t->lat, now_us - t->ack_us, half_min_gap_us(h),
-		                                        HD_REPOLL_MAX_GAP_US);
+		t->poll_at_us = now_us + repoll_next_us(t->lat, now_us + half_poll_wire_us(h) - t->ack_us,
+		                                        half_min_gap_us(h), HD_REPOLL_MAX_GAP_US);
 		return 0;
 	case ANS_SKIP:
 		t->poll_at_us = now_us;
@@ -470,7 +501,7 @@ int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 	t.ack_us = (int64_t)df1_now_us();
 	t.deadline = df1_now_ms() + t.wait;
 	t.lat = &h->stations[t.stn].reply_latency;
-	t.poll_at_us = t.ack_us + repoll_first_us(t.lat);
+	t.poll_at_us = t.ack_us + repoll_first_us(t.lat) - half_poll_wire_us(h);
 	for (;;) {
 		int64_t now = df1_now_ms(), now_us = (int64_t)df1_now_us(), dl;
 		bool polled = t.poll_at_us <= now_us;
@@ -478,7 +509,7 @@ int half_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, s
 
 		if (now >= t.deadline)
 			return half_cmd_timeout(h, &t);
-		r = half_cmd_poll(h, &t, now_us, polled, &dl);
+		r = half_cmd_poll(h, &t, now_us, &polled, &dl);
 		if (r < 0)
 			return r;
 		r = half_answer(h, t.stn, cmd, dl, reply, cap, &len, &t.cause);

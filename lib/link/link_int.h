@@ -34,6 +34,7 @@ int link_send_sym_held(struct df1 *h, uint8_t sym);
 /* Noise or a broken symbol: the receiver's last response becomes NAK (doc/PROTOCOL.md 1.7). */
 void link_noise(struct df1 *h);
 int link_read_symbol(struct df1 *h, int64_t deadline_ms, struct df1_symbol *sym);
+int link_wait_input_us(struct df1 *h, int64_t deadline_us);
 void link_bad_check(struct df1 *h, const struct df1_symbol *s);
 bool link_log_error(struct df1 *h, const struct df1_symbol *s);
 

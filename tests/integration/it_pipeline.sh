@@ -8,7 +8,8 @@
 # beyond the one held are NAKed, retried, and every tag still ends GOOD; the
 # one-shot tools take --outstanding too; half duplex reads the same with it;
 # out-of-range values are usage errors.
-# (The writes under faults: tests/unit/poll/test_pipeline_sim.c.) Run from the repository
+# (The writes under faults: tests/unit/poll/test_pipeline_sim.c, unpaced and on a
+# paced line with df1sim as a full-duplex UART and --max-queue 8.) Run from the repository
 # root; DF1_BIN = the built tools.
 . tests/support/lib.sh
 MON="$BIN/df1mon"

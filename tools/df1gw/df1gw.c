@@ -759,6 +759,8 @@ static void gw_print_counters(const struct gw *g)
 	if (g->rx.n)
 		printf("receive: %llu writes from the line landed\n", (unsigned long long)g->rx.received);
 	gw_publish_counters(g, stdout);
+	if (*df1_port_note(g->h))
+		printf("port note: %s\n", df1_port_note(g->h));
 	cli_print_counters(stdout, g->h, CLI_FMT_PLAIN, 0);
 	fflush(stdout);
 }

@@ -55,6 +55,7 @@ static const char page_css[] =
 	"td.GOOD,td.ok,td.connected,td.up{color:#075e00}td.UNCERTAIN,td.failing,td.connecting{color:#8a5a00}\n"
 	"td.BAD,td.offline,td.down,td.absent{color:#b00000;font-weight:600}\n"
 	".stale{color:#b00000}input{font-size:1rem;max-width:100%}\n"
+	"td.note{color:#8a5a00;font-weight:600}\n"
 	"@media (max-width:40rem){th:nth-child(n+6),td:nth-child(n+6){display:none}}\n";
 
 /* Every value reaches the page through textContent (never innerHTML). */
@@ -81,7 +82,8 @@ static const char page_js[] =
 	"    else Object.keys(obj).forEach(function (k) {\n"
 	"      var tr = document.createElement('tr'), v = obj[k];\n"
 	"      cell(tr, k);\n"
-	"      cell(tr, v === null ? '-' : typeof v === 'object' ? JSON.stringify(v) : v, k === 'state' ? v : '');\n"
+	"      cell(tr, v === null ? '-' : typeof v === 'object' ? JSON.stringify(v) : v,\n"
+	"           k === 'state' ? v : k === 'port_note' && v ? 'note' : '');\n"
 	"      rows.push(tr);\n"
 	"    });\n"
 	"    fill(id, rows);\n"

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw_status - /api/status: what the status page shows, as JSON
- * (gw_metrics.h), and the summary line STATUS= sends (gw_health.h): the summary line, the line's settings and state, each
+ * (gw_metrics.h), and the summary line STATUS= sends (gw_health.h): the summary line, the line's settings, state and port note, each
  * station, each tag (its payload as gw_value.c makes it, with its name and
  * age), the broker, EtherNet/IP, and the metrics table. Strings go through
  * gw_json_text, so a tag name with markup in it stays text to the page.
@@ -43,9 +43,13 @@ static void line_json(const struct gw *g, struct gw_buf *b)
 	jstr(b, "error", g->line_error[0] ? g->line_error : NULL);
 	gw_buf_printf(b, ",\"baud\":%d,", c->baud);
 	jstr(b, "framing", framing);
-	gw_buf_printf(b, ",\"duplex\":\"%s\",\"check\":\"%s\",\"timeout_ms\":%d,\"network_file\":%s}",
+	gw_buf_printf(b, ",\"duplex\":\"%s\",\"check\":\"%s\",\"timeout_ms\":%d,\"network_file\":%s,",
 	              c->half_duplex ? "half" : "full", c->check == DF1_CHECK_BCC ? "BCC" : "CRC", c->timeout_ms,
 	              c->net_file ? "true" : "false");
+	/* what the library noticed when it opened the port (a USB adapter's
+	 * latency timer it could not lower: libdf1(7) USB ADAPTERS), or null */
+	jstr(b, "port_note", g->h && *df1_port_note(g->h) ? df1_port_note(g->h) : NULL);
+	gw_buf_puts(b, "}");
 }
 
 static void stations_json(const struct gw *g, struct gw_buf *b)
@@ -206,14 +210,17 @@ void gw_health_summary(const struct gw *g, char *out, size_t cap)
 		struct df1_eip_server_stats es;
 
 		df1_eip_server_stats(g->eip.s, &es);
-		snprintf(out + len, cap - len, ", EtherNet/IP %llu session%s", (unsigned long long)es.sessions_open,
-		         es.sessions_open == 1 ? "" : "s");
+		len += (size_t)snprintf(out + len, cap - len, ", EtherNet/IP %llu session%s",
+		                        (unsigned long long)es.sessions_open, es.sessions_open == 1 ? "" : "s");
 	}
+	/* the port's note last (it is long: the sysfs file and the udev rule) */
+	if (len < cap && g->line_up && g->h && *df1_port_note(g->h))
+		snprintf(out + len, cap - len, "; %s", df1_port_note(g->h));
 }
 
 void gw_status_json(const struct gw *g, struct gw_buf *b)
 {
-	char text[256], ts[32];
+	char text[1536], ts[32];        /* the summary with a port note in full */
 
 	gw_health_summary(g, text, sizeof text);
 	gw_buf_puts(b, "{");

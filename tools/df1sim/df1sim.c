@@ -31,6 +31,7 @@
 #include <string.h>
 #include <strings.h>
 #include <sys/epoll.h>
+#include <sys/prctl.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -184,21 +185,36 @@ static void sim_eip_process(struct sim *s)
 		(void)df1_eip_server_process(s->eip);
 }
 
-static void hexdump(enum df1_dir dir, const uint8_t *b, size_t n)
+/* -vv: the bytes; -vvv: also when the handle took or handed them, in seconds
+ * of CLOCK_MONOTONIC (the clock of df1_set_trace(3)), to line them up with a
+ * master's trace (bench/bench_poll.c --trace) */
+static void hexdump(enum df1_dir dir, const uint8_t *b, size_t n, int verbose, uint64_t t_us)
 {
-	fprintf(stderr, "%s: %s", PROG, dir == DF1_DIR_TX ? "TX" : "RX");
-	for (size_t i = 0; i < n; i++)
-		fprintf(stderr, " %02X", b[i]);
-	fputc('\n', stderr);
+	char line[64 + 3 * 256];
+	int k = snprintf(line, sizeof line, "%s: %s", PROG, dir == DF1_DIR_TX ? "TX" : "RX");
+
+	if (verbose >= 3)
+		k += snprintf(line + k, sizeof line - (size_t)k, " @%llu.%06llu",
+		              (unsigned long long)(t_us / 1000000), (unsigned long long)(t_us % 1000000));
+	/* one write per chunk (stderr is unbuffered): a trace that costs little
+	 * time changes the timing it shows little */
+	for (size_t i = 0; i < n; i++) {
+		if ((size_t)k + 5 > sizeof line) {
+			fputs(line, stderr);
+			k = 0;
+		}
+		k += snprintf(line + k, sizeof line - (size_t)k, " %02X", b[i]);
+	}
+	line[k++] = '\n';
+	fwrite(line, 1, (size_t)k, stderr);
 }
 
 static void on_trace(void *user, enum df1_dir dir, const uint8_t *bytes, size_t n, uint64_t t_us)
 {
 	struct sim *s = user;
 
-	(void)t_us;
 	if (s->verbose >= 2)
-		hexdump(dir, bytes, n);
+		hexdump(dir, bytes, n, s->verbose, t_us);
 	sim_cmdlog_feed(&s->log, dir, bytes, n);
 }
 
@@ -687,6 +703,11 @@ int main(int argc, char **argv)
 		msg("stdout is closed: df1sim prints the device it serves there");
 		return CLI_EXIT_FAIL;
 	}
+	/* --line-baud paces to the microsecond: the kernel's default timer slack
+	 * (50 us) would make each frame's last chunk late, and every turnaround
+	 * after it (bench/README.md) */
+	if (o.line_baud)
+		prctl(PR_SET_TIMERSLACK, 1UL, 0, 0, 0);
 	status = sim_build(&sim, &o);
 	if (!status)
 		status = sim_start(&sim, &o, &h);

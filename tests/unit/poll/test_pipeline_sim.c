@@ -5,7 +5,9 @@
  * duplex: the values read are the data table's and the same as with N = 1;
  * under NAK, dropped-ACK and corrupt-reply faults every queued write ends once
  * and is executed exactly once when reported done (at most once otherwise, never
- * when reported unexecuted), counted in df1sim's frame log (--log); against a
+ * when reported unexecuted), counted in df1sim's frame log (--log), also on a
+ * paced line where df1sim is a full-duplex UART (--line-baud, --max-queue 8,
+ * the bench's setting) and no value read is another's; against a
  * controller with one buffer (--max-queue 1) the commands beyond it are NAKed
  * and retried and every read still ends GOOD.
  */
@@ -145,15 +147,12 @@ static void test_values_as_one_at_a_time(void **state)
 }
 
 /* Faults: each write ends once, executed once when done (the frame log). */
-static void test_writes_once_under_faults(void **state)
+static void writes_once_under_faults(const char *const *args)
 {
-	static const char *const args[] = { "--station", "1-2", "--nak", "15", "--drop-ack", "15",
-	                                    "--corrupt", "15", "--seed", "11", NULL };
 	struct simproc sp;
 	struct run r;
 	char addr[48];
 
-	(void)state;
 	assert_int_equal(start_sim(&sp, args), 0);
 	run_poll(&sp, 4, true, 5, &r);
 	/* df1sim logs a command once its reply went out: wait for the last ones */
@@ -179,7 +178,34 @@ static void test_writes_once_under_faults(void **state)
 	assert_true(r.naks_rcvd > 0);
 	assert_true(r.crc_errors > 0);
 	assert_true(simproc_log_count(&sp, "cmd=0F/A2", NULL) > 5 * STATIONS * READS / 2);
+	/* a value read is the table's, never another block's or a stale one */
+	for (int s = 0; s < STATIONS; s++)
+		for (int i = 0; i < READS; i++)
+			assert_true(r.values[s][i] == read_elem[i] || r.values[s][i] == -1);
 	simproc_stop(&sp, false);
+}
+
+static void test_writes_once_under_faults(void **state)
+{
+	static const char *const args[] = { "--station", "1-2", "--nak", "15", "--drop-ack", "15",
+	                                    "--corrupt", "15", "--seed", "11", NULL };
+
+	(void)state;
+	writes_once_under_faults(args);
+}
+
+/* The same on a paced line with df1sim as a full-duplex UART (both
+ * directions at once: tools/df1sim/sim_pace.c) buffering 8 commands, as
+ * make bench runs it: the replies of the commands in flight come while the
+ * next ones go, and faults hit them there. */
+static void test_writes_once_under_faults_paced(void **state)
+{
+	static const char *const args[] = { "--station", "1-2", "--line-baud", "19200", "--max-queue",
+	                                    "8", "--nak", "10", "--drop-ack", "10", "--corrupt", "10",
+	                                    "--seed", "5", NULL };
+
+	(void)state;
+	writes_once_under_faults(args);
 }
 
 /* A controller with one buffer: the extra commands are NAKed, retried, all end GOOD. */
@@ -212,6 +238,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_values_as_one_at_a_time),
 		cmocka_unit_test(test_writes_once_under_faults),
+		cmocka_unit_test(test_writes_once_under_faults_paced),
 		cmocka_unit_test(test_full_queue_naks),
 	};
 
