@@ -69,6 +69,8 @@ TOOL_LIBS_df1gw += $(shell pkg-config --libs libmicrohttpd 2>/dev/null || echo -
 GW_PURE_OBJS := $(patsubst %.c,$(B)/%.o,$(filter-out tools/df1gw/df1gw.c tools/df1gw/gw_mqtt.c tools/df1gw/gw_pub.c,$(TOOL_SRCS_df1gw)))
 # ... and not the health side that reads the broker's state and serves HTTP
 GW_PURE_OBJS := $(filter-out $(patsubst %,$(B)/tools/df1gw/%.o,gw_health gw_http gw_metrics gw_status),$(GW_PURE_OBJS))
+# store and forward's wiring (gw_sfwd.c) sees struct gw and the broker: not pure either
+GW_PURE_OBJS := $(filter-out $(B)/tools/df1gw/gw_sfwd.o,$(GW_PURE_OBJS))
 # Sparkplug B (df1gw --sparkplug): C made from tools/df1gw/spb.proto by protoc-c
 # into the build directory, linked with libprotobuf-c; gw_spb_codec.c is the
 # only file that includes it, and df1gw's unit tests link it too.
