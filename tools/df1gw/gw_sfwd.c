@@ -7,6 +7,7 @@
 #include "df1gw/gw_sfwd.h"
 
 #include <inttypes.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -42,7 +43,7 @@ static void say_note(struct gw *g)
 	const char *n = g->sfwd.b ? gw_buffer_note(g->sfwd.b) : NULL;
 
 	if (n)
-		say(g, "buffer: %s", n);
+		say(g, "%s", n);        /* "buffer FILE: ..." */
 }
 
 static void bound_text(const struct gw_sfwd *s, char *out, size_t cap)
@@ -65,6 +66,9 @@ int gw_sfwd_open(struct gw *g)
 	gw_replay_init(&s->r, s->rate);
 	if (!g->mqtt_url || g->once)
 		return 0;               /* nothing to store for: no broker, or one scan */
+	/* a file size limit (ulimit -f) fails the write with EFBIG, which the
+	 * buffer answers by falling back to memory: not a reason to stop */
+	signal(SIGXFSZ, SIG_IGN);
 	if (s->path && !s->lim.max_records && !s->lim.max_bytes)
 		s->lim.max_bytes = GW_SFWD_FILE_DEFAULT_BYTES;
 	r = gw_buffer_open(&s->b, s->path, &s->lim, err, sizeof err);
