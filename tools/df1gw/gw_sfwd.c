@@ -11,6 +11,7 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
+#include <time.h>
 
 #include "df1gw/gw.h"
 #include "df1gw/gw_buffer_rec.h"
@@ -21,6 +22,16 @@
 /* One record's blob at a time, and a tag's values unpacked: not on the stack. */
 static uint8_t blob[GW_BUFFER_TAG_MAX > GW_BUFFER_REC_MAX ? GW_BUFFER_TAG_MAX : GW_BUFFER_REC_MAX];
 static struct df1_value vals[1000];
+
+/* The wall clock of a record's read time (gw_pub.c's gw_wall_ms(); its own,
+ * so that gw_pub.c, which calls in here, is not called back). */
+static int64_t sf_wall_ms(void)
+{
+	struct timespec ts;
+
+	clock_gettime(CLOCK_REALTIME, &ts);
+	return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
+}
 
 static void say(const struct gw *g, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
@@ -157,7 +168,7 @@ static void append(struct gw *g, struct gw_buffer_rec *rec)
 {
 	struct gw_sfwd *s = &g->sfwd;
 
-	if (gw_buffer_append(s->b, rec, gw_wall_ms()) < 0) {
+	if (gw_buffer_append(s->b, rec, sf_wall_ms()) < 0) {
 		if (!s->err_said)
 			say(g, "buffer: cannot keep a change (out of memory): it is lost");
 		s->err_said = true;
@@ -194,7 +205,7 @@ void gw_sfwd_station(struct gw *g, const struct gw_station_out *st)
 	s->st_key[st->station] = key;
 	n = gw_buffer_station_pack(st, blob, sizeof blob);
 	if (n >= 0) {
-		struct gw_buffer_rec rec = { 0, GW_BUFFER_HEALTH, st->station, 0, gw_wall_ms(), "", blob, (size_t)n };
+		struct gw_buffer_rec rec = { 0, GW_BUFFER_HEALTH, st->station, 0, sf_wall_ms(), "", blob, (size_t)n };
 
 		append(g, &rec);
 	}
@@ -207,7 +218,7 @@ int gw_sfwd_result(struct gw *g, const struct gw_fmt *f, const struct gw_result_
 	if (!g->sfwd.b || (n = gw_buffer_result_pack(r, blob, sizeof blob)) < 0)
 		return -1;
 	struct gw_buffer_rec rec = { 0, GW_BUFFER_WRITE, f->slot, r->ok ? DF1_QUALITY_GOOD : DF1_QUALITY_BAD,
-	                             gw_wall_ms(), r->tag, blob, (size_t)n };
+	                             sf_wall_ms(), r->tag, blob, (size_t)n };
 
 	append(g, &rec);
 	return 0;
@@ -365,7 +376,7 @@ void gw_sfwd_turn(struct gw *g, int64_t now)
 	if (!gw_sfwd_capturing(g))
 		memset(s->st_known, 0, sizeof s->st_known);     /* an outage starts with each station's state */
 	if (s->lim.max_age_ms && now >= s->expire_next_ms) {
-		gw_buffer_expire(s->b, gw_wall_ms());
+		gw_buffer_expire(s->b, sf_wall_ms());
 		s->expire_next_ms = now + EXPIRE_EVERY_MS;
 		drops_look(g);
 	}
@@ -441,7 +452,7 @@ double gw_sfwd_figure(const struct gw *g, enum gw_sfwd_fig which)
 	case GW_SF_REPLAYED: return (double)g->sfwd.r.replayed;
 	case GW_SF_RECORDS: return (double)st.records;
 	case GW_SF_BYTES: return (double)st.bytes;
-	case GW_SF_AGE_S: return st.records && st.oldest_ms ? (double)(gw_wall_ms() - st.oldest_ms) / 1000.0 : 0;
+	case GW_SF_AGE_S: return st.records && st.oldest_ms ? (double)(sf_wall_ms() - st.oldest_ms) / 1000.0 : 0;
 	case GW_SF_IN_MEMORY: return st.in_memory ? 1 : 0;
 	}
 	return 0;
