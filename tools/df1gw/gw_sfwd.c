@@ -407,8 +407,10 @@ int gw_sfwd_wait_ms(const struct gw *g, int64_t now)
 {
 	const struct gw_sfwd *s = &g->sfwd;
 
-	if (!s->b || !gw_mqtt_up(&g->mq) || backlog(s) == 0 || s->r.n >= GW_REPLAY_WINDOW)
-		return 1000;            /* a PUBACK wakes the loop through the socket */
+	/* nothing to replay now: a PUBACK, a STATE or the connection wakes the
+	 * loop through the socket */
+	if (!s->b || !gw_mqtt_up(&g->mq) || !sessions_ready(g) || backlog(s) == 0 || s->r.n >= GW_REPLAY_WINDOW)
+		return 1000;
 	return gw_replay_wait_ms(&s->r, now);
 }
 
