@@ -56,8 +56,12 @@ static void publish(struct gw *g, const struct gw_msg *m)
 
 	for (size_t i = 0; i < m->body.len && text; i++)
 		text = (unsigned char)body[i] >= 0x20 || body[i] == '\n' || body[i] == '\t';
-	if (gw_mqtt_publish_qos(&g->mq, m->topic, body, m->body.len, m->qos, m->retain) < 0)
+	int mid = 0;
+
+	if (gw_mqtt_publish_mid(&g->mq, m->topic, body, m->body.len, m->qos, m->retain, &mid) < 0)
 		return;
+	if ((m->qos < 0 ? g->qos : m->qos) > 0)
+		gw_sfwd_live_mid(g, mid);       /* store and forward: a tag's message kept until its PUBACK */
 	g->health.published++;          /* df1_mqtt_publications_total (gw_metrics.c) */
 	if (g->cli.verbose && !g->cli.quiet) {
 		if (text)
@@ -108,9 +112,11 @@ static void tag_publish(struct gw *g, int id, const struct df1_tag_state *st, bo
 	if (id < 0 || id >= g->ntags || !gw_mqtt_up(&g->mq) || !tag_out(g, st, force, &t, error, sizeof error))
 		return;
 	e = &g->pubs.v[g->pub_of[id]];
+	gw_sfwd_live_tag(g, &t);        /* store and forward: not lost if the connection drops now */
 	for (int i = 0; i < g->fmts.n; i++)
 		if (gw_fmt_tag_changed(&g->fmts.v[i], e, &t, &g->msg, &g->key, now, force))
 			fmt_publish(g, &g->fmts.v[i], &g->msg);
+	gw_sfwd_live_close(g);
 }
 
 static void station_publish(struct gw *g, int stn, bool force, int64_t now);

@@ -92,6 +92,10 @@ int gw_sfwd_open(struct gw *g)
 		fprintf(stderr, "%s: --buffer %s: %s\n", GW_PROG, s->path ? s->path : "(memory)", err);
 		return CLI_EXIT_FAIL;
 	}
+	if (gw_live_init(&s->live, 0) < 0) {
+		fprintf(stderr, "%s: out of memory\n", GW_PROG);
+		return CLI_EXIT_FAIL;
+	}
 	say_note(g);
 	bound_text(s, bound, sizeof bound);
 	if (!s->path)
@@ -107,6 +111,7 @@ void gw_sfwd_close(struct gw *g)
 	if (g->sfwd.b)
 		gw_buffer_close(g->sfwd.b);
 	g->sfwd.b = NULL;
+	gw_live_free(&g->sfwd.live);
 }
 
 static uint64_t backlog(const struct gw_sfwd *s)
@@ -184,6 +189,28 @@ void gw_sfwd_tag(struct gw *g, const struct gw_tag_out *t)
 
 	if (n >= 0 && g->sfwd.b)
 		append(g, &rec);
+}
+
+void gw_sfwd_live_tag(struct gw *g, const struct gw_tag_out *t)
+{
+	int n;
+
+	if (!g->sfwd.b || (n = gw_buffer_tag_pack(t, blob, sizeof blob)) < 0)
+		return;
+	struct gw_buffer_rec rec = { 0, GW_BUFFER_TAG, t->st->id, t->quality >= 0 ? t->quality : (int)t->st->quality,
+	                             t->wall_ms, t->st->config->name, blob, (size_t)n };
+
+	gw_live_open(&g->sfwd.live, &rec);
+}
+
+void gw_sfwd_live_mid(struct gw *g, int mid)
+{
+	gw_live_mid(&g->sfwd.live, mid);
+}
+
+void gw_sfwd_live_close(struct gw *g)
+{
+	gw_live_close(&g->sfwd.live);
 }
 
 static uint64_t fnv(uint64_t h, const char *p)
@@ -419,8 +446,21 @@ void gw_sfwd_acked(void *user, int mid)
 	struct gw *g = user;
 	uint64_t seq;
 
-	if (g->sfwd.b && gw_replay_acked(&g->sfwd.r, mid, &seq))
+	if (!g->sfwd.b)
+		return;
+	if (gw_replay_acked(&g->sfwd.r, mid, &seq))
 		gw_buffer_ack(g->sfwd.b, seq);
+	else
+		gw_live_acked(&g->sfwd.live, mid);
+}
+
+/* A live publication the drop cut off: into the buffer, replayed as historical. */
+static void live_keep(void *u, struct gw_buffer_rec *r)
+{
+	struct gw *g = u;
+
+	r->seq = 0;
+	append(g, r);
 }
 
 void gw_sfwd_lost(void *user)
@@ -431,6 +471,7 @@ void gw_sfwd_lost(void *user)
 		return;
 	gw_buffer_rewind(g->sfwd.b);
 	gw_replay_reset(&g->sfwd.r);
+	gw_live_drain(&g->sfwd.live, live_keep, g);
 }
 
 /* ---- figures ---- */

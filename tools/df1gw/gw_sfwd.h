@@ -22,6 +22,7 @@
 
 #include "df1gw/gw_buffer.h"
 #include "df1gw/gw_format.h"
+#include "df1gw/gw_live.h"
 #include "df1gw/gw_replay.h"
 
 #define GW_SFWD_FILE_DEFAULT_BYTES (1024ull * 1024 * 1024)   /* --buffer FILE without --buffer-max */
@@ -36,6 +37,7 @@ struct gw_sfwd {
 
 	struct gw_buffer *b;         /* NULL: none (--once, no broker) */
 	struct gw_replay r;
+	struct gw_live live;         /* live tag publications until their PUBACKs */
 	bool draining;               /* a backlog goes out: the republish follows it */
 	bool was_up;                 /* the broker at the last turn */
 	bool status_due;             /* the retained PREFIX/status/buffer to publish */
@@ -61,6 +63,12 @@ bool gw_sfwd_holding(const struct gw *g);
 /* What would have been published, buffered. */
 void gw_sfwd_tag(struct gw *g, const struct gw_tag_out *t);
 void gw_sfwd_station(struct gw *g, const struct gw_station_out *s);
+/* A live tag publication (gw_pub.c's tag_publish): t kept from _tag until
+ * the PUBACK of every QoS 1 message (_mid) published before _close; what is
+ * not acknowledged when the connection drops goes into the buffer. */
+void gw_sfwd_live_tag(struct gw *g, const struct gw_tag_out *t);
+void gw_sfwd_live_mid(struct gw *g, int mid);
+void gw_sfwd_live_close(struct gw *g);
 /* A write's result of format f while the broker is away: 0 buffered, -1
  * not (no buffer: the caller keeps it its own way). */
 int gw_sfwd_result(struct gw *g, const struct gw_fmt *f, const struct gw_result_out *r);
