@@ -28,7 +28,7 @@ broker_start broker "$MQ_PORT" "allow_anonymous true" "persistence true" "persis
 REC="$T/rec.txt"
 : > "$REC"
 mosquitto_sub -h 127.0.0.1 -p "$MQ_PORT" -i df1test-recorder -c -q 1 -v -t 'p1/#' -t 'p2/#' -t 'p3/#' \
-	-t 'p4/#' -t 'p5/#' >> "$REC" 2> "$T/sub.err" &
+	-t 'p4/#' -t 'p5/#' -t 'p8/#' >> "$REC" 2> "$T/sub.err" &
 echo $! >> "$T/.sims"
 wait_for "recorder subscribed" 100 sh -c "mosquitto_pub -h 127.0.0.1 -p $MQ_PORT -t p1/probe -m '{}' 2>/dev/null; grep -q p1/probe '$REC'"
 
@@ -135,6 +135,29 @@ check "gw4 said the file failed, with its path and errno" \
 	"grep 'buffer ' '$T/gw4.err' | grep -q '$T/b4.db' && grep 'buffer ' '$T/gw4.err' | grep -q -i 'too large\|disk\|full\|I/O'"
 grep -q 'buffer ' "$T/gw4.err" || sed 's/^/  gw4: /' "$T/gw4.err" | head -5
 if $CHK ramp "$REC" p4/tag/Ramp 10 > "$T/chk4"; then ok; else bad "gw4's replay from memory"; sed 's/^/  /' "$T/chk4"; fi
+
+# ---- messages handed over and never acknowledged (a broker that takes and says nothing, then
+# closes): every one of them arrives from the buffer after the reconnection ----
+broker_stop
+NOACK="$T/noack.txt"
+: > "$NOACK"
+python3 tests/support/mqtt_noack.py "$MQ_PORT" df1test-noack 3 "$NOACK" > "$T/noack.out" 2>&1 &
+NOACK_PID=$!
+echo "$NOACK_PID" >> "$T/.sims"
+wait_for "the broker without PUBACKs listens" 100 grep -q listening "$T/noack.out"
+gw gw8 p8 --buffer "$T/b8.db" --client-id df1test-noack
+noack_done() { ! kill -0 "$NOACK_PID" 2>/dev/null; }
+wait_for "the broker without PUBACKs took messages and closed" 100 noack_done
+broker_run broker "$MQ_PORT"
+wait_for "gw8's backlog replayed" 300 drained p8
+gw_stop
+taken=$(grep -o '^p8/tag/Ramp {"value":[0-9]*' "$NOACK" | sed 's/.*://' | sort -n | tr '\n' ' ')
+check "gw8 handed ramp values to the broker without PUBACKs ($taken)" '[ -n "$taken" ]'
+lost=
+for v in $taken; do
+	grep -q "^p8/tag/Ramp {\"value\":$v,.*\"historical\":true" "$REC" || lost="$lost $v"
+done
+same "gw8: every value never acknowledged arrived as historical" "$lost" ""
 
 # ---- a corrupt file: moved aside, a new one; a second df1gw on it: exit 2 ----
 i=0; while [ $i -lt 200 ]; do echo "not a database, a text file that happens to be here"; i=$((i + 1)); done > "$T/b5.db"
