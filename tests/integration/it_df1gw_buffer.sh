@@ -165,6 +165,7 @@ gw gw5 p5 --buffer "$T/b5.db"
 wait_for "gw5 publishes over a corrupt buffer file" 100 live p5 3
 check "gw5 said the file was moved aside" "grep -q 'corrupt' '$T/gw5.err'"
 check "the corrupt file is kept aside" "ls '$T'/b5.db.corrupt-* >/dev/null 2>&1"
+check "gw5 runs on (it holds the file)" "kill -0 $GW_PID" || sed 's/^/  gw5: /' "$T/gw5.err"
 expect 2 "a second df1gw on the same --buffer" -- "$GW" -d "$SIM_DEV" --map "$T/map.csv" \
 	--mqtt "mqtt://127.0.0.1:$MQ_PORT" --prefix p6 --buffer "$T/b5.db"
 err_has "the second says why" "another df1gw uses this file"

@@ -84,8 +84,7 @@ int gw_sfwd_open(struct gw *g)
 		s->lim.max_bytes = GW_SFWD_FILE_DEFAULT_BYTES;
 	r = gw_buffer_open(&s->b, s->path, &s->lim, err, sizeof err);
 	if (r == GW_BUFFER_LOCKED) {
-		fprintf(stderr, "%s: --buffer %s: %s: another df1gw uses this file (one process per buffer file)\n",
-		        GW_PROG, s->path, err);
+		fprintf(stderr, "%s: %s: another df1gw uses this file (one process per buffer file)\n", GW_PROG, err);
 		return CLI_EXIT_USAGE;
 	}
 	if (r < 0) {
@@ -253,14 +252,17 @@ int gw_sfwd_result(struct gw *g, const struct gw_fmt *f, const struct gw_result_
 
 /* ---- the replay ---- */
 
-/* m of format f out with QoS 1, its mid noted for record seq. */
+/* m of format f out, its mid noted for record seq: with QoS 1 (the PUBACK
+ * acknowledges it), or the format's QoS 0 (Sparkplug's DDATA: libmosquitto
+ * says so once it is written). */
 static bool replay_send(struct gw *g, const struct gw_fmt *f, struct gw_msg *m, uint64_t seq)
 {
 	int mid = 0;
 
 	if (f->ops->stamp)
 		f->ops->stamp(f, m);
-	if (gw_mqtt_publish_mid(&g->mq, m->topic, m->body.p ? m->body.p : "", m->body.len, 1, m->retain, &mid) < 0)
+	if (gw_mqtt_publish_mid(&g->mq, m->topic, m->body.p ? m->body.p : "", m->body.len, m->qos == 0 ? 0 : 1,
+	                        m->retain, &mid) < 0)
 		return false;
 	g->health.published++;
 	if (g->cli.verbose && !g->cli.quiet)
