@@ -102,12 +102,22 @@ pre=$($CHK before "$REC" p2/tag/Ramp "$killed")
 check "gw2: the changes buffered before kill -9 arrived ($pre)" '[ "${pre:-0}" -ge 10 ]'
 
 # ---- a bound that overflows: the newest kept, the drops counted exactly ----
-gw gw3 p3 --buffer "$T/b3.db" --buffer-max 20r
+gw gw3 p3 --buffer "$T/b3.db" --buffer-max 20r --http 0
 wait_for "gw3 publishes" 100 live p3 5
+HTTP=$(sed -n 's|^df1gw: HTTP on \([^ ]*\) .*|\1|p' "$T/gw3.err" | head -n 1)
 broker_stop
 outage 4
 broker_run broker "$MQ_PORT"
 wait_for "gw3's backlog replayed" 300 drained p3
+wait_for "gw3's retained status after the replay" 100 sh -c "grep '^p3/status/buffer ' '$REC' | tail -n 1 | grep -q '\"replayed\":[1-9]'"
+if python3 -c 'import prometheus_client' 2>/dev/null; then
+	m3=$(python3 tests/support/prom_probe.py "http://$HTTP/metrics" --lint df1_buffer_dropped_size_total \
+		df1_buffer_backlog_records df1_buffer_in_memory | tr '\n' ' ')
+else
+	m3=
+	skip "prometheus_client missing: /metrics of the buffer not read"
+fi
+api3=$(python3 -c "import json, urllib.request; b = json.load(urllib.request.urlopen('http://$HTTP/api/status', timeout=20))['buffer']; print(b['dropped_size'], b['backlog_records'], b['storage'])")
 gw_stop
 seq3=$($CHK seqs "$REC" p3)
 line=$(grep '^buffer ' "$T/gw3.out")
@@ -116,6 +126,10 @@ min3=$(echo "$seq3" | sed -n 's/.* min \([0-9]*\) .*/\1/p')
 check "gw3: the newest kept, contiguous ($seq3)" "echo '$seq3' | grep -q 'contiguous yes'"
 same "gw3: the drops are the records before the first one replayed ($line)" "$d3" "$((min3 - 1))"
 check "gw3: drops happened" '[ "${d3:-0}" -ge 10 ]'
+s3=$(grep '^p3/status/buffer ' "$REC" | tail -n 1 | sed -n 's/.*"dropped_size":\([0-9]*\),.*/\1/p')
+same "gw3: the retained PREFIX/status/buffer counts the same drops" "$s3" "$d3"
+[ -z "$m3" ] || same "gw3: /metrics (prometheus_client): dropped, backlog, on file" "$m3" "$d3 0 0 "
+same "gw3: /api/status buffer" "$api3" "$d3 0 file"
 check "gw3 logged the drop count once" "[ \$(grep -c ' dropped during the outage' '$T/gw3.err') -eq 1 ] && grep -q '$d3 records dropped during the outage' '$T/gw3.err'"
 
 # ---- the file cannot grow (a file size limit): said with path and errno, memory, live goes on ----

@@ -252,9 +252,10 @@ int gw_sfwd_result(struct gw *g, const struct gw_fmt *f, const struct gw_result_
 
 /* ---- the replay ---- */
 
-/* m of format f out, its mid noted for record seq: with QoS 1 (the PUBACK
- * acknowledges it), or the format's QoS 0 (Sparkplug's DDATA: libmosquitto
- * says so once it is written). */
+/* m of format f out for record seq: true when it waits for its PUBACK (QoS
+ * 1, its mid noted). The format's QoS 0 (Sparkplug's DDATA) has no
+ * acknowledgement (libmosquitto may even call back before the publish
+ * returns): handed over, it is done with. */
 static bool replay_send(struct gw *g, const struct gw_fmt *f, struct gw_msg *m, uint64_t seq)
 {
 	int mid = 0;
@@ -268,7 +269,7 @@ static bool replay_send(struct gw *g, const struct gw_fmt *f, struct gw_msg *m, 
 	if (g->cli.verbose && !g->cli.quiet)
 		fprintf(stderr, "%s: > %s (historical, record %" PRIu64 ", %zu bytes)\n", GW_PROG, m->topic, seq,
 		        m->body.len);
-	return gw_replay_sent(&g->sfwd.r, mid, seq) == 0;
+	return m->qos != 0 && gw_replay_sent(&g->sfwd.r, mid, seq) == 0;
 }
 
 /* A tag record by each format; how many messages went. */
@@ -353,7 +354,7 @@ static void replay(struct gw *g, int64_t now)
 	for (int i = 0; i < n; i++) {
 		last = recs[i].seq;
 		if (replay_one(g, &recs[i]) == 0)
-			nothing[nn++] = recs[i].seq;    /* no message made of it: done with */
+			nothing[nn++] = recs[i].seq;    /* nothing of it waits for a PUBACK: done with */
 	}
 	gw_buffer_handed(s->b, last);
 	for (size_t i = 0; i < nn; i++)
