@@ -93,7 +93,8 @@ def record(port, path):
                     if isinstance(v, float):
                         v = round(v, 6)
                     ms.append({"name": m.name, "alias": m.alias, "datatype": m.datatype.name, "value": v,
-                               "is_null": m.is_null, "timestamp": m.timestamp})
+                               "is_null": m.is_null, "timestamp": m.timestamp,
+                               "is_historical": m.is_historical})
                 rec["metrics"] = ms
                 rec["props"] = props(msg.payload)
                 rec["wire_names"] = [m.name for m in pb.Payload.FromString(msg.payload).metrics]

@@ -413,9 +413,12 @@ static int broker_setup(struct gw *g)
 		.qos = g->qos, .will_topic = NULL, .verbose = g->cli.verbose, .quiet = g->cli.quiet,
 	};
 	struct gw_mqtt_events ev = { g, gw_on_connected, g->once ? NULL : gw_on_message,
-	                             g->once ? NULL : gw_on_connecting };
+	                             g->once ? NULL : gw_on_connecting, NULL, NULL };
 	bool will_per_connect = false;
 	char err[256];
+
+	ev.acked = gw_sfwd_acked;       /* store and forward: PUBACKs, a lost connection */
+	ev.lost = gw_sfwd_lost;
 
 	if ((!g->json_off && gw_fmts_enable_list(&g->fmts, GW_FORMATS_DEFAULT, g->prefix, err, sizeof err) < 0) ||
 	    (g->spb.group && gw_fmts_enable_conf(&g->fmts, "sparkplug", g->prefix, &g->spb, err, sizeof err) < 0)) {
@@ -472,6 +475,8 @@ int gw_setup(struct gw *g, int argc, char **argv)
 		}
 	}
 	if (g->mqtt_url && (r = broker_setup(g)) != 0)
+		return r;
+	if ((r = gw_sfwd_open(g)) != 0)         /* --buffer: exit 2 when another df1gw has it */
 		return r;
 	if (g->eip.listen && (r = gw_eip_open(&g->eip, GW_PROG, g->cli.quiet)) != 0)
 		return r;
@@ -577,6 +582,9 @@ static int wait_timeout(const struct gw *g, int64_t now)
 	}
 	if (g->rx.n && g->line_up && timeout > GW_RX_TICK_MS)
 		timeout = GW_RX_TICK_MS;        /* the responder's ACK timer and retries */
+	t = gw_sfwd_wait_ms(g, now);            /* store and forward's replay */
+	if (t < timeout)
+		timeout = t;
 	t = gw_health_wait_ms(g, now);          /* the watchdog's ping, HTTP's timers */
 	if (t < timeout)
 		timeout = t;
@@ -695,6 +703,7 @@ static int loop(struct gw *g, int hup, struct gw_once *o)
 		if (status != CLI_CONTINUE)
 			break;
 		loop_work(g, &w, hup, now);
+		gw_sfwd_turn(g, gw_now_ms());           /* store and forward: the replay */
 		gw_health_turn(g, gw_now_ms());         /* HTTP, READY, STATUS, WATCHDOG */
 		if (g->once)
 			status = once_step(g, o);
@@ -761,6 +770,7 @@ static void gw_print_counters(const struct gw *g)
 	gw_publish_counters(g, stdout);
 	if (*df1_port_note(g->h))
 		printf("port note: %s\n", df1_port_note(g->h));
+	gw_sfwd_counters(g, stdout);
 	cli_print_counters(stdout, g->h, CLI_FMT_PLAIN, 0);
 	fflush(stdout);
 }
@@ -785,6 +795,7 @@ void gw_shutdown(struct gw *g)
 		flush_broker(g, FLUSH_MS);
 		gw_mqtt_close(&g->mq);
 	}
+	gw_sfwd_close(g);       /* what is not acknowledged stays in --buffer's file */
 	gw_fmts_close(&g->fmts);
 	gw_pubs_free(&g->pubs);
 	gw_ids_free(&g->ids);

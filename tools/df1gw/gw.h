@@ -21,6 +21,7 @@
 #include "df1gw/gw_json.h"
 #include "df1gw/gw_mqtt.h"
 #include "df1gw/gw_receive.h"
+#include "df1gw/gw_sfwd.h"
 #include "df1gw/gw_state.h"
 #include "df1gw/gw_url.h"
 #include "df1gw/gw_write.h"
@@ -98,6 +99,9 @@ struct gw {
 
 	/* systemd notifications and --http (gw_health.h) */
 	struct gw_health health;
+
+	/* store and forward: --buffer, --buffer-max, --buffer-max-age, --replay-rate (gw_sfwd.h) */
+	struct gw_sfwd sfwd;
 };
 
 /* The command line into g (gw_options.c): CLI_CONTINUE or the exit status,

@@ -175,6 +175,18 @@ struct gw_format {
 	 * (gw_metrics.c: df1_<format>_<name>); how many were put in out (NULL:
 	 * none). */
 	size_t (*figures)(const struct gw_fmt *f, struct gw_figure *out, size_t cap);
+
+	/* Store and forward (gw_sfwd.h; NULL: none). A change buffered while
+	 * the broker was away, replayed: tag t (or station s) as it was read
+	 * (t->wall_ms; a station's read_ms), seq its record's number (a duplicate after a crash
+	 * keeps it), as a historical message into m (JSON: not retained,
+	 * "historical", "seq" and "read"; Sparkplug: DDATA, is_historical).
+	 * 0, or -1 when it has nothing to say (a device not born). */
+	int (*tag_historical)(const struct gw_fmt *f, const struct gw_tag_out *t, uint64_t seq, struct gw_msg *m);
+	int (*station_historical)(const struct gw_fmt *f, const struct gw_station_out *s, uint64_t seq,
+	                          int64_t read_ms, struct gw_msg *m);
+	/* A session format: its data may go out now (born; NULL: always). */
+	bool (*ready)(const struct gw_fmt *f);
 };
 
 /* An enabled format. */

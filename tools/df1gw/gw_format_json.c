@@ -81,6 +81,46 @@ static int json_station(const struct gw_fmt *f, const struct gw_station_out *s, 
 	return key->oom ? -1 : 0;
 }
 
+/* A message made live turned historical (store and forward, gw_sfwd.c): not
+ * retained, and before its closing brace "historical":true, the record's
+ * "seq" (a duplicate after a crash has the same) and "read", when it was
+ * read. */
+static int json_historical(struct gw_msg *m, uint64_t seq, int64_t read_ms)
+{
+	char ts[40];
+
+	if (m->body.oom || m->body.len < 2 || m->body.p[m->body.len - 1] != '}')
+		return -1;
+	m->retain = false;
+	m->body.len--;
+	gw_rfc3339(read_ms, ts, sizeof ts);
+	gw_buf_printf(&m->body, ",\"historical\":true,\"seq\":%llu,\"read\":\"%s\"}", (unsigned long long)seq, ts);
+	return m->body.oom ? -1 : 0;
+}
+
+static int json_tag_historical(const struct gw_fmt *f, const struct gw_tag_out *t, uint64_t seq, struct gw_msg *m)
+{
+	struct gw_buf key;
+	int r;
+
+	gw_buf_init(&key);
+	r = json_tag(f, t, m, &key);
+	gw_buf_free(&key);
+	return r < 0 ? -1 : json_historical(m, seq, t->wall_ms);
+}
+
+static int json_station_historical(const struct gw_fmt *f, const struct gw_station_out *s, uint64_t seq,
+                                   int64_t read_ms, struct gw_msg *m)
+{
+	struct gw_buf key;
+	int r;
+
+	gw_buf_init(&key);
+	r = json_station(f, s, m, &key);
+	gw_buf_free(&key);
+	return r < 0 ? -1 : json_historical(m, seq, read_ms);
+}
+
 static int json_result(const struct gw_fmt *f, const struct gw_result_out *r, struct gw_msg *m)
 {
 	json_start(f, m, false, "%s/tag/%s/result", r->tag);
@@ -180,4 +220,6 @@ const struct gw_format gw_format_json = {
 	.write_parse = json_write_parse,
 	.write_values = json_write_values,
 	.write_free = json_write_free,
+	.tag_historical = json_tag_historical,
+	.station_historical = json_station_historical,
 };

@@ -342,6 +342,30 @@ static int spb_result(const struct gw_fmt *f, const struct gw_result_out *r, str
 	}
 }
 
+/* Store and forward's replay (gw_sfwd.c): the tag as it was read, DDATA with
+ * is_historical, stamped with its read time, once its device is born again.
+ * QoS 0 as every DDATA (Sparkplug 3.0): a QoS 1 message could be overtaken
+ * in the broker by the QoS 0 ones that follow it, and a host would see the
+ * seq out of order; the record goes when it is written to the connection. */
+static int spb_tag_historical(const struct gw_fmt *f, const struct gw_tag_out *t, uint64_t seq, struct gw_msg *m)
+{
+	struct spb *s = S(f);
+	struct gw_spb_sample one = { t, t->wall_ms };
+	int stn = t->st->config->station;
+
+	(void)seq;
+	if (!s->node_born || stn < 0 || stn >= GW_SPB_STATIONS || !s->dev_born[stn] ||
+	    !(t->st->config->access & DF1_ACCESS_READ))
+		return -1;
+	start(s, m, "DDATA", stn, 0);
+	return gw_spb_ddata_encode(&m->body, &s->scratch, &one, 1, true, s->c->aliases, t->wall_ms);
+}
+
+static bool spb_ready(const struct gw_fmt *f)
+{
+	return S(f)->node_born;
+}
+
 /* NDEATH: bdSeq only (the will; said again before a clean disconnect). */
 static int ndeath(const struct spb *s, struct gw_msg *m)
 {
@@ -941,4 +965,6 @@ const struct gw_format gw_format_sparkplug = {
 	.stamp = spb_stamp,
 	.counters = spb_counters,
 	.figures = spb_figures,
+	.tag_historical = spb_tag_historical,
+	.ready = spb_ready,
 };

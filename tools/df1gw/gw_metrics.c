@@ -87,6 +87,22 @@ struct gw_mctx {
 	  g->eip.no_answer) \
 	X(df1_eip_busy_total, "counter", "PCCC requests refused: the line's queue was full", c->eip, \
 	  g->eip.busy) \
+	X(df1_buffer_records_total, "counter", "changes stored while the broker was away (store and forward)", \
+	  gw_sfwd_on(g), gw_sfwd_figure(g, GW_SF_BUFFERED)) \
+	X(df1_buffer_dropped_size_total, "counter", "stored changes dropped by --buffer-max, oldest first", \
+	  gw_sfwd_on(g), gw_sfwd_figure(g, GW_SF_DROPPED_SIZE)) \
+	X(df1_buffer_dropped_age_total, "counter", "stored changes dropped by --buffer-max-age", gw_sfwd_on(g), \
+	  gw_sfwd_figure(g, GW_SF_DROPPED_AGE)) \
+	X(df1_buffer_replayed_total, "counter", "stored changes replayed and acknowledged by the broker", \
+	  gw_sfwd_on(g), gw_sfwd_figure(g, GW_SF_REPLAYED)) \
+	X(df1_buffer_backlog_records, "gauge", "stored changes not yet acknowledged", gw_sfwd_on(g), \
+	  gw_sfwd_figure(g, GW_SF_RECORDS)) \
+	X(df1_buffer_backlog_bytes, "gauge", "their size as --buffer-max counts it", gw_sfwd_on(g), \
+	  gw_sfwd_figure(g, GW_SF_BYTES)) \
+	X(df1_buffer_backlog_age_seconds, "gauge", "age of the oldest stored change (0: none)", gw_sfwd_on(g), \
+	  gw_sfwd_figure(g, GW_SF_AGE_S)) \
+	X(df1_buffer_in_memory, "gauge", "1 when the buffer is in memory (no --buffer, or its file failed)", \
+	  gw_sfwd_on(g), gw_sfwd_figure(g, GW_SF_IN_MEMORY)) \
 	X(df1_http_requests_total, "counter", "HTTP requests answered (--http)", g->health.http, \
 	  g->health.http_requests) \
 	X(df1_process_start_time_seconds, "gauge", "start time of the process since the epoch", true, \

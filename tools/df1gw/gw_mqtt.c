@@ -78,6 +78,8 @@ static void mq_down(struct gw_mqtt *q, int64_t now, const char *why)
 			mq_note(q, "cannot connect: %s; trying again (backoff up to 30 s, -v shows each try)%s", why, "");
 	}
 	q->renew = true;                /* a fresh handle for the next try (mq_renew) */
+	if (q->state == GW_MQTT_UP && q->ev.lost)
+		q->ev.lost(q->ev.user);
 	q->state = GW_MQTT_DOWN;
 	q->inflight = 0;
 	q->next_try_ms = now + q->backoff_ms;
@@ -195,9 +197,10 @@ static void on_publish(struct mosquitto *m, void *obj, int mid)
 	struct gw_mqtt *q = obj;
 
 	(void)m;
-	(void)mid;
 	if (q->inflight)
 		q->inflight--;
+	if (q->ev.acked)
+		q->ev.acked(q->ev.user, mid);
 }
 
 static void on_message(struct mosquitto *m, void *obj, const struct mosquitto_message *msg)
@@ -485,13 +488,21 @@ int gw_mqtt_publish(struct gw_mqtt *q, const char *topic, const void *payload, s
 
 int gw_mqtt_publish_qos(struct gw_mqtt *q, const char *topic, const void *payload, size_t len, int qos, bool retain)
 {
+	int mid;
+
+	return gw_mqtt_publish_mid(q, topic, payload, len, qos, retain, &mid);
+}
+
+int gw_mqtt_publish_mid(struct gw_mqtt *q, const char *topic, const void *payload, size_t len, int qos, bool retain,
+                        int *mid)
+{
 	int rc;
 
 	if (q->state != GW_MQTT_UP)
 		return -1;
 	if (qos < 0)
 		qos = q->cfg.qos;
-	rc = mosquitto_publish(q->m, NULL, topic, (int)len, payload, qos, retain);
+	rc = mosquitto_publish(q->m, mid, topic, (int)len, payload, qos, retain);
 	if (rc != 0)
 		return -1;
 	if (qos > 0)
@@ -520,8 +531,11 @@ static void mq_drop(struct gw_mqtt *q, int64_t now)
 	mosquitto_loop_write(q->m, 1);          /* what is queued (an NDEATH) goes first */
 	mosquitto_disconnect(q->m);
 	mosquitto_loop_write(q->m, 1);
+	if (q->ev.lost)
+		q->ev.lost(q->ev.user);
 	q->state = GW_MQTT_DOWN;
 	q->inflight = 0;
+	q->renew = true;        /* nothing of this session is sent again by libmosquitto (mq_renew) */
 	q->backoff_ms = GW_MQTT_BACKOFF_MIN;
 	q->next_try_ms = now;
 }

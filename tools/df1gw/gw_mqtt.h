@@ -48,6 +48,11 @@ struct gw_mqtt_events {
 	void (*connected)(void *user);          /* the broker accepted us (again) */
 	void (*message)(void *user, const char *topic, const void *payload, int len, bool retain);
 	void (*connecting)(void *user);         /* before each connect: gw_mqtt_will() may change the will */
+	/* store and forward (gw_sfwd.c): the PUBACK of a QoS 1 publication's
+	 * mid; the connection gone (what was not acknowledged is lost with
+	 * the handle's session). NULL: none. */
+	void (*acked)(void *user, int mid);
+	void (*lost)(void *user);
 };
 
 enum gw_mqtt_state { GW_MQTT_DOWN, GW_MQTT_CONNECTING, GW_MQTT_UP };
@@ -104,6 +109,9 @@ int gw_mqtt_subscribe(struct gw_mqtt *q, const char *pattern);
  * connect again at once (done by the next gw_mqtt_service: it may be asked
  * from inside a libmosquitto callback). */
 int gw_mqtt_publish_qos(struct gw_mqtt *q, const char *topic, const void *payload, size_t len, int qos, bool retain);
+/* The same, its message id in *mid (store and forward: the PUBACK names it). */
+int gw_mqtt_publish_mid(struct gw_mqtt *q, const char *topic, const void *payload, size_t len, int qos, bool retain,
+                        int *mid);
 int gw_mqtt_will(struct gw_mqtt *q, const char *topic, const void *payload, size_t len, int qos, bool retain);
 void gw_mqtt_reconnect(struct gw_mqtt *q, int64_t now);
 bool gw_mqtt_up(const struct gw_mqtt *q);

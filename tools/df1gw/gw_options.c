@@ -26,6 +26,8 @@ enum {
 	/* the write policy (gw_wqueue.h) */
 	OPT_WRITE_OPTIMIZE, OPT_DUTY_CYCLE, OPT_WRITE_TIMEOUT, OPT_MAX_PENDING,
 	OPT_HTTP,
+	/* store and forward (gw_sfwd.h) */
+	OPT_BUFFER, OPT_BUFFER_MAX, OPT_BUFFER_MAX_AGE, OPT_REPLAY_RATE,
 };
 
 static const struct cli_extra_opt gw_opts[] = {
@@ -77,8 +79,33 @@ static const struct cli_extra_opt gw_opts[] = {
 	  "more writes waiting: answered busy, not written (default 1000)" },
 	{ "http", required_argument, OPT_HTTP, "[ADDR:]PORT",
 	  "read-only status page, /metrics (Prometheus) and /api/status, on 127.0.0.1 unless ADDR is given" },
+	{ "buffer", required_argument, OPT_BUFFER, "FILE",
+	  "store and forward on FILE (SQLite): changes while the broker is away survive a restart "
+	  "(default: in memory, lost on exit)" },
+	{ "buffer-max", required_argument, OPT_BUFFER_MAX, "SIZE",
+	  "the buffer's bound, bytes (64k, 512M, 1G) or records (100000r); the oldest go first "
+	  "(default 1G on a file, 100000r and 64M in memory)" },
+	{ "buffer-max-age", required_argument, OPT_BUFFER_MAX_AGE, "DURATION",
+	  "records older than DURATION (90s, 15m, 12h, 7d) are dropped (default: no bound)" },
+	{ "replay-rate", required_argument, OPT_REPLAY_RATE, "N/s",
+	  "the backlog replayed at most N records a second after a reconnect (default 500/s)" },
 	{ NULL, 0, 0, NULL, NULL },
 };
+
+/* --buffer-max, --buffer-max-age, --replay-rate */
+static int buffer_opt(struct cli *c, struct gw *g, int key, const char *arg)
+{
+	char err[200];
+
+	if (key == OPT_BUFFER_MAX && gw_buffer_parse_max(arg, &g->sfwd.lim, err, sizeof err) < 0)
+		return cli_usage_error(c, "--buffer-max %s: %s", arg, err);
+	if (key == OPT_BUFFER_MAX_AGE && gw_buffer_parse_age(arg, &g->sfwd.lim.max_age_ms, err, sizeof err) < 0)
+		return cli_usage_error(c, "--buffer-max-age %s: %s", arg, err);
+	if (key == OPT_REPLAY_RATE && gw_replay_parse_rate(arg, &g->sfwd.rate) < 0)
+		return cli_usage_error(c, "--replay-rate %s: records a second, 1-%u (\"500\" or \"500/s\")", arg,
+		                       GW_REPLAY_RATE_MAX);
+	return CLI_CONTINUE;
+}
 
 /* --device-name N=NAME */
 static int device_name_opt(struct cli *c, struct gw *g, const char *arg)
@@ -142,6 +169,10 @@ static int gw_extra(struct cli *c, int key, const char *arg, void *user)
 	case OPT_MAX_PENDING:
 		return cli_parse_int(c, "--max-pending-writes", arg, 1, GW_WQ_MAX_LIMIT, &g->max_pending);
 	case OPT_HTTP: g->health.http_listen = arg; break;
+	case OPT_BUFFER: g->sfwd.path = arg; break;
+	case OPT_BUFFER_MAX:
+	case OPT_BUFFER_MAX_AGE:
+	case OPT_REPLAY_RATE: return buffer_opt(c, g, key, arg);
 	default: return CLI_EXIT_USAGE;
 	}
 	return CLI_CONTINUE;
@@ -321,5 +352,9 @@ int gw_options_parse(struct gw *g, int argc, char **argv)
 		default_client_id(g);
 	if ((r = check_prefix(g)) != 0)
 		return r;
+	if ((g->sfwd.path || g->sfwd.lim.max_records || g->sfwd.lim.max_bytes || g->sfwd.lim.max_age_ms ||
+	     g->sfwd.rate) && (!g->mqtt_url || g->once))
+		return cli_usage_error(&g->cli, "--buffer, --buffer-max, --buffer-max-age and --replay-rate store "
+		                       "for a broker: they need --mqtt, and not --once");
 	return check_sparkplug(g);
 }

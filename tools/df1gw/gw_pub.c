@@ -56,8 +56,12 @@ static void publish(struct gw *g, const struct gw_msg *m)
 
 	for (size_t i = 0; i < m->body.len && text; i++)
 		text = (unsigned char)body[i] >= 0x20 || body[i] == '\n' || body[i] == '\t';
-	if (gw_mqtt_publish_qos(&g->mq, m->topic, body, m->body.len, m->qos, m->retain) < 0)
+	int mid = 0;
+
+	if (gw_mqtt_publish_mid(&g->mq, m->topic, body, m->body.len, m->qos, m->retain, &mid) < 0)
 		return;
+	if ((m->qos < 0 ? g->qos : m->qos) > 0)
+		gw_sfwd_live_mid(g, mid);       /* store and forward: a tag's message kept until its PUBACK */
 	g->health.published++;          /* df1_mqtt_publications_total (gw_metrics.c) */
 	if (g->cli.verbose && !g->cli.quiet) {
 		if (text)
@@ -108,12 +112,15 @@ static void tag_publish(struct gw *g, int id, const struct df1_tag_state *st, bo
 	if (id < 0 || id >= g->ntags || !gw_mqtt_up(&g->mq) || !tag_out(g, st, force, &t, error, sizeof error))
 		return;
 	e = &g->pubs.v[g->pub_of[id]];
+	gw_sfwd_live_tag(g, &t);        /* store and forward: not lost if the connection drops now */
 	for (int i = 0; i < g->fmts.n; i++)
 		if (gw_fmt_tag_changed(&g->fmts.v[i], e, &t, &g->msg, &g->key, now, force))
 			fmt_publish(g, &g->fmts.v[i], &g->msg);
+	gw_sfwd_live_close(g);
 }
 
 static void station_publish(struct gw *g, int stn, bool force, int64_t now);
+static void station_capture(struct gw *g, int stn);
 static void gw_session_tick(struct gw *g);
 static void gw_session_connected(struct gw *g, const struct gw_fmt *f);
 static bool gw_session_message(struct gw *g, const struct gw_fmt *f, const char *topic, const void *payload,
@@ -129,6 +136,18 @@ void gw_on_tag(void *user, int id, const struct df1_tag_state *st)
 
 	if (id < 0 || id >= g->ntags)
 		return;
+	if (st && gw_sfwd_capturing(g)) {
+		/* store and forward (gw_sfwd.c): into the buffer, published after */
+		struct gw_tag_out t;
+		char error[256];
+
+		g->dirty[id] = 1;
+		if (tag_out(g, st, false, &t, error, sizeof error))
+			gw_sfwd_tag(g, &t);
+		if (st->config && st->config->station >= 0 && st->config->station < 255)
+			station_capture(g, st->config->station);
+		return;
+	}
 	if (!st || !gw_mqtt_up(&g->mq)) {
 		g->dirty[id] = 1;
 		return;
@@ -142,28 +161,50 @@ void gw_on_tag(void *user, int id, const struct df1_tag_state *st)
 
 /* ---- stations ---- */
 
+/* Station stn's health as the formats tell it into *s (sh and error its
+ * room); false when there is nothing to say. */
+static bool station_out(struct gw *g, int stn, bool force, int64_t now, struct gw_station_out *s,
+                        struct df1_station_health *sh, char *error, size_t cap)
+{
+	*s = (struct gw_station_out){ stn, NULL, NULL, sh, 0 };
+	if (!g->h || df1_station_health(g->h, stn, sh) < 0)
+		return false;
+	if (g->line_up && sh->state == DF1_STATION_UNKNOWN && !force)
+		return false;   /* not polled yet (a reload, a reopened line): nothing new */
+	s->state = g->line_up ? df1_station_state_name(sh->state) : "offline";
+	if (!g->line_up) {
+		s->error = g->line_error[0] ? g->line_error : NULL;
+	} else if (sh->last_error != 0 && sh->state != DF1_STATION_OK) {
+		err_text(sh->last_error, 0, 0, error, cap);
+		s->error = error;
+	}
+	if (sh->last_good_ms > 0)
+		s->last_good_wall_ms = gw_wall_ms() - (now - sh->last_good_ms);
+	return true;
+}
+
+/* Store and forward: station stn's health into the buffer (when it changed). */
+static void station_capture(struct gw *g, int stn)
+{
+	struct df1_station_health sh;
+	struct gw_station_out s;
+	char error[700];
+
+	if (station_out(g, stn, false, gw_now_ms(), &s, &sh, error, sizeof error))
+		gw_sfwd_station(g, &s);
+}
+
 static void station_publish(struct gw *g, int stn, bool force, int64_t now)
 {
 	struct df1_station_health sh;
-	struct gw_station_out s = { stn, NULL, NULL, &sh, 0 };
+	struct gw_station_out s;
 	struct gw_pub *e;
 	char name[32], error[700];
 
 	snprintf(name, sizeof name, "station/%d", stn);
 	e = gw_pubs_get(&g->pubs, name, true);
-	if (!e || !gw_mqtt_up(&g->mq) || df1_station_health(g->h, stn, &sh) < 0)
+	if (!e || !gw_mqtt_up(&g->mq) || !station_out(g, stn, force, now, &s, &sh, error, sizeof error))
 		return;
-	if (g->line_up && sh.state == DF1_STATION_UNKNOWN && !force)
-		return;         /* not polled yet (a reload, a reopened line): nothing new */
-	s.state = g->line_up ? df1_station_state_name(sh.state) : "offline";
-	if (!g->line_up) {
-		s.error = g->line_error[0] ? g->line_error : NULL;
-	} else if (sh.last_error != 0 && sh.state != DF1_STATION_OK) {
-		err_text(sh.last_error, 0, 0, error, sizeof error);
-		s.error = error;
-	}
-	if (sh.last_good_ms > 0)
-		s.last_good_wall_ms = gw_wall_ms() - (now - sh.last_good_ms);
 	for (int i = 0; i < g->fmts.n; i++)
 		if (gw_fmt_station_changed(&g->fmts.v[i], e, &s, &g->msg, &g->key, now, force))
 			fmt_publish(g, &g->fmts.v[i], &g->msg);
@@ -173,8 +214,16 @@ void gw_publish_changes(struct gw *g, bool force)
 {
 	int64_t now = gw_now_ms();
 
+	if (g->h && gw_sfwd_capturing(g))
+		for (int stn = 0; stn < 255; stn++)
+			if (g->stations[stn])
+				station_capture(g, stn);
 	if (!g->h || !gw_mqtt_up(&g->mq))
 		return;
+	if (gw_sfwd_holding(g)) {
+		gw_session_tick(g);     /* the backlog first; g->republish waits for its end */
+		return;
+	}
 	force = force || g->republish;
 	g->republish = false;
 	for (int id = 0; id < g->ntags; id++) {
@@ -277,6 +326,8 @@ static void result_send(struct gw *g, const struct gw_fmt *f, const char *tag, c
 		return;
 	if (gw_mqtt_up(&g->mq))
 		fmt_publish(g, f, &g->msg);
+	else if (!f->ops->session && gw_sfwd_result(g, f, &r) == 0)
+		;       /* store and forward (gw_sfwd.c): replayed when the broker is back */
 	else if (!f->ops->session)
 		gw_outbox_add(&g->outbox, &g->msg);     /* published when the broker is back */
 }

@@ -241,6 +241,8 @@ void gw_status_json(const struct gw *g, struct gw_buf *b)
 	tags_json(g, b);
 	gw_buf_puts(b, ",");
 	broker_json(g, b);
+	gw_buf_puts(b, ",\"buffer\":");
+	gw_sfwd_json(g, b);             /* store and forward (gw_sfwd.c) */
 	gw_buf_puts(b, ",");
 	eip_json(g, b);
 	gw_buf_printf(b, ",\"http_requests\":%llu,\"metrics\":",

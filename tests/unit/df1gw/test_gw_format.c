@@ -393,6 +393,38 @@ static void test_write_payloads(void **state)
 	assert_int_equal(out[0].v.tcr.acc, 7);
 }
 
+/* Store and forward's replay (df1gw(1), STORE AND FORWARD): the tag's and
+ * the station's usual payloads on their topics, not retained, with
+ * "historical", the record's "seq" and "read", the read time. */
+static void test_historical(void **state)
+{
+	struct df1_tag_config c = tag("Speed", "N7:0", 1);
+	struct df1_value v;
+	struct df1_tag_state st = int_state(&c, &v, 123);
+	struct gw_tag_out t = { &st, NULL, -1, NULL, T_2026 + 1000 };
+	struct df1_station_health sh = { .tags = 2, .attempts = 9 };
+	struct gw_station_out s = { 1, "ok", NULL, &sh, T_2026 };
+	struct gw_msg m;
+
+	(void)state;
+	gw_msg_init(&m);
+	assert_non_null(json()->ops->tag_historical);
+	assert_int_equal(json()->ops->tag_historical(json(), &t, 42, &m), 0);
+	assert_string_equal(m.topic, PREFIX "/tag/Speed");
+	assert_false(m.retain);
+	assert_string_equal(m.body.p, "{\"value\":123,\"quality\":\"GOOD\",\"reason\":\"none\","
+	                              "\"ts\":\"2026-12-01T23:15:00.123Z\",\"address\":\"N7:0\",\"station\":1,"
+	                              "\"historical\":true,\"seq\":42,\"read\":\"2026-12-01T23:15:01.123Z\"}");
+	assert_int_equal(json()->ops->station_historical(json(), &s, 43, T_2026 + 2000, &m), 0);
+	assert_string_equal(m.topic, PREFIX "/station/1");
+	assert_false(m.retain);
+	assert_string_equal(m.body.p, "{\"station\":1,\"state\":\"ok\",\"error\":null,\"tags\":2,\"attempts\":9,"
+	                              "\"failures\":0,\"consecutive_failures\":0,\"last_good\":\"2026-12-01T23:15:00.123Z\","
+	                              "\"historical\":true,\"seq\":43,\"read\":\"2026-12-01T23:15:02.123Z\"}");
+	assert_null(json()->ops->ready);        /* not a session: always ready */
+	gw_msg_free(&m);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -403,6 +435,7 @@ int main(void)
 		cmocka_unit_test(test_result_status_will),
 		cmocka_unit_test(test_write_topics),
 		cmocka_unit_test(test_write_payloads),
+		cmocka_unit_test(test_historical),
 	};
 
 	return cmocka_run_group_tests(tests, setup_json, teardown_json);
