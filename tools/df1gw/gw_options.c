@@ -190,7 +190,8 @@ static const struct cli_tool gw_tool = {
 	.extra = gw_opts,
 	.on_extra = gw_extra,
 	.help_tail = "\nTopics: PREFIX/tag/NAME (retained JSON), PREFIX/tag/NAME/set (a write),\n"
-	             "PREFIX/tag/NAME/result, PREFIX/station/N, PREFIX/status (online/offline).\n"
+	             "PREFIX/tag/NAME/result, PREFIX/station/N, PREFIX/status (online/offline),\n"
+	             "PREFIX/status/buffer (store and forward's counters).\n"
 	             "Sparkplug B: spBv1.0/GROUP/{NBIRTH,NDATA,NDEATH,NCMD}/EDGE[/DEVICE], DBIRTH, DDATA, DDEATH, DCMD.\n"
 	             "Rows with Command Receive: df1gw's own table, written by PLCs' MSG and published.\n"
 	             "SIGTERM/SIGINT: offline, line closed, exit 0; SIGHUP: reload the mapping file.\n"
