@@ -31,6 +31,7 @@ enum gw_buffer_kind {
 	GW_BUFFER_TAG = 1,       /* a tag's value and quality */
 	GW_BUFFER_HEALTH = 2,    /* a station's health */
 	GW_BUFFER_WRITE = 3,     /* a write's result */
+	GW_BUFFER_RECEIVE = 4,   /* a Receive tag's value as a PLC wrote it (id: the PLC's station) */
 };
 
 /* Results beyond 0. */

@@ -219,6 +219,11 @@ int gw_fmts_enable_conf(struct gw_fmts *l, const char *name, const char *prefix,
 int gw_fmts_enable_list(struct gw_fmts *l, const char *names, const char *prefix, char *err, size_t errcap);
 void gw_fmts_close(struct gw_fmts *l);
 
+/* A JSON object payload with one more member, "name": v, as its last (a
+ * Receive tag's "from", gw_receive.c and gw_sfwd.c). 0, or -1 (not an
+ * object, no memory). */
+int gw_msg_json_add_int(struct gw_msg *m, const char *name, long v);
+
 /* Inline: the formats use them, and gw_format.c's table uses the formats. */
 static inline void gw_msg_init(struct gw_msg *m)
 {

@@ -193,18 +193,6 @@ static int rx_state(struct gw_rx *rx, struct gw_rx_tag *e, struct df1_tag_state 
 	return 0;
 }
 
-/* JSON: the tag's object with "from", the sending station, as its last member. */
-static int rx_json_from(struct gw_msg *m, int from)
-{
-	struct gw_buf *b = &m->body;
-
-	if (b->oom || !b->len || b->p[b->len - 1] != '}')
-		return -1;
-	b->len--;
-	gw_buf_printf(b, ",\"from\":%d}", from);
-	return b->oom ? -1 : 0;
-}
-
 /* Tag e by every format (JSON: with "from"; Sparkplug: a DDATA of the
  * metrics that changed, df1gw(1) RECEIVE). */
 static void rx_publish(struct gw *g, struct gw_rx_tag *e)
@@ -213,15 +201,23 @@ static void rx_publish(struct gw *g, struct gw_rx_tag *e)
 	struct df1_tag_state st;
 	struct gw_tag_out t;
 
-	if (!gw_mqtt_up(&g->mq) || rx_state(&g->rx, e, &st, vals) < 0)
+	if (rx_state(&g->rx, e, &st, vals) < 0)
 		return;
 	t = (struct gw_tag_out){ .st = &st, .quality = -1, .wall_ms = rx_wall_ms() };
+	if (gw_sfwd_capturing(g)) {
+		/* the broker away, or a backlog before it: in the buffer, in order
+		 * (df1gw(1), STORE AND FORWARD) */
+		gw_sfwd_receive(g, &t, e->from);
+		return;
+	}
+	if (!gw_mqtt_up(&g->mq))
+		return;
 	for (int i = 0; i < g->fmts.n; i++) {
 		const struct gw_fmt *f = &g->fmts.v[i];
 
 		if (f->ops->tag(f, &t, &g->msg, &g->key) < 0)
 			continue;       /* Sparkplug: no DDATA when no metric changed */
-		if (e->from >= 0 && strcmp(f->ops->name, "json") == 0 && rx_json_from(&g->msg, e->from) < 0)
+		if (e->from >= 0 && strcmp(f->ops->name, "json") == 0 && gw_msg_json_add_int(&g->msg, "from", e->from) < 0)
 			continue;
 		rx_emit(g, f, &g->msg);
 	}

@@ -14,6 +14,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "df1.h"
 
@@ -66,5 +67,22 @@ bool gw_rx_node_station(struct gw *g, int stn, struct gw_station_out *s, struct 
  * result. false when name is not a Receive tag (nothing done, in kept). */
 bool gw_rx_write(struct gw *g, const struct gw_fmt *f, const char *name, struct gw_write_in *in, bool retain);
 void gw_rx_free(struct gw_rx *rx);
+
+/* Receive tag name's configuration and id as the formats know it (ids after
+ * the ntags polled ones), in cur; false: no such Receive tag. Inline: store
+ * and forward's replay (gw_sfwd.c) uses it, and this file's code uses that. */
+static inline bool gw_rx_tag_state(const struct gw_rx *rx, int ntags, const char *name, struct df1_tag_state *cur)
+{
+	for (size_t i = 0; i < rx->n; i++) {
+		if (strcmp(rx->v[i].c.name, name) != 0)
+			continue;
+		memset(cur, 0, sizeof *cur);
+		cur->id = ntags + (int)i;
+		cur->config = &rx->v[i].shown;
+		cur->count = (size_t)rx->v[i].c.count;
+		return true;
+	}
+	return false;
+}
 
 #endif

@@ -190,6 +190,16 @@ void gw_sfwd_tag(struct gw *g, const struct gw_tag_out *t)
 		append(g, &rec);
 }
 
+void gw_sfwd_receive(struct gw *g, const struct gw_tag_out *t, int from)
+{
+	int n = gw_buffer_tag_pack(t, blob, sizeof blob);
+	struct gw_buffer_rec rec = { 0, GW_BUFFER_RECEIVE, from, (int)t->st->quality, t->wall_ms,
+	                             t->st->config->name, blob, (size_t)(n < 0 ? 0 : n) };
+
+	if (n >= 0 && g->sfwd.b)
+		append(g, &rec);
+}
+
 void gw_sfwd_live_tag(struct gw *g, const struct gw_tag_out *t)
 {
 	int n;
@@ -297,6 +307,34 @@ static int replay_tag(struct gw *g, const struct gw_buffer_rec *rec)
 	return sent;
 }
 
+/* A Receive tag's record (gw_receive.c): as a tag's, JSON with "from". */
+static int replay_receive(struct gw *g, const struct gw_buffer_rec *rec)
+{
+	static struct gw_buffer_tag_out o;
+	struct df1_tag_state cur;
+	int sent = 0;
+
+	/* a Receive row no longer in the mapping file is dropped */
+	if (!rec->key || !gw_rx_tag_state(&g->rx, g->ntags, rec->key, &cur))
+		return 0;
+	o.values = vals;
+	o.cap = sizeof vals / sizeof vals[0];
+	if (gw_buffer_tag_unpack(rec->data, rec->len, &o) < 0 || o.st.count != cur.count)
+		return 0;
+	o.st.config = cur.config;
+	o.st.id = cur.id;
+	for (int i = 0; i < g->fmts.n; i++) {
+		const struct gw_fmt *f = &g->fmts.v[i];
+
+		if (!f->ops->tag_historical || f->ops->tag_historical(f, &o.out, rec->seq, &g->msg) < 0)
+			continue;
+		if (rec->id >= 0 && strcmp(f->ops->name, "json") == 0 && gw_msg_json_add_int(&g->msg, "from", rec->id) < 0)
+			continue;
+		sent += replay_send(g, f, &g->msg, rec->seq);
+	}
+	return sent;
+}
+
 static int replay_station(struct gw *g, const struct gw_buffer_rec *rec)
 {
 	static struct gw_buffer_station_out o;
@@ -331,6 +369,7 @@ static int replay_one(struct gw *g, const struct gw_buffer_rec *rec)
 	case GW_BUFFER_TAG: return replay_tag(g, rec);
 	case GW_BUFFER_HEALTH: return replay_station(g, rec);
 	case GW_BUFFER_WRITE: return replay_result(g, rec);
+	case GW_BUFFER_RECEIVE: return replay_receive(g, rec);
 	default: return 0;
 	}
 }

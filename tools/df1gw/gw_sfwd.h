@@ -62,6 +62,8 @@ bool gw_sfwd_capturing(const struct gw *g);
 bool gw_sfwd_holding(const struct gw *g);
 /* What would have been published, buffered. */
 void gw_sfwd_tag(struct gw *g, const struct gw_tag_out *t);
+/* A Receive tag as station from's write left it (gw_receive.c). */
+void gw_sfwd_receive(struct gw *g, const struct gw_tag_out *t, int from);
 void gw_sfwd_station(struct gw *g, const struct gw_station_out *s);
 /* A live tag publication (gw_pub.c's tag_publish): t kept from _tag until
  * the PUBACK of every QoS 1 message (_mid) published before _close; what is

@@ -425,6 +425,30 @@ static void test_historical(void **state)
 	gw_msg_free(&m);
 }
 
+/* A Receive tag's "from" joins a JSON object as its last member, and
+ * nothing else is taken for one. */
+static void test_json_add_member(void **state)
+{
+	struct gw_msg m;
+
+	(void)state;
+	gw_msg_init(&m);
+	gw_buf_puts(&m.body, "{}");
+	assert_int_equal(gw_msg_json_add_int(&m, "from", 3), 0);
+	assert_memory_equal(m.body.p, "{\"from\":3}", m.body.len);
+	assert_int_equal(m.body.len, strlen("{\"from\":3}"));
+	gw_msg_reset(&m);
+	gw_buf_puts(&m.body, "{\"value\":[1,2]}");
+	assert_int_equal(gw_msg_json_add_int(&m, "from", 254), 0);
+	assert_memory_equal(m.body.p, "{\"value\":[1,2],\"from\":254}", m.body.len);
+	gw_msg_reset(&m);
+	gw_buf_puts(&m.body, "[1]");
+	assert_int_equal(gw_msg_json_add_int(&m, "from", 1), -1);
+	gw_msg_reset(&m);
+	assert_int_equal(gw_msg_json_add_int(&m, "from", 1), -1);
+	gw_msg_free(&m);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -436,6 +460,7 @@ int main(void)
 		cmocka_unit_test(test_write_topics),
 		cmocka_unit_test(test_write_payloads),
 		cmocka_unit_test(test_historical),
+		cmocka_unit_test(test_json_add_member),
 	};
 
 	return cmocka_run_group_tests(tests, setup_json, teardown_json);
