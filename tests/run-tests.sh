@@ -9,8 +9,8 @@
 # TEST_JOBS=N runs up to N integration scripts at once (default 1: one after
 # the other). Each script has its own temporary folder, ports the kernel
 # picks and its own processes, so they can share a machine; their timing
-# bounds are generous, but a loaded machine is slower: the Debian package's
-# build (debian/rules), which runs the suite a second time, uses 2.
+# bounds are generous, but a loaded machine is slower (make check and the
+# Debian package's build run one at a time).
 #
 # `sh tests/run-tests.sh --one SCRIPT` runs one integration script as the
 # runner does (its log, its PASS or FAIL line, its result in the log folder).
