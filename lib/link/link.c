@@ -88,9 +88,18 @@ int link_test(struct df1 *h, int station)
 		return half_test(h, (uint8_t)station);
 	case DF1_HALF_DUPLEX_SLAVE:
 		return df1_fail(h, DF1_E_NOTSUP, station, "a half-duplex slave only answers polls");
-	case DF1_RADIO_MODEM:
-		return df1_fail(h, DF1_E_NOTSUP, station, "a radio modem link has no link test "
-		                "(no ENQ, no poll): send a command (df1_echo)");
+	case DF1_RADIO_MODEM: {
+		/* no link symbols to test with (doc/PROTOCOL.md 2.6): an empty diagnostic
+		 * echo (06/00) instead; any reply, even with an error STS, is an answer */
+		uint8_t cmd[7] = { 0, 0, 0x06, 0, 0, 0, 0x00 }, rep[FRAME_MAX_DATA];
+
+		if (station < 0 || station > 254)
+			return df1_fail(h, DF1_E_INVAL, station, "invalid station %d", station);
+		cmd[0] = (uint8_t)station;
+		link_stamp(h, cmd);
+		r = radio_transact(h, cmd, sizeof cmd, rep, sizeof rep);
+		return r < 0 ? r : 0;
+	}
 	case DF1_FULL_DUPLEX:
 	default:
 		return full_test(h);

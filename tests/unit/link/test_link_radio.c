@@ -309,9 +309,18 @@ static void test_dle_pair_in_frame(void **state)
 	assert_int_equal(cnt(h, DF1_ID_CNT_ACKS_RCVD), 0);
 }
 
-static void test_no_link_test(void **state)
+/* the link test: an empty diagnostic echo (06/00, doc/PROTOCOL.md 4), any reply */
+static void test_link_test_echo(void **state)
 {
-	assert_int_equal(link_test(*state, 1), DF1_E_NOTSUP);
+	struct df1 *h = *state;
+
+	mock_port_feed_hex("10 02 00 01 46 10 10 04 00 10 03 8D 1E"); /* STS 10h: still an answer */
+	assert_int_equal(link_test(h, 1), 0);
+	assert_int_equal(mock_port_writes(), 1);
+	assert_write(0, "10 02 01 00 06 00 04 00 00 10 03 80 9B");
+	mock_port_expire();
+	assert_int_equal(link_test(h, 1), DF1_E_TIMEOUT);
+	assert_int_equal(link_test(h, 255), DF1_E_INVAL);
 }
 
 /* ------------------------------------------------------------------------
@@ -734,7 +743,7 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_duplicated_reply_detected, radio_setup, teardown),
 		cmocka_unit_test_setup_teardown(test_stray_symbols, radio_setup, teardown),
 		cmocka_unit_test_setup_teardown(test_dle_pair_in_frame, radio_setup, teardown),
-		cmocka_unit_test_setup_teardown(test_no_link_test, radio_setup, teardown),
+		cmocka_unit_test_setup_teardown(test_link_test_echo, radio_setup, teardown),
 		cmocka_unit_test_setup_teardown(test_serve_answers, radio_setup_resp, teardown),
 		cmocka_unit_test_setup_teardown(test_serve_broadcast_no_reply, radio_setup_resp, teardown),
 		cmocka_unit_test_setup_teardown(test_serve_ignores_others, radio_setup_resp, teardown),
