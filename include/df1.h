@@ -406,18 +406,20 @@ DF1_API const char *df1_port_note(const df1_t *h);
 DF1_API int df1_get_option(const df1_t *h, enum df1_option opt);
 /* Radio modem store and forward (libdf1(7) RADIO MODEM), @since 0.5. table: 32 bytes,
  * bit s%8 of byte s/8 set = rebroadcast packets for station s (255: broadcasts too);
- * NULL or all clear: forward nothing. df1_get_forward fills 32 bytes; returns 1 when a
- * bit is set, 0 when none. */
+ * NULL or all clear: forward nothing. */
 DF1_API int df1_set_forward(df1_t *h, const uint8_t *table);
+/* The table set, into 32 bytes: 1 when a bit is set, 0 when none. @since 0.5 */
 DF1_API int df1_get_forward(const df1_t *h, uint8_t *table);
 /* A station list "1,3-5,255" (0-255, commas, ranges; "" or "none": empty) into a
- * 32-byte forward table; 0, or DF1_E_INVAL naming nothing (the caller names the text). */
+ * 32-byte forward table; 0, or DF1_E_INVAL naming nothing (the caller names the text).
+ * @since 0.5 */
 DF1_API int df1_forward_parse(const char *list, uint8_t *table);
 /* What a radio-modem handle did (fields are only added at the end), @since 0.5:
  * packets sent (commands, replies, relayed copies), packets received with a good
  * check, packets relayed, duplicates dropped, bad packets dropped (check, framing),
  * packets not sent (no CTS, DCD stayed up). */
 struct df1_radio_stats { uint64_t sent, received, relayed, duplicates, bad_packets, undelivered; };
+/* Fills *out (zeros on another link mode). @since 0.5 */
 DF1_API int df1_radio_stats(const df1_t *h, struct df1_radio_stats *out);
 
 /* Catalog messages (notices, errors) as they happen. level = enum df1_severity. */
