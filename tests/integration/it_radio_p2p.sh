@@ -8,7 +8,8 @@
 # 255 is executed and not answered; a command for a station nobody serves
 # times out (2508); df1sim --forward 3 sends a command for station 3 back on
 # the line unchanged (the master sees its own frame come back) and does not
-# run it. Bad --duplex / --forward / --dup-detect values exit 2.
+# run it. df1sim's MSG writes (report by exception) reach df1mon --serve.
+# Bad --duplex / --forward / --dup-detect values exit 2.
 # Run from the repository root; DF1_BIN = the built tools.
 . tests/support/lib.sh
 W="$BIN/df1write"
@@ -65,7 +66,14 @@ expect 0 "the relay still answers for itself" -- "$R" -d "$SIM_DEV" $RADIO -a 1 
 check "the relay ran no command for station 3" "! grep -q 'station=3' '$T/relay.log'"
 sim_stop
 
-# 6. bad values
+# 6. report by exception: df1sim's MSG writes reach df1mon --serve, a radio node at station 0
+sim_start msg --duplex radio --station 1 --msg write,N7:0,3,0,N50:0,200 || { finish; }
+expect 0 "df1mon --serve takes df1sim's MSG writes" -- \
+	"$M" -d "$SIM_DEV" --duplex radio --serve N50:0,10 --src 0 --duration 2
+check "a write from station 1 landed" "grep -q 'from 1 to 0: N50:0 = 0 1 2' '$T/out'"
+sim_stop
+
+# 7. bad values
 expect 2 "--duplex bogus" -- "$R" -d /dev/null --duplex bogus N7:0
 err_has "names the values" "full, half or radio"
 expect 2 "--forward 256" -- "$BIN/df1sim" --pty "$T/x" --duplex radio --forward 256

@@ -71,7 +71,7 @@ static const struct cli_extra_opt sim_opt_table[] = {
 	{ "ramp", required_argument, OPT_RAMP, "ADDR[,STEP][@MS]",
 	  "add STEP (default 1) to ADDR every MS ms (default 100; a bit toggles); repeatable" },
 	{ "msg", required_argument, OPT_MSG, "KIND,LOCAL,COUNT,STATION,REMOTE[,MS][,seq]",
-	  "full duplex: send a MSG every MS ms (default 1000), e.g. write,N7:0,10,0,N50:0,500" },
+	  "send a MSG every MS ms (default 1000; half duplex: when polled), e.g. write,N7:0,10,0,N50:0,500" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
