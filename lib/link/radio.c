@@ -35,6 +35,12 @@
  *    (or 255 with bit 255) is sent again unchanged, before it is executed
  *    when it is a broadcast. It happens wherever this link reads: df1_serve,
  *    and a transaction waiting for its reply.
+ *  - df1_serve's replies go through the responder's slots (core.c): at once,
+ *    or at the end of a program scan (DF1_OPT_SCAN_TIME_MS) or after a
+ *    DF1_FAULT_DELAY_REPLY, while the link goes on listening and relaying;
+ *    DF1_FAULT_CORRUPT_REPLY, STALE_REPLY and SILENT_STATION act as in full
+ *    duplex, the faults on link symbols (DROP_ACK, NAK_COMMAND) have nothing
+ *    to act on.
  *  - A command for us heard while our own waits is answered at once through
  *    df1_set_responder's handler (STS 10h without one), as a full-duplex
  *    master answers its peer (peer.c).
@@ -48,6 +54,7 @@
  */
 #include "link/link.h"
 
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -238,13 +245,71 @@ static int radio_heard(struct df1 *h, const struct df1_symbol *s)
 	return ours || d[0] == 255;
 }
 
-/* A command for this node (or a broadcast): run by fn, its reply sent
- * unless it is a broadcast. 1 handled, 0 ignored (a silent station), DF1_E_*. */
+/* A reply of ours on the air (corrupt: DF1_FAULT_CORRUPT_REPLY); 0 or DF1_E_*. */
+static int radio_reply(struct df1 *h, const uint8_t *out, size_t n, bool corrupt)
+{
+	int r = radio_send(h, out, n, corrupt);
+
+	if (r < 0)
+		return r;
+	if (r == 0) {
+		df1_count(h, DF1_ID_CNT_REPLY_MSGS_SENT);
+		if (out[3] != 0)
+			df1_count(h, DF1_ID_CNT_ERROR_MSGS_SENT);
+	}
+	return 0;
+}
+
+/* The responder's replies that are due, oldest first: at once, or at the end
+ * of a program scan (DF1_OPT_SCAN_TIME_MS) or after DF1_FAULT_DELAY_REPLY,
+ * with the faults of core.c (a stale copy with TNS - 2 first, a bad check).
+ * *next: when the next one is due, INT64_MAX when none waits. 0 or DF1_E_*. */
+static int radio_due(struct df1 *h, int64_t *next)
+{
+	*next = INT64_MAX;
+	for (;;) {
+		struct link_reply *best = NULL;
+		int64_t now = df1_now_ms();
+		int r = 0;
+
+		for (int i = 0; i < LINK_REPLY_SLOTS; i++) {
+			struct link_reply *q = &h->resp->replies[i];
+
+			if (!q->used)
+				continue;
+			if (q->due_ms > now) {
+				*next = q->due_ms < *next ? q->due_ms : *next;
+				continue;
+			}
+			if (!best || (int32_t)(q->seq - best->seq) < 0)
+				best = q;
+		}
+		if (!best)
+			return 0;
+		best->used = false;
+		if (best->stale_first && best->len >= 6) {
+			uint8_t old[FRAME_MAX_DATA];
+			uint16_t tns = (uint16_t)((best->app[4] | best->app[5] << 8) - 2);
+
+			memcpy(old, best->app, best->len);
+			old[4] = (uint8_t)(tns & 0xFF);
+			old[5] = (uint8_t)(tns >> 8);
+			r = radio_send(h, old, best->len, false);
+		}
+		if (r >= 0)
+			r = radio_reply(h, best->app, best->len, best->corrupt);
+		if (r < 0)
+			return r;
+	}
+}
+
+/* A command for this node (or a broadcast): run by fn, its reply sent (df1_serve:
+ * queued in the responder's slots, radio_due) unless it is a broadcast. 1
+ * handled, 0 ignored (a silent station), DF1_E_*. */
 static int radio_command(struct df1 *h, const struct df1_symbol *s, link_handler_fn fn, void *ctx)
 {
 	uint8_t out[FRAME_MAX_DATA];
 	const uint8_t *d = s->data;
-	bool corrupt = false;
 	int rlen, r;
 
 	if (h->resp && link_fault_silent(h->resp, d[0]))
@@ -253,17 +318,14 @@ static int radio_command(struct df1 *h, const struct df1_symbol *s, link_handler
 	rlen = fn(h, ctx, d, s->len, out, sizeof out);
 	if (d[0] == 255 || rlen <= 0 || (size_t)rlen > sizeof out)
 		return 1; /* a broadcast is executed, never answered */
-	if (h->resp)
-		corrupt = link_fault(h->resp, DF1_FAULT_CORRUPT_REPLY);
-	r = radio_send(h, out, (size_t)rlen, corrupt);
-	if (r < 0)
-		return r;
-	if (r == 0) {
-		df1_count(h, DF1_ID_CNT_REPLY_MSGS_SENT);
-		if (out[3] != 0)
-			df1_count(h, DF1_ID_CNT_ERROR_MSGS_SENT);
+	if (h->resp && link_slot_new(h, d[0], out, (size_t)rlen) != NULL) {
+		int64_t next;
+
+		r = radio_due(h, &next); /* at once unless a scan or a delay holds it */
+		return r < 0 ? r : 1;
 	}
-	return 1;
+	r = radio_reply(h, out, (size_t)rlen, false);
+	return r < 0 ? r : 1;
 }
 
 /* A reply for us with no command of ours waiting for it: counted, dropped. */
@@ -385,13 +447,21 @@ int radio_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_m
 
 	for (;;) {
 		struct df1_symbol s;
-		int r;
+		int64_t next;
+		int r = radio_due(h, &next);
 
-		if (served > 0 && h->rx_pos >= h->rx_len && !frame_decoder_busy(&h->dec))
+		if (r < 0)
+			return r;
+		if (served > 0 && next == INT64_MAX && h->rx_pos >= h->rx_len &&
+		    !frame_decoder_busy(&h->dec))
 			return served; /* answered, nothing under way: back to the caller */
-		r = link_read_symbol(h, deadline_ms, &s);
-		if (r <= 0)
-			return r < 0 ? r : served;
+		r = link_read_symbol(h, next < deadline_ms ? next : deadline_ms, &s);
+		if (r < 0)
+			return r;
+		if (r == 0 && next < deadline_ms)
+			continue; /* a reply is due */
+		if (r == 0)
+			return served;
 		r = radio_heard(h, &s);
 		if (r == 1 && (s.data[2] & 0x40)) {
 			radio_stale(h, s.data); /* a reply, and we sent no command */

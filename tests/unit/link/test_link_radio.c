@@ -21,6 +21,7 @@
 #include "link/link_int.h"
 #include "link/radio_dup.h"
 #include "server/server.h"
+#include "df1_server.h"
 #include "support/mock_port.h"
 #include "support/link_fixture.h"
 
@@ -381,6 +382,44 @@ static void test_serve_duplicate_command(void **state)
 	assert_int_equal(handler_calls, 1);
 	assert_int_equal(mock_port_writes(), 1);
 	assert_int_equal(stats(h).duplicates, 1);
+}
+
+static void test_serve_delayed_reply(void **state)
+{
+	struct df1 *h = *state;
+	char ev[8];
+	int64_t t0;
+
+	/* a reply held 60 ms (df1sim --delay): sent then, the line read meanwhile */
+	assert_int_equal(df1_server_set_fault(h, DF1_FAULT_DELAY_REPLY, 1000, 60), 0);
+	mock_port_lines(0, 0); /* no keying asked: only to time the write */
+	mock_port_feed_hex(RD_WIRE);
+	t0 = df1_now_ms();
+	assert_int_equal(serve_script(h), 1);
+	assert_int_equal(mock_port_writes(), 1);
+	assert_write(0, RD_ANSWER);
+	mock_port_events(ev, sizeof ev);
+	assert_string_equal(ev, "W");
+	assert_true(mock_port_event_ms(0) - t0 >= 60);
+}
+
+static void test_serve_reply_faults(void **state)
+{
+	struct df1 *h = *state;
+
+	/* a bad check on the reply; then a copy with TNS - 2 before the reply */
+	assert_int_equal(df1_server_set_fault(h, DF1_FAULT_CORRUPT_REPLY, 1000, 0), 0);
+	mock_port_feed_hex(RD_WIRE);
+	assert_int_equal(serve_script(h), 1);
+	assert_write(0, "10 02 00 01 4F 00 04 00 11 22 33 44 10 03 11 BC");
+	assert_int_equal(df1_server_set_fault(h, DF1_FAULT_CORRUPT_REPLY, 0, 0), 0);
+	assert_int_equal(df1_server_set_fault(h, DF1_FAULT_STALE_REPLY, 1000, 0), 0);
+	mock_port_clear_written();
+	mock_port_feed_hex(RD_WIRE);
+	assert_int_equal(serve_script(h), 1);
+	assert_int_equal(mock_port_writes(), 2);
+	assert_write(0, "10 02 00 01 4F 00 02 00 11 22 33 44 10 03 77 43");
+	assert_write(1, RD_ANSWER);
 }
 
 /* ------------------------------------------------------------------------
@@ -748,6 +787,8 @@ int main(void)
 		cmocka_unit_test_setup_teardown(test_serve_broadcast_no_reply, radio_setup_resp, teardown),
 		cmocka_unit_test_setup_teardown(test_serve_ignores_others, radio_setup_resp, teardown),
 		cmocka_unit_test_setup_teardown(test_serve_duplicate_command, radio_setup_resp, teardown),
+		cmocka_unit_test_setup_teardown(test_serve_delayed_reply, radio_setup_resp, teardown),
+		cmocka_unit_test_setup_teardown(test_serve_reply_faults, radio_setup_resp, teardown),
 		cmocka_unit_test_setup_teardown(test_relay, radio_setup_node2, teardown),
 		cmocka_unit_test_setup_teardown(test_relay_while_waiting, radio_setup_node2, teardown),
 		cmocka_unit_test_setup_teardown(test_relay_broadcast, radio_setup_node2, teardown),
