@@ -32,6 +32,14 @@ logged_two() { [ "$(grep -c 'station=1 cmd=0F/A' "$T/plc.log")" -eq 2 ]; }
 wait_for "df1sim logged the write and the read" 50 logged_two
 check "the log: the write first" "head -n 1 '$T/plc.log' | grep -q 'cmd=0F/AA addr=N7:0 count=1'"
 
+# a pty has no modem lines: keying asked for, the frames go out unkeyed, said once
+expect 0 "two writes with --radio-rts and --dcd-wait on a pty" -- \
+	"$W" -d "$SIM_DEV" $RADIO -a 1 --radio-rts yes --dcd-wait 100 -v N7:2=5 N7:8=6
+same "no modem lines: said once" "$(grep -c 'has no modem lines' "$T/err")" 1
+expect 0 "read them back" -- "$R" -d "$SIM_DEV" $RADIO -a 1 N7:2 N7:8
+out_is "both written" "5
+6"
+
 # 2. a broadcast write: executed, never answered (the master is done at once)
 expect 0 "write to station 255" -- "$W" -d "$SIM_DEV" $RADIO -a 255 -vv N7:1=77
 check "the broadcast drew no reply" "! grep -q 'rx  FRAME' '$T/err'"
