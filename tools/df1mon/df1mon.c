@@ -311,7 +311,7 @@ static const struct cli_tool mon_tool = {
 	            "--map FILE.csv [-1] [-i SECONDS] [--counters] [OPTIONS]\n"
 	            "--counters [-i SECONDS] [-c COUNT] [OPTIONS]\n"
 	            "--autoconf [--stations LO-HI] [-w NET.csv] [OPTIONS]\n"
-	            "--serve REGION[,REGION...] [--duplex full|half-slave] [--src STATION] [OPTIONS]",
+	            "--serve REGION[,REGION...] [--duplex full|half-slave|radio] [--src STATION] [--forward LIST] [OPTIONS]",
 	.summary = "DF1 diagnostics: decode frames, captures or a tap; ping, find stations, "
 	           "poll tags, show counters.",
 	.accepts = CLI_ACCEPT_ALL | CLI_ACCEPT(CLI_OPT_FORWARD), /* --forward: --serve only */
