@@ -17,7 +17,6 @@
 B=${B:-build}
 export B
 export DF1_BIN="$(cd "$B" && pwd)/bin"
-export DF1_SHARED="${DF1_SHARED:-$(cd "$(dirname "$0")/../../shared" 2>/dev/null && pwd)}"
 log_dir="$B/test-logs"
 mkdir -p "$log_dir"
 
