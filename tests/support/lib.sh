@@ -111,8 +111,12 @@ err_has() {
 	fi
 }
 
+# TRIES is what the condition needs on a quiet machine (a try every 0.1 s);
+# it is multiplied by DF1_TEST_SLACK (default 3), so that scripts run side by
+# side (TEST_JOBS) on a loaded machine still make it: a condition that holds
+# returns at once, only a failure waits the longer time.
 wait_for() {
-	what=$1; tries=$2; shift 2
+	what=$1; tries=$(($2 * ${DF1_TEST_SLACK:-3})); shift 2
 	while [ "$tries" -gt 0 ]; do
 		if "$@"; then ok; return 0; fi
 		tries=$((tries - 1))
