@@ -10,7 +10,7 @@
 #    a read is the command, the ACK, a poll, the reply, the ACK of the reply
 #    (this one goes out with the next command);
 #  - radio: df1read --duplex radio against df1sim --duplex radio: the command
-#    and the reply, no link control (doc/PROTOCOL.md, radio modem). Run when
+#    and the reply, no ACK, poll or other link control. Run when
 #    the tools accept --duplex radio; otherwise the bench says it skips it.
 # Each case is BENCH_RADIO_READS (default 20) df1read processes one after the
 # other, each reading N7:0 (1234, checked); transactions per second = reads /

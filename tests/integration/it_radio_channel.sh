@@ -10,6 +10,8 @@
 #    bytes take at least the key-up plus 10 bits each at 9600 baud to arrive
 #    (lower bounds only: a loaded machine is slower, never faster); the log
 #    has one line per transmission with its sender, receivers and bytes;
+#  - parallel relays (a diamond): both relays reach the far node, whole, one
+#    after the other;
 #  - one-way ranges (--hears) and --collide: overlapping transmissions reach
 #    a receiver garbled, and the log says so;
 #  - every node in range of every other without --link/--hears; SIGTERM:
@@ -82,6 +84,18 @@ same "chain: the log holds each transmission, its sender, receivers and bytes" "
 # each transmission lasts at least its key-up and its characters
 check "chain: every logged transmission takes its key-up and 10 bits a byte" \
 	"awk '{ n = NF - 5; if (\$2 - \$1 < 0.99 * (0.050 + n * 10 / 9600)) bad = 1 } END { exit bad || NR != 5 }' '$T/chain.log'"
+
+# ---- parallel relays: a diamond, a hears b and c, so does d ----
+chan dia --node a,b,c,d --link a-b-d --link a-c-d --keyup-ms 20 --baud 19200
+A30=$(pat 30 0); B30=$(pat 30 50); C30=$(pat 30 100)
+expect 0 "dia: the probe runs" -- python3 "$PROBE" "$T/dia" a,b,c,d \
+	"send:a:$A30" pause:300 "send:b:$B30" "send:c:$C30"
+cp "$T/out" "$T/probe"
+same "dia: b and c hear a" "$(rx b) $(rx c)" "$A30 $A30"
+same "dia: d does not hear a; b and c both reach it, one after the other (buffered, not mixed)" "$(rx d)" "$B30$C30"
+same "dia: a hears both relays" "$(rx a)" "$B30$C30"
+sim_stop "$CHAN_PID"
+same "dia: the log's receivers" "$(awk '{ print $3, $4, $5 }' "$T/dia.log" | sort | tr '\n' ';')" "a > b,c;b > a,d;c > a,d;"
 
 # ---- one-way ranges and collisions ----
 chan coll --node a,b,c,x,y --link a-b-c --hears y:x --collide --keyup-ms 0 --baud 9600

@@ -3,8 +3,8 @@
 """radio_channel - one radio channel for the tests: N pseudo-terminals, one a
 node, joined so that what a node transmits reaches the nodes in its range
 (never the sender itself). Ranges make chains (1-2-3-4: 1 hears only 2) and
-parallel relays, the layouts of DF1 radio modem store and forward
-(doc/PROTOCOL.md). Python 3 standard library only.
+parallel relays, the layouts where DF1 radio modem nodes store and forward
+each other's packets. Python 3 standard library only.
 
     radio_channel.py --prefix PREFIX --node NAME [--node NAME...]
                      [--link A-B[-C...]]... [--hears A:B[,C...]]...
@@ -37,7 +37,8 @@ parallel relays, the layouts of DF1 radio modem store and forward
 
 On stdout, once every pty is there: one line "NAME DEVICE" per node, then
 "ready". Runs until SIGTERM or SIGINT, then writes the transmissions on the
-air (as ended there), removes its links and exits 0. Exit status 2: bad
+air (as ended there), removes its links and exits 0; on stderr, the bytes a
+node's pty had no room for (nobody reading it), if any. Exit status 2: bad
 arguments (the message names the option).
 """
 import argparse
@@ -268,6 +269,9 @@ class Channel:
             if n.tx is not None and not n.tx.done:
                 self.finish(n.tx)
         for n in self.nodes:
+            if n.dropped:
+                sys.stderr.write("radio_channel: node %s: %d bytes lost, its pty was full "
+                                 "(nobody reading)\n" % (n.name, n.dropped))
             if os.path.islink(n.link):
                 os.unlink(n.link)
         if self.log:
