@@ -25,15 +25,8 @@ command -v python3 > /dev/null || { skip "python3 missing"; finish; }
 RC=tests/support/radio_channel.py
 PROBE=tests/support/radio_probe.py
 
-# chan NAME OPTIONS...: a channel with links $T/NAME.<node>, log $T/NAME.log;
-# CHAN_PID
-chan() {
-	cn=$1; shift
-	python3 "$RC" --prefix "$T/$cn" --log "$T/$cn.log" "$@" > "$T/$cn.out" 2> "$T/$cn.err" &
-	CHAN_PID=$!
-	echo "$CHAN_PID" >> "$T/.sims"
-	wait_for "$cn: the channel is up" 100 grep -qs '^ready$' "$T/$cn.out"
-}
+# chan NAME OPTIONS...: the channel (lib.sh radio_start); CHAN_PID
+chan() { radio_start "$@"; CHAN_PID=$RADIO_PID; }
 
 # pat N FIRST: N bytes FIRST, FIRST+1, ... (mod 256) as hex without spaces
 pat() { awk -v n="$1" -v s="$2" 'BEGIN { for (i = 0; i < n; i++) printf "%02x", (s + i) % 256; print "" }'; }
