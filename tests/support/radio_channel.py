@@ -187,10 +187,13 @@ class Channel:
             tx.due.append(t)
 
     def end_transmissions(self, now):
+        ended = False
         for n in self.nodes:
             tx = n.tx
             if tx is not None and not tx.done and now >= tx.last_end() + self.gap:
                 self.finish(tx)
+                ended = True
+        return ended
 
     def finish(self, tx):
         tx.done = True
@@ -321,8 +324,9 @@ def main():
                 data = b""
             if data:
                 ch.transmit(node, data, now)
-        ch.end_transmissions(now)
-        ch.deliver(now)
+        ch.deliver(now)  # first: the log's garbled marks need every byte delivered
+        if ch.end_transmissions(now):
+            ch.deliver(now)  # what waited behind an ended transmission
     ch.close()
     return 0
 
