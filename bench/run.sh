@@ -16,6 +16,9 @@
 # bench_buffer: df1gw's store and forward buffer, records/s and file bytes.
 # python/bench.py (when python3 has cffi): single-word reads per second from
 # Python next to the C figure, against one df1sim on a pty.
+# bench_gw.sh: df1gw end to end. bench_radio.sh: reads a second across a
+# simulated radio link (tests/support/radio_channel.py), half duplex against
+# radio modem.
 set -u
 B=${1:-build}
 CC=${CC:-cc}
@@ -123,6 +126,9 @@ fi
 
 # bench_gw: df1gw end to end (mosquitto, df1sim, df1gw): latency and CPU
 sh bench/bench_gw.sh "$B"
+# bench_radio: reads across a simulated radio link (50 ms key-up, 9600 baud),
+# half duplex and, when the tools have it, radio modem
+sh bench/bench_radio.sh "$B"
 
 # the summary line for scripts, last: the median over the rounds of measured
 # scan / bound per case (bench_poll's comment: serial wire-time bound; for

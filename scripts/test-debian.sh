@@ -124,9 +124,6 @@ SRC="$T/libdf1-$VERSION"
 mkdir -p "$SRC"
 git ls-files -z --cached --others --exclude-standard | (cd "$SRC" && xargs -0 -I{} sh -c 'mkdir -p "$(dirname "{}")"' ) 2>/dev/null
 git ls-files -z --cached --others --exclude-standard | xargs -0 sh -c 'for f; do [ -e "$f" ] || [ -L "$f" ] && cp -P "$f" "'"$SRC"'/$f"; done' sh
-# the serial-tap captures some tests read (DF1_SHARED, tests/README) sit in a
-# directory beside the tree: the scratch copy gets the same neighbour
-[ -d ../shared ] && ln -s "$(cd ../shared && pwd)" "$T/shared"
 echo "test-debian: dpkg-buildpackage -us -uc -b (DEB_BUILD_OPTIONS=${DEB_BUILD_OPTIONS:-})"
 start=$(date +%s)
 if (cd "$SRC" && dpkg-buildpackage -us -uc -b) > "$T/build.log" 2>&1; then

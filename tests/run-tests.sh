@@ -6,18 +6,19 @@
 # non-zero if anything failed. Each PASS or FAIL line ends with the seconds
 # the test took, to see where a run's time goes.
 #
-# TEST_JOBS=N runs up to N integration scripts at once (default 1: one after
-# the other). Each script has its own temporary folder, ports the kernel
-# picks and its own processes, so they can share a machine; their timing
-# bounds are generous, but a loaded machine is slower (make check and the
-# Debian package's build run one at a time).
+# TEST_JOBS=N runs up to N tests at once (default 1: one after the other):
+# the unit test binaries first, then the integration scripts. Each script has
+# its own temporary folder, ports the kernel picks and its own processes, so
+# they can share a machine; their waits are bounded in tries scaled by
+# DF1_TEST_SLACK (tests/support/lib.sh), so a loaded machine is slower, not
+# failing. TEST_SCRIPTS="tests/integration/it_a.sh ..." runs those scripts
+# instead of all of them (the Debian package's smoke check, debian/rules).
 #
 # `sh tests/run-tests.sh --one SCRIPT` runs one integration script as the
 # runner does (its log, its PASS or FAIL line, its result in the log folder).
 B=${B:-build}
 export B
 export DF1_BIN="$(cd "$B" && pwd)/bin"
-export DF1_SHARED="${DF1_SHARED:-$(cd "$(dirname "$0")/../../shared" 2>/dev/null && pwd)}"
 log_dir="$B/test-logs"
 mkdir -p "$log_dir"
 
@@ -40,13 +41,24 @@ if [ "${1:-}" = --one ]; then
 	run_one "$(basename "$2" .sh)" timeout 600 sh "$2"
 	exit 0
 fi
+if [ "${1:-}" = --bin ]; then
+	run_one "$(basename "$2")" "$2"
+	exit 0
+fi
 
 rm -f "$log_dir"/*.result "$log_dir"/*.fail
 for t in ${TEST_BINS:-"$B"/tests/test_*}; do
-	[ -x "$t" ] || continue
-	run_one "$(basename "$t")" "$t"
-done
-ls tests/integration/*.sh 2>/dev/null | xargs -r -n 1 -P "${TEST_JOBS:-1}" sh "$0" --one
+	[ -x "$t" ] && echo "$t"
+done | xargs -r -n 1 -P "${TEST_JOBS:-1}" sh "$0" --bin
+# the longest scripts first, so that the last one to start is a short one
+# (tests/integration/.order lists the long ones; the rest follow by name)
+if [ -n "${TEST_SCRIPTS:-}" ]; then
+	scripts=$TEST_SCRIPTS
+else
+	scripts=$( { grep -v '^#' tests/integration/.order 2>/dev/null | sed 's|^|tests/integration/|'
+		ls tests/integration/*.sh; } | awk '!seen[$0]++' | while read -r s; do [ -f "$s" ] && echo "$s"; done)
+fi
+printf '%s\n' $scripts | xargs -r -n 1 -P "${TEST_JOBS:-1}" sh "$0" --one
 
 passed=0
 failed=0

@@ -312,7 +312,7 @@ def main():
     # http: requests a client sends to df1gw --http (df1gw(1) HEALTH): each
     # path it serves by GET and HEAD, methods it refuses, HTTP/1.0, keep-alive
     # with two requests, a body by length and chunked, and a malformed line
-    paths = [b"/", b"/index.html", b"/app.js", b"/app.css", b"/metrics", b"/api/status", b"/nothing",
+    paths = [b"/", b"/index.html", b"/app.js", b"/chart.js", b"/app.css", b"/metrics", b"/api/status", b"/nothing",
              b"/metrics?x=1", b"/%2e%2e/etc/passwd"]
     for p in paths:
         cp.add("http", b"GET " + p + b" HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")

@@ -5,8 +5,9 @@
 # record of what the line did; systemd's notification socket played by
 # tests/support/notify_probe.py; /metrics read by prometheus_client's parser
 # (tests/support/prom_probe.py); the status page in headless Chromium over
-# the DevTools protocol (tests/support/page_probe.py, its screenshot kept in
-# the build directory); a request flood with slow clients
+# the DevTools protocol (tests/support/page_probe.py: its tags, its charts,
+# its layout at 1000 and 1400 px, a reason with markup; its screenshots kept
+# in the build's log folder); a request flood with slow clients
 # (tests/support/http_flood.py); `systemd-analyze verify` of the unit; and
 # df1mon --counters -f prometheus. Waits are bounded loops, never sleeps
 # that hope. Run from the repository root with DF1_BIN=<build/bin>.
@@ -15,7 +16,7 @@
 GW="$BIN/df1gw"
 PROM="python3 tests/support/prom_probe.py"
 EPROBE="python3 tests/support/eipgw_probe.py"
-ART=$(dirname "$BIN")/artifacts
+ART=$(dirname "$BIN")/test-logs        # the screenshots: the build's log folder
 mkdir -p "$ART"
 
 have_prom=no
@@ -178,6 +179,8 @@ bad = [n for n, (v, q) in want.items() if n not in tags or tags[n]["value"] != v
 st = {s["station"]: s for s in d["stations"]}
 ok = not bad and st[1]["state"] == "ok" and st[3]["state"] == "offline" and d["line"]["up"] is True
 ok = ok and any(m["name"] == "df1_scans_total" for m in d["metrics"]) and d["summary"].startswith("line ok")
+# the charts' figures: a clock since the start, the scans so far
+ok = ok and 0 < d["uptime_s"] < 600 and isinstance(d["scans"], int) and d["scans"] > 0
 print("bad: %s %s" % (bad, d["summary"]) if not ok else "ok")
 sys.exit(0 if ok else 1)
 PY
@@ -192,9 +195,15 @@ python3 "$T/status.py" "$T/st.json" "$MARKUP" > /dev/null || bad "/api/status: $
 # ---- the page in a real browser ----
 if command -v chromium >/dev/null 2>&1 || command -v chromium-browser >/dev/null 2>&1; then
 	rm -f "$T/ready"
+	# the charts: station 3 (silenced) fails and has no reply time, station
+	# 1 never fails; no broker here (its charts say so)
 	python3 tests/support/page_probe.py "http://$HTTP/" --shot "$ART/df1gw-status-page.png" \
 		--tag 'Speed=777:GOOD' --tag 'Level=1.5:GOOD' --tag "$MARKUP=-5:GOOD" --tag 'Far=-:BAD' \
-		--markup "$MARKUP" --then 'Speed=4242' --ready "$T/ready" > "$T/page.out" 2>&1 &
+		--markup "$MARKUP" --then 'Speed=4242' --ready "$T/ready" \
+		--charts 3 --chart 'scans:scans=>0' --chart 'reply:stn 1=>-1' --chart 'reply:stn 3=none' \
+		--chart 'failures:stn 1=0' --chart 'failures:stn 3=>0' \
+		--layout "1000=$ART/df1gw-status-page-1000.png" --layout "1400=$ART/df1gw-status-page-1400.png" \
+		> "$T/page.out" 2>&1 &
 	PAGE=$!
 	if wait_for "the page shows the tags" 600 test -f "$T/ready"; then
 		expect 0 "a write N7:0 = 4242 (the value the page must show)" -- $EPROBE "$EIP" write - 0 4242
@@ -202,7 +211,7 @@ if command -v chromium >/dev/null 2>&1 || command -v chromium-browser >/dev/null
 	wait $PAGE
 	same "the page in headless Chromium: every check" "$?" 0
 	sed 's/^/  page: /' "$T/page.out"
-	check "screenshot kept in $ART" 'test -s "$ART/df1gw-status-page.png"'
+	check "screenshots kept in $ART" 'test -s "$ART/df1gw-status-page.png" && test -s "$ART/df1gw-status-page-1400.png"'
 else
 	skip "chromium missing (apt-get install chromium): the page not loaded in a browser"
 fi
@@ -224,6 +233,20 @@ expect 0 "1000 requests all answered (with slow clients about)" -- \
 	python3 tests/support/http_flood.py "$HTTP" 1000 8 10 /metrics
 gw_stop "$GW_PID"
 
+# ---- the page with a long reason holding markup: a line that cannot open,
+# named with HTML's special characters; every tag BAD, its reason
+# "line_lost: <the device>: DF1_E_NODEV: ..." ----
+if command -v chromium >/dev/null 2>&1 || command -v chromium-browser >/dev/null 2>&1; then
+	LOST="$T/<i>&amp;\"no-tty"
+	gw_start lost -d "$LOST" --map "$T/map.csv" --eip 0 --http 0
+	expect 0 "the page: a reason with markup shown as text, cut with an ellipsis; the layout at 1000 and 1400 px" -- \
+		python3 tests/support/page_probe.py "http://$HTTP/" --shot "$ART/df1gw-status-page-lost.png" \
+		--tag 'Speed=-:BAD' --tag 'Far=-:BAD' --reason "line_lost: $LOST: DF1_E_NODEV" \
+		--layout "1000=$ART/df1gw-status-page-lost-1000.png" --layout "1400=$ART/df1gw-status-page-lost-1400.png"
+	sed 's/^/  page: /' "$T/out"
+	gw_stop "$GW_PID"
+fi
+
 # ---- an address given: df1gw says it is reachable from a network ----
 gw_start net -d "$SIM_DEV" --map "$T/map.csv" --eip 0 --http 0.0.0.0:0
 check "an address given: df1gw says it is reachable from a network, read-only" \
@@ -240,6 +263,12 @@ if [ "$have_prom" = yes ]; then
 	r1=$(metric 'df1_station_last_reply_seconds{station=1}')
 	check "station 1's reply time: at least df1sim's 80 ms delay, less than 5 s ($r1 s)" \
 		'python3 -c "import sys; sys.exit(not 0.08 <= float(sys.argv[1]) < 5)" "$r1"'
+fi
+if command -v chromium >/dev/null 2>&1 || command -v chromium-browser >/dev/null 2>&1; then
+	expect 0 "the page's reply time chart: station 1 at least df1sim's 80 ms" -- \
+		python3 tests/support/page_probe.py "http://$HTTP/" --shot "$ART/df1gw-status-page-delay.png" \
+		--charts 2 --chart 'reply:stn 1=>79' --chart 'reply:stn 1=<5000'
+	sed 's/^/  page: /' "$T/out"
 fi
 gw_stop "$GW_PID"
 sim_stop
@@ -300,6 +329,12 @@ if [ -x "$MOSQ" ] && command -v mosquitto_sub >/dev/null 2>&1; then
 		 scraped "df1_mqtt_writes_waiting 0"'
 	get /api/status
 	check "/api/status: the broker connected" 'grep -q "\"broker\":{[^}]*\"state\":\"connected\"" "$T/body"'
+	if command -v chromium >/dev/null 2>&1 || command -v chromium-browser >/dev/null 2>&1; then
+		expect 0 "the page's charts: the broker link up, the buffer's backlog empty" -- \
+			python3 tests/support/page_probe.py "http://$HTTP/" --shot "$ART/df1gw-status-page-broker.png" --charts 2 \
+			--chart 'broker:broker=up' --chart 'backlog:backlog=0'
+		sed 's/^/  page: /' "$T/out"
+	fi
 	gw_stop "$GW_PID"
 	# a payload format's own counters: Sparkplug's births (NBIRTH, then the
 	# station's DBIRTH) as df1_sparkplug_births_total, bdSeq 0 the first session

@@ -69,11 +69,15 @@ same "LONG on L10:0" "$(field Big Big)" "70000"
 same "BOOL on B3:0/5" "$(field Run Run)" "true"
 same "TIMER on T4:0: its members" "$(field Tmr Tmr.PRE) $(field Tmr Tmr.ACC)" "100 7"
 same "INT on T4:0.ACC" "$(field Acc Acc)" "7"
-expect 0 "df1mon --map with bad Types: the good rows polled" -- "$MON" -d "$SIM_DEV" --map "$T/bad.csv" -1 -f influx
+# ---- df1mon: bad rows refuse the file, as df1gw does; --skip-bad-rows polls the rest ----
+expect 2 "df1mon --map with bad Types: refused" -- "$MON" -d "$SIM_DEV" --map "$T/bad.csv" -1 -f influx
 err_has "item 10: INT on a float" "Item: 10, Type INT does not fit F8:0"
 err_has "item 11: FLOAT on a bit" "Item: 11, Type FLOAT does not fit B3:0/5: a bit is BOOL"
 err_has "item 12: no Type" "Item: 12, Invalid Type (WHATEVER)"
 err_has "item 13: INT on a whole timer, refused" "Item: 13, Type INT does not fit T4:0: a whole timer is TIMER"
+same "refused: nothing polled" "$(wc -l < "$T/out" | tr -d ' ')" 0
+expect 0 "df1mon --map --skip-bad-rows: the good rows polled" -- "$MON" -d "$SIM_DEV" --map "$T/bad.csv" -1 -f influx --skip-bad-rows
+err_has "--skip-bad-rows: item 12 still named" "Item: 12, Invalid Type (WHATEVER)"
 same "the bad rows skipped, the nine good ones polled" "$(wc -l < "$T/out" | tr -d ' ')" 9
 
 # ---- df1gw: bad rows are exit 2 ----

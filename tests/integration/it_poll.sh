@@ -3,8 +3,8 @@
 # it_poll - df1mon --map (the poll engine's live table, tools/df1mon/mon_map.c) against
 # df1sim: one-shot scans in plain, csv and json; exit status 0 when every
 # readable tag is GOOD, 1 when one is BAD (a missing file, a silent station),
-# 2 for a missing or empty mapping file; rows with problems are reported on
-# stderr and skipped; --counters adds the counter table; a live csv run has
+# 2 for a missing or empty mapping file or one with a row that cannot be used
+# (line and item named; --skip-bad-rows polls the rest); --counters adds the counter table; a live csv run has
 # one record per tag per scan; on a terminal (script(1)) the table is redrawn
 # every scan. Run from the repository root with DF1_BIN=<build/bin>. Skips
 # (SKIP, exit 0) when this df1mon was built without --map.
@@ -37,6 +37,7 @@ Broken,Read,INT,300,SLC,N7:0,1,500
 Syntax,Read,INT,1,SLC,Q7:0,1,500
 EOF
 printf 'Tag,Command,Type,Station,PLC_Type,Address\nBad,Read,INT,999,SLC,N7:0\n' > "$T/none.csv"
+printf 'Tag,Command,Type,Station,PLC_Type,Address\nSpeed,Read,INT,1,SLC,N7:5\nOdd,Read,WORD,1,SLC,N7:6\n' > "$T/type.csv"
 
 sim_run --pty "$T/plc" --duplex half --station 1,2 --silent 2
 [ "$SIM_LINE" = "$T/plc" ] || { echo "FAIL df1sim did not start: '$SIM_LINE'"; cat "$T/sim.err"; exit 1; }
@@ -101,21 +102,45 @@ else
 	bad "--counters (rc=$rc)"; cat "$T/o" "$T/e"
 fi
 
-# 7. rows with problems are reported and skipped; the rest is polled
+# 7. a row that cannot be used refuses the file, as df1gw does: exit 2, each
+# bad row named by its line and item, nothing polled; --skip-bad-rows polls
+# the rest (the rows are still named)
 "$MON" $D --map "$T/rows.csv" -1 > "$T/o" 2> "$T/e"
+rc=$?
+if [ "$rc" -eq 2 ] && grep -q 'rows.csv: line 3: \[2501\]' "$T/e" && grep -q 'rows.csv: line 4: \[2503\]' "$T/e" \
+	&& [ ! -s "$T/o" ]; then
+	ok "bad rows refuse the file: exit 2, lines and IDs named"
+else
+	bad "bad rows refuse the file (rc=$rc)"; cat "$T/o" "$T/e"
+fi
+"$MON" $D --map "$T/type.csv" -1 > "$T/o" 2> "$T/e"
+rc=$?
+if [ "$rc" -eq 2 ] && grep -q 'type.csv: line 3: .*Type' "$T/e" && [ ! -s "$T/o" ]; then
+	ok "an invalid Type refuses the file: exit 2, line 3 and Type named"
+else
+	bad "invalid Type (rc=$rc)"; cat "$T/o" "$T/e"
+fi
+"$MON" $D --map "$T/rows.csv" -1 --skip-bad-rows > "$T/o" 2> "$T/e"
 rc=$?
 if [ "$rc" -eq 0 ] && grep -q '2501' "$T/e" && grep -q '2503' "$T/e" && grep -q '^Speed .*GOOD' "$T/o" \
 	&& ! grep -q '^Broken' "$T/o"; then
-	ok "bad rows reported on stderr and skipped"
+	ok "--skip-bad-rows: bad rows reported on stderr and skipped, the rest polled"
 else
-	bad "bad rows (rc=$rc)"; cat "$T/o" "$T/e"
+	bad "--skip-bad-rows (rc=$rc)"; cat "$T/o" "$T/e"
+fi
+"$MON" $D --ping --skip-bad-rows > "$T/o" 2> "$T/e"
+rc=$?
+if [ "$rc" -eq 2 ] && grep -q -- '--skip-bad-rows needs --map' "$T/e"; then
+	ok "--skip-bad-rows without --map: usage error"
+else
+	bad "--skip-bad-rows without --map (rc=$rc)"; cat "$T/e"
 fi
 
 # 8. configuration errors: exit 2
 "$MON" $D --map "$T/nonexistent.csv" -1 > "$T/o" 2> "$T/e"
 rc=$?
 if [ "$rc" -eq 2 ] && [ -s "$T/e" ] && [ ! -s "$T/o" ]; then ok "missing file: exit 2"; else bad "missing file (rc=$rc)"; cat "$T/e"; fi
-"$MON" $D --map "$T/none.csv" -1 > "$T/o" 2> "$T/e"
+"$MON" $D --map "$T/none.csv" -1 --skip-bad-rows > "$T/o" 2> "$T/e"
 rc=$?
 if [ "$rc" -eq 2 ] && grep -q 'no valid tag' "$T/e"; then ok "no valid tag: exit 2"; else bad "no valid tag (rc=$rc)"; cat "$T/e"; fi
 

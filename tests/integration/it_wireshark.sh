@@ -6,7 +6,8 @@
 # tests/support/wireshark_helper.py compare), the spec's vectors (frames built by the
 # helper from tests/data/vectors.txt and from the CRC/BCC rules of doc/PROTOCOL.md 1.4/1.5), and
 # the facts of the captures (doc/PROTOCOL.md 7.2). Files:
-#   - both captures in $DF1_SHARED/captures;
+#   - both serial-tap captures, copied into tests/data (the tree's own files:
+#     a bare clone runs this script);
 #   - the spec's vectors as RTAC-serial records (BCC, CRC, half duplex);
 #   - a built capture: a frame split over three records (inside its DLE
 #     stuffing), a corrupted CRC, a NAK, ENQ retries, a duplicate command, a
@@ -39,8 +40,7 @@ if [ "$(env HOME="$T" tshark -X lua_script:$LUA -r "$T/probe.pcap" -T fields -e 
 	finish
 fi
 H=tests/support/wireshark_helper.py
-SHARED=${DF1_SHARED:-../shared}
-CAP="$SHARED/captures"
+CAP=tests/data
 US=$(printf '\037')
 # no personal preferences or plugins of whoever runs the tests
 export WIRESHARK_CONFIG_DIR="$T/wsconf"
@@ -80,7 +80,7 @@ fields() {
 	tsh "$@" -r "$file" -Y "$y" -T fields -E aggregator=, $e
 }
 
-# ---------------------------------------------------------------- the shared captures
+# ---------------------------------------------------------------- the serial-tap captures
 C1="$CAP/serial-tap-slc-full-duplex.pcap"
 C0="$CAP/serial-tap-one-frame.pcap"
 if [ -f "$C1" ] && [ -f "$C0" ]; then
@@ -111,7 +111,7 @@ if [ -f "$C1" ] && [ -f "$C0" ]; then
 	check "-Y df1 without options" \
 		'[ "$(bounded env HOME="$T/home" tshark -X lua_script:$LUA -r "$C1" -Y df1 2>/dev/null | wc -l)" -eq "$(bounded env HOME="$T/home" tshark -r "$C1" 2>/dev/null | wc -l)" ]'
 else
-	bad "the shared captures are missing: $CAP"
+	bad "the serial-tap captures are missing from $CAP"
 fi
 
 # ---------------------------------------------------------------- the spec's vectors

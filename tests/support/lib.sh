@@ -34,6 +34,11 @@
 #   wait_for DESC TRIES CMD...
 #                          run CMD every 0.1 s until it succeeds, at most TRIES
 #                          times; count a failure (and return 1) if it never does
+#   radio_start NAME RADIO_CHANNEL OPTIONS...
+#                          start tests/support/radio_channel.py (--node,
+#                          --link, --keyup-ms...: its header) with the ptys
+#                          $T/NAME.<node> and the log $T/NAME.log, and wait
+#                          until it is ready; RADIO_PID (sim_stop ends it)
 #   json_ok FILE           every line of FILE is a JSON object (starts with {, ends
 #                          with }, balanced braces and unescaped quotes)
 #   skip DESC              print "SKIP: DESC": counted neither passed nor failed
@@ -111,8 +116,12 @@ err_has() {
 	fi
 }
 
+# TRIES is what the condition needs on a quiet machine (a try every 0.1 s);
+# it is multiplied by DF1_TEST_SLACK (default 3), so that scripts run side by
+# side (TEST_JOBS) on a loaded machine still make it: a condition that holds
+# returns at once, only a failure waits the longer time.
 wait_for() {
-	what=$1; tries=$2; shift 2
+	what=$1; tries=$(($2 * ${DF1_TEST_SLACK:-3})); shift 2
 	while [ "$tries" -gt 0 ]; do
 		if "$@"; then ok; return 0; fi
 		tries=$((tries - 1))
@@ -204,6 +213,17 @@ sim_end() {
 	SIM_PID=
 	exec 3<&-
 	return $sim_rc
+}
+
+radio_start() {
+	rname=$1; shift
+	python3 tests/support/radio_channel.py --prefix "$T/$rname" --log "$T/$rname.log" "$@" \
+		> "$T/$rname.out" 2> "$T/$rname.err" &
+	RADIO_PID=$!
+	echo "$RADIO_PID" >> "$T/.sims"
+	wait_for "radio channel $rname is up" 100 grep -qs '^ready$' "$T/$rname.out" && return 0
+	sed 's/^/  radio_channel: /' "$T/$rname.err" | head -5
+	return 1
 }
 
 # ---- an MQTT broker on a loopback port (the gateway's tests) ----

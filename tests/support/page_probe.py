@@ -7,13 +7,24 @@ script built, as a technician's browser would show it.
 
   page_probe.py URL --shot FILE.png [--tag NAME=VALUE:QUALITY ...]
                 [--markup NAME] [--then NAME=VALUE] [--ready FILE]
+                [--reason TEXT] [--charts N [--chart ID:SERIES=CMP ...]]
+                [--layout WIDTH=FILE.png ...]
 
 Checks: every --tag row shows VALUE and QUALITY; the row of --markup NAME
 shows NAME as text (no element made from it, no dialog); the filter input
 narrows the rows; then writes "ready" to --ready FILE (the test changes a
 value in the PLC) and waits, without reloading, until --then NAME shows
-VALUE. A screenshot is kept in --shot. One line per check; exit 1 if any
-failed.
+VALUE. --reason: a tag's reason holding TEXT (markup) is shown as text,
+cut to one line with an ellipsis, the whole of it in its title. --charts:
+the five charts are SVG elements with a title, a desc, labelled axes with
+units, and each --chart's series (e.g. "failures:stn 3=>0", "broker:broker
+=up") has N figures or more and its latest one as said (=, >, <), or
+none at all ("reply:stn 3=none"). --layout:
+at each WIDTH (CSS pixels) no header of any table takes more than one line
+or overflows, no word in a header or cell is broken across lines, the tags
+table fits its box and its Reason column takes at most 40 % of it; a
+screenshot of the whole page at that width in FILE. A screenshot is kept in
+--shot. One line per check; exit 1 if any failed.
 """
 import argparse
 import json
@@ -114,6 +125,114 @@ def rows_until(b, pred, seconds):
     return rows, False
 
 
+# Measured in the page: for each visible header its lines (the distinct tops
+# of its text's boxes) and whether its text overflows; for each word of each
+# visible header or cell, whether its boxes lie on more than one line (a
+# word broken inside).
+LAYOUT = """(function () {
+  function tops(range) {
+    var t = {};
+    Array.prototype.forEach.call(range.getClientRects(), function (q) {
+      if (q.width > 0 && q.height > 0) t[Math.round(q.top)] = true; });
+    return Object.keys(t).length;
+  }
+  function visible(e) { return e.offsetParent !== null && e.getClientRects().length > 0; }
+  var heads = [], broken = [], r = document.createRange();
+  document.querySelectorAll('main th').forEach(function (th) {
+    if (!visible(th)) return;
+    r.selectNodeContents(th);
+    var n = tops(r);
+    if (n !== 1 || th.scrollWidth > th.clientWidth) heads.push(th.textContent + ' (' + n + ' lines, ' +
+      th.scrollWidth + '/' + th.clientWidth + ' px)');
+  });
+  document.querySelectorAll('main th, main td').forEach(function (c) {
+    if (!visible(c)) return;
+    var w = document.createTreeWalker(c, NodeFilter.SHOW_TEXT), t, m, re;
+    while ((t = w.nextNode())) {
+      re = /\\S+/g;
+      while ((m = re.exec(t.data))) {
+        r.setStart(t, m.index); r.setEnd(t, m.index + m[0].length);
+        if (tops(r) > 1) broken.push(m[0]);
+      }
+    }
+  });
+  var tags = document.getElementById('tags'), box = tags.parentNode, reason = tags.tHead.rows[0].cells[3];
+  return { heads: heads, broken: broken, fits: box.scrollWidth <= box.clientWidth,
+           table: tags.offsetWidth, reason: reason.offsetWidth, th: document.querySelectorAll('main th').length,
+           height: document.documentElement.scrollHeight };
+})()"""
+
+CHARTS = """Array.prototype.map.call(document.querySelectorAll('#charts svg'), function (s) {
+  var t = s.querySelector('title'), d = s.querySelector('desc'), ids = (s.getAttribute('aria-labelledby') || '').split(' ');
+  return { id: s.getAttribute('data-chart'), points: Number(s.getAttribute('data-points')), role: s.getAttribute('role'),
+    title: t ? t.textContent : '', desc: d ? d.textContent : '',
+    labelled: ids.length === 2 && ids.every(function (i) { return document.getElementById(i) !== null; }),
+    texts: Array.prototype.map.call(s.querySelectorAll('text'), function (x) { return x.textContent; }),
+    series: Array.prototype.map.call(s.querySelectorAll('polyline.series'), function (p) {
+      return { name: p.getAttribute('data-series'), n: p.points.numberOfItems }; }) };
+})"""
+
+UNITS = {"scans": "scans/s", "reply": "ms", "failures": "failures/min", "broker": "link", "backlog": "records"}
+
+
+def latest(chart, series):
+    """The latest figure of SERIES as the chart's desc says it ("NAME: now X, ...")."""
+    import re
+    m = re.search(r"(?:^|[.;] )%s: now ([^,;.]+(?:\.\d+)?)" % re.escape(series), chart["desc"])
+    return m.group(1) if m else None
+
+
+def chart_ok(charts, spec, want_n):
+    cid, rest = spec.split(":", 1)
+    for op in ("=>", "=<", "="):
+        if op in rest:
+            series, value = rest.split(op, 1)
+            break
+    c = [x for x in charts if x["id"] == cid]
+    if not c:
+        return False, "no chart " + cid
+    n = sum(s["n"] for s in c[0]["series"] if s["name"] == series)
+    v = latest(c[0], series)
+    if value == "none":         # a series without a figure (a station that never answered)
+        return n == 0 and v is None and (series + ": no figure yet") in c[0]["desc"], \
+            "%s: %s without a figure (%d)" % (cid, series, n)
+    if n < want_n or v is None:
+        return False, "%s: %s has %d figures (latest %s)" % (cid, series, n, v)
+    if op == "=":
+        ok = v == value
+    else:
+        try:
+            ok = float(v) > float(value) if op == "=>" else float(v) < float(value)
+        except ValueError:
+            ok = False
+    return ok, "%s: %s latest %s (want %s%s), %d figures" % (cid, series, v, op[-1] if op != "=" else "", value, n)
+
+
+def layout(b, width, shot):
+    b.call("Emulation.setDeviceMetricsOverride", {"width": width, "height": 900, "deviceScaleFactor": 1,
+                                                    "mobile": False})
+    m = b.js(LAYOUT)
+    check(m is not None and m["th"] > 0 and not m["heads"],
+          "%d px: every header on one line, none overflowing %s" % (width, json.dumps(m and m["heads"])))
+    check(m is not None and not m["broken"], "%d px: no word broken inside %s" % (width, json.dumps(m and m["broken"])))
+    check(m is not None and m["fits"], "%d px: the tags table fits its box" % width)
+    check(m is not None and 0 < m["reason"] <= 0.4 * m["table"],
+          "%d px: the Reason column %s px of the table's %s px" % (width, m and m["reason"], m and m["table"]))
+    height = min(max(int(m["height"]) if m else 900, 600), 8000)
+    b.call("Emulation.setDeviceMetricsOverride", {"width": width, "height": height, "deviceScaleFactor": 1,
+                                                    "mobile": False})
+    shoot(b, shot)
+    b.call("Emulation.clearDeviceMetricsOverride")
+
+
+def shoot(b, path):
+    import base64
+    shot = b.call("Page.captureScreenshot", {"format": "png"})
+    with open(path, "wb") as f:
+        f.write(base64.b64decode(shot["data"]))
+    check(os.path.getsize(path) > 1000, "screenshot kept: %s" % path)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("url")
@@ -122,6 +241,10 @@ def main():
     ap.add_argument("--markup")
     ap.add_argument("--then")
     ap.add_argument("--ready")
+    ap.add_argument("--reason")
+    ap.add_argument("--charts", type=int, default=0)
+    ap.add_argument("--chart", action="append", default=[])
+    ap.add_argument("--layout", action="append", default=[])
     a = ap.parse_args()
     b = Browser()
     try:
@@ -164,11 +287,42 @@ def main():
             rows, ok = rows_until(b, lambda r: any(x["name"] == name and x["value"] == value for x in r), 30)
             check(ok, "%s shows %s without a reload" % (name, value))
             check(b.js("window.__df1probe") == "no reload", "the page was not reloaded")
-        shot = b.call("Page.captureScreenshot", {"format": "png"})
-        import base64
-        with open(a.shot, "wb") as f:
-            f.write(base64.b64decode(shot["data"]))
-        check(os.path.getsize(a.shot) > 1000, "screenshot kept: %s" % a.shot)
+        if a.reason:
+            rr = b.js("""Array.prototype.map.call(document.querySelectorAll('#tags tbody td.reason'), function (td) {
+              var sp = td.querySelector('span.clip');
+              return { text: td.textContent, children: sp ? sp.children.length : -1, title: sp ? sp.title : '',
+                       cut: sp ? sp.scrollWidth > sp.clientWidth : false,
+                       oneline: sp ? sp.offsetHeight < 2 * parseFloat(getComputedStyle(sp).fontSize) : false }; })""") or []
+            hit = [x for x in rr if a.reason in x["text"]]
+            check(len(hit) > 0 and all(x["children"] == 0 for x in hit),
+                  "a reason with markup shown as text: %s" % json.dumps(hit[:1]))
+            check(b.js("document.querySelectorAll('main i, main img, main b, main script').length") == 0,
+                  "no element made from a reason")
+            check(len(hit) > 0 and all(x["title"] == x["text"] for x in hit), "the reason's whole text in its title")
+            check(len(hit) > 0 and all(x["cut"] and x["oneline"] for x in hit),
+                  "a long reason cut to one line (ellipsis)")
+        if a.charts:
+            end = time.monotonic() + 30 + 3 * a.charts
+            while True:
+                charts = b.js(CHARTS) or []
+                res = [chart_ok(charts, spec, a.charts) for spec in a.chart]
+                if all(ok for ok, _ in res) or time.monotonic() > end:
+                    break
+                time.sleep(0.5)
+            ids = sorted(c["id"] for c in charts)
+            check(ids == sorted(UNITS), "the charts as SVG: %s" % ids)
+            for c in charts:
+                check(c["role"] == "img" and c["labelled"] and c["title"] and c["desc"],
+                      "chart %s: role img, a title and a desc (%s)" % (c["id"], c["desc"]))
+                unit = UNITS.get(c["id"], "?")
+                check(unit in c["texts"] and ("seconds ago" in c["texts"] or "minutes ago" in c["texts"]),
+                      "chart %s: axes labelled (%s, time ago)" % (c["id"], unit))
+            for ok, what in res:
+                check(ok, "chart " + what)
+        shoot(b, a.shot)
+        for spec in a.layout:
+            width, path = spec.split("=", 1)
+            layout(b, int(width), path)
     finally:
         b.close()
     sys.exit(1 if fails else 0)

@@ -20,6 +20,7 @@ int gw_health_open(struct gw *g)
 	char err[256];
 
 	h->start_wall_ms = gw_wall_ms();
+	h->start_mono_ms = gw_now_ms();
 	if (gw_notify_open(&h->notify, gw_now_ms(), err, sizeof err) < 0)
 		fprintf(stderr, "%s: %s (no readiness or watchdog notifications)\n", GW_PROG, err);
 	if (!h->http_listen)

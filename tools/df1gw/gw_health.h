@@ -28,6 +28,7 @@ struct gw_health {
 	struct gw_notify notify;
 	struct gw_http *http;        /* NULL: no --http */
 	int64_t start_wall_ms;       /* the process's start (wall clock) */
+	int64_t start_mono_ms;       /* the same on gw_now_ms()'s clock (uptime_s of /api/status) */
 	int64_t status_next_ms;      /* the next STATUS= look */
 	uint64_t scans_seen;         /* df1_poll_stats scans at the last turn */
 	uint64_t scan_bucket[GW_SCAN_BUCKETS];   /* cumulative counts: <= gw_scan_le[i] */

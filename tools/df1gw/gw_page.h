@@ -4,7 +4,8 @@
  * its style, compiled in (no CDN, no framework: it works on a plant network
  * without the Internet). The script reads /api/status every 2 s and builds
  * the page with textContent only, so whatever a tag name or an error holds
- * is shown as text.
+ * is shown as text; a second script keeps the answers of the last minutes
+ * and draws them as inline SVG charts.
  */
 #ifndef DF1_TOOLS_GW_PAGE_H
 #define DF1_TOOLS_GW_PAGE_H
@@ -18,11 +19,14 @@
 	"base-uri 'none'; form-action 'none'; frame-ancestors 'none'"
 
 struct gw_page_file {
-	const char *path;            /* "/", "/app.js", "/app.css" */
+	const char *path;            /* "/", "/app.js", "/chart.js", "/app.css" */
 	const char *type;            /* its Content-Type */
 	const char *body;
 	size_t len;
 };
+
+/* The charts' script, /chart.js (gw_page_chart.c). */
+extern const struct gw_page_file gw_page_chart;
 
 /* The file served at url, or NULL. */
 const struct gw_page_file *gw_page_find(const char *url);

@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw_status - /api/status: what the status page shows, as JSON
- * (gw_metrics.h), and the summary line STATUS= sends (gw_health.h): the summary line, the line's settings, state and port note, each
+ * (gw_metrics.h), and the summary line STATUS= sends (gw_health.h): the
+ * summary line, the uptime and scans (the page's charts take rates from
+ * them), the line's settings, state and port note, each
  * station, each tag (its payload as gw_value.c makes it, with its name and
  * age), the broker, EtherNet/IP, and the metrics table. Strings go through
  * gw_json_text, so a tag name with markup in it stays text to the page.
@@ -233,7 +235,10 @@ void gw_status_json(const struct gw *g, struct gw_buf *b)
 	gw_rfc3339(gw_wall_ms(), ts, sizeof ts);
 	gw_buf_puts(b, ",");
 	jstr(b, "time", ts);
-	gw_buf_puts(b, ",");
+	/* for rates between two answers (the page's charts): seconds on a clock
+	 * that does not jump, and the scans completed since the start */
+	gw_buf_printf(b, ",\"uptime_s\":%.3f,\"scans\":%llu,", (gw_now_ms() - g->health.start_mono_ms) / 1000.0,
+	              (unsigned long long)g->health.scan_count);
 	line_json(g, b);
 	gw_buf_puts(b, ",");
 	stations_json(g, b);

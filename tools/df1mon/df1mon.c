@@ -46,7 +46,8 @@ static int mon_run_map(struct mon *m)
 	                                          : MON_MAP_PLAIN;
 	int interval_ms = (m->given & GIVEN_INTERVAL) ? (int)mon_ms_of(m->interval_s) : 1000;
 
-	return mon_map_run(m->h, m->map_file, fmt, m->once, m->counters, interval_ms, &cli_stop);
+	return mon_map_run(m->h, m->map_file, m->skip_bad_rows, fmt, m->once, m->counters, interval_ms,
+	                   &cli_stop);
 }
 
 /* ======================================================================
@@ -104,6 +105,8 @@ static const struct cli_extra_opt mon_opts[] = {
 	{ "interval", required_argument, 'i', "SECONDS", "between probes, tables or scans (default 1; fractions allowed)" },
 	{ "duration", required_argument, KEY_DURATION, "SECONDS", "stop a live mode after this time" },
 	{ "once", no_argument, '1', NULL, "--map: one scan, then exit" },
+	{ "skip-bad-rows", no_argument, KEY_SKIP_BAD_ROWS, NULL,
+	  "--map: poll the good rows of a file with bad ones (default: refuse the file)" },
 	{ NULL, 0, 0, NULL, NULL }
 };
 
@@ -195,6 +198,10 @@ static int on_option(struct cli *c, int key, const char *arg, void *user)
 		m->once = true;
 		m->given |= GIVEN_ONCE;
 		return CLI_CONTINUE;
+	case KEY_SKIP_BAD_ROWS:
+		m->skip_bad_rows = true;
+		m->given |= GIVEN_SKIP_BAD_ROWS;
+		return CLI_CONTINUE;
 	default:
 		return cli_usage_error(c, "unknown option");
 	}
@@ -253,6 +260,8 @@ static int check_combination(struct mon *m)
 		return CLI_EXIT_USAGE;
 	if ((m->given & GIVEN_ONCE) && m->mode != MODE_MAP)
 		return cli_usage_error(&m->cli, "-1/--once needs --map");
+	if ((m->given & GIVEN_SKIP_BAD_ROWS) && m->mode != MODE_MAP)
+		return cli_usage_error(&m->cli, "--skip-bad-rows needs --map");
 	if (m->cli.format == CLI_FMT_INFLUX && m->mode != MODE_MAP)
 		return cli_usage_error(&m->cli, "-f influx needs --map (tags as InfluxDB lines)");
 	if (m->cli.format == CLI_FMT_PROMETHEUS && m->mode != MODE_COUNTERS)
@@ -308,7 +317,7 @@ static const struct cli_tool mon_tool = {
 	            "--sniff [-w FILE.pcap] [--sniff-b DEV2] [-c FRAMES] [OPTIONS]\n"
 	            "--ping [-c COUNT] [-i SECONDS] [--counters] [OPTIONS]\n"
 	            "--who [LO-HI] [--counters] [OPTIONS]\n"
-	            "--map FILE.csv [-1] [-i SECONDS] [--counters] [OPTIONS]\n"
+	            "--map FILE.csv [-1] [--skip-bad-rows] [-i SECONDS] [--counters] [OPTIONS]\n"
 	            "--counters [-i SECONDS] [-c COUNT] [OPTIONS]\n"
 	            "--autoconf [--stations LO-HI] [-w NET.csv] [OPTIONS]\n"
 	            "--serve REGION[,REGION...] [--duplex full|half-slave|radio] [--src STATION] [--forward LIST] [OPTIONS]",

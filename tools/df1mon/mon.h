@@ -58,6 +58,7 @@ enum {
 	KEY_AUTOCONF,    /* mon_autoconf.c */
 	KEY_STATIONS,
 	KEY_SERVE,       /* mon_serve.c */
+	KEY_SKIP_BAD_ROWS,
 };
 
 /* Options given, for the checks of what goes with which mode. */
@@ -70,6 +71,7 @@ enum {
 	GIVEN_ONCE = 1 << 5,
 	GIVEN_COUNTERS = 1 << 6,
 	GIVEN_STATIONS = 1 << 7,      /* --stations (--autoconf) */
+	GIVEN_SKIP_BAD_ROWS = 1 << 8, /* --skip-bad-rows (--map) */
 };
 
 struct mon {
@@ -90,6 +92,7 @@ struct mon {
 	double interval_s;         /* -i */
 	double duration_s;         /* --duration */
 	bool once;                 /* -1 */
+	bool skip_bad_rows;        /* --skip-bad-rows: --map loads the good rows of a file with bad ones */
 	const char *sniff_b;       /* --sniff-b DEV2 */
 	const char *pcap_path;     /* -w FILE */
 	const char *map_file;      /* --map FILE */

@@ -321,8 +321,8 @@ static bool mm_any_bad(df1_t *h)
 	return false;
 }
 
-int mon_map_run(df1_t *h, const char *csv_path, int format, bool once, bool counters, int interval_ms,
-                volatile sig_atomic_t *stop)
+int mon_map_run(df1_t *h, const char *csv_path, bool skip_bad_rows, int format, bool once, bool counters,
+                int interval_ms, volatile sig_atomic_t *stop)
 {
 	struct mm m;
 	int64_t last_counters;
@@ -340,7 +340,7 @@ int mon_map_run(df1_t *h, const char *csv_path, int format, bool once, bool coun
 	last_counters = m.t0;
 	if (!h || !csv_path)
 		return 2;
-	rc = df1_tag_load_map(h, csv_path, false, mm_issue, &m);
+	rc = df1_tag_load_map(h, csv_path, !skip_bad_rows, mm_issue, &m);
 	if (rc < 0) {
 		const struct df1_error_detail *d = df1_last_error(h);
 

@@ -18,8 +18,10 @@
 #define MON_MAP_INFLUX 3
 
 /*
- * Load csv_path into the open handle h (df1_tag_load_map, rows with problems
- * reported on stderr and skipped) and poll until *stop:
+ * Load csv_path into the open handle h (df1_tag_load_map: strict, so a row
+ * that cannot be used refuses the file with its line and item on stderr, as
+ * df1gw does; skip_bad_rows: such rows are reported and skipped) and poll
+ * until *stop:
  *  - format 0 (plain): a table TAG STN ADDRESS VALUE QUALITY AGE after every
  *    scan, the screen cleared first (ANSI) only when stdout is a terminal, then
  *    a line of scan statistics;
@@ -39,7 +41,7 @@
 void mon_influx_tag(FILE *f, const struct df1_tag_state *st, int64_t now_ns);
 void mon_influx_counters(FILE *f, df1_t *h, int64_t now_ns);
 
-int mon_map_run(df1_t *h, const char *csv_path, int format, bool once, bool counters, int interval_ms,
-                volatile sig_atomic_t *stop);
+int mon_map_run(df1_t *h, const char *csv_path, bool skip_bad_rows, int format, bool once, bool counters,
+                int interval_ms, volatile sig_atomic_t *stop);
 
 #endif

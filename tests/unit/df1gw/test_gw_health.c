@@ -251,10 +251,21 @@ static void test_page_files(void **state)
 	assert_null(strstr(f->body, "<style"));
 	assert_null(strstr(f->body, "http://"));
 	assert_null(strstr(f->body, "https://"));
+	assert_non_null(strstr(f->body, "src=\"/chart.js\""));
 	assert_non_null(gw_page_find("/app.js"));
 	assert_non_null(gw_page_find("/app.css"));
-	/* the script writes text, never markup */
+	f = gw_page_find("/chart.js");
+	assert_non_null(f);
+	assert_non_null(strstr(f->type, "text/javascript"));
+	assert_int_equal(f->len, strlen(f->body));
+	/* the scripts write text, never markup; the charts are SVG made
+	 * element by element, each with a title and a desc */
 	assert_null(strstr(gw_page_find("/app.js")->body, "innerHTML"));
+	assert_null(strstr(f->body, "innerHTML"));
+	assert_null(strstr(f->body, "insertAdjacentHTML"));
+	assert_non_null(strstr(f->body, "createElementNS"));
+	assert_non_null(strstr(f->body, "'title'"));
+	assert_non_null(strstr(f->body, "'desc'"));
 	assert_null(gw_page_find("/metrics"));
 	assert_null(gw_page_find("/../etc/passwd"));
 	assert_non_null(strstr(GW_PAGE_CSP, "frame-ancestors 'none'"));
