@@ -664,6 +664,9 @@ static void plain_frame(struct decode_ctx *x, FILE *f, const struct decode_where
 	plain_values(f, v);
 	if (s->master_msg && s->has_station)
 		fprintf(f, "  (master message to stn %u)", s->station);
+	if (w->copy_of)
+		fprintf(f, "  %s of #%lu%s", w->copy_relay ? "relay" : "repeat", w->copy_of,
+		        w->copy_duplicate ? " (duplicate)" : "");
 }
 
 static void json_lead(FILE *f, const struct decode_where *w, const char *kind)
@@ -761,6 +764,9 @@ static void json_frame(FILE *f, const struct decode_where *w, const struct df1_s
 		fputs(",\"error\":", f);
 		cli_json_string(f, v->error);
 	}
+	if (w->copy_of)
+		fprintf(f, ",\"copy_of\":%lu,\"relay\":%s,\"duplicate\":%s", w->copy_of,
+		        w->copy_relay ? "true" : "false", w->copy_duplicate ? "true" : "false");
 	json_hex(f, "bytes", s->data, s->len);
 	fputc('}', f);
 }

@@ -53,6 +53,13 @@ struct decode_where {
 	int64_t epoch_sec;
 	int32_t epoch_usec;
 	const char *dir;          /* "tx", "rx" or NULL */
+	/* radio modem (df1mon --duplex radio): a good packet that repeats an
+	 * earlier one, symbol number copy_of (0: none): a relay's copy
+	 * (copy_relay) or its sender's retry; copy_duplicate: one more copy of
+	 * a packet heard twice already, or the retry, which a node drops */
+	unsigned long copy_of;
+	bool copy_relay;
+	bool copy_duplicate;
 };
 
 void decode_ctx_init(struct decode_ctx *x, enum cli_format format);

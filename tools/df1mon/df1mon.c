@@ -337,6 +337,8 @@ static const struct cli_tool mon_tool = {
 	.help_tail = "\nDecoding modes (--decode, --read, --sniff) take --check crc|bcc|auto (default\n"
 	             "auto) and -f plain|json; --ping, --who, --map and --counters take -f csv too;\n"
 	             "--counters alone takes -f prometheus (one snapshot at the end).\n"
+	             "With --duplex radio they expect no ACK, mark a packet heard again as a relay's\n"
+	             "copy (\"relay of #N\") and count the radio's packets after the summary.\n"
 	             "--who waits 200 ms per station unless -o is given. SIGINT, SIGTERM and\n"
 	             "--duration end a live mode normally: port settings restored, results printed.\n"
 	             "See df1mon(1).\n",
@@ -414,6 +416,8 @@ int main(int argc, char **argv)
 			fprintf(stderr, ", %llu bytes %s", noise,
 			        m.mode == MODE_SNIFF ? "of noise or an unfinished symbol" : "of noise");
 		fputc('\n', stderr);
+		if (m.cli.radio)
+			mon_radio_summary(&m, stderr);
 	}
 	cli_cleanup(&m.cli);
 	if (r != CLI_CONTINUE)

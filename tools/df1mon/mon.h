@@ -10,6 +10,7 @@
  *   mon_read.c      --read: a pcap (RTAC serial) or a raw byte dump
  *   mon_pcap.c      the pcap format: headers read, captures written
  *   mon_sniff.c     --sniff: the taps, -w's capture, the decode loop
+ *   mon_radio.c     --duplex radio when decoding: relayed copies, the tallies
  *   mon_live.c      clocks, waits and stop reasons of the live modes
  *   mon_counters.c  the counter table, --counters alone
  *   mon_ping.c      --ping
@@ -74,6 +75,21 @@ enum {
 	GIVEN_SKIP_BAD_ROWS = 1 << 8, /* --skip-bad-rows (--map) */
 };
 
+/* mon_radio.c: the last packets of a radio channel, and its tallies */
+#define MON_RADIO_DEPTH 20     /* as a node's duplicate detection (doc/PROTOCOL.md 2.6) */
+struct mon_radio_pkt {
+	uint8_t key[6];            /* DST SRC CMD STS TNS */
+	unsigned long first;       /* the symbol number of its first copy */
+	const char *dir;           /* that copy's direction, or NULL */
+	unsigned copies;
+	bool relayed;              /* a relayed copy was seen */
+};
+struct mon_radio {
+	struct mon_radio_pkt last[MON_RADIO_DEPTH];
+	unsigned n, head;
+	unsigned long sent, received, relayed, duplicates, bad;
+};
+
 struct mon {
 	struct cli cli;
 	enum mon_mode mode;
@@ -102,6 +118,7 @@ struct mon {
 	df1_t *h;                  /* the handle of a talking mode */
 	int64_t t0_us;             /* monotonic start of a live mode */
 	unsigned counter_prints;   /* counter tables printed */
+	struct mon_radio radio;    /* --duplex radio: the decoding modes' packets */
 };
 
 /* ---- mon_pcap.c: the pcap format (read by --read, written by --sniff -w) ---- */
@@ -193,6 +210,16 @@ bool mon_who_is_eip(const struct mon *m);     /* mon_who.c: an eip:// device */
 int mon_parse_range(struct mon *m, const char *arg);
 /* Every counter of the seed table in ID order, in the -f format; final: the one at exit. */
 void mon_print_counters(struct mon *m, bool final);
+
+/* ---- mon_radio.c: --duplex radio in the decoding modes ---- */
+
+/* A symbol about to be printed (w->index set): tallied; a good packet that
+ * repeats one of the last MON_RADIO_DEPTH gets w->copy_of, copy_relay and
+ * copy_duplicate (decode.h). */
+void mon_radio_seen(struct mon *m, const char *dir, const struct df1_symbol *sym,
+                    struct decode_where *w);
+/* One line after the decoding summary: sent, received, relayed, duplicates, bad. */
+void mon_radio_summary(const struct mon *m, FILE *f);
 
 /* ---- mon_live.c: clocks, waits, stop reasons ---- */
 

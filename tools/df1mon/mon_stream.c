@@ -119,6 +119,8 @@ static void print_symbol(struct mon *m, struct stream *s, const struct timebase 
 		w.rel_sec = rel / 1000000;
 		w.rel_usec = (int32_t)(rel % 1000000);
 	}
+	if (m->cli.radio)
+		mon_radio_seen(m, s->dir, sym, &w);
 	m->used += sym->wire_len;
 	decode_print(&m->dx, m->out ? m->out : stdout, NULL, &w, sym);
 }
