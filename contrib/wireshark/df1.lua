@@ -8,7 +8,10 @@
 -- shown on the record that completes them. Decoding follows libdf1's
 -- doc/PROTOCOL.md and prints what `df1mon --read` prints: the decoder below
 -- mirrors lib/proto/frame.c (DLE stuffing, BCC/CRC auto-detection, duplex
--- auto-detection), the message decoding mirrors tools/common/decode.c.
+-- auto-detection), the message decoding mirrors tools/common/decode.c. The
+-- "Link mode" preference reads a DF1 Radio Modem channel as df1mon --duplex
+-- radio does (tools/df1mon/mon_radio.c): no link symbols expected, a packet
+-- heard again unchanged marked as a store-and-forward relay's copy.
 --
 -- Load it with `tshark -X lua_script:df1.lua`, or copy it into a Lua plugin
 -- folder (~/.local/lib/wireshark/plugins/). Frames cut by the end of a capture,
@@ -1239,6 +1242,9 @@ f.request_in = ProtoField.framenum("df1.request_in", "Request in", base.NONE, fr
 f.response_in = ProtoField.framenum("df1.response_in", "Response in", base.NONE, frametype.RESPONSE)
 f.response_time = ProtoField.relative_time("df1.response_time", "Response time")
 f.duplicate_of = ProtoField.framenum("df1.duplicate_of", "Duplicate of")
+f.relay_of = ProtoField.framenum("df1.relay_of", "Relayed copy of")
+f.radio_repeat = ProtoField.framenum("df1.radio_repeat", "Sent again by its sender, first in")
+f.radio_duplicate = ProtoField.bool("df1.radio_duplicate", "Radio duplicate (a node drops it)")
 f.fragment = ProtoField.framenum("df1.fragment", "Record with part of this symbol")
 f.reassembled_in = ProtoField.framenum("df1.reassembled_in", "Completed in")
 
@@ -1260,9 +1266,11 @@ local ex = {
 		expert.severity.ERROR),
 	incomplete = ProtoExpert.new("df1.expert.incomplete", "Incomplete DF1 symbol",
 		expert.group.MALFORMED, expert.severity.WARN),
+	relayed = ProtoExpert.new("df1.expert.relayed", "Radio modem: relayed copy", expert.group.SEQUENCE,
+		expert.severity.NOTE),
 }
 df1.experts = { ex.bad_check, ex.nak, ex.enq, ex.duplicate, ex.stale, ex.unmatched, ex.plc_error,
-	ex.malformed, ex.incomplete }
+	ex.malformed, ex.incomplete, ex.relayed }
 
 -- ---------------------------------------------------------------- preferences
 
@@ -1277,6 +1285,11 @@ df1.prefs.check = Pref.enum("Error check", 0,
 df1.prefs.duplex = Pref.enum("Duplex", 0,
 	"Auto: DLE ENQ followed by STN and its BCC is a half-duplex poll, else the full-duplex ENQ",
 	{ { 1, "Auto", 0 }, { 2, "Full duplex", 1 }, { 3, "Half duplex", 2 } }, false)
+df1.prefs.link = Pref.enum("Link mode", 0,
+	"Radio modem (DF1 Radio Modem, doc/PROTOCOL.md 2.6): full-duplex frames, no ACK, NAK, ENQ or " ..
+	"poll expected; a packet heard again unchanged (DST SRC CMD STS TNS among the last 20) is a " ..
+	"store-and-forward relay's copy. The Duplex preference is then not used",
+	{ { 1, "Point to point (full or half duplex)", 0 }, { 2, "Radio modem", 1 } }, false)
 df1.prefs.bcc_stx = Pref.bool("Half-duplex master BCC includes STX", false,
 	"The manual's text sums STN and data only (doc/PROTOCOL.md 2.2); some devices add STX")
 
@@ -1291,8 +1304,11 @@ local DUPLEX = { [0] = "auto", [1] = "full", [2] = "half" }
 local G
 
 local function state_reset()
-	G = { streams = {}, ctxs = {}, recs = {}, nsym = 0, finished = false, now = 0 }
+	G = { streams = {}, ctxs = {}, recs = {}, nsym = 0, finished = false, now = 0, radio = {} }
 end
+
+local RADIO_DEPTH = 20   -- a radio node's duplicate detection remembers 20 packets
+local function radio_mode() return df1.prefs.link == 1 end
 state_reset()
 
 local function get_rec(n)
@@ -1305,7 +1321,7 @@ local function get_stream(key, ctxkey, dir)
 	local s = G.streams[key]
 	if not s then
 		s = { key = key, dir = dir, dec = decoder_new(CHECKS[df1.prefs.check] or "auto",
-			DUPLEX[df1.prefs.duplex] or "auto", df1.prefs.bcc_stx),
+			radio_mode() and "full" or DUPLEX[df1.prefs.duplex] or "auto", df1.prefs.bcc_stx),
 			off = 0, lo = 0, bytes = {}, fr = {}, pos = {}, enq = 0, last_cmds = {} }
 		G.ctxs[ctxkey] = G.ctxs[ctxkey] or { cmds = {}, clock = 0 }
 		s.ctx = G.ctxs[ctxkey]
@@ -1315,17 +1331,44 @@ local function get_stream(key, ctxkey, dir)
 	return s
 end
 
+-- Radio modem: a good packet whose DST SRC CMD STS TNS repeats one of the last
+-- RADIO_DEPTH (as tools/df1mon/mon_radio.c): a relay's copy of the first
+-- (sym.relay_of); a further copy, or the tx side sending its own packet again
+-- (sym.repeat_of), is what a node's duplicate detection drops (radio_dup).
+-- true when the packet is such a copy.
+local function radio_copy(st, sym)
+	local d = sym.data
+	local key = d:sub(1, 6)
+	for _, p in ipairs(G.radio) do
+		if p.key == key then
+			if st.dir == "tx" and p.dir == "tx" then
+				sym.repeat_of, sym.radio_dup = p.sym, true
+			else
+				sym.relay_of, sym.radio_dup = p.sym, p.relayed
+				p.relayed = true
+			end
+			return true
+		end
+	end
+	if #G.radio >= RADIO_DEPTH then table.remove(G.radio, 1) end
+	G.radio[#G.radio + 1] = { key = key, dir = st.dir, sym = sym }
+	return false
+end
+
 -- What the first pass learns about a symbol (in the order df1mon prints them).
 local function analyse(st, sym)
 	sym.time = G.now
 	if sym.kind == "FRAME" then
+		-- radio modem: a relayed copy is neither a new command (its reply
+		-- answers the first) nor a second reply
+		local copy = radio_mode() and sym.check_ok and #sym.data >= 6 and radio_copy(st, sym)
 		-- a decoding bug must not lose the symbol: it is shown with the error
-		local okv, v = pcall(build_view, st.ctx, sym, sym.check_ok)
+		local okv, v = pcall(build_view, st.ctx, sym, sym.check_ok and not copy)
 		if not okv then v = { size = -1, error = "dissector error: " .. tostring(v), m = {} } end
 		sym.view = v
 		st.enq = 0
 		st.last_frame = sym
-		if not sym.check_ok or not v.ok then return end
+		if not sym.check_ok or not v.ok or copy then return end
 		local m = v.m
 		if not m.is_reply then
 			local last = st.last_cmds[m.src]
@@ -1348,7 +1391,7 @@ local function analyse(st, sym)
 		else
 			sym.duplicate_of = c.sym.response
 		end
-	elseif sym.kind == "ENQ" and not sym.embedded then
+	elseif sym.kind == "ENQ" and not sym.embedded and not radio_mode() then
 		st.enq = st.enq + 1
 		sym.enq_no = st.enq
 		sym.enq_for = st.last_frame
@@ -1485,6 +1528,14 @@ local function summary(sym)
 	if v.diag then t[#t + 1] = v.diag.text end
 	t[#t + 1] = string.format("tns 0x%04X", v.m.tns)
 	if sym.master and sym.has_station then t[#t + 1] = "(stn " .. sym.station .. ")" end
+	if radio_mode() then
+		t[#t + 1] = string.format("%d > %d", v.m.src, v.m.dst)
+		local first = sym.relay_of or sym.repeat_of
+		if first then
+			t[#t + 1] = string.format("[%s of frame %d%s]", sym.relay_of and "relay" or "repeat",
+				first.frame, sym.radio_dup and ", duplicate" or "")
+		end
+	end
 	return table.concat(t, " ")
 end
 
@@ -1593,6 +1644,16 @@ end
 -- Transaction links, duplicates, retries.
 local function add_tracking(t, sym)
 	local v = sym.view
+	if sym.relay_of or sym.repeat_of then
+		local first = sym.relay_of or sym.repeat_of
+		t:add(sym.relay_of and f.relay_of or f.radio_repeat, first.frame):set_generated()
+		t:add(f.radio_duplicate, sym.radio_dup):set_generated()
+		t:add_proto_expert_info(ex.relayed, sym.relay_of and
+			string.format("Relayed copy of frame %d (store and forward, unchanged)%s", first.frame,
+				sym.radio_dup and "; a node that took a copy drops it (duplicate detection)" or "") or
+			string.format("Sent again by its sender (application retry) as in frame %d; a node with " ..
+				"duplicate detection drops it", first.frame))
+	end
 	if sym.duplicate_of then
 		t:add(f.duplicate_of, sym.duplicate_of.frame):set_generated()
 		t:add_proto_expert_info(ex.duplicate, v.m.is_reply and
@@ -1639,7 +1700,10 @@ local function add_symbol(tree, tvb, sym)
 	end
 	if sym.embedded then t:add(f.embedded, wire, true):set_generated() end
 	local k = sym.kind
-	if k == "NAK" then
+	if radio_mode() and (k == "NAK" or k == "ENQ" or k == "ACK" or k == "EOT") then
+		-- a radio modem sends no link symbols: a node ignores this one
+		t:add(df1, wire, "[radio modem: a stray link symbol, ignored]")
+	elseif k == "NAK" then
 		t:add_proto_expert_info(ex.nak, "NAK: the last frame was not received successfully (bad check, " ..
 			"or no room); half duplex: the master's link reset")
 	elseif k == "ENQ" and sym.enq_no then

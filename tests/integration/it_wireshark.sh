@@ -16,6 +16,8 @@
 #   - captures written by `df1mon --sniff -w` of df1read/df1write against
 #     df1sim, through a tap (full duplex CRC, half duplex BCC, PLC-5, faults);
 #   - raw DF1 over TCP (the port preference; off by default);
+#   - the radio modem (the link mode preference): a built capture at a relay,
+#     its relayed copies, duplicates and a retry, against the rules and df1mon;
 # plus the preferences (RTAC off, Decode As), the personal plugin folder of
 # the README's recipe, and make install-wireshark. tshark runs with -2: frames
 # cut by a capture's end and links to later replies need the whole file read.
@@ -299,6 +301,41 @@ if [ -f "$C1" ]; then
 	fields "$C1" df1.check_ok -- -Y 'df1.symbol == "FRAME"' -o df1.check:CRC > "$T/crc"
 	check "check preference CRC: the BCC frames are bad" '[ -n "$(cat "$T/crc")" ] && ! grep -q 1 "$T/crc"'
 fi
+
+# ---------------------------------------------------------------- radio modem
+# The "Link mode" preference (doc/PROTOCOL.md 2.6): a capture at a relay of a
+# radio channel, one frame per record: rx the master's command (1 > 4), tx the
+# relay's own copy, rx the next relay's copy (a second copy: a duplicate), a
+# stray ACK, rx the reply, tx its copy, tx a new command and tx it again (the
+# tx side's retry), a stray ENQ. Expected by the rules, frame by frame; and
+# df1mon --duplex radio marks the same frames as copies of the same ones.
+RC=$(python3 -c "import sys; sys.path.insert(0, 'tests/support'); import wireshark_helper as h; print(h.frame('crc', bytes.fromhex('04010f00c694a20207890000')).hex())")
+RR=$(python3 -c "import sys; sys.path.insert(0, 'tests/support'); import wireshark_helper as h; print(h.frame('crc', bytes.fromhex('01044f00c694d204fbff')).hex())")
+RC2=$(python3 -c "import sys; sys.path.insert(0, 'tests/support'); import wireshark_helper as h; print(h.frame('crc', bytes.fromhex('04010f00c795a20207890000')).hex())")
+python3 $H pcap "$T/radio.pcap" "rx:$RC" "tx:$RC" "rx:$RC" "rx:1006" "rx:$RR" "tx:$RR" "tx:$RC2" "tx:$RC2" "rx:1005"
+RADIO_PREF="df1.link:Radio modem"
+fields "$T/radio.pcap" frame.number df1.relay_of df1.radio_repeat df1.radio_duplicate df1.request_in df1.response_in \
+	df1.duplicate_of df1.enq_retry -- -o "$RADIO_PREF" | tr '\t' ' ' > "$T/radio.f"
+same "radio: relayed copies, duplicates, the retry; the reply answers the first copy; no ENQ retry" \
+	"$(tr '\n' ';' < "$T/radio.f")" \
+	"1     5  ;2 1  0    ;3 1  1    ;4       ;5    1   ;6 5  0    ;7       ;8  7 1    ;9       ;"
+fields "$T/radio.pcap" _ws.expert.message -- -o "$RADIO_PREF" > "$T/radio.ex"
+check "radio: the relays' notes, no duplicate command or ENQ retry warnings" \
+	"grep -q '^Relayed copy of frame 1 (store and forward, unchanged)\$' '$T/radio.ex' && ! grep -Eq 'ACKs and discards|ENQ retry|NAK:' '$T/radio.ex'"
+tsh -o "$RADIO_PREF" -r "$T/radio.pcap" > "$T/radio.info"
+check "radio: the Info column names who sent what and the copies" \
+	"sed -n 3p '$T/radio.info' | grep -q 'tns 0x94C6 1 > 4 \[relay of frame 1, duplicate\]\$' && sed -n 6p '$T/radio.info' | grep -q '= 1234 -5 tns 0x94C6 4 > 1 \[relay of frame 5\]\$'"
+# the same copies as df1mon's (one symbol a record: its symbol number is the frame number)
+"$BIN/df1mon" -f json --read "$T/radio.pcap" --duplex radio 2> /dev/null |
+	sed -n 's/^{"n":\([0-9]*\),.*"copy_of":\([0-9]*\),.*$/\1 \2/p' > "$T/radio.mon"
+same "radio: df1mon --duplex radio marks the same copies" \
+	"$(fields "$T/radio.pcap" frame.number df1.relay_of df1.radio_repeat -- -o "$RADIO_PREF" |
+		awk -F '\t' '$2 != "" || $3 != "" { print $1, ($2 != "" ? $2 : $3) }' | tr '\n' ';')" \
+	"$(tr '\n' ';' < "$T/radio.mon")"
+# point to point (the default): the old reading, duplicates as the receiver ACKs them
+fields "$T/radio.pcap" frame.number df1.relay_of df1.duplicate_of df1.enq_retry | tr '\t' ' ' > "$T/p2p.f"
+same "point to point: no relays; duplicate commands and replies, an ENQ retry" \
+	"$(tr '\n' ';' < "$T/p2p.f")" "1   ;2   ;3  1 ;4   ;5   ;6  5 ;7   ;8  7 ;9   1;"
 
 # ---------------------------------------------------------------- the README's recipe
 P="$T/home/.local/lib/wireshark/plugins"
