@@ -15,7 +15,9 @@
 #  - --sniff as one more node of the radio fixture
 #    (tests/support/radio_channel.py), hearing the whole AG-UM008 chain
 #    master 1 - relay 2 - relay 3 - PLC 4 while df1read reads through it:
-#    who sent what (DST/SRC), each relay's copy marked.
+#    who sent what (DST/SRC), each relay's copy marked;
+#  - --serve as a relay between the master and a PLC: its radio packets at
+#    exit (df1_radio_stats): the command and the reply received and relayed.
 # Run from the repository root; DF1_BIN = the built tools.
 . tests/support/lib.sh
 command -v python3 > /dev/null || { skip "python3 missing: no frames built, no radio channel"; finish; }
@@ -111,6 +113,30 @@ if [ -x "$BIN/df1read" ] && [ -x "$BIN/df1sim" ]; then
 	sim_stop "$CH"
 else
 	bad "no df1read or df1sim in $BIN"
+fi
+
+# ---- --serve as a relay on the channel: its packets (df1_radio_stats) ----
+# master 1 - df1mon (station 2, forward 1,3) - PLC 3: the command and the
+# reply each heard once and relayed once by df1mon; then a write to it
+if [ -x "$BIN/df1read" ] && [ -x "$BIN/df1sim" ]; then
+	radio_start sv --node m,s2,p3 --link m-s2-p3 --baud 9600 --keyup-ms 50 || finish
+	CH=$RADIO_PID
+	"$BIN/df1sim" -d "$T/sv.p3" --duplex radio --station 3 --data "$T/p4.data" > "$T/sp3.out" 2> "$T/sp3.err" &
+	P3=$!
+	echo "$P3" >> "$T/.sims"
+	wait_for "df1sim 3 is up" 100 test -s "$T/sp3.out"
+	"$MON" -d "$T/sv.s2" --duplex radio --serve N50:0,10 --src 2 --forward 1,3 > "$T/sv.out" 2> "$T/sv.err" &
+	SV=$!
+	echo "$SV" >> "$T/.sims"
+	wait_for "serve: up" 100 grep -q 'serving' "$T/sv.err"
+	expect 0 "serve: read PLC 3 through df1mon's relay" -- \
+		"$BIN/df1read" -d "$T/sv.m" --duplex radio -o 3000 --src 1 -a 3 N7:0
+	out_is "serve: the value" 1234
+	sim_stop "$SV"
+	check "serve: df1mon relayed the command and the reply, both heard once" \
+		"grep -q 'radio: packets sent 2, received 2, relayed 2, duplicates 0, bad 0, undelivered 0\$' '$T/sv.err'"
+	sim_stop "$P3"
+	sim_stop "$CH"
 fi
 
 finish

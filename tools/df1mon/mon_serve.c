@@ -227,6 +227,18 @@ int mon_run_serve(struct mon *m)
 	}
 	if (!m->cli.quiet && s.t)
 		fprintf(stderr, "%s: %lu writes, %lu reads served\n", m->cli.name, s.writes, s.reads);
+	if (!m->cli.quiet && s.t && m->cli.radio) {
+		/* what the node did on the air, relaying included (df1_radio_stats) */
+		struct df1_radio_stats st;
+
+		if (df1_radio_stats(m->h, &st) == DF1_OK)
+			fprintf(stderr,
+			        "%s: radio: packets sent %llu, received %llu, relayed %llu, duplicates %llu, "
+			        "bad %llu, undelivered %llu\n",
+			        m->cli.name, (unsigned long long)st.sent, (unsigned long long)st.received,
+			        (unsigned long long)st.relayed, (unsigned long long)st.duplicates,
+			        (unsigned long long)st.bad_packets, (unsigned long long)st.undelivered);
+	}
 	df1_table_free(s.t);
 	return r == CLI_CONTINUE ? CLI_EXIT_OK : r;
 }
