@@ -23,8 +23,10 @@
 #  - a broadcast (-a 255): executed by each PLC in range, by none out of
 #    range, and no reply on the air;
 #  - df1mon --who over the radio finds the stations in range;
-#  - df1gw polling PLC 1 behind two relays, a mosquitto broker on a loopback
-#    port: the values published, the station's health ok (never offline),
+#  - df1gw polling PLC 1 behind two relays in a chain, and behind two relays
+#    in parallel (df1gw and the PLC with duplicate detection: each hears every
+#    packet twice), a mosquitto broker on a loopback port: the values
+#    published, the station's health ok (once ok, never failing or offline),
 #    and the PLC's MSG writes (df1sim --msg, report by exception) reaching a
 #    Receive row, each published once and in order.
 # Run from the repository root; DF1_BIN = the built tools.
@@ -173,48 +175,80 @@ btns=$(air bc | awk '$1 == "m" && $4 == "10" && $5 == "02" && $6 == "ff" { print
 check "bc: nobody answered it (TNS $btns in no reply)" \
 	"[ -n '$btns' ] && ! air bc | awk '\$1 != \"m\"' | grep -q ' 4f .. $btns'"
 
-# ---- 7. df1gw polling PLC 1 behind two relays; the PLC's MSGs published once ----
+# ---- 7. df1gw polling PLC 1 behind relays; the PLC's MSGs published once ----
 if [ ! -x "$MOSQ" ] || ! command -v mosquitto_sub > /dev/null 2>&1; then
 	bad "gw: no broker to test against (apt-get install mosquitto mosquitto-clients)"
 	finish
 fi
 MQ_PORT=$(free_port)
 broker_start broker "$MQ_PORT" || finish
-radio_start gw --node g,r2,r3,p1 --link g-r2-r3-p1 --baud 9600 --keyup-ms 50 || finish
-CH=$RADIO_PID
 printf 'N7:20=4242\n' > "$T/gwplc.data"
-node gr2 gw r2 --station 2 --forward 0,1; R2=$NODE_PID
-node gr3 gw r3 --station 3 --forward 0,1; R3=$NODE_PID
-# the PLC numbers its MSG writes in N7:0 (seq), one every 400 ms to station 0
-node gp1 gw p1 --station 1 --data "$T/gwplc.data" --msg write,N7:0,3,0,N50:0,400,seq; P1=$NODE_PID
 cat > "$T/gw.csv" <<'EOF2'
 Tag,Command,Type,Station,PLC_Type,Address,Count,Scan_Ms
 Report,Receive,INT,0,SLC,N50:0,3,
 Level,Read,INT,1,SLC,N7:20,1,500
 EOF2
-mosquitto_sub -h 127.0.0.1 -p "$MQ_PORT" -t 'rgw/#' -v > "$T/gw.sub" 2>&1 &
-SUB=$!
-echo "$SUB" >> "$T/.sims"
-# three hops each way: a reply is due within about 0.6 s; 3 s is ample. The
-# watchdog is shorter than the run, so a station judged silent would show
-"$BIN/df1gw" --mqtt "mqtt://127.0.0.1:$MQ_PORT" -d "$T/gw.g" $RADIO --src 0 --watchdog 4000 \
-	--map "$T/gw.csv" --prefix rgw > "$T/gw.gwout" 2> "$T/gw.gwerr" &
-GW=$!
-echo "$GW" >> "$T/.sims"
-wait_for "gw: 8 MSGs done at the PLC" 300 sh -c "[ \$(grep -c ': DN\$' '$T/gp1.err') -ge 8 ]"
-kill -TERM "$GW"; lib_reap "$GW"
-stop_all "$P1" "$R2" "$R3" "$CH"
-kill -TERM "$SUB"; lib_reap "$SUB"
-check "gw: the polled value published" "grep -q '^rgw/tag/Level {\"value\":4242,' '$T/gw.sub'"
-sed -n 's/^rgw\/tag\/Report {"value":\[\([0-9]*\),.*"from":1}$/\1/p' "$T/gw.sub" > "$T/gw.got"
-sed -n 's/^df1sim: MSG write .*(first \([0-9]*\)): DN$/\1/p' "$T/gp1.err" > "$T/gw.dn"
-got=$(wc -l < "$T/gw.got"); dn=$(wc -l < "$T/gw.dn")
-check "gw: at least 8 MSGs published ($got)" "[ $got -ge 8 ]"
-check "gw: each published once, in order (1..$got)" "seq 1 $got | cmp -s - '$T/gw.got'"
-check "gw: DN at the PLC for each ($dn of $got)" "seq 1 $dn | cmp -s - '$T/gw.dn' && [ $got -le \$(($dn + 1)) ]"
-check "gw: no MSG failed at the PLC (but one the stop cut short)" "! grep ': ER' '$T/gp1.err' | grep -vq 'ER DF1_E_INTR\$'"
-check "gw: station 1's health said ok" "grep -q '^rgw/station/1 {\"station\":1,\"state\":\"ok\"' '$T/gw.sub'"
-check "gw: station 1 was never failing or offline" "! grep -Eq '^rgw/station/1 .*\"state\":\"(failing|offline)\"' '$T/gw.sub'"
-check "gw: the relays executed nothing" "! grep -q 'cmd=' '$T/gr2.log' && ! grep -q 'cmd=' '$T/gr3.log'"
+
+# gw NAME RADIO_CHANNEL OPTIONS -- DF1GW OPTIONS: df1gw (station 0) on node g
+# of a channel whose relays are up; the PLC at node p1 starts once df1gw is
+# online (no MSG before anyone listens), numbers its MSG writes in N7:0 (seq)
+# and sends one every 400 ms to station 0; stopped after 8 done
+gw() {
+	gname=$1; shift
+	copts=
+	while [ "$1" != -- ]; do copts="$copts $1"; shift; done
+	shift
+	mosquitto_sub -h 127.0.0.1 -p "$MQ_PORT" -t "$gname/#" -v > "$T/$gname.sub" 2>&1 &
+	SUB=$!
+	echo "$SUB" >> "$T/.sims"
+	# three hops each way: a reply is due within about 0.6 s; 3 s is ample.
+	# The watchdog is shorter than the run, so a station judged silent shows
+	# shellcheck disable=SC2086
+	"$BIN/df1gw" --mqtt "mqtt://127.0.0.1:$MQ_PORT" -d "$T/$gname.g" $RADIO --src 0 --watchdog 4000 \
+		--map "$T/gw.csv" --prefix "$gname" "$@" > "$T/$gname.gwout" 2> "$T/$gname.gwerr" &
+	GW=$!
+	echo "$GW" >> "$T/.sims"
+	wait_for "$gname: df1gw is online" 100 grep -qs "^$gname/status online" "$T/$gname.sub"
+	# shellcheck disable=SC2086
+	node "${gname}p1" "$gname" p1 --station 1 --data "$T/gwplc.data" \
+		--msg write,N7:0,3,0,N50:0,400,seq $copts; P1=$NODE_PID
+	wait_for "$gname: 8 MSGs done at the PLC" 300 sh -c "[ \$(grep -c ': DN\$' '$T/${gname}p1.err') -ge 8 ]"
+	kill -TERM "$GW"; lib_reap "$GW"
+	sim_stop "$P1"
+	kill -TERM "$SUB"; lib_reap "$SUB"
+	sub=$T/$gname.sub; perr=$T/${gname}p1.err
+	check "$gname: the polled value published" "grep -q '^$gname/tag/Level {\"value\":4242,' '$sub'"
+	sed -n "s/^$gname\/tag\/Report {\"value\":\[\([0-9]*\),.*\"from\":1}\$/\1/p" "$sub" > "$T/$gname.got"
+	sed -n 's/^df1sim: MSG write .*(first \([0-9]*\)): DN$/\1/p' "$perr" > "$T/$gname.dn"
+	got=$(wc -l < "$T/$gname.got"); dn=$(wc -l < "$T/$gname.dn")
+	check "$gname: at least 8 MSGs published ($got)" "[ $got -ge 8 ]"
+	check "$gname: each published once, in order (1..$got)" "seq 1 $got | cmp -s - '$T/$gname.got'"
+	check "$gname: DN at the PLC for each ($dn of $got)" "seq 1 $dn | cmp -s - '$T/$gname.dn' && [ $got -le \$(($dn + 1)) ]"
+	check "$gname: no MSG failed at the PLC (but one the stop cut short)" "! grep ': ER' '$perr' | grep -vq 'ER DF1_E_INTR\$'"
+	check "$gname: station 1's health said ok" "grep -q '^$gname/station/1 {\"station\":1,\"state\":\"ok\"' '$sub'"
+	# before the PLC was up it may have been failing; once ok, never again
+	check "$gname: station 1, once ok, never failing or offline" \
+		"! sed -n '/^$gname\/station\/1 .*\"state\":\"ok\"/,\$p' '$sub' | grep -Eq '^$gname/station/1 .*\"state\":\"(failing|offline)\"'"
+}
+
+# a chain: g - r2 - r3 - p1 (1 hears only 3, df1gw only 2)
+radio_start gwc --node g,r2,r3,p1 --link g-r2-r3-p1 --baud 9600 --keyup-ms 50 || finish
+CH=$RADIO_PID
+node gwcr2 gwc r2 --station 2 --forward 0,1; R2=$NODE_PID
+node gwcr3 gwc r3 --station 3 --forward 0,1; R3=$NODE_PID
+gw gwc --
+stop_all "$R2" "$R3" "$CH"
+check "gwc: the relays executed nothing" "! grep -q 'cmd=' '$T/gwcr2.log' && ! grep -q 'cmd=' '$T/gwcr3.log'"
+
+# two relays in parallel: df1gw hears each MSG twice and takes it once
+# (duplicate detection on), the PLC each poll twice
+radio_start gwp --node g,ra,rb,p1 --link g-ra-p1 --link g-rb-p1 --baud 9600 --keyup-ms 50 || finish
+CH=$RADIO_PID
+node gwpra gwp ra --station 2 --forward 0,1; RA=$NODE_PID
+node gwprb gwp rb --station 3 --forward 0,1; RB=$NODE_PID
+gw gwp --dup-detect yes -- --dup-detect yes
+stop_all "$RA" "$RB" "$CH"
+check "gwp: both relays relayed the MSGs" \
+	"[ \$(grep -c ' ra > g,p1 10 02 00 01 0f' '$T/gwp.log') -ge 8 ] && [ \$(grep -c ' rb > g,p1 10 02 00 01 0f' '$T/gwp.log') -ge 8 ]"
 
 finish
