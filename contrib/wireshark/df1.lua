@@ -950,9 +950,11 @@ local ST = { IDLE = 0, EOT_TRAILER = 1, DLE = 2, POLL_STN = 3, POLL_STN_DLE = 4,
 local Decoder = {}
 Decoder.__index = Decoder
 
+-- duplex "radio": full duplex without embedded responses (a radio modem sends
+-- no ACK or NAK: a DLE pair inside a frame breaks it, doc/PROTOCOL.md 2.6)
 local function decoder_new(check, duplex, bcc_stx)
 	local d = setmetatable({ check = check, half = duplex == "half", auto = duplex == "auto",
-		bcc_stx = bcc_stx }, Decoder)
+		no_embedded = duplex == "radio", bcc_stx = bcc_stx }, Decoder)
 	d:reset()
 	return d
 end
@@ -1085,7 +1087,7 @@ function Decoder:data_dle(sym, b, o)
 		self.state = ST.CHECK
 		return false
 	end
-	if b == ACK or is_nak(b) then
+	if (b == ACK or is_nak(b)) and not self.no_embedded then
 		-- embedded response (doc/PROTOCOL.md 1.8): out of band, the frame goes on
 		sym.kind, sym.embedded, sym.s, sym.e = b == ACK and "ACK" or "NAK", true, o - 1, o
 		self.state = ST.DATA
@@ -1321,7 +1323,7 @@ local function get_stream(key, ctxkey, dir)
 	local s = G.streams[key]
 	if not s then
 		s = { key = key, dir = dir, dec = decoder_new(CHECKS[df1.prefs.check] or "auto",
-			radio_mode() and "full" or DUPLEX[df1.prefs.duplex] or "auto", df1.prefs.bcc_stx),
+			radio_mode() and "radio" or DUPLEX[df1.prefs.duplex] or "auto", df1.prefs.bcc_stx),
 			off = 0, lo = 0, bytes = {}, fr = {}, pos = {}, enq = 0, last_cmds = {} }
 		G.ctxs[ctxkey] = G.ctxs[ctxkey] or { cmds = {}, clock = 0 }
 		s.ctx = G.ctxs[ctxkey]

@@ -9,7 +9,8 @@
 # rules and from the captures built here (frames from app bytes by
 # tests/support/wireshark_helper.py, CRC-16 of doc/PROTOCOL.md 1.5):
 #  - --decode: a command heard three times, a stray ACK, its reply three
-#    times, a frame with a bad CRC; plain and JSON;
+#    times, a frame with a bad CRC; plain and JSON; a DLE ACK inside a frame
+#    breaks it (no embedded responses on a radio modem);
 #  - --read of an RTAC capture taken at a relay (rx and tx records): its own
 #    relayed copies and retries counted as sent; the 20-packet window;
 #  - --sniff as one more node of the radio fixture
@@ -50,6 +51,14 @@ check "decode: 8, the bad CRC, no relay" "sed -n 8p '$T/dec.sym' | grep -q '^FRA
 err_has "decode: the summary" "frames 7 (good 6, bad 1), link symbols 1"
 err_has "decode: the radio tallies" "radio: packets sent 0, received 6, relayed 4, duplicates 2, bad 1"
 check "decode: no complaint of a missing ACK" "! grep -Eqi 'missing|no ack|expected ack' '$T/err'"
+# a DLE ACK inside a frame: embedded in full duplex, a broken frame on a radio
+# modem, where nobody sends one (a node drops the frame)
+EMB=$(printf '%s' "$C" | sed 's/^\(10020401\)/\11006/')
+expect 1 "decode: a DLE ACK inside a frame" -- "$MON" --decode --duplex radio "$EMB"
+check "decode: [2514], no frame, no embedded ACK" "grep -q 'ERROR .*\[2514\]' '$T/out' && ! grep -Eq 'FRAME|ACK' '$T/out'"
+err_has "decode: counted a bad packet" "radio: packets sent 0, received 0, relayed 0, duplicates 0, bad 1"
+expect 0 "decode: the same in full duplex" -- "$MON" --decode "$EMB"
+check "full duplex: the embedded ACK and the frame" "grep -q 'ACK .*(embedded in a frame)' '$T/out' && grep -q 'FRAME  CRC ok' '$T/out'"
 expect 0 "decode -f json" -- "$MON" --decode --duplex radio -f json "$C" "$C" "$C"
 check "json: the first copy has no copy_of" "sed -n 1p '$T/out' | grep -vq copy_of"
 check "json: the relay" "sed -n 2p '$T/out' | grep -q '\"copy_of\":1,\"relay\":true,\"duplicate\":false'"

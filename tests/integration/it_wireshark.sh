@@ -59,9 +59,11 @@ FIELDS=""
 for f in $(python3 $H fields); do FIELDS="$FIELDS -e $f"; done
 
 # same_as_df1mon DESC FILE [TSHARK OPTIONS]: tshark's fields = df1mon -f json --read
+# (and $MON_OPTS)
 same_as_df1mon() {
 	d=$1; file=$2; shift 2
-	"$BIN/df1mon" -f json --read "$file" > "$T/mon.json" 2> "$T/mon.err"
+	# shellcheck disable=SC2086
+	"$BIN/df1mon" -f json --read "$file" ${MON_OPTS:-} > "$T/mon.json" 2> "$T/mon.err"
 	tsh "$@" -r "$file" -T fields -E aggregator="$US" $FIELDS > "$T/ts.tsv"
 	if python3 $H compare "$T/mon.json" "$T/ts.tsv" > "$T/cmp.out"; then ok; else
 		bad "$d: tshark and df1mon differ"
@@ -332,6 +334,17 @@ same "radio: df1mon --duplex radio marks the same copies" \
 	"$(fields "$T/radio.pcap" frame.number df1.relay_of df1.radio_repeat -- -o "$RADIO_PREF" |
 		awk -F '\t' '$2 != "" || $3 != "" { print $1, ($2 != "" ? $2 : $3) }' | tr '\n' ';')" \
 	"$(tr '\n' ';' < "$T/radio.mon")"
+# a DLE ACK inside a frame breaks it on a radio modem (2514, as df1mon reads it)
+EMB=$(printf '%s' "$RC" | sed 's/^\(10020401\)/\11006/')
+python3 $H pcap "$T/remb.pcap" "rx:$EMB"
+same "radio: a DLE ACK inside a frame: an error, no embedded ACK" \
+	"$(fields "$T/remb.pcap" df1.symbol df1.error_id -- -o "$RADIO_PREF" | tr '\t\n' ' ;')" "ERROR 2514;"
+same "point to point: the embedded ACK and the frame" \
+	"$(fields "$T/remb.pcap" df1.symbol | tr '\n' ';')" "ACK,FRAME;"
+MON_OPTS="--duplex radio"
+same_as_df1mon "radio: a DLE ACK inside a frame, as df1mon --duplex radio" "$T/remb.pcap" -o "$RADIO_PREF"
+same_as_df1mon "radio: the relay's capture, as df1mon --duplex radio" "$T/radio.pcap" -o "$RADIO_PREF"
+MON_OPTS=
 # point to point (the default): the old reading, duplicates as the receiver ACKs them
 fields "$T/radio.pcap" frame.number df1.relay_of df1.duplicate_of df1.enq_retry | tr '\t' ' ' > "$T/p2p.f"
 same "point to point: no relays; duplicate commands and replies, an ENQ retry" \

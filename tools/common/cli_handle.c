@@ -65,6 +65,8 @@ void cli_trace(void *user, enum df1_dir dir, const uint8_t *bytes, size_t n, uin
 			return;
 		df1_decoder_set_half_duplex(d, c->half_duplex);
 		cli_decoder_options(c, d);
+		if (c->radio)   /* no link symbols inside a radio modem's frames */
+			(void)df1_decoder_set_option(d, DF1_OPT_EMBEDDED_RESPONSES, 0);
 		c->trace_dec[dir == DF1_DIR_TX] = d;
 	}
 	memset(&w, 0, sizeof w);

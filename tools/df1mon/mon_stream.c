@@ -25,6 +25,10 @@ int mon_stream_init(struct mon *m, struct stream *s, const char *dir)
 	else
 		s->duplex_auto = df1_decoder_set_duplex_auto(s->dec, true) == DF1_OK;
 	cli_decoder_options(&m->cli, s->dec);   /* --hd-bcc stx, --nak-0f no ... */
+	/* a radio modem sends no ACK or NAK: a DLE pair inside a frame breaks it,
+	 * as a radio node reads it (doc/PROTOCOL.md 2.6) */
+	if (m->cli.radio)
+		df1_decoder_set_option(s->dec, DF1_OPT_EMBEDDED_RESPONSES, 0);
 	return CLI_CONTINUE;
 }
 
