@@ -81,7 +81,6 @@ struct mon_radio_pkt {
 	uint8_t key[6];            /* DST SRC CMD STS TNS */
 	unsigned long first;       /* the symbol number of its first copy */
 	const char *dir;           /* that copy's direction, or NULL */
-	unsigned copies;
 	bool relayed;              /* a relayed copy was seen */
 };
 struct mon_radio {

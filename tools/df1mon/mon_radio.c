@@ -67,7 +67,6 @@ void mon_radio_seen(struct mon *m, const char *dir, const struct df1_symbol *sym
 		r->received++;
 	p = radio_find(r, sym->data);
 	if (p) {
-		p->copies++;
 		w->copy_of = p->first;
 		if (is_tx(dir) && is_tx(p->dir)) {
 			w->copy_duplicate = true;  /* the tx side sent it again: a retry */
@@ -93,7 +92,6 @@ void mon_radio_seen(struct mon *m, const char *dir, const struct df1_symbol *sym
 	memcpy(p->key, sym->data, KEY_LEN);
 	p->first = w->index;
 	p->dir = dir;
-	p->copies = 1;
 	p->relayed = false;
 }
 

@@ -28,7 +28,7 @@ int mon_stream_init(struct mon *m, struct stream *s, const char *dir)
 	/* a radio modem sends no ACK or NAK: a DLE pair inside a frame breaks it,
 	 * as a radio node reads it (doc/PROTOCOL.md 2.6) */
 	if (m->cli.radio)
-		df1_decoder_set_option(s->dec, DF1_OPT_EMBEDDED_RESPONSES, 0);
+		(void)df1_decoder_set_option(s->dec, DF1_OPT_EMBEDDED_RESPONSES, 0);
 	return CLI_CONTINUE;
 }
 
