@@ -82,6 +82,7 @@ struct gw {
 	bool json_off;               /* --json no: Sparkplug alone */
 	const char *spb_state_path;  /* the bdSeq file (--sparkplug-state, or spb_state_auto); NULL: not kept */
 	char spb_state_auto[4096];   /* the default one, in the state folder (gw_bdseq.h) */
+	bool spb_state_mkdir;        /* its folder is to be made before the first write */
 	unsigned bdseq_next;         /* the bdSeq of the next connect */
 	unsigned generation;         /* the tags' configuration: a reload changes it */
 

@@ -745,8 +745,8 @@ static bool gw_session_message(struct gw *g, const struct gw_fmt *f, const char 
 	return f->ops->message(f, &n, topic, payload, (size_t)(len < 0 ? 0 : len), retain);
 }
 
-/* The bdSeq file by default: in the state folder, made if missing
- * (gw_bdseq.h); NULL, having said why once, when it cannot be used. */
+/* The bdSeq file by default, in the state folder (gw_bdseq.h; the folder is
+ * made at the first write); NULL, having said why, when none can be named. */
 static const char *bdseq_default(struct gw *g)
 {
 	char dir[sizeof g->spb_state_auto - 64];
@@ -758,18 +758,13 @@ static const char *bdseq_default(struct gw *g)
 			        GW_PROG);
 		return NULL;
 	}
-	if (gw_bdseq_mkdir(dir) < 0) {
-		if (!g->cli.quiet)
-			fprintf(stderr, "%s: state folder %s: %s: bdSeq is not kept, it starts at 0 at every start "
-			        "(--sparkplug-state FILE keeps it elsewhere)\n", GW_PROG, dir, strerror(errno));
-		return NULL;
-	}
 	if (gw_bdseq_path(dir, g->spb.group, g->spb.edge_node, g->spb_state_auto, sizeof g->spb_state_auto) < 0) {
 		if (!g->cli.quiet)
 			fprintf(stderr, "%s: state folder %s: the group and edge node ids make too long a file name: bdSeq "
 			        "is not kept (--sparkplug-state FILE keeps it)\n", GW_PROG, dir);
 		return NULL;
 	}
+	g->spb_state_mkdir = true;
 	return g->spb_state_auto;
 }
 
@@ -788,16 +783,43 @@ void gw_bdseq_load(struct gw *g)
 	r = gw_bdseq_read(g->spb_state_path, &last);
 	if (r > 0)
 		g->bdseq_next = (last + 1) & 0xFF;
-	else if (r < 0 && !g->cli.quiet)
+	else if (r < 0 && !(g->spb_state_mkdir && errno == ENOTDIR) && !g->cli.quiet)   /* said by bdseq_folder */
 		fprintf(stderr, "%s: bdSeq file %s: %s: bdSeq starts at 0\n", GW_PROG, g->spb_state_path,
 		        errno == EINVAL ? "not a line \"bdSeq N\" (N 0-255)" : strerror(errno));
+}
+
+/* The state folder of the default bdSeq file, made if missing: 0, or -1
+ * having said why (the path, the reason). */
+static int bdseq_folder(struct gw *g)
+{
+	char dir[sizeof g->spb_state_auto];
+	char *slash;
+
+	snprintf(dir, sizeof dir, "%s", g->spb_state_auto);
+	slash = strrchr(dir, '/');
+	if (slash)
+		*slash = '\0';
+	if (!slash || gw_bdseq_mkdir(dir) == 0) {
+		g->spb_state_mkdir = false;
+		return 0;
+	}
+	if (!g->cli.quiet)
+		fprintf(stderr, "%s: state folder %s: %s: bdSeq is not kept, it starts at 0 at every start "
+		        "(--sparkplug-state FILE keeps it elsewhere)\n", GW_PROG, dir, strerror(errno));
+	return -1;
 }
 
 /* The bdSeq of this connect, written down before it is used (a restart goes
  * on from it); a failure said once, the count then goes on in memory. */
 static void bdseq_save(struct gw *g, unsigned bdseq)
 {
-	if (!g->spb_state_path || gw_bdseq_write(g->spb_state_path, bdseq) == 0)
+	if (!g->spb_state_path)
+		return;
+	if (g->spb_state_mkdir && bdseq_folder(g) < 0) {
+		g->spb_state_path = NULL;
+		return;
+	}
+	if (gw_bdseq_write(g->spb_state_path, bdseq) == 0)
 		return;
 	if (!g->cli.quiet)
 		fprintf(stderr, "%s: bdSeq file %s: cannot write it: %s: bdSeq is not kept for the next start\n",
