@@ -80,7 +80,9 @@ struct gw {
 	/* Sparkplug B (--sparkplug; df1gw(1) SPARKPLUG) */
 	struct gw_spb_conf spb;
 	bool json_off;               /* --json no: Sparkplug alone */
-	const char *spb_state_path;  /* --sparkplug-state FILE: bdSeq kept across restarts */
+	const char *spb_state_path;  /* the bdSeq file (--sparkplug-state, or spb_state_auto); NULL: not kept */
+	char spb_state_auto[4096];   /* the default one, in the state folder (gw_bdseq.h) */
+	bool spb_state_mkdir;        /* its folder is to be made before the first write */
 	unsigned bdseq_next;         /* the bdSeq of the next connect */
 	unsigned generation;         /* the tags' configuration: a reload changes it */
 
@@ -136,9 +138,10 @@ void gw_on_message(void *user, const char *topic, const void *payload, int len, 
  * session format's births. */
 void gw_on_connected(void *user);
 /* Before each connect (gw_mqtt_events.connecting): a session format's will
- * with the next bdSeq, kept in --sparkplug-state. */
+ * with the next bdSeq, written first to the bdSeq file (gw_bdseq.h). */
 void gw_on_connecting(void *user);
-/* The bdSeq of the first connect: one more than --sparkplug-state's (0 without). */
+/* The bdSeq of the first connect: one more than the bdSeq file's (--sparkplug-state, else the
+ * state folder's, gw_bdseq.h; 0 without one), having said once why a file cannot be used. */
 void gw_bdseq_load(struct gw *g);
 /* --counters: each format's own line. */
 void gw_publish_counters(const struct gw *g, FILE *out);

@@ -9,11 +9,14 @@
  */
 #include "df1gw/gw.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 #include <time.h>
+
+#include "df1gw/gw_bdseq.h"
 
 
 int64_t gw_now_ms(void)
@@ -742,33 +745,86 @@ static bool gw_session_message(struct gw *g, const struct gw_fmt *f, const char 
 	return f->ops->message(f, &n, topic, payload, (size_t)(len < 0 ? 0 : len), retain);
 }
 
-void gw_bdseq_load(struct gw *g)
+/* The bdSeq file by default, in the state folder (gw_bdseq.h; the folder is
+ * made at the first write); NULL, having said why, when none can be named. */
+static const char *bdseq_default(struct gw *g)
 {
-	FILE *fp = g->spb_state_path ? fopen(g->spb_state_path, "r") : NULL;
-	unsigned last;
+	char dir[sizeof g->spb_state_auto - 64];
 
-	g->bdseq_next = 0;
-	if (!fp)
-		return;
-	if (fscanf(fp, "bdSeq %u", &last) == 1)
-		g->bdseq_next = (last + 1) & 0xFF;
-	fclose(fp);
+	if (gw_bdseq_dir(dir, sizeof dir) < 0) {
+		if (!g->cli.quiet)
+			fprintf(stderr, "%s: no state folder for Sparkplug's bdSeq (STATE_DIRECTORY, XDG_STATE_HOME and "
+			        "HOME are not set): bdSeq starts at 0 at every start (--sparkplug-state FILE keeps it)\n",
+			        GW_PROG);
+		return NULL;
+	}
+	if (gw_bdseq_path(dir, g->spb.group, g->spb.edge_node, g->spb_state_auto, sizeof g->spb_state_auto) < 0) {
+		if (!g->cli.quiet)
+			fprintf(stderr, "%s: state folder %s: the group and edge node ids make too long a file name: bdSeq "
+			        "is not kept (--sparkplug-state FILE keeps it)\n", GW_PROG, dir);
+		return NULL;
+	}
+	g->spb_state_mkdir = true;
+	return g->spb_state_auto;
 }
 
-/* The bdSeq of this connect, written down before it is used (a restart goes on from it). */
-static void bdseq_save(struct gw *g, unsigned bdseq)
+void gw_bdseq_load(struct gw *g)
 {
-	char tmp[4096];
-	FILE *fp;
+	unsigned last;
+	int r;
 
+	g->bdseq_next = 0;
+	if (!g->spb.group || g->once)
+		return;
+	if (!g->spb_state_path)
+		g->spb_state_path = bdseq_default(g);
 	if (!g->spb_state_path)
 		return;
-	snprintf(tmp, sizeof tmp, "%s.new", g->spb_state_path);
-	fp = fopen(tmp, "w");
-	if (!fp || fprintf(fp, "bdSeq %u\n", bdseq) < 0 || fclose(fp) != 0 || rename(tmp, g->spb_state_path) < 0) {
-		if (!g->cli.quiet)
-			fprintf(stderr, "%s: --sparkplug-state %s: cannot write it\n", GW_PROG, g->spb_state_path);
+	r = gw_bdseq_read(g->spb_state_path, &last);
+	if (r > 0)
+		g->bdseq_next = (last + 1) & 0xFF;
+	else if (r < 0 && !(g->spb_state_mkdir && errno == ENOTDIR) && !g->cli.quiet)   /* said by bdseq_folder */
+		fprintf(stderr, "%s: bdSeq file %s: %s: bdSeq starts at 0\n", GW_PROG, g->spb_state_path,
+		        errno == EINVAL ? "not a line \"bdSeq N\" (N 0-255)" : strerror(errno));
+}
+
+/* The state folder of the default bdSeq file, made if missing: 0, or -1
+ * having said why (the path, the reason). */
+static int bdseq_folder(struct gw *g)
+{
+	char dir[sizeof g->spb_state_auto];
+	char *slash;
+
+	snprintf(dir, sizeof dir, "%s", g->spb_state_auto);
+	slash = strrchr(dir, '/');
+	if (slash)
+		*slash = '\0';
+	if (!slash || gw_bdseq_mkdir(dir) == 0) {
+		g->spb_state_mkdir = false;
+		return 0;
 	}
+	if (!g->cli.quiet)
+		fprintf(stderr, "%s: state folder %s: %s: bdSeq is not kept, it starts at 0 at every start "
+		        "(--sparkplug-state FILE keeps it elsewhere)\n", GW_PROG, dir, strerror(errno));
+	return -1;
+}
+
+/* The bdSeq of this connect, written down before it is used (a restart goes
+ * on from it); a failure said once, the count then goes on in memory. */
+static void bdseq_save(struct gw *g, unsigned bdseq)
+{
+	if (!g->spb_state_path)
+		return;
+	if (g->spb_state_mkdir && bdseq_folder(g) < 0) {
+		g->spb_state_path = NULL;
+		return;
+	}
+	if (gw_bdseq_write(g->spb_state_path, bdseq) == 0)
+		return;
+	if (!g->cli.quiet)
+		fprintf(stderr, "%s: bdSeq file %s: cannot write it: %s: bdSeq is not kept for the next start\n",
+		        GW_PROG, g->spb_state_path, strerror(errno));
+	g->spb_state_path = NULL;
 }
 
 void gw_on_connecting(void *user)

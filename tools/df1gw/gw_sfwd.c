@@ -16,6 +16,7 @@
 #include "df1gw/gw.h"
 #include "df1gw/gw_buffer_rec.h"
 #include "df1gw/gw_buffer_tag.h"
+#include "df1gw/gw_rx_table.h"
 
 #define EXPIRE_EVERY_MS 1000         /* --buffer-max-age: a look a second */
 
