@@ -254,7 +254,11 @@ DF1_API int df1_value_parse(const struct df1_addr *a, const char *text, struct d
  * ------------------------------------------------------------------------ */
 typedef struct df1 df1_t;
 
-enum df1_duplex { DF1_FULL_DUPLEX = 0, DF1_HALF_DUPLEX_MASTER = 1, DF1_HALF_DUPLEX_SLAVE = 2 };
+/* DF1_RADIO_MODEM (@since 0.5): DF1 Radio Modem, full-duplex frames and no link
+ * control at all: no ACK, NAK, ENQ or poll; one transmission per command and per
+ * reply; store and forward (df1_set_forward(3)); libdf1(7) RADIO MODEM. */
+enum df1_duplex { DF1_FULL_DUPLEX = 0, DF1_HALF_DUPLEX_MASTER = 1, DF1_HALF_DUPLEX_SLAVE = 2,
+                  DF1_RADIO_MODEM = 3 };
 enum df1_check { DF1_CHECK_CRC = 0, DF1_CHECK_BCC = 1, DF1_CHECK_AUTO = 2 /* decoder only */ };
 enum df1_plc {
 	DF1_PLC_SLC = 0,        /* SLC 5/03, 5/04, 5/05: 0F/A2 AA AB, 236-byte reads */
@@ -344,7 +348,28 @@ enum df1_option {
 	/* bool, default 1: a half-duplex master forwards its slaves' commands for other slaves
 	 * and the replies (libdf1(7) UNSOLICITED MESSAGES); 0: dropped. @since 0.5 */
 	DF1_OPT_ROUTE,
+	/* 0..10, default 0: radio modem, how many times a command with no reply within the
+	 * timeout is sent again (same TNS) before the transaction fails with DF1_E_TIMEOUT.
+	 * A write sent again may run twice at a responder without duplicate detection.
+	 * @since 0.5 */
+	DF1_OPT_APP_RETRIES,
+	/* DF1_DUP_AUTO (default), 0 or 1: radio modem, drop a packet that repeats one of the
+	 * last 20 received (DST SRC CMD STS TNS); auto: on while a forward table is set. @since 0.5 */
+	DF1_OPT_RADIO_DUP_DETECT,
+	/* bool, default 0: radio modem, key the radio with RTS and send only once CTS is
+	 * up (at most 1 s, else the packet is discarded, counted undelivered). @since 0.5 */
+	DF1_OPT_RADIO_RTS_CTS,
+	/* ms, 0..65535, default 0: radio modem with RTS/CTS: from RTS up to the first byte,
+	 * and from the last byte to RTS down. @since 0.5 */
+	DF1_OPT_RTS_SEND_DELAY_MS,
+	DF1_OPT_RTS_OFF_DELAY_MS,
+	/* ms, 0..65535, default 0 = off: radio modem, before keying wait up to this long
+	 * for carrier detect (DCD) to drop; still up: the packet is discarded, counted
+	 * undelivered. @since 0.5 */
+	DF1_OPT_DCD_WAIT_MS,
 };
+/* DF1_OPT_RADIO_DUP_DETECT's automatic value. @since 0.5 */
+#define DF1_DUP_AUTO 2
 
 DF1_API int  df1_new(df1_t **out);      /* defaults: 19200 8N1, full duplex, CRC, station 0 */
 DF1_API void df1_free(df1_t *h);        /* closes if open; NULL is a no-op */
@@ -379,6 +404,23 @@ DF1_API int df1_port_fd(const df1_t *h);
 /* The open port's note ("" when none): a USB adapter's latency timer left above 1 ms. @since 0.5 */
 DF1_API const char *df1_port_note(const df1_t *h);
 DF1_API int df1_get_option(const df1_t *h, enum df1_option opt);
+/* Radio modem store and forward (libdf1(7) RADIO MODEM), @since 0.5. table: 32 bytes,
+ * bit s%8 of byte s/8 set = rebroadcast packets for station s (255: broadcasts too);
+ * NULL or all clear: forward nothing. */
+DF1_API int df1_set_forward(df1_t *h, const uint8_t *table);
+/* The table set, into 32 bytes: 1 when a bit is set, 0 when none. @since 0.5 */
+DF1_API int df1_get_forward(const df1_t *h, uint8_t *table);
+/* A station list "1,3-5,255" (0-255, commas, ranges; "" or "none": empty) into a
+ * 32-byte forward table; 0, or DF1_E_INVAL naming nothing (the caller names the text).
+ * @since 0.5 */
+DF1_API int df1_forward_parse(const char *list, uint8_t *table);
+/* What a radio-modem handle did (fields are only added at the end), @since 0.5:
+ * packets sent (commands, replies, relayed copies), packets received with a good
+ * check, packets relayed, duplicates dropped, bad packets dropped (check, framing),
+ * packets not sent (no CTS, DCD stayed up). */
+struct df1_radio_stats { uint64_t sent, received, relayed, duplicates, bad_packets, undelivered; };
+/* Fills *out (zeros on another link mode). @since 0.5 */
+DF1_API int df1_radio_stats(const df1_t *h, struct df1_radio_stats *out);
 
 /* Catalog messages (notices, errors) as they happen. level = enum df1_severity. */
 typedef void (*df1_log_fn)(void *user, int catalog_id, enum df1_severity sev, const char *text);

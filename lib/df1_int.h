@@ -11,6 +11,7 @@
 #include "proto/frame.h"
 #include "port/port.h"
 #include "link/half_repoll.h"
+#include "link/radio_dup.h"
 
 #define DF1_LOCAL __attribute__((visibility("hidden")))
 
@@ -49,6 +50,14 @@ struct df1_config {
 	bool plc5_refuse_large;      /* DF1_OPT_PLC5_REFUSE_LARGE: responder, F0/09, not a cut reply */
 	bool route;                  /* DF1_OPT_ROUTE: half-duplex master forwards slave messages */
 	int max_outstanding;         /* DF1_OPT_MAX_OUTSTANDING: full-duplex commands in flight */
+	/* radio modem (lib/link/radio.c) */
+	int app_retries;             /* DF1_OPT_APP_RETRIES: a command sent again with no reply */
+	int radio_dup;               /* DF1_OPT_RADIO_DUP_DETECT: 0, 1, DF1_DUP_AUTO */
+	bool radio_rts_cts;          /* DF1_OPT_RADIO_RTS_CTS: key with RTS, send on CTS */
+	int rts_send_ms, rts_off_ms; /* DF1_OPT_RTS_SEND_DELAY_MS, DF1_OPT_RTS_OFF_DELAY_MS */
+	int dcd_wait_ms;             /* DF1_OPT_DCD_WAIT_MS: 0 off */
+	bool forward_set;            /* a bit of forward[] is set */
+	uint8_t forward[32];         /* df1_set_forward: bit s = rebroadcast packets for s */
 };
 
 /* The full-duplex master's pipeline (lib/link/pipe.c): commands submitted and
@@ -140,6 +149,9 @@ struct df1 {
 	int64_t rx_due_us;           /* line_baud: when the bytes read so far arrived on the line */
 	int64_t scan_epoch_ms;       /* DF1_OPT_SCAN_TIME_MS: the first scan began (df1_open) */
 	struct link_pipe pipe;       /* full-duplex commands in flight (lib/link/pipe.c) */
+	struct radio_dup radio_dups; /* radio modem: the last packets heard (radio_dup.c) */
+	struct df1_radio_stats radio_st;
+	bool modem_noted;            /* radio modem: "no modem lines" said once */
 	const struct own_link_ops *own_link; /* a scheme's own link (eip://), else NULL */
 	void *own_link_data;         /* its state (lib/eip/eip_link.c: the session) */
 

@@ -69,8 +69,10 @@ int df1_counter(const df1_t *h, int id, uint64_t *value)
 
 void df1_counters_reset(df1_t *h)
 {
-	if (h)
+	if (h) {
 		memset(h->counters, 0, sizeof h->counters);
+		memset(&h->radio_st, 0, sizeof h->radio_st);
+	}
 }
 
 int df1_station_active(const df1_t *h, int station)
@@ -226,6 +228,8 @@ int df1_new(df1_t **out)
 	h->cfg.max_packet = 0;
 	h->cfg.plc5_timer_words = 3;
 	h->cfg.max_outstanding = 1;
+	h->cfg.app_retries = 0;
+	h->cfg.radio_dup = DF1_DUP_AUTO;
 	h->cfg.plc2_word_addr = false;
 	h->cfg.line_baud = 0;
 
@@ -335,7 +339,8 @@ int df1_set_duplex(df1_t *h, enum df1_duplex d)
 {
 	if (!h)
 		return DF1_E_INVAL;
-	if (d != DF1_FULL_DUPLEX && d != DF1_HALF_DUPLEX_MASTER && d != DF1_HALF_DUPLEX_SLAVE) {
+	if (d != DF1_FULL_DUPLEX && d != DF1_HALF_DUPLEX_MASTER && d != DF1_HALF_DUPLEX_SLAVE &&
+	    d != DF1_RADIO_MODEM) {
 		char v[16];
 
 		snprintf(v, sizeof v, "%d", (int)d);
@@ -476,6 +481,12 @@ static const char *handle_option_name(enum df1_option opt)
 	case DF1_OPT_LOW_LATENCY: return "LOW_LATENCY";
 	case DF1_OPT_PLC5_REFUSE_LARGE: return "PLC5_REFUSE_LARGE";
 	case DF1_OPT_ROUTE: return "ROUTE";
+	case DF1_OPT_APP_RETRIES: return "APP_RETRIES";
+	case DF1_OPT_RADIO_DUP_DETECT: return "RADIO_DUP_DETECT";
+	case DF1_OPT_RADIO_RTS_CTS: return "RADIO_RTS_CTS";
+	case DF1_OPT_RTS_SEND_DELAY_MS: return "RTS_SEND_DELAY_MS";
+	case DF1_OPT_RTS_OFF_DELAY_MS: return "RTS_OFF_DELAY_MS";
+	case DF1_OPT_DCD_WAIT_MS: return "DCD_WAIT_MS";
 	}
 	return NULL;
 }
@@ -501,11 +512,43 @@ static bool *handle_option_flag(struct df1_config *c, enum df1_option opt)
 	case DF1_OPT_LOW_LATENCY: return &c->low_latency;
 	case DF1_OPT_PLC5_REFUSE_LARGE: return &c->plc5_refuse_large;
 	case DF1_OPT_ROUTE: return &c->route;
+	case DF1_OPT_RADIO_RTS_CTS: return &c->radio_rts_cts;
+	case DF1_OPT_APP_RETRIES: case DF1_OPT_RADIO_DUP_DETECT: case DF1_OPT_RTS_SEND_DELAY_MS:
+	case DF1_OPT_RTS_OFF_DELAY_MS: case DF1_OPT_DCD_WAIT_MS:
 	case DF1_OPT_MAX_PACKET: case DF1_OPT_PLC5_TIMER_WORDS:
 	case DF1_OPT_POLL_TIMEOUT_MS: case DF1_OPT_SCAN_TIME_MS: case DF1_OPT_MAX_OUTSTANDING:
 		return NULL;
 	}
 	return NULL;
+}
+
+/* The int member behind a radio modem option that is not a bool, or NULL. */
+static int *handle_radio_int(df1_t *h, enum df1_option opt)
+{
+	switch (opt) {
+	case DF1_OPT_APP_RETRIES: return &h->cfg.app_retries;
+	case DF1_OPT_RADIO_DUP_DETECT: return &h->cfg.radio_dup;
+	case DF1_OPT_RTS_SEND_DELAY_MS: return &h->cfg.rts_send_ms;
+	case DF1_OPT_RTS_OFF_DELAY_MS: return &h->cfg.rts_off_ms;
+	case DF1_OPT_DCD_WAIT_MS: return &h->cfg.dcd_wait_ms;
+	default: return NULL;
+	}
+}
+
+static int handle_set_radio(df1_t *h, enum df1_option opt, const char *name, int value)
+{
+	if (opt == DF1_OPT_APP_RETRIES && (value < 0 || value > 10))
+		return df1_fail(h, DF1_E_CONFIG, -1,
+		                "invalid value %d for option APP_RETRIES: must be 0..10", value);
+	if (opt == DF1_OPT_RADIO_DUP_DETECT && value != 0 && value != 1 && value != DF1_DUP_AUTO)
+		return df1_fail(h, DF1_E_CONFIG, -1, "invalid value %d for option RADIO_DUP_DETECT: "
+		                "must be 0 (no), 1 (yes) or %d (auto)", value, DF1_DUP_AUTO);
+	if (opt != DF1_OPT_APP_RETRIES && opt != DF1_OPT_RADIO_DUP_DETECT &&
+	    (value < 0 || value > 65535))
+		return df1_fail(h, DF1_E_CONFIG, -1, "invalid value %d for option %s: must be 0..65535 ms",
+		                value, name);
+	*handle_radio_int(h, opt) = value;
+	return 0;
 }
 
 int df1_set_option(df1_t *h, enum df1_option opt, int value)
@@ -553,6 +596,8 @@ int df1_set_option(df1_t *h, enum df1_option opt, int value)
 		h->cfg.max_outstanding = value;
 		return 0;
 	}
+	if (handle_radio_int(h, opt) != NULL)
+		return handle_set_radio(h, opt, name, value);
 	if (value != 0 && value != 1)
 		return df1_fail(h, DF1_E_CONFIG, -1, "invalid value %d for option %s: must be 0 or 1",
 		                value, name);
@@ -586,6 +631,8 @@ int df1_get_option(const df1_t *h, enum df1_option opt)
 		return h->cfg.scan_time_ms;
 	if (opt == DF1_OPT_MAX_OUTSTANDING)
 		return h->cfg.max_outstanding;
+	if (handle_radio_int((df1_t *)h, opt))
+		return *handle_radio_int((df1_t *)h, opt);
 	c = h->cfg;
 	flag = handle_option_flag(&c, opt);
 	return flag && *flag ? 1 : 0;

@@ -72,8 +72,10 @@ int client_check(struct df1 *h, int station)
 {
 	if (!h)
 		return DF1_E_INVAL;
-	/* a half-duplex slave's MSG may be a broadcast (lib/link/half_msg.c) */
-	if (station == 255 && h->cfg.duplex == DF1_HALF_DUPLEX_SLAVE)
+	/* a half-duplex slave's MSG may be a broadcast (lib/link/half_msg.c), and so may
+	 * a radio modem's command (lib/link/radio.c) */
+	if (station == 255 && (h->cfg.duplex == DF1_HALF_DUPLEX_SLAVE ||
+	                       h->cfg.duplex == DF1_RADIO_MODEM))
 		return 0;
 	if (station < 0 || station > 254)
 		return df1_fail(h, DF1_E_INVAL, station, "station %d out of range 0-254", station);

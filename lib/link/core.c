@@ -204,7 +204,7 @@ static void link_echo_add(struct df1 *h, const uint8_t *buf, size_t n)
 	h->echo_len += n;
 }
 
-static int link_send_wire(struct df1 *h, const uint8_t *buf, size_t n);
+static int link_send_wire(struct df1 *h, const uint8_t *buf, size_t n, bool delay);
 
 int link_send_raw(struct df1 *h, const uint8_t *buf, size_t n)
 {
@@ -213,14 +213,14 @@ int link_send_raw(struct df1 *h, const uint8_t *buf, size_t n)
 	if (h->tx_hold_len == 0 || h->tx_hold_len + n > sizeof both) {
 		int r = link_tx_flush(h);
 
-		return r < 0 ? r : link_send_wire(h, buf, n);
+		return r < 0 ? r : link_send_wire(h, buf, n, true);
 	}
 	/* the symbols held (an ACK) first, then this, in one write */
 	memcpy(both, h->tx_hold, h->tx_hold_len);
 	memcpy(both + h->tx_hold_len, buf, n);
 	n += h->tx_hold_len;
 	h->tx_hold_len = 0;
-	return link_send_wire(h, both, n);
+	return link_send_wire(h, both, n, true);
 }
 
 int link_tx_flush(struct df1 *h)
@@ -232,10 +232,22 @@ int link_tx_flush(struct df1 *h)
 		return 0;
 	memcpy(held, h->tx_hold, n);
 	h->tx_hold_len = 0;
-	return link_send_wire(h, held, n);
+	return link_send_wire(h, held, n, true);
 }
 
-static int link_send_wire(struct df1 *h, const uint8_t *buf, size_t n)
+int link_send_now(struct df1 *h, const uint8_t *buf, size_t n)
+{
+	int r = link_tx_flush(h);
+
+	return r < 0 ? r : link_send_wire(h, buf, n, false);
+}
+
+int link_pause_ms(struct df1 *h, int64_t deadline_ms)
+{
+	return link_pause(h, deadline_ms);
+}
+
+static int link_send_wire(struct df1 *h, const uint8_t *buf, size_t n, bool delay)
 {
 	int64_t wire_ms, deadline;
 	int r;
@@ -246,7 +258,7 @@ static int link_send_wire(struct df1 *h, const uint8_t *buf, size_t n)
 		return port_refuse_tx(h); /* before TX_Delay: nothing is waited for either */
 	if (n == 0)
 		return 0;
-	if (h->cfg.tx_delay_ms > 0) {
+	if (delay && h->cfg.tx_delay_ms > 0) {
 		/* TX_Delay before every transmission (doc/REQUIREMENTS.md 004, radio key-up) */
 		r = link_pause(h, df1_now_ms() + h->cfg.tx_delay_ms);
 		if (r < 0)

@@ -2,8 +2,8 @@
 /*
  * link.c - the link layer's entry points (lib/link/link.h): check the handle,
  * bring the decoder in line with the settings (link_setup), assign SRC and TNS,
- * and hand the work to the mode: full.c (full-duplex peer) or half.c
- * (half-duplex master and slave). Both of those sit on core.c. A handle whose
+ * and hand the work to the mode: full.c (full-duplex peer), half.c
+ * (half-duplex master and slave) or radio.c (radio modem). They sit on core.c. A handle whose
  * scheme brings its own link (h->own_link: eip://, lib/scheme.c) goes to that
  * instead (EtherNet/IP: no duplex, no line).
  */
@@ -43,6 +43,8 @@ int link_transact(struct df1 *h, uint8_t *cmd, size_t cmd_len, uint8_t *reply, s
 		return h->own_link->transact(h, cmd, cmd_len, reply, reply_cap);
 	if (h->cfg.duplex == DF1_HALF_DUPLEX_MASTER)
 		return half_transact(h, cmd, cmd_len, reply, reply_cap);
+	if (h->cfg.duplex == DF1_RADIO_MODEM)
+		return radio_transact(h, cmd, cmd_len, reply, reply_cap);
 	if (h->pipe.used > 0)
 		return pipe_transact(h, cmd, cmd_len, reply, reply_cap);
 	return full_transact(h, cmd, cmd_len, reply, reply_cap);
@@ -86,6 +88,18 @@ int link_test(struct df1 *h, int station)
 		return half_test(h, (uint8_t)station);
 	case DF1_HALF_DUPLEX_SLAVE:
 		return df1_fail(h, DF1_E_NOTSUP, station, "a half-duplex slave only answers polls");
+	case DF1_RADIO_MODEM: {
+		/* no link symbols to test with (doc/PROTOCOL.md 2.6): an empty diagnostic
+		 * echo (06/00) instead; any reply, even with an error STS, is an answer */
+		uint8_t cmd[7] = { 0, 0, 0x06, 0, 0, 0, 0x00 }, rep[FRAME_MAX_DATA];
+
+		if (station < 0 || station > 254)
+			return df1_fail(h, DF1_E_INVAL, station, "invalid station %d", station);
+		cmd[0] = (uint8_t)station;
+		link_stamp(h, cmd);
+		r = radio_transact(h, cmd, sizeof cmd, rep, sizeof rep);
+		return r < 0 ? r : 0;
+	}
 	case DF1_FULL_DUPLEX:
 	default:
 		return full_test(h);
@@ -111,6 +125,8 @@ int link_serve(struct df1 *h, struct link_responder *resp, link_handler_fn fn, v
 	h->resp = resp; /* lent for this call: the modes reach it as h->resp */
 	if (h->cfg.duplex == DF1_HALF_DUPLEX_SLAVE)
 		r = half_serve(h, fn, ctx, deadline_ms);
+	else if (h->cfg.duplex == DF1_RADIO_MODEM)
+		r = radio_serve(h, fn, ctx, deadline_ms);
 	else
 		r = full_serve(h, fn, ctx, deadline_ms);
 	h->resp = NULL;

@@ -21,6 +21,13 @@ int64_t link_char_us(const struct df1 *h, int baud);
  * returned (a 220-byte frame needs 1.8 s at 1200 baud). */
 int64_t link_after_tx_ms(const struct df1 *h, int64_t ms);
 
+/* The bytes at once, without TX_Delay (what is held goes first, with it):
+ * the radio modem's keyed transmission, which waits TX_Delay itself before
+ * keying (radio.c). 0 or DF1_E_*. */
+int link_send_now(struct df1 *h, const uint8_t *buf, size_t n);
+/* A pause until deadline_ms that only the cancel fd ends: 0, DF1_E_INTR, DF1_E_SYS. */
+int link_pause_ms(struct df1 *h, int64_t deadline_ms);
+
 /* transmission: DLE sym with its counter (ACK/NAK also set the last response) */
 int link_send_sym(struct df1 *h, uint8_t sym);
 /* The same, but held to go out in one write with our next transmission (an
@@ -94,6 +101,10 @@ void peer_acked(struct df1 *h);
 int peer_nak(struct df1 *h);
 int64_t peer_deadline(struct df1 *h);
 int peer_timeout(struct df1 *h, int64_t dl);
+
+/* radio modem (radio.c; doc/PROTOCOL.md 2.6) */
+int radio_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, size_t cap);
+int radio_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms);
 
 /* pipelining (pipe.c) */
 int link_pipe_submit(struct df1 *h, const uint8_t *cmd, size_t n);

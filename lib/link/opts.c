@@ -17,9 +17,11 @@ unsigned link_decoder_opts(const struct df1 *h)
 		opts |= FRAME_OPT_HD_BCC_STX;
 	if (h->cfg.eot_bcc)
 		opts |= FRAME_OPT_EOT_TRAILER;
-	if (!h->cfg.embedded)
+	/* a radio modem sends no ACK or NAK: a DLE pair inside a frame breaks it
+	 * (doc/PROTOCOL.md 2.6) */
+	if (!h->cfg.embedded || h->cfg.duplex == DF1_RADIO_MODEM)
 		opts |= FRAME_OPT_NO_EMBEDDED;
-	if (h->cfg.duplex != DF1_FULL_DUPLEX)
+	if (h->cfg.duplex == DF1_HALF_DUPLEX_MASTER || h->cfg.duplex == DF1_HALF_DUPLEX_SLAVE)
 		opts |= FRAME_OPT_HALF_DUPLEX;
 	return opts;
 }

@@ -19,6 +19,7 @@
 #include <poll.h>
 #include <string.h>
 #include <time.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -153,6 +154,33 @@ ssize_t port_read_fd(struct df1 *h, uint8_t *buf, size_t cap, int64_t deadline_m
 int port_fd_peer(const struct df1 *h)
 {
 	return h->port && h->port->peer ? h->port->peer(h) : -1;
+}
+
+int port_modem_fd(struct df1 *h, unsigned set, unsigned clear, unsigned *state)
+{
+	int bits = 0, m = 0;
+
+	if (h->fd < 0)
+		return DF1_E_NOT_OPEN;
+	if (set & PORT_LINE_RTS)
+		bits = TIOCM_RTS;
+	if (bits && ioctl(h->fd, TIOCMBIS, &bits) < 0)
+		goto fail;
+	bits = (clear & PORT_LINE_RTS) ? TIOCM_RTS : 0;
+	if (bits && ioctl(h->fd, TIOCMBIC, &bits) < 0)
+		goto fail;
+	if (!state)
+		return 0;
+	if (ioctl(h->fd, TIOCMGET, &m) < 0)
+		goto fail;
+	*state = ((m & TIOCM_RTS) ? PORT_LINE_RTS : 0) | ((m & TIOCM_CTS) ? PORT_LINE_CTS : 0) |
+	         ((m & TIOCM_CAR) ? PORT_LINE_DCD : 0);
+	return 0;
+fail:
+	/* a pty or a socket has no modem lines: not an error of the port */
+	if (errno == ENOTTY || errno == EINVAL || errno == ENOTSUP || errno == EOPNOTSUPP)
+		return DF1_E_NOTSUP;
+	return port_fail_sys(h, DF1_E_SYS, errno, "modem lines of");
 }
 
 int port_refuse_tx(struct df1 *h)

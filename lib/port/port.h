@@ -53,7 +53,17 @@ struct port_ops {
 	bool (*config_ok)(const char *rest);
 	/* The descriptor of a pty's other side the backend holds, else -1; NULL: none. */
 	int (*peer)(const struct df1 *h);
+	/* The modem lines (PORT_LINE_*): raise the bits of set, drop those of
+	 * clear (RTS), then read them all into *state (may be NULL). 0,
+	 * DF1_E_NOTSUP (the descriptor has none: a pty, a socket), DF1_E_SYS.
+	 * NULL: the backend never has any (TCP). The radio modem keys with them
+	 * (lib/link/radio.c). */
+	int (*modem)(struct df1 *h, unsigned set, unsigned clear, unsigned *state);
 };
+
+#define PORT_LINE_RTS 1u
+#define PORT_LINE_CTS 2u
+#define PORT_LINE_DCD 4u
 
 extern const struct port_ops port_termios_ops;
 extern const struct port_ops port_tcp_ops;
@@ -72,6 +82,8 @@ int port_wait_us(struct df1 *h, int fd, short events, int64_t deadline_us);
 ssize_t port_read_fd(struct df1 *h, uint8_t *buf, size_t cap, int64_t deadline_ms);
 ssize_t port_write_fd(struct df1 *h, const uint8_t *buf, size_t len, int64_t deadline_ms);
 ssize_t port_send_fd(struct df1 *h, const uint8_t *buf, size_t len, int64_t deadline_ms);
+/* The modem op on h->fd (TIOCMBIS, TIOCMBIC, TIOCMGET): termios and fd backends. */
+int port_modem_fd(struct df1 *h, unsigned set, unsigned clear, unsigned *state);
 /* DF1_E_NOTSUP "... is listen only" for any transmission on a listen-only handle. */
 int port_refuse_tx(struct df1 *h);
 

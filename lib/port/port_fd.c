@@ -152,4 +152,5 @@ const struct port_ops port_fd_ops = {
 	.configure = NULL,
 	.drain = NULL,
 	.peer = fd_peer,
+	.modem = port_modem_fd,
 };

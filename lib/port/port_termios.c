@@ -301,4 +301,5 @@ const struct port_ops port_termios_ops = {
 	.write = port_write_fd,
 	.configure = termios_configure,
 	.drain = termios_drain,
+	.modem = port_modem_fd,
 };

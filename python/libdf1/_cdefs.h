@@ -4,6 +4,7 @@
 #define DF1_ADDR_ASCII_MAX 52
 #define DF1_ADDR_NONE -1
 #define DF1_CATALOG_COUNT 61
+#define DF1_DUP_AUTO 2
 #define DF1_ERROR_COUNT 34
 #define DF1_E_LAST_ -34
 #define DF1_PCCC_MAX 262
@@ -213,7 +214,8 @@ typedef struct df1 df1_t;
 enum df1_duplex {
 	DF1_FULL_DUPLEX = 0,
 	DF1_HALF_DUPLEX_MASTER = 1,
-	DF1_HALF_DUPLEX_SLAVE = 2
+	DF1_HALF_DUPLEX_SLAVE = 2,
+	DF1_RADIO_MODEM = 3
 };
 enum df1_check {
 	DF1_CHECK_CRC = 0,
@@ -253,6 +255,12 @@ enum df1_option {
 	DF1_OPT_LOW_LATENCY,
 	DF1_OPT_PLC5_REFUSE_LARGE,
 	DF1_OPT_ROUTE,
+	DF1_OPT_APP_RETRIES,
+	DF1_OPT_RADIO_DUP_DETECT,
+	DF1_OPT_RADIO_RTS_CTS,
+	DF1_OPT_RTS_SEND_DELAY_MS,
+	DF1_OPT_RTS_OFF_DELAY_MS,
+	DF1_OPT_DCD_WAIT_MS,
 };
 int df1_new(df1_t **out);
 void df1_free(df1_t *h);
@@ -271,6 +279,13 @@ int df1_recv_raw(df1_t *h, uint8_t *buf, size_t cap, int timeout_ms, struct time
 int df1_port_fd(const df1_t *h);
 const char *df1_port_note(const df1_t *h);
 int df1_get_option(const df1_t *h, enum df1_option opt);
+int df1_set_forward(df1_t *h, const uint8_t *table);
+int df1_get_forward(const df1_t *h, uint8_t *table);
+int df1_forward_parse(const char *list, uint8_t *table);
+struct df1_radio_stats {
+	uint64_t sent, received, relayed, duplicates, bad_packets, undelivered;
+};
+int df1_radio_stats(const df1_t *h, struct df1_radio_stats *out);
 typedef void (*df1_log_fn)(void *user, int catalog_id, enum df1_severity sev, const char *text);
 void df1_set_log(df1_t *h, df1_log_fn fn, void *user);
 enum df1_dir {

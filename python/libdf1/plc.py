@@ -21,7 +21,8 @@ __all__ = ["Plc", "open", "DiagStatus", "Station", "option_names"]
 
 _DUPLEX = {"full": lib.DF1_FULL_DUPLEX, "half": lib.DF1_HALF_DUPLEX_MASTER,
            "half-master": lib.DF1_HALF_DUPLEX_MASTER, "master": lib.DF1_HALF_DUPLEX_MASTER,
-           "half-slave": lib.DF1_HALF_DUPLEX_SLAVE, "slave": lib.DF1_HALF_DUPLEX_SLAVE}
+           "half-slave": lib.DF1_HALF_DUPLEX_SLAVE, "slave": lib.DF1_HALF_DUPLEX_SLAVE,
+           "radio": lib.DF1_RADIO_MODEM}
 _CHECK = {"crc": lib.DF1_CHECK_CRC, "bcc": lib.DF1_CHECK_BCC}
 _PLC = {"slc": lib.DF1_PLC_SLC, "slc500": lib.DF1_PLC_SLC, "slc5/03": lib.DF1_PLC_SLC,
         "slc5/04": lib.DF1_PLC_SLC, "slc5/05": lib.DF1_PLC_SLC,
@@ -498,7 +499,7 @@ def open(target: Optional[str] = None, *, net: Optional[str] = None, station: in
     uses unless it names another; src the station of our own commands
     (df1_set_station). Every df1_set_* setting is a keyword: baud, data_bits,
     parity ("none", "even", "odd"), stop_bits, handshake, duplex ("full",
-    "half"; "half-slave"), check ("crc", "bcc"), plc ("slc", "micrologix",
+    "half"; "half-slave"; "radio", the DF1 Radio Modem), check ("crc", "bcc"), plc ("slc", "micrologix",
     "slc502", "plc5", "plc2"), timeout_ms, cmd_timeout_ms, nak_retries,
     enq_retries, tx_delay_ms, line_baud, log (called with catalog ID,
     severity, text), trace (called with "rx"/"tx", bytes, microseconds),

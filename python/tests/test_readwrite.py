@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: MPL-2.0
 """Reads and writes of every file type against df1sim, on a pty and over TCP, both
-duplex modes, BCC and CRC. Expected values are df1sim(1)'s documented initial
+duplex modes and the radio modem, BCC and CRC. Expected values are df1sim(1)'s documented initial
 table (N7:n = n, F8:n = n + 0.5, L10:n = n * 65536 + n, T/C PRE 100, ST "STRING n",
 the rest 0) and what was written; the --log frame log shows what was sent."""
 import pytest
@@ -10,6 +10,7 @@ import libdf1
 LINKS = [
     ("pty", "full", "crc"), ("pty", "full", "bcc"), ("pty", "half", "crc"), ("pty", "half", "bcc"),
     ("tcp", "full", "crc"), ("tcp", "half", "bcc"),
+    ("pty", "radio", "crc"), ("tcp", "radio", "bcc"),
 ]
 
 

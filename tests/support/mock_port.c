@@ -37,6 +37,23 @@ static size_t captured_len;
 static size_t write_off[MOCK_WRITES], write_len[MOCK_WRITES];
 static size_t nwrites;
 
+/* the fake modem lines (mock_port_lines) and their events */
+static bool lines_on;
+static int cts_lag_ms;
+static int64_t rts_up_ms = -1, dcd_until_ms;
+#define MOCK_EVENTS 256
+static char ev_kind[MOCK_EVENTS];
+static int64_t ev_ms[MOCK_EVENTS];
+static size_t nev;
+
+static void mock_event(char k)
+{
+	if (nev < MOCK_EVENTS) {
+		ev_kind[nev] = k;
+		ev_ms[nev++] = df1_now_ms();
+	}
+}
+
 static mock_port_hook hook;
 static void *hook_user;
 static mock_port_idle idle;
@@ -53,6 +70,58 @@ void mock_port_reset(void)
 	hook_user = NULL;
 	idle = NULL;
 	idle_user = NULL;
+	lines_on = false;
+	rts_up_ms = -1;
+	nev = 0;
+}
+
+void mock_port_lines(int cts_lag, int dcd_ms)
+{
+	lines_on = true;
+	cts_lag_ms = cts_lag;
+	rts_up_ms = -1;
+	dcd_until_ms = df1_now_ms() + dcd_ms;
+	nev = 0;
+}
+
+size_t mock_port_events(char *out, size_t cap)
+{
+	size_t n = nev < cap - 1 ? nev : cap - 1;
+
+	memcpy(out, ev_kind, n);
+	out[n] = '\0';
+	return n;
+}
+
+int64_t mock_port_event_ms(size_t i)
+{
+	assert_true(i < nev);
+	return ev_ms[i];
+}
+
+static int mock_modem(struct df1 *h, unsigned set, unsigned clear, unsigned *state)
+{
+	int64_t now = df1_now_ms();
+
+	(void)h;
+	if (!lines_on)
+		return DF1_E_NOTSUP;
+	if ((set & PORT_LINE_RTS) && rts_up_ms < 0) {
+		rts_up_ms = now;
+		mock_event('R');
+	}
+	if ((clear & PORT_LINE_RTS) && rts_up_ms >= 0) {
+		rts_up_ms = -1;
+		mock_event('r');
+	}
+	if (state) {
+		*state = rts_up_ms >= 0 ? PORT_LINE_RTS : 0;
+		if (rts_up_ms >= 0 && cts_lag_ms >= 0 && now >= rts_up_ms + cts_lag_ms)
+			*state |= PORT_LINE_CTS;
+		if (now < dcd_until_ms)
+			*state |= PORT_LINE_DCD;
+	}
+	return 0;
 }
 
 static struct mock_entry *mock_push(enum mock_kind kind)
@@ -248,6 +317,8 @@ static ssize_t mock_write(struct df1 *h, const uint8_t *buf, size_t len, int64_t
 		captured_len += len;
 	}
 	nwrites++;
+	if (lines_on)
+		mock_event('W');
 	if (hook)
 		hook(buf, len, hook_user);
 	return (ssize_t)len;
@@ -261,4 +332,5 @@ const struct port_ops mock_port_ops = {
 	.write = mock_write,
 	.configure = NULL,
 	.drain = NULL,
+	.modem = mock_modem,
 };

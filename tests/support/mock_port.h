@@ -62,6 +62,15 @@ void mock_port_clear_written(void);
 /* Count occurrences of a byte sequence in the captured writes. */
 size_t mock_port_count_written(const uint8_t *seq, size_t n);
 
+/* Fake modem lines (the port's modem op; without this call it has none:
+ * DF1_E_NOTSUP, as a pty). CTS rises cts_lag ms after RTS (-1: never), DCD is
+ * up for dcd_ms from now. Starts the event record over. */
+void mock_port_lines(int cts_lag, int dcd_ms);
+/* The events since: 'R' RTS raised, 'r' RTS dropped, 'W' a write; as a
+ * string into out, their number; and the time (df1_now_ms) of event i. */
+size_t mock_port_events(char *out, size_t cap);
+int64_t mock_port_event_ms(size_t i);
+
 /* Parse hex text into buf; returns the number of bytes (asserts on bad text). */
 size_t mock_hex(const char *hex, uint8_t *buf, size_t cap);
 

@@ -72,6 +72,14 @@ enum cli_opt_id {
 	CLI_OPT_EIP_CONNECTED,    /* --eip-connected             DF1_OPT_EIP_CONNECTED */
 	CLI_OPT_LOW_LATENCY,      /* --low-latency yes|no        DF1_OPT_LOW_LATENCY */
 	CLI_OPT_ROUTE,            /* --route yes|no              DF1_OPT_ROUTE */
+	CLI_OPT_APP_RETRIES,      /* --app-retries N             DF1_OPT_APP_RETRIES */
+	CLI_OPT_RADIO_DUP,        /* --dup-detect yes|no|auto    DF1_OPT_RADIO_DUP_DETECT */
+	CLI_OPT_RADIO_RTS,        /* --radio-rts yes|no          DF1_OPT_RADIO_RTS_CTS */
+	CLI_OPT_RTS_SEND,         /* --rts-send-delay MS         DF1_OPT_RTS_SEND_DELAY_MS */
+	CLI_OPT_RTS_OFF,          /* --rts-off-delay MS          DF1_OPT_RTS_OFF_DELAY_MS */
+	CLI_OPT_DCD_WAIT,         /* --dcd-wait MS               DF1_OPT_DCD_WAIT_MS */
+	/* not in CLI_ACCEPT_LINK: the tools where a node listens take it */
+	CLI_OPT_FORWARD,          /* --forward LIST              df1_set_forward(3) */
 	CLI_OPT_COUNT_
 };
 
@@ -97,7 +105,11 @@ _Static_assert(CLI_OPT_COUNT_ <= 64, "CLI_ACCEPT bits are a uint64_t");
 	 CLI_ACCEPT(CLI_OPT_EOT_BCC) | CLI_ACCEPT(CLI_OPT_ECHO_DISCARD) |                           \
 	 CLI_ACCEPT(CLI_OPT_POLL_TIMEOUT) | CLI_ACCEPT(CLI_OPT_OUTSTANDING) |                       \
 	 CLI_ACCEPT(CLI_OPT_EIP_CONNECTED) | CLI_ACCEPT(CLI_OPT_LOW_LATENCY) |                      \
-	 CLI_ACCEPT(CLI_OPT_ROUTE))
+	 CLI_ACCEPT(CLI_OPT_ROUTE) | CLI_ACCEPT_RADIO)
+/* the radio modem's options (--duplex radio) */
+#define CLI_ACCEPT_RADIO \
+	(CLI_ACCEPT(CLI_OPT_APP_RETRIES) | CLI_ACCEPT(CLI_OPT_RADIO_DUP) | CLI_ACCEPT(CLI_OPT_RADIO_RTS) | \
+	 CLI_ACCEPT(CLI_OPT_RTS_SEND) | CLI_ACCEPT(CLI_OPT_RTS_OFF) | CLI_ACCEPT(CLI_OPT_DCD_WAIT))
 #define CLI_ACCEPT_OUTPUT \
 	(CLI_ACCEPT(CLI_OPT_FORMAT) | CLI_ACCEPT(CLI_OPT_VERBOSE) | CLI_ACCEPT(CLI_OPT_QUIET))
 #define CLI_ACCEPT_ALL (CLI_ACCEPT_LINK | CLI_ACCEPT_OUTPUT)
@@ -156,6 +168,9 @@ struct cli {
 	bool handshake;
 	bool half_duplex;
 	bool half_slave;                   /* --duplex half-slave (tool->half_slave only) */
+	bool radio;                        /* --duplex radio: DF1_RADIO_MODEM */
+	bool have_forward;                 /* --forward given */
+	uint8_t forward[32];               /* its table (df1_set_forward) */
 	enum df1_check check;
 	enum df1_plc plc;
 	int timeout_ms, cmd_timeout_ms;
@@ -251,6 +266,9 @@ void cli_error_tag(int err, int catalog_id, char *buf, size_t cap);
  * rows with t the seconds given (CSV), or {"id":..,"mnemonic":..,"value":..}
  * objects joined by commas (JSON). Returns how many. */
 int cli_print_counters(FILE *f, const df1_t *h, enum cli_format fmt, double t);
+/* The radio modem's statistics as rows of ID 0 in the same formats, after
+ * those (comma: JSON rows came before); their number. */
+int cli_print_radio(FILE *f, const df1_t *h, enum cli_format fmt, double t, bool comma);
 /* The Prometheus name of catalog counter e: "df1_link_" + its mnemonic in
  * lower case + "_total" (df1_link_cnt_msg_packets_sent_total), the name
  * df1gw's /metrics and df1mon -f prometheus share. */

@@ -92,6 +92,10 @@ static int after_options(struct cli *c)
 
 	if (c->quiet && c->verbose)
 		return cli_usage_error(c, "-q and -v cannot be used together");
+	if (c->station == 255 && !c->radio)
+		return cli_usage_error(c, "--station 255 (broadcast) needs --duplex radio; else 0-254");
+	if (c->have_forward && !c->radio)
+		return cli_usage_error(c, "--forward needs --duplex radio");
 	if (c->net_file && (r = cli_load_net(c)) != CLI_CONTINUE)
 		return r;
 	if (cli_accepts(c, CLI_OPT_DEVICE) && !c->device) {

@@ -130,8 +130,11 @@ int cli_configure(struct cli *c, df1_t **out)
 #define SET(what, call) do { if ((r = (call)) < 0) { set_failed(c, h, what, r); df1_free(h); return CLI_EXIT_USAGE; } } while (0)
 	SET("serial settings", df1_set_serial(h, c->baud, c->data_bits, c->parity, c->stop_bits));
 	SET("--handshake", df1_set_handshake(h, c->handshake));
-	SET("--duplex", df1_set_duplex(h, c->half_slave ? DF1_HALF_DUPLEX_SLAVE
+	SET("--duplex", df1_set_duplex(h, c->radio ? DF1_RADIO_MODEM
+	                                 : c->half_slave ? DF1_HALF_DUPLEX_SLAVE
 	                                 : c->half_duplex ? DF1_HALF_DUPLEX_MASTER : DF1_FULL_DUPLEX));
+	if (c->have_forward)
+		SET("--forward", df1_set_forward(h, c->forward));
 	if (c->check != DF1_CHECK_AUTO)
 		SET("--check", df1_set_check(h, c->check));
 	SET("--src", df1_set_station(h, c->src));

@@ -35,6 +35,12 @@ static const struct lib_word w_yes_no[] = {
 	{ "no", 0 }, { "n", 0 }, { "off", 0 }, { "0", 0 }, { "false", 0 }, { NULL, 0 },
 };
 
+static const struct lib_word w_yes_no_auto[] = {
+	{ "yes", 1 }, { "y", 1 }, { "on", 1 }, { "1", 1 }, { "true", 1 },
+	{ "no", 0 }, { "n", 0 }, { "off", 0 }, { "0", 0 }, { "false", 0 }, { "auto", DF1_DUP_AUTO },
+	{ NULL, 0 },
+};
+
 static const struct lib_opt lib_opts[] = {
 	{ CLI_OPT_HD_BCC, DF1_OPT_HD_BCC_INCLUDES_STX, "--hd-bcc", w_hd_bcc, "stn or stx", 0, 0, true },
 	{ CLI_OPT_PLC5_FLOAT, DF1_OPT_PLC5_TYPED_FLOAT_SWAPPED, "--plc5-float", w_float, "plain or swapped",
@@ -56,6 +62,13 @@ static const struct lib_opt lib_opts[] = {
 	{ CLI_OPT_EIP_CONNECTED, DF1_OPT_EIP_CONNECTED, "--eip-connected", NULL, NULL, 1, 1, false },
 	{ CLI_OPT_LOW_LATENCY, DF1_OPT_LOW_LATENCY, "--low-latency", w_yes_no, "yes or no", 0, 0, false },
 	{ CLI_OPT_ROUTE, DF1_OPT_ROUTE, "--route", w_yes_no, "yes or no", 0, 0, false },
+	{ CLI_OPT_APP_RETRIES, DF1_OPT_APP_RETRIES, "--app-retries", NULL, NULL, 0, 10, false },
+	{ CLI_OPT_RADIO_DUP, DF1_OPT_RADIO_DUP_DETECT, "--dup-detect", w_yes_no_auto, "yes, no or auto",
+	  0, 0, false },
+	{ CLI_OPT_RADIO_RTS, DF1_OPT_RADIO_RTS_CTS, "--radio-rts", w_yes_no, "yes or no", 0, 0, false },
+	{ CLI_OPT_RTS_SEND, DF1_OPT_RTS_SEND_DELAY_MS, "--rts-send-delay", NULL, NULL, 0, 65535, false },
+	{ CLI_OPT_RTS_OFF, DF1_OPT_RTS_OFF_DELAY_MS, "--rts-off-delay", NULL, NULL, 0, 65535, false },
+	{ CLI_OPT_DCD_WAIT, DF1_OPT_DCD_WAIT_MS, "--dcd-wait", NULL, NULL, 0, 65535, false },
 };
 
 #define N_LIB_OPTS (sizeof lib_opts / sizeof lib_opts[0])

@@ -18,7 +18,7 @@ const struct cli_common_opt cli_common_opts[] = {
 	{ CLI_OPT_DEVICE, "device", required_argument, 'd', "DEV",
 	  "serial device, tcp://HOST:PORT, rfc2217://HOST:PORT or eip://HOST (env DF1_DEVICE)" },
 	{ CLI_OPT_NET, "net", required_argument, 'N', "FILE", "network configuration CSV" },
-	{ CLI_OPT_STATION, "station", required_argument, 'a', "N", "destination station 0-254 (default 1)" },
+	{ CLI_OPT_STATION, "station", required_argument, 'a', "N", "destination station 0-254, 255 = broadcast with --duplex radio (default 1)" },
 	{ CLI_OPT_SRC, "src", required_argument, LONG_ONLY(CLI_OPT_SRC), "N",
 	  "own station 0-254 (default 0)" },
 	{ CLI_OPT_BAUD, "baud", required_argument, 'b', "N", "baud rate 1200-115200 (default 19200)" },
@@ -29,8 +29,8 @@ const struct cli_common_opt cli_common_opts[] = {
 	  "stop bits (default 1)" },
 	{ CLI_OPT_HANDSHAKE, "handshake", optional_argument, LONG_ONLY(CLI_OPT_HANDSHAKE), "[=yes|no]",
 	  "RTS/CTS hardware handshake (default no)" },
-	{ CLI_OPT_DUPLEX, "duplex", required_argument, LONG_ONLY(CLI_OPT_DUPLEX), "full|half",
-	  "link mode (default full; half = half-duplex master)" },
+	{ CLI_OPT_DUPLEX, "duplex", required_argument, LONG_ONLY(CLI_OPT_DUPLEX), "full|half|radio",
+	  "link mode (default full; half = half-duplex master; radio = DF1 Radio Modem)" },
 	{ CLI_OPT_CHECK, "check", required_argument, LONG_ONLY(CLI_OPT_CHECK), "crc|bcc",
 	  "error check (default crc)" },
 	{ CLI_OPT_PLC, "plc", required_argument, LONG_ONLY(CLI_OPT_PLC), "TYPE",
@@ -83,6 +83,20 @@ const struct cli_common_opt cli_common_opts[] = {
 	  "USB serial adapter in low latency mode (default yes)" },
 	{ CLI_OPT_ROUTE, "route", required_argument, LONG_ONLY(CLI_OPT_ROUTE), "yes|no",
 	  "half-duplex master: forward a slave's messages for other slaves (default yes)" },
+	{ CLI_OPT_APP_RETRIES, "app-retries", required_argument, LONG_ONLY(CLI_OPT_APP_RETRIES), "N",
+	  "radio: send a command again after no reply 0-10 (default 0)" },
+	{ CLI_OPT_RADIO_DUP, "dup-detect", required_argument, LONG_ONLY(CLI_OPT_RADIO_DUP), "yes|no|auto",
+	  "radio: drop repeats of the last 20 packets (default auto: with --forward)" },
+	{ CLI_OPT_RADIO_RTS, "radio-rts", required_argument, LONG_ONLY(CLI_OPT_RADIO_RTS), "yes|no",
+	  "radio: key with RTS, send once CTS is up (default no)" },
+	{ CLI_OPT_RTS_SEND, "rts-send-delay", required_argument, LONG_ONLY(CLI_OPT_RTS_SEND), "MS",
+	  "radio: from RTS up to the frame 0-65535 (default 0)" },
+	{ CLI_OPT_RTS_OFF, "rts-off-delay", required_argument, LONG_ONLY(CLI_OPT_RTS_OFF), "MS",
+	  "radio: from the frame's end to RTS down 0-65535 (default 0)" },
+	{ CLI_OPT_DCD_WAIT, "dcd-wait", required_argument, LONG_ONLY(CLI_OPT_DCD_WAIT), "MS",
+	  "radio: wait up to MS for DCD to drop before sending (default 0 = no)" },
+	{ CLI_OPT_FORWARD, "forward", required_argument, LONG_ONLY(CLI_OPT_FORWARD), "LIST",
+	  "radio: relay packets for these stations, e.g. 1,3-5,255 (default none)" },
 };
 
 const size_t cli_n_common = sizeof cli_common_opts / sizeof cli_common_opts[0];
@@ -352,15 +366,19 @@ static int parse_handshake(struct cli *c, const char *arg)
 
 static int parse_duplex(struct cli *c, const char *arg)
 {
+	c->half_duplex = c->half_slave = c->radio = false;
 	if (strcasecmp(arg, "full") == 0)
 		c->half_duplex = false;
 	else if (strcasecmp(arg, "half") == 0)
 		c->half_duplex = true;
 	else if (strcasecmp(arg, "half-slave") == 0 && c->tool->half_slave)
 		c->half_duplex = c->half_slave = true;
+	else if (strcasecmp(arg, "radio") == 0)
+		c->radio = true;
 	else
-		return cli_bad_value(c, "--duplex", arg, c->tool->half_slave ? "full, half or half-slave"
-		                                                               : "full or half");
+		return cli_bad_value(c, "--duplex", arg, c->tool->half_slave
+		                                         ? "full, half, half-slave or radio"
+		                                         : "full, half or radio");
 	return CLI_CONTINUE;
 }
 
@@ -450,7 +468,8 @@ int cli_common_option(struct cli *c, enum cli_opt_id id, const char *arg)
 		c->net_file = arg;
 		return CLI_CONTINUE;
 	case CLI_OPT_STATION:
-		return cli_parse_int(c, "--station", arg, 0, 254, &c->station);
+		/* 255, a broadcast, with --duplex radio only (checked after the options) */
+		return cli_parse_int(c, "--station", arg, 0, 255, &c->station);
 	case CLI_OPT_SRC:
 		return cli_parse_int(c, "--src", arg, 0, 254, &c->src);
 	case CLI_OPT_BAUD:
@@ -465,6 +484,12 @@ int cli_common_option(struct cli *c, enum cli_opt_id id, const char *arg)
 		return parse_handshake(c, arg);
 	case CLI_OPT_DUPLEX:
 		return parse_duplex(c, arg);
+	case CLI_OPT_FORWARD:
+		if (df1_forward_parse(arg, c->forward) < 0)
+			return cli_bad_value(c, "--forward", arg,
+			                     "stations 0-255 and ranges A-B separated by commas, or none");
+		c->have_forward = true;
+		return CLI_CONTINUE;
 	case CLI_OPT_CHECK:
 		return parse_check(c, arg);
 	case CLI_OPT_PLC:

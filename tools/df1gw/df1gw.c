@@ -772,6 +772,8 @@ static void gw_print_counters(const struct gw *g)
 		printf("port note: %s\n", df1_port_note(g->h));
 	gw_sfwd_counters(g, stdout);
 	cli_print_counters(stdout, g->h, CLI_FMT_PLAIN, 0);
+	if (g->cli.radio)
+		cli_print_radio(stdout, g->h, CLI_FMT_PLAIN, 0, false);
 	fflush(stdout);
 }
 

@@ -184,9 +184,10 @@ static const struct cli_tool gw_tool = {
 	.synopsis = "-d DEV (--map FILE.csv --mqtt mqtt://HOST[:PORT] | --eip [ADDR:]PORT) [OPTIONS]",
 	.summary = "Keep a DF1 line's tags in an MQTT broker, and take writes back; bridge EtherNet/IP to it.",
 	.accepts = (CLI_ACCEPT_LINK & ~CLI_ACCEPT(CLI_OPT_STATION)) | CLI_ACCEPT(CLI_OPT_VERBOSE) |
-	           CLI_ACCEPT(CLI_OPT_QUIET),
+	           CLI_ACCEPT(CLI_OPT_QUIET) | CLI_ACCEPT(CLI_OPT_FORWARD),
 	.common_help = { [CLI_OPT_VERBOSE] = "what is published and received; -vv link events, -vvv frames",
-	                 [CLI_OPT_DUPLEX] = "full (default), half (master), half-slave (Receive rows at --src)" },
+	                 [CLI_OPT_DUPLEX] = "full (default), half (master), half-slave (Receive rows at --src), "
+	                                    "radio (DF1 Radio Modem)" },
 	.half_slave = true,
 	.extra = gw_opts,
 	.on_extra = gw_extra,

@@ -669,7 +669,7 @@ static void node_line(void *user, struct gw_line_out *l, struct df1_poll_stats *
 	snprintf(framing, sizeof framing, "%d%c%d", g->cli.data_bits, g->cli.parity, g->cli.stop_bits);
 	vals[0] = baud;
 	vals[1] = framing;
-	vals[2] = g->cli.half_duplex ? "half" : "full";
+	vals[2] = g->cli.radio ? "radio" : g->cli.half_duplex ? "half" : "full";
 	vals[3] = g->cli.check == DF1_CHECK_BCC ? "BCC" : "CRC";
 	vals[4] = (unsigned)g->cli.plc < 5 ? plcs[g->cli.plc] : "?";
 	*l = (struct gw_line_out){ g->line_up, g->cli.device, ps, g->generation, gw_wall_ms(), gw_now_ms(),

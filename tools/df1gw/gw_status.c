@@ -46,7 +46,7 @@ static void line_json(const struct gw *g, struct gw_buf *b)
 	gw_buf_printf(b, ",\"baud\":%d,", c->baud);
 	jstr(b, "framing", framing);
 	gw_buf_printf(b, ",\"duplex\":\"%s\",\"check\":\"%s\",\"timeout_ms\":%d,\"network_file\":%s,",
-	              c->half_duplex ? "half" : "full", c->check == DF1_CHECK_BCC ? "BCC" : "CRC", c->timeout_ms,
+	              c->radio ? "radio" : c->half_duplex ? "half" : "full", c->check == DF1_CHECK_BCC ? "BCC" : "CRC", c->timeout_ms,
 	              c->net_file ? "true" : "false");
 	/* what the library noticed when it opened the port (a USB adapter's
 	 * latency timer it could not lower: libdf1(7) USB ADAPTERS), or null */

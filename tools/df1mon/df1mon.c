@@ -251,9 +251,11 @@ static int check_combination(struct mon *m)
 			return cli_usage_error(&m->cli, "--duplex half-slave needs --serve");
 		m->cli.half_slave = false;      /* -N's Mode Slave: refused (2554) at the open */
 	}
+	if ((m->cli.given & CLI_ACCEPT(CLI_OPT_FORWARD)) && m->mode != MODE_SERVE)
+		return cli_usage_error(&m->cli, "--forward needs --serve (a radio-modem node that relays)");
 	if (m->mode == MODE_SERVE && m->cli.half_duplex && !m->cli.half_slave)
 		return cli_usage_error(&m->cli, "--serve: a half-duplex master does not serve; use --duplex "
-		                       "half-slave (a slave station at --src) or full");
+		                       "half-slave (a slave station at --src), full or radio");
 	if (m->mode == MODE_SERVE && mon_serve_check(m) != CLI_CONTINUE)
 		return CLI_EXIT_USAGE;
 	if ((m->given & GIVEN_ONCE) && m->mode != MODE_MAP)
@@ -318,10 +320,10 @@ static const struct cli_tool mon_tool = {
 	            "--map FILE.csv [-1] [--skip-bad-rows] [-i SECONDS] [--counters] [OPTIONS]\n"
 	            "--counters [-i SECONDS] [-c COUNT] [OPTIONS]\n"
 	            "--autoconf [--stations LO-HI] [-w NET.csv] [OPTIONS]\n"
-	            "--serve REGION[,REGION...] [--duplex full|half-slave] [--src STATION] [OPTIONS]",
+	            "--serve REGION[,REGION...] [--duplex full|half-slave|radio] [--src STATION] [--forward LIST] [OPTIONS]",
 	.summary = "DF1 diagnostics: decode frames, captures or a tap; ping, find stations, "
 	           "poll tags, show counters.",
-	.accepts = CLI_ACCEPT_ALL,
+	.accepts = CLI_ACCEPT_ALL | CLI_ACCEPT(CLI_OPT_FORWARD), /* --forward: --serve only */
 	.formats = CLI_FMT_BIT(CLI_FMT_PLAIN) | CLI_FMT_BIT(CLI_FMT_CSV) | CLI_FMT_BIT(CLI_FMT_JSON) |
 	           CLI_FMT_BIT(CLI_FMT_INFLUX) | CLI_FMT_BIT(CLI_FMT_PROMETHEUS),
 	.check_auto = true,
@@ -385,7 +387,7 @@ int main(int argc, char **argv)
 			fprintf(stderr, "%s: %s open: %d %d%c%d, %s, %s duplex, station %d\n", m.cli.name,
 			        m.cli.device, m.cli.baud, m.cli.data_bits, m.cli.parity, m.cli.stop_bits,
 			        m.cli.check == DF1_CHECK_BCC ? "BCC" : "CRC",
-			        m.cli.half_duplex ? "half" : "full", m.cli.station);
+			        m.cli.radio ? "radio" : m.cli.half_duplex ? "half" : "full", m.cli.station);
 	}
 	r = d->run(&m);
 	/* --counters with another talking mode: the table at exit (--map prints its own) */

@@ -10,6 +10,7 @@
 void mon_print_counters(struct mon *m, bool final)
 {
 	FILE *f = stdout;
+	int n;
 
 	if (!m->h)
 		return;
@@ -31,7 +32,9 @@ void mon_print_counters(struct mon *m, bool final)
 		fprintf(f, "{\"t\":%.3f,\"final\":%s,\"counters\":[", mon_elapsed(m), final ? "true" : "false");
 		break;
 	}
-	cli_print_counters(f, m->h, m->cli.format, mon_elapsed(m));
+	n = cli_print_counters(f, m->h, m->cli.format, mon_elapsed(m));
+	if (m->cli.radio) /* then the radio modem's: relayed, duplicates, ... (ID 0) */
+		cli_print_radio(f, m->h, m->cli.format, mon_elapsed(m), n > 0);
 	if (m->cli.format == CLI_FMT_JSON)
 		fputs("]}\n", f);
 	m->counter_prints++;

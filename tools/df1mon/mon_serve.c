@@ -214,7 +214,8 @@ int mon_run_serve(struct mon *m)
 	if (r == CLI_CONTINUE && !m->cli.quiet) {
 		fprintf(stderr, "%s: serving %d region%s on %s as station %d (%s); Ctrl-C ends\n", m->cli.name,
 		        s.n, s.n == 1 ? "" : "s", m->cli.device, m->cli.src,
-		        m->cli.half_slave ? "half-duplex slave" : "full-duplex peer");
+		        m->cli.half_slave ? "half-duplex slave" : m->cli.radio ? "radio modem"
+		                                                : "full-duplex peer");
 	}
 	while (r == CLI_CONTINUE && !cli_stop) {
 		int rc = df1_serve(m->h, &serve_ops, &s, 200);

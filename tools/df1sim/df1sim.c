@@ -446,7 +446,10 @@ static int setup_handle(df1_t *h, const struct sim_opts *o, struct sim *s)
 {
 	int r = 0;
 
-	r = r < 0 ? r : df1_set_duplex(h, o->cli.half_duplex ? DF1_HALF_DUPLEX_SLAVE : DF1_FULL_DUPLEX);
+	r = r < 0 ? r : df1_set_duplex(h, o->cli.radio ? DF1_RADIO_MODEM
+	                                  : o->cli.half_duplex ? DF1_HALF_DUPLEX_SLAVE : DF1_FULL_DUPLEX);
+	if (r >= 0 && o->cli.have_forward)
+		r = df1_set_forward(h, o->cli.forward); /* a radio relay (libdf1(7) RADIO MODEM) */
 	r = r < 0 ? r : df1_set_check(h, o->cli.check);
 	r = r < 0 ? r : df1_set_plc(h, o->cli.plc);
 	r = r < 0 ? r : df1_set_station(h, o->stations[0]);
@@ -555,7 +558,8 @@ static int sim_build(struct sim *s, const struct sim_opts *o)
 		}
 	}
 	if (o->log) {
-		r = sim_cmdlog_open(&s->log, o->log, o->cli.check, o->cli.half_duplex, s->tables, s->stations[0]);
+		r = sim_cmdlog_open(&s->log, o->log, o->cli.check, o->cli.half_duplex,
+		                     o->cli.half_duplex || o->cli.radio, s->tables, s->stations[0]);
 		s->log.plc = o->cli.plc;
 		if (r == -1) {
 			msg("--log %s: %s", o->log, strerror(errno));

@@ -309,8 +309,8 @@ static void cmdlog_rx_frame(struct sim_cmdlog *l, const struct df1_symbol *sym)
 	if (!sym->check_ok || sym->len < 6 || (a[2] & 0x40))
 		return;
 	station = sym->master_msg && sym->has_station ? sym->station : a[0];
-	if (l->half && (station < 0 || station > 255 || !l->tables[station]))
-		return;                 /* for another slave on the line */
+	if (l->by_station && (station < 0 || station > 255 || !l->tables[station]))
+		return;                 /* for another station on the line (a radio relay's too) */
 	for (int i = 0; i < 16; i++) {
 		/* a repeat of a command already seen: the same bytes again (SRC,
 		 * CMD and TNS alone would also match a new master process that
@@ -348,10 +348,11 @@ static void cmdlog_tx_frame(struct sim_cmdlog *l, const struct df1_symbol *sym)
 }
 
 int sim_cmdlog_open(struct sim_cmdlog *l, const char *path, enum df1_check check, bool half,
-                    struct df1_table *const *tables, int first_station)
+                    bool by_station, struct df1_table *const *tables, int first_station)
 {
 	memset(l, 0, sizeof *l);
 	l->half = half;
+	l->by_station = by_station;
 	l->tables = tables;
 	l->first_station = first_station;
 	l->fp = fopen(path, "w");

@@ -49,14 +49,16 @@ int sim_listen_open(const char *spec, char *shown, size_t cap, enum sim_listen_s
  *   2026-12-01T21:02:28.123 station=1 cmd=0F/A2 addr=N7:0 count=10 tns=0001 name="..."
  * fed with the bytes of the frame trace both ways; a command is logged when its
  * reply goes out (once, however often the link repeats it). tables[station] is
- * the table of each station served (NULL: not served; a half-duplex command to
- * another station is not logged), tables[first_station] the one of other
- * DSTs (full duplex); they give the type of a PLC-5 binary address's file. */
+ * the table of each station served (NULL: not served; with by_station, half
+ * duplex and radio modem, a command to another station is not logged),
+ * tables[first_station] the one of other DSTs (full duplex); they give the
+ * type of a PLC-5 binary address's file. */
 struct sim_cmdlog {
 	FILE *fp;
 	int error;                      /* errno of the first line not written, else 0 */
 	struct df1_decoder *dec[2];     /* by enum df1_dir */
 	bool half;
+	bool by_station;                /* only commands to the stations served */
 	struct df1_table *const *tables;
 	int first_station;
 	enum df1_plc plc;               /* the address text of the log (PLC-3's own) */
@@ -70,7 +72,7 @@ struct sim_cmdlog {
 };
 /* Open path (truncated). 0, -1 (fopen failed, errno set) or -2 (no memory). */
 int sim_cmdlog_open(struct sim_cmdlog *l, const char *path, enum df1_check check, bool half,
-                    struct df1_table *const *tables, int first_station);
+                    bool by_station, struct df1_table *const *tables, int first_station);
 void sim_cmdlog_close(struct sim_cmdlog *l);    /* a log never opened is fine */
 void sim_cmdlog_feed(struct sim_cmdlog *l, enum df1_dir dir, const uint8_t *bytes, size_t n);
 /* Log a command answered without a link (EtherNet/IP): app = DST SRC CMD STS

@@ -71,7 +71,7 @@ static const struct cli_extra_opt sim_opt_table[] = {
 	{ "ramp", required_argument, OPT_RAMP, "ADDR[,STEP][@MS]",
 	  "add STEP (default 1) to ADDR every MS ms (default 100; a bit toggles); repeatable" },
 	{ "msg", required_argument, OPT_MSG, "KIND,LOCAL,COUNT,STATION,REMOTE[,MS][,seq]",
-	  "full duplex: send a MSG every MS ms (default 1000), e.g. write,N7:0,10,0,N50:0,500" },
+	  "send a MSG every MS ms (default 1000; half duplex: when polled), e.g. write,N7:0,10,0,N50:0,500" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -217,8 +217,8 @@ static int on_option(struct cli *c, int key, const char *arg, void *user)
 static const struct cli_tool sim_tool = {
 	.name = PROG,
 	.synopsis = "(--pty PATH | -d DEV | --listen [tcp://][HOST:]PORT) [--eip ADDR] [OPTIONS] | --eip ADDR [OPTIONS]",
-	.summary = "A simulated PLC (DF1 half-duplex slave or full-duplex peer) with a data table\n"
-	           "and fault injection. Prints the device it serves on stdout once ready.",
+	.summary = "A simulated PLC (DF1 half-duplex slave, full-duplex peer or radio-modem node) with\n"
+	           "a data table and fault injection. Prints the device it serves on stdout once ready.",
 	.accepts = CLI_ACCEPT(CLI_OPT_PARITY) | CLI_ACCEPT(CLI_OPT_STOP_BITS) | CLI_ACCEPT(CLI_OPT_DUPLEX) |
 	           CLI_ACCEPT(CLI_OPT_CHECK) | CLI_ACCEPT(CLI_OPT_PLC) | CLI_ACCEPT(CLI_OPT_VERBOSE) |
 	           /* the link and PLC options a responder has a use for */
@@ -226,13 +226,15 @@ static const struct cli_tool sim_tool = {
 	           CLI_ACCEPT(CLI_OPT_PLC5_TIMER_WORDS) | CLI_ACCEPT(CLI_OPT_PLC2_ADDR) |
 	           CLI_ACCEPT(CLI_OPT_DUP_DETECT) | CLI_ACCEPT(CLI_OPT_EMBEDDED) | CLI_ACCEPT(CLI_OPT_NAK_0F) |
 	           CLI_ACCEPT(CLI_OPT_ECHO_DISCARD) | CLI_ACCEPT(CLI_OPT_LOW_LATENCY) |
-	           CLI_ACCEPT(CLI_OPT_CMD_TIMEOUT),
+	           CLI_ACCEPT(CLI_OPT_CMD_TIMEOUT) |
+	           /* a radio-modem PLC or relay (libdf1(7) RADIO MODEM) */
+	           CLI_ACCEPT_RADIO | CLI_ACCEPT(CLI_OPT_FORWARD),
 	.plcs = CLI_PLC_BIT(DF1_PLC_SLC) | CLI_PLC_BIT(DF1_PLC_MICROLOGIX) | CLI_PLC_BIT(DF1_PLC_SLC502) |
 	        CLI_PLC_BIT(DF1_PLC_PLC5) | CLI_PLC_BIT(DF1_PLC_PLC3),
 	.common_help = {
 		[CLI_OPT_PARITY] = "-d only: parity (default none)",
 		[CLI_OPT_STOP_BITS] = "-d only: stop bits (default 1)",
-		[CLI_OPT_DUPLEX] = "full-duplex peer or half-duplex slave (default full)",
+		[CLI_OPT_DUPLEX] = "full-duplex peer, half-duplex slave or radio modem (default full)",
 		[CLI_OPT_VERBOSE] = "link events on stderr; -vv also every byte",
 		[CLI_OPT_CMD_TIMEOUT] = "--msg: how long a MSG waits for its reply (default 1000)",
 		[CLI_OPT_HD_BCC] = "master message BCC: STN+data or +STX (default stn)",

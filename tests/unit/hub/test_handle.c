@@ -233,9 +233,13 @@ static void test_handle_duplex(void **state)
 	assert_int_equal(df1_set_duplex(h, DF1_HALF_DUPLEX_MASTER), 0);
 	assert_int_equal(h->cfg.duplex, DF1_HALF_DUPLEX_MASTER);
 	assert_int_equal(df1_set_duplex(h, DF1_HALF_DUPLEX_SLAVE), 0);
+	/* 3 is the radio modem since 0.5: 4 is the first value that is none */
+	assert_int_equal(DF1_RADIO_MODEM, 3);
+	assert_int_equal(df1_set_duplex(h, DF1_RADIO_MODEM), 0);
+	assert_int_equal(h->cfg.duplex, DF1_RADIO_MODEM);
 	assert_int_equal(df1_set_duplex(h, DF1_FULL_DUPLEX), 0);
-	expect_config(h, df1_set_duplex(h, (enum df1_duplex)3), 2553,
-	              "Invalid Driver Mode (3), should be one of Master, Slave, or Peer");
+	expect_config(h, df1_set_duplex(h, (enum df1_duplex)4), 2553,
+	              "Invalid Driver Mode (4), should be one of Master, Slave, or Peer");
 	expect_config(h, df1_set_duplex(h, (enum df1_duplex)-1), 2553, NULL);
 	assert_int_equal(h->cfg.duplex, DF1_FULL_DUPLEX);
 }
@@ -443,9 +447,25 @@ static void test_handle_options(void **state)
 	assert_int_equal(df1_set_option(h, DF1_OPT_ROUTE, 0), 0);
 	assert_int_equal(df1_get_option(h, DF1_OPT_ROUTE), 0);
 	expect_config_range(h, df1_set_option(h, DF1_OPT_ROUTE, 2), "ROUTE", "0 or 1");
+	/* 0.5: the radio modem's options (libdf1(7) RADIO MODEM) */
+	assert_int_equal(DF1_OPT_APP_RETRIES, 23);
+	assert_int_equal(DF1_OPT_DCD_WAIT_MS, 28);
+	assert_int_equal(df1_get_option(h, DF1_OPT_APP_RETRIES), 0);
+	expect_config_range(h, df1_set_option(h, DF1_OPT_APP_RETRIES, -1), "APP_RETRIES", "0..10");
+	assert_int_equal(df1_get_option(h, DF1_OPT_RADIO_DUP_DETECT), DF1_DUP_AUTO);
+	assert_int_equal(df1_set_option(h, DF1_OPT_RADIO_DUP_DETECT, 0), 0);
+	assert_int_equal(df1_get_option(h, DF1_OPT_RADIO_DUP_DETECT), 0);
+	expect_config_range(h, df1_set_option(h, DF1_OPT_RADIO_DUP_DETECT, 3), "RADIO_DUP_DETECT",
+	                    "(auto)");
+	assert_int_equal(df1_get_option(h, DF1_OPT_RADIO_RTS_CTS), 0);
+	expect_config_range(h, df1_set_option(h, DF1_OPT_RADIO_RTS_CTS, 2), "RADIO_RTS_CTS", "0 or 1");
+	assert_int_equal(df1_set_option(h, DF1_OPT_RTS_OFF_DELAY_MS, 65535), 0);
+	assert_int_equal(df1_get_option(h, DF1_OPT_RTS_OFF_DELAY_MS), 65535);
+	expect_config_range(h, df1_set_option(h, DF1_OPT_DCD_WAIT_MS, 65536), "DCD_WAIT_MS",
+	                    "0..65535 ms");
 	/* the first value past the end is not an option */
-	assert_int_equal(df1_set_option(h, (enum df1_option)23, 1), DF1_E_INVAL);
-	assert_int_equal(df1_get_option(h, (enum df1_option)23), DF1_E_INVAL);
+	assert_int_equal(df1_set_option(h, (enum df1_option)29, 1), DF1_E_INVAL);
+	assert_int_equal(df1_get_option(h, (enum df1_option)29), DF1_E_INVAL);
 	assert_int_equal(df1_get_option(h, (enum df1_option)99), DF1_E_INVAL);
 }
 

@@ -322,6 +322,31 @@ static void test_port_rs485_on_pty_is_notsup(void **state)
 	pty_free(&p);
 }
 
+/* The modem lines (the radio modem's keying, lib/link/radio.c): a pty's slave
+ * side and a socket have none; the op says DF1_E_NOTSUP, not a failure. */
+static void test_port_modem_lines_absent_is_notsup(void **state)
+{
+	struct pty p;
+	int sv[2];
+	unsigned st = 0;
+	df1_t *h = handle_new();
+
+	(void)state;
+	pty_make(&p);
+	assert_int_equal(df1_open(h, p.path), 0);
+	assert_non_null(h->port->modem);
+	assert_int_equal(h->port->modem(h, PORT_LINE_RTS, 0, &st), DF1_E_NOTSUP);
+	assert_int_equal(h->port->modem(h, 0, 0, &st), DF1_E_NOTSUP);
+	df1_close(h);
+	pty_free(&p);
+	assert_int_equal(socketpair(AF_UNIX, SOCK_STREAM, 0, sv), 0);
+	assert_int_equal(df1_open_fd(h, sv[0], false), 0);
+	assert_int_equal(h->port->modem(h, 0, 0, &st), DF1_E_NOTSUP);
+	df1_free(h);
+	close(sv[0]);
+	close(sv[1]);
+}
+
 static void test_port_bad_device_is_nodev(void **state)
 {
 	df1_t *h = handle_new();
@@ -1019,6 +1044,7 @@ int main(void)
 		cmocka_unit_test(test_port_termios_restored_on_close),
 		cmocka_unit_test(test_port_second_open_is_busy),
 		cmocka_unit_test(test_port_rs485_on_pty_is_notsup),
+		cmocka_unit_test(test_port_modem_lines_absent_is_notsup),
 		cmocka_unit_test(test_port_bad_device_is_nodev),
 		cmocka_unit_test(test_port_unreadable_device_is_perm),
 		cmocka_unit_test(test_port_cancel_fd_ends_wait_with_intr),
