@@ -8,7 +8,8 @@
  * (gw_pub.c, gw_line_turns). A turn handed joins the engine's queue behind
  * what is on it, which is served in order before the next transaction of the
  * line; so a bridged request waits behind at most one batch of writes (the
- * one on the line, or the one whose turn came first) and one poll read.
+ * one on the line, or the one whose turn came first), or the poll read on
+ * the line when it came during a scan, never behind the rest of a backlog.
  */
 #ifndef DF1_TOOLS_GW_TURN_H
 #define DF1_TOOLS_GW_TURN_H

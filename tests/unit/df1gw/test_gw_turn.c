@@ -4,8 +4,8 @@
  * df1gw(1), ETHERNET/IP and WRITE POLICY: the bridge's requests and the MQTT
  * write batches take turns; one batch on the line at a time, none started
  * inside the line's work; after a full batch a due poll read goes first; a
- * bridged request waits behind at most one batch of writes and one poll
- * read. The decisions one by one, then the order of service they give on a
+ * bridged request waits behind at most one batch of writes, or the poll read
+ * on the line. The decisions one by one, then the order of service they give on a
  * model of the line (the poll engine's queue served in order before each
  * transaction, lib/poll/poll_int.h), written out by hand.
  */
