@@ -23,6 +23,7 @@
 #include "df1gw/gw_receive.h"
 #include "df1gw/gw_sfwd.h"
 #include "df1gw/gw_state.h"
+#include "df1gw/gw_turn.h"
 #include "df1gw/gw_url.h"
 #include "df1gw/gw_write.h"
 #include "df1gw/gw_wqueue.h"
@@ -94,6 +95,8 @@ struct gw {
 	struct gw_wq wq;             /* waiting writes; its counters are the write side's */
 	unsigned writes_since_read;  /* handed to the line since the poll engine last read */
 	uint64_t reads_seen;         /* the engine's reads + probes when last looked at */
+	enum gw_turn turn_last;      /* whose turn the line gave last: the bridge's or the writes' */
+	bool in_line_work;           /* inside df1_poll (line_tick serves the bridge too) */
 	struct gw_outbox outbox;     /* results that fell while the broker was away */
 
 	/* Receive rows: df1gw's own data table on the line (gw_receive.h) */
@@ -145,10 +148,12 @@ void gw_on_connecting(void *user);
 void gw_bdseq_load(struct gw *g);
 /* --counters: each format's own line. */
 void gw_publish_counters(const struct gw *g, FILE *out);
-/* The write queue: what waits handed to the line when its turn comes (a
- * batch of at most --duty-cycle, not while a due poll read has waited behind
- * as many), what expired answered. Once per turn of the loop. */
-void gw_writes_feed(struct gw *g, int64_t now);
+/* The line's turns (gw_turn.h): the bridge's waiting requests and the MQTT
+ * writes (a batch of at most --duty-cycle, not while a due poll read has
+ * waited behind as many) handed to the line in turn; what expired answered.
+ * Once per turn of the loop, and from inside the line's work (in_line: the
+ * bridge's requests only, no batch starts there). */
+void gw_line_turns(struct gw *g, int64_t now, bool in_line);
 /* The queue made from the options (gw_wqueue.h). 0, or -1 (no memory). */
 int gw_writes_init(struct gw *g);
 /* The line is gone (or replaced): every waiting write is answered "not written". */

@@ -541,18 +541,9 @@ static void writes_reads_seen(struct gw *g)
 	}
 }
 
-void gw_writes_feed(struct gw *g, int64_t now)
+/* The writes' turn: a batch of at most --duty-cycle handed to the line. */
+static void writes_batch(struct gw *g, int64_t now)
 {
-	if (!g->wq.v)
-		return;
-	gw_wq_expire(&g->wq, now);
-	/* a batch at a time: the next when the last has ended */
-	if (!g->h || !g->line_up || g->writes_pending > 0 || g->wq.n == 0)
-		return;
-	writes_reads_seen(g);
-	/* a poll read that is due goes first once a batch has run since the last read */
-	if (g->writes_since_read >= (unsigned)g->duty_cycle && df1_poll_next_ms(g->h) == 0)
-		return;
 	for (int k = 0; k < g->duty_cycle; k++) {
 		struct gw_witem *it = gw_wq_pop(&g->wq, now);
 		struct gw_wr *w;
@@ -571,6 +562,38 @@ void gw_writes_feed(struct gw *g, int64_t now)
 		}
 		g->writes_pending++;
 		g->writes_since_read++;
+	}
+}
+
+void gw_line_turns(struct gw *g, int64_t now, bool in_line)
+{
+	if (g->wq.v)
+		gw_wq_expire(&g->wq, now);
+	if (!g->h || !g->line_up)
+		return;
+	writes_reads_seen(g);
+	/* a turn handed changes what waits: ask again, a few times at most */
+	for (int i = 0; i < 4; i++) {
+		struct gw_turn_state s = {
+			.bridge = gw_eip_waiting(&g->eip),
+			.backlog = g->wq.v ? g->wq.n : 0,
+			.batch = g->writes_pending,
+			.since_read = g->writes_since_read,
+			.duty = (unsigned)g->duty_cycle,
+			.in_line = in_line,
+			.last = g->turn_last,
+		};
+		enum gw_turn t;
+
+		s.poll_due = s.backlog > 0 && df1_poll_next_ms(g->h) == 0;
+		t = gw_turn_next(&s);
+		if (t == GW_TURN_BRIDGE)
+			gw_eip_hand(&g->eip);
+		else if (t == GW_TURN_WRITES)
+			writes_batch(g, now);
+		else
+			return;
+		g->turn_last = t;
 	}
 }
 
