@@ -114,7 +114,8 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--add-user", metavar="NAME", help="add NAME to --users FILE, the password read on stdin, "
                                                      "and exit")
     g = p.add_argument_group("general")
-    g.add_argument("-v", "--verbose", action="store_true", help="say more on stderr")
+    g.add_argument("-v", "--verbose", action="count", default=0,
+                   help="say more on stderr (sessions, writes); twice: asyncua's own warnings too")
     g.add_argument("-q", "--quiet", action="store_true", help="only errors on stderr")
     g.add_argument("--version", action="store_true", help="print the version and exit")
     g.add_argument("-h", "--help", action="store_true", help="this help")
@@ -188,6 +189,8 @@ def main(argv: Optional[List[str]] = None) -> int:
 def run(args) -> int:
     if not args.map:
         raise Usage("--map FILE.csv is required")
+    if not os.path.isfile(args.map):
+        raise Usage("--map %s: no such file" % args.map)
     if not args.device and not args.net and not os.environ.get("DF1_DEVICE"):
         raise Usage("no line: -d DEV, -N FILE or $DF1_DEVICE")
     args.device = args.device or (None if args.net else os.environ.get("DF1_DEVICE"))
@@ -200,7 +203,7 @@ def run(args) -> int:
         print("%s: needs asyncua (Python 3.10 or later): pip install './python[opcua]' or pip install asyncua"
               % PROG, file=sys.stderr)
         return 1
-    logging.getLogger("asyncua").setLevel(logging.WARNING if args.verbose else logging.CRITICAL)
+    logging.getLogger("asyncua").setLevel(logging.WARNING if args.verbose > 1 else logging.CRITICAL)
     from . import users as users_mod
     table = None
     if args.users:

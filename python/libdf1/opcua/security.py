@@ -108,9 +108,23 @@ class Pki:
             def create(peer_certificate, make=make):
                 if not peer_certificate:
                     raise ServiceError(ua.StatusCodes.BadCertificateInvalid)
-                self.check(_first_der(peer_certificate))
+                try:
+                    self.check(_first_der(peer_certificate))
+                except ServiceError as e:
+                    raise _refused(e.code) from None
                 return make(peer_certificate)
             f.create = create
+
+
+def _refused(code: int) -> Exception:
+    """A client certificate refused while the secure channel opens. asyncua answers the one
+    error it expects at that point (BadRequestTooLarge) with an ERR message carrying the
+    exception's code, then closes the connection: with the code set to the true reason
+    (BadCertificateUntrusted ...) the client reads it at once, rather than waiting for its
+    own timeout."""
+    e = ua.uaerrors.BadRequestTooLarge()
+    e.code = code
+    return e
 
 
 def _first_der(data: bytes) -> bytes:
