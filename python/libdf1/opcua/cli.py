@@ -149,6 +149,8 @@ def open_line(args):
         kw["handshake"] = args.handshake == "yes"
     if args.rs485:
         kw["rs485"] = True
+    if getattr(args, "cancel", None):
+        kw["cancel_fd"] = args.cancel[0]     # readable at stop: a wait on the line ends at once
     plc = libdf1.open(args.device, **kw)
     try:
         poller = plc.poller(map=args.map, strict=True, watchdog_ms=args.watchdog)
@@ -214,6 +216,7 @@ def run(args) -> int:
         if not table:
             raise Usage("--users %s: no user in it (add one with --add-user NAME)" % args.users)
     loopback = is_loopback(host)
+    args.cancel = os.pipe()
     import libdf1
     try:
         plc, poller = open_line(args)

@@ -121,7 +121,9 @@ async def serve(args, plc, poller, reopen, host: str, port: int, loopback: bool,
     await stop.wait()
     sd_notify("STOPPING=1")
     log.info("stopping: writes %s", writes.counts)
-    await loop.run_in_executor(None, the_line.stop)
+    cancel = getattr(args, "cancel", None)
+    # the line's cancel_fd made readable: a transaction under way ends now
+    await loop.run_in_executor(None, the_line.stop, (lambda: os.write(cancel[1], b"x")) if cancel else None)
     task.cancel()
     await server.stop()
     return 0

@@ -20,6 +20,7 @@ from asyncua import ua
 
 import libdf1
 from libdf1._ffi import ffi, lib, text
+from libdf1.errors import make_error
 
 log = logging.getLogger("df1opcua")
 
@@ -44,6 +45,9 @@ _MEMBERS = {
 }
 _WORDS = ("PRE", "ACC", "LEN", "POS")
 STATION_VARS = ("Online", "State", "ProcessorType")
+# a station's last error that says the port itself is gone (a device server
+# closed the connection, a pty or USB adapter vanished): the line is opened again
+_PORT_GONE = {getattr(lib, n) for n in ("DF1_E_CLOSED", "DF1_E_SYS", "DF1_E_NOT_OPEN", "DF1_E_NODEV") if hasattr(lib, n)}
 
 
 @dataclass
@@ -322,8 +326,11 @@ class Line:
         self._first = (plc, poller)
         self._thread.start()
 
-    def stop(self) -> None:
+    def stop(self, cancel: Optional[Callable[[], None]] = None) -> None:
+        """End the thread: cancel() (if given) wakes a wait on the line once the flag is set."""
         self._stop.set()
+        if cancel is not None:
+            cancel()
         self._thread.join(10)
 
     def write(self, tid: int, value: Any):
@@ -355,6 +362,9 @@ class Line:
             try:
                 self._serve(plc, poller)
             except libdf1.Df1Error as e:
+                if self._stop.is_set():     # cancelled by stop()
+                    plc.close()
+                    return
                 log.error("line lost: %s", e)
                 self._put(("lost", None))
             with self._lock:
@@ -369,8 +379,11 @@ class Line:
             changes = poller.poll(0.2)
             if changes:
                 self._put(("changes", changes))
+            gone = 0
             for s in self._stations:
-                state = poller.station_health(s)["state"]
+                health = poller.station_health(s)
+                state = health["state"]
+                gone += state == "offline" and health["last_error"] in _PORT_GONE
                 if state == known.get(s):
                     continue
                 known[s] = state
@@ -382,3 +395,5 @@ class Line:
                         log.info("station %d: no diagnostic status: %s", s, e)
                     ptype[s] = name
                 self._put(("station", (s, state, name)))
+            if gone == len(self._stations):
+                raise make_error(lib.DF1_E_CLOSED, "every station offline, the port closed")
