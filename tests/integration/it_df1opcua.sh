@@ -16,6 +16,8 @@
 #   - --users: anonymous refused, a wrong password refused; SignAndEncrypt
 #     with an unknown certificate refused and kept in rejected/, admitted once
 #     moved to trusted/ (no restart); Sign too
+#   - -d eip:// through df1gw --eip (a second df1sim behind df1gw): values and
+#     a write once, df1gw and df1opcua on one line at once
 # SKIP (exit 0, nothing counted) when python3 has no asyncua, or node or
 # node-opcua is missing. Run from the repository root.
 B=${B:-build}
@@ -53,24 +55,33 @@ has() { grep -qxF "$2" "$T/cl" && ok || { bad "$1: no line '$2'"; sed 's/^/  cli
 has_re() { grep -qE "$2" "$T/cl" && ok || { bad "$1: no line like '$2'"; sed 's/^/  client: /' "$T/cl.raw" | tail -8; }; }
 
 # srv_start NAME ARGS...: df1opcua in the background until it says it serves; SRV_PID
-srv_start() {
+# (srv_launch starts it, srv_wait NAME waits)
+srv_launch() {
 	sname=$1; shift
 	: > "$T/$sname.err"
 	$OPCUA "$@" > "$T/$sname.out" 2> "$T/$sname.err" &
 	SRV_PID=$!
 	echo "$SRV_PID" >> "$T/.sims"
+}
+srv_start() {
+	srv_launch "$@"
+	srv_wait "$1"
+}
+srv_wait() {
+	sname=$1
 	n=200
 	while [ $n -gt 0 ] && ! grep -q ' tags of ' "$T/$sname.err"; do
-		kill -0 "$SRV_PID" 2>/dev/null || break
+		grep -q ' tags of \|Traceback\|: DF1_E' "$T/$sname.err" && break
 		n=$((n - 1)); tick
 	done
 	grep -q ' tags of ' "$T/$sname.err" && ok || { bad "df1opcua $sname did not start"; sed 's/^/  df1opcua: /' "$T/$sname.err" | head; }
 }
 srv_stop() {
-	kill -TERM "$SRV_PID" 2>/dev/null
-	wait "$SRV_PID"
+	p=${1:-$SRV_PID}
+	kill -TERM "$p" 2>/dev/null
+	wait "$p"
 	same "df1opcua: SIGTERM ends it with status 0" "$?" 0
-	grep -v "^$SRV_PID\$" "$T/.sims" > "$T/.sims.new"; mv "$T/.sims.new" "$T/.sims"
+	grep -v "^$p\$" "$T/.sims" > "$T/.sims.new"; mv "$T/.sims.new" "$T/.sims"
 }
 
 cat > "$T/map.csv" <<'CSV'
@@ -101,6 +112,21 @@ err_has "df1opcua: the bad row's catalog ID" "[2503]"
 expect 2 "df1opcua: --add-user without --users" -- $OPCUA --add-user alice
 expect 0 "df1opcua --help" -- $OPCUA --help
 check "df1opcua --help: names --listen and its default" "grep -q '127.0.0.1:4840' '$T/out'"
+
+# ---- a second line, owned by df1gw: df1opcua through its EtherNet/IP bridge ----
+# (started now, so that it comes up while the first server's checks run)
+PLC_PID=$SIM_PID; PLC_DEV=$SIM_DEV
+sim_start gwplc --data "$T/plc.data" --log "$T/gwplc.log"
+GWSIM_PID=$SIM_PID
+"$BIN/df1gw" -d "$SIM_DEV" --eip 0 > "$T/gw.out" 2> "$T/gw.err" &
+GW_PID=$!
+echo "$GW_PID" >> "$T/.sims"
+gw_addr() { EIP=$(sed -n 's|^df1gw: EtherNet/IP on \([0-9.]*:[0-9]*\).*|\1|p' "$T/gw.err" | head -n 1); [ -n "$EIP" ]; }
+wait_for "df1gw --eip says where it listens" 100 gw_addr
+P3=$(free_port)
+srv_launch c -d "eip://$EIP" --name GW --map "$T/map.csv" --listen "$P3" --pki "$T/pki-c"
+C_PID=$SRV_PID
+SIM_PID=$PLC_PID; SIM_DEV=$PLC_DEV
 
 # ---- one server on loopback, SecurityPolicy None ----
 P1=$(free_port)
@@ -183,6 +209,20 @@ else
 	skip "loopback only: this machine has no other IPv4 address"
 fi
 srv_stop
+
+# the line of df1gw, through its EtherNet/IP bridge: values, and a write once
+srv_wait c
+client "opc.tcp://127.0.0.1:$P3" waitval:GW.station1.Level:21.5:10 read:GW.station1.Block \
+	write:GW.station1.Speed:Int16:9 waitval:GW.station1.Speed:9:10 write:GW.station1.Total:Int32:1
+has "through df1gw --eip: F8:3" "waitval GW.station1.Level Good 21.5"
+has_re "through df1gw --eip: N7:10,4" "^read GW.station1.Block Good \[1,-2,3,30000\] "
+has "through df1gw --eip: a write Good" "write GW.station1.Speed Good"
+has "through df1gw --eip: the value read back" "waitval GW.station1.Speed Good 9"
+has "through df1gw --eip: a Read row refused" "write GW.station1.Total BadNotWritable"
+same "through df1gw --eip: N7:0 written once (df1sim --log)" "$(grep -c 'cmd=0F/AA addr=N7:0 ' "$T/gwplc.log")" 1
+same "through df1gw --eip: nothing written to L10:0" "$(grep -c 'cmd=0F/AA addr=L10:0 ' "$T/gwplc.log")" 0
+srv_stop "$C_PID"
+kill -TERM "$GW_PID"; lib_reap "$GW_PID"
 
 # ---- users, a named address, Basic256Sha256 ----
 printf 'secret one\n' | $OPCUA --users "$T/users" --add-user alice 2> "$T/add.err"
