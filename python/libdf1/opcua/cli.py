@@ -12,7 +12,6 @@ import ipaddress
 import logging
 import os
 import re
-import signal
 import socket
 import sys
 from typing import List, Optional, Tuple
