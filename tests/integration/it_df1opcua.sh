@@ -16,6 +16,7 @@
 #   - --users: anonymous refused, a wrong password refused; SignAndEncrypt
 #     with an unknown certificate refused and kept in rejected/, admitted once
 #     moved to trusted/ (no restart); Sign too
+#   - a tag of a station that never answered: BadNoCommunication
 #   - -d eip:// through df1gw --eip (a second df1sim behind df1gw): values and
 #     a write once, df1gw and df1opcua on one line at once
 # SKIP (exit 0, nothing counted) when python3 has no asyncua, or node or
@@ -106,7 +107,7 @@ expect 2 "df1opcua: a --map that does not exist" -- $OPCUA -d /dev/null --map "$
 err_has "df1opcua: the missing map named" "nope.csv: no such file"
 expect 2 "df1opcua: a bad --listen" -- $OPCUA -d /dev/null --map "$T/map.csv" --listen 1.2.3.4:99999
 printf 'Tag,Command,Type,Station,PLC_Type,Address\nX,Read,INT,1,SLC,N7:x\n' > "$T/bad.csv"
-sim_start plc --data "$T/plc.data" --ramp N7:1@100 --log "$T/plc.log" -v
+sim_start plc --data "$T/plc.data" --ramp N7:1@100 --log "$T/plc.log" --silent 9 -v
 expect 2 "df1opcua: a mapping row with a bad address" -- $OPCUA -d "$SIM_DEV" --map "$T/bad.csv"
 err_has "df1opcua: the bad row's catalog ID" "[2503]"
 expect 2 "df1opcua: --add-user without --users" -- $OPCUA --add-user alice
@@ -130,7 +131,7 @@ SIM_PID=$PLC_PID; SIM_DEV=$PLC_DEV
 
 # ---- one server on loopback, SecurityPolicy None ----
 P1=$(free_port)
-srv_start a -d "$SIM_DEV" --map "$T/map.csv" --listen "$P1" --name L1 --pki "$T/pki" --watchdog 3000 -o 200 -v
+srv_start a -d "$SIM_DEV" --map "$T/map.csv" --listen "$P1" --name L1 --pki "$T/pki" --watchdog 3000 -o 200 --enq-retries 0 -v
 check "df1opcua: on loopback it says nothing of other machines" "! grep -q 'other machines' '$T/a.err'"
 check "df1opcua: the server's certificate made in own/" "[ -s '$T/pki/own/cert.der' ] && [ -s '$T/pki/own/private/key.pem' ]"
 check "df1opcua: the key is 0600" "[ \"\$(stat -c %a '$T/pki/own/private/key.pem')\" = 600 ]"
@@ -225,16 +226,18 @@ srv_stop "$C_PID"
 kill -TERM "$GW_PID"; lib_reap "$GW_PID"
 
 # ---- users, a named address, Basic256Sha256 ----
+# and a station that never answers (df1sim serves station 1 only): no last value, BadNoCommunication
+{ cat "$T/map.csv"; echo "Ghost,Read,INT,9,SLC,N7:0,1,1000"; } > "$T/map2.csv"
 printf 'secret one\n' | $OPCUA --users "$T/users" --add-user alice 2> "$T/add.err"
 same "--add-user: exit 0" "$?" 0
 check "--add-user: a salted hash, not the password" "grep -q '^alice:scrypt\\$' '$T/users' && ! grep -q 'secret' '$T/users'"
 check "--add-user: the file 0600" "[ \"\$(stat -c %a '$T/users')\" = 600 ]"
 P2=$(free_port)
 if [ -n "$ip" ]; then
-	L2=$ip; srv_start b -d "$SIM_DEV" --map "$T/map.csv" --listen "$ip:$P2" --name L1 --pki "$T/pki" --users "$T/users"
+	L2=$ip; srv_start b -d "$SIM_DEV" --listen "$ip:$P2" --name L1 --pki "$T/pki" --users "$T/users" --map "$T/map2.csv" -o 200
 	check "a named address: says other machines reach it" "grep -q 'reachable from other machines' '$T/b.err'"
 else
-	L2=127.0.0.1; srv_start b -d "$SIM_DEV" --map "$T/map.csv" --listen "$P2" --name L1 --pki "$T/pki" --users "$T/users"
+	L2=127.0.0.1; srv_start b -d "$SIM_DEV" --listen "$P2" --name L1 --pki "$T/pki" --users "$T/users" --map "$T/map2.csv" -o 200
 	skip "a named address: this machine has no other IPv4 address"
 fi
 U2=opc.tcp://$L2:$P2
@@ -248,9 +251,12 @@ has_re "unknown client certificate: refused" "^error "
 check "unknown client certificate: the client told BadCertificateUntrusted" "grep -q BadCertificateUntrusted '$T/cl.raw'"
 check "unknown client certificate: kept in rejected/" "ls '$T'/pki/rejected/*.der >/dev/null 2>&1"
 mv "$T"/pki/rejected/*.der "$T/pki/trusted/"
-client "$U2" mode=SignAndEncrypt user=alice "password=secret one" read:L1.station1.Speed write:L1.station1.Speed:Int16:7
+client "$U2" mode=SignAndEncrypt user=alice "password=secret one" read:L1.station1.Speed write:L1.station1.Speed:Int16:7 \
+	read:L1.station9.Ghost read:L1.station9.Online
 has_re "moved to trusted/: admitted, SignAndEncrypt" "^read L1.station1.Speed Good "
 has "SignAndEncrypt: a write Good" "write L1.station1.Speed Good"
+has_re "a station that never answered: BadNoCommunication" "^read L1.station9.Ghost BadNoCommunication null "
+has_re "a station that never answered: not online" "^read L1.station9.Online Good false "
 same "SignAndEncrypt: N7:0=7 written once" "$(grep -c 'cmd=0F/AA addr=N7:0 ' "$T/plc.log")" 2
 client "$U2" mode=Sign user=alice "password=secret one" read:L1.station1.Speed
 has_re "Sign: admitted" "^read L1.station1.Speed Good "

@@ -89,13 +89,14 @@ def tag_rows(plc: "libdf1.Plc", poller: "libdf1.Poller") -> List[TagNode]:
     return out
 
 
-def status_of(quality: str, reason: str) -> int:
-    """A tag's quality and reason (df1_quality_name(3), df1_reason_name(3)) as an OPC UA StatusCode."""
+def status_of(quality: str, reason: str, has_value: bool = True) -> int:
+    """A tag's quality and reason (df1_quality_name(3), df1_reason_name(3)) as an OPC UA StatusCode;
+    a tag never read whose station does not answer has no last known value: BadNoCommunication."""
     if quality == "GOOD":
         return SC.Good
     if quality == "UNCERTAIN":
         return SC.UncertainLastUsableValue
-    if reason == "not_yet_read":
+    if reason == "not_yet_read" or (not has_value and reason in ("comm_failure", "station_offline")):
         return SC.BadNoCommunication
     if reason == "plc_error":
         return SC.BadDeviceFailure
@@ -201,7 +202,7 @@ class Space:
         t = self.by_name.get(change.tag)
         if t is None:
             return
-        code = status_of(str(change.quality), str(change.reason))
+        code = status_of(str(change.quality), str(change.reason), change.timestamp is not None)
         bad = ua.StatusCode(code).is_bad()
         src = change.timestamp if not bad and change.timestamp else _now()
         if t.kind == lib.DF1_VAL_TCR:
