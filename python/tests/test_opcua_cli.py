@@ -92,3 +92,19 @@ def test_usage_errors_exit_2(capsys, tmp_path):
     assert cli.main(["-d", "/dev/null", "--map", str(tmp_path / "none.csv")]) == 2
     assert cli.main(["--add-user", "alice"]) == 2
     assert cli.main(["-b", "nine"]) == 2
+
+
+def test_write_timeout_option():
+    p = cli.build_parser()
+    assert p.parse_args([]).write_timeout == 30000          # df1gw's default
+    assert p.parse_args(["--write-timeout", "1"]).write_timeout == 1
+    assert p.parse_args(["--write-timeout", "3600000"]).write_timeout == 3600000
+    assert p.parse_args(["--write-timeout", "0x12C"]).write_timeout == 300
+
+
+@pytest.mark.parametrize("value", ["0", "3600001", "-5", "fast", ""])
+def test_write_timeout_refused(capsys, tmp_path, value):
+    m = tmp_path / "map.csv"
+    m.write_text("Tag,Command,Type,Station,PLC_Type,Address\nX,Read,INT,1,SLC,N7:0\n")
+    assert cli.main(["-d", "/dev/null", "--map", str(m), "--write-timeout", value]) == 2
+    assert "--write-timeout" in capsys.readouterr().err

@@ -17,6 +17,9 @@
 #     with an unknown certificate refused and kept in rejected/, admitted once
 #     moved to trusted/ (no restart); Sign too
 #   - a tag of a station that never answered: BadNoCommunication
+#   - --write-timeout: df1sim slow to answer, a write on the line and two
+#     waiting behind it: those two BadTimeout and never sent (df1sim --log),
+#     the first and a later one Good, each written once
 #   - -d eip:// through df1gw --eip (a second df1sim behind df1gw): values and
 #     a write once, df1gw and df1opcua on one line at once
 # SKIP (exit 0, nothing counted) when python3 has no asyncua, or node or
@@ -264,5 +267,28 @@ client "$U2" mode=SignAndEncrypt user=alice password=wrong read:L1.station1.Spee
 has_re "a wrong password: refused" "^error .*BadUserAccessDenied"
 client "$U2" mode=SignAndEncrypt read:L1.station1.Speed
 has_re "anonymous with --users: refused" "^error "
+srv_stop
+
+# ---- --write-timeout: writes that did not get the line in time ----
+# df1sim answers every command 1 s late: of one Write request of three, the
+# first goes to the line (>= 1 s), the two behind it wait and expire after
+# 300 ms, answered BadTimeout and never sent; a write after that one Good.
+sim_start slow --data "$T/plc.data" --log "$T/slow.log" --delay 1000
+P4=$(free_port)
+srv_start d -d "$SIM_DEV" --map "$T/map.csv" --listen "$P4" --name L4 --pki "$T/pki" -o 3000 --cmd-timeout 5000 \
+	--write-timeout 300
+client "opc.tcp://127.0.0.1:$P4" \
+	'writes:L4.station1.Speed:Int16:11|L4.station1.Speed:Int16:12|L4.station1.Name:String:"late"' \
+	write:L4.station1.Speed:Int16:13
+same "--write-timeout: the first Good, the two behind it BadTimeout, a later one Good" \
+	"$(grep '^write ' "$T/cl" | tr '\n' ' ')" \
+	"write L4.station1.Speed Good write L4.station1.Speed BadTimeout write L4.station1.Name BadTimeout write L4.station1.Speed Good "
+same "--write-timeout: N7:0 written twice, 11 and 13, not 12 (df1sim --log)" "$(grep -c 'cmd=0F/AA addr=N7:0 ' "$T/slow.log")" 2
+same "--write-timeout: the expired ST9:0 never written" "$(grep -c 'cmd=0F/AA addr=ST9:0 ' "$T/slow.log")" 0
+err_in() { grep -qF "$2" "$T/d.err" && ok || { bad "$1: no '$2' in df1opcua's stderr"; sed 's/^/  df1opcua: /' "$T/d.err" | tail -5; }; }
+err_in "--write-timeout: says why N7:0 was not written" "write to Speed expired, not written: not started within 300 ms"
+err_in "--write-timeout: says why ST9:0 was not written" "write to Name expired, not written: not started within 300 ms"
+expect 2 "--write-timeout 0: a usage error" -- $OPCUA -d "$SIM_DEV" --map "$T/map.csv" --write-timeout 0
+err_has "--write-timeout 0: names the option" "--write-timeout"
 srv_stop
 finish

@@ -8,6 +8,8 @@
 //   attrs:NODE              "attrs NODE DATATYPE VALUERANK DIMS ACCESSLEVEL USERACCESSLEVEL"
 //   read:NODE               "read NODE STATUS VALUE SOURCETIMESTAMP_MS"
 //   write:NODE:TYPE:VALUE   "write NODE STATUS" (VALUE a JSON value; TYPE Int16 Int32 Float Boolean String)
+//   writes:NODE:TYPE:VALUE|NODE:TYPE:VALUE...  one Write request of several nodes, in that order:
+//                           "write NODE STATUS" each, in the request's order
 //   wait:NODE:STATUS:S      read every 100 ms until STATUS (a name), at most S seconds: "wait NODE STATUS"
 //   waitval:NODE:JSON:S     read every 100 ms until the value is JSON, at most S seconds: "waitval NODE STATUS VALUE"
 //   kill:PID:SIGNAL         send SIGNAL (SIGUSR1 ...) to PID, e.g. df1sim's: "kill PID SIGNAL"
@@ -66,6 +68,13 @@ async function main() {
     }
     const ns = (await session.readNamespaceArray()).indexOf(NSU);
     const id = (n) => `ns=${ns};s=${n}`;
+    // [NODE, TYPE, VALUE...] (VALUE's own ':' split too) -> a WriteValue of the Value attribute
+    const writeValue = (w) => {
+        const value = JSON.parse(w.slice(2).join(":"));
+        return { nodeId: id(w[0]), attributeId: ua.AttributeIds.Value,
+            value: { value: { dataType: ua.DataType[w[1]], value,
+                arrayType: Array.isArray(value) ? ua.VariantArrayType.Array : ua.VariantArrayType.Scalar } } };
+    };
     for (const step of steps) {
         const p = step.split(":");
         const op = p[0], node = p[1];
@@ -86,12 +95,12 @@ async function main() {
             const ts = dv.sourceTimestamp ? dv.sourceTimestamp.getTime() : 0;
             console.log(`read ${node} ${dv.statusCode.name} ${show(dv.value.value)} ${ts}`);
         } else if (op === "write") {
-            const type = p[2];
-            const value = JSON.parse(p.slice(3).join(":"));
-            const st = await session.write({ nodeId: id(node), attributeId: ua.AttributeIds.Value,
-                value: { value: { dataType: ua.DataType[type], value,
-                    arrayType: Array.isArray(value) ? ua.VariantArrayType.Array : ua.VariantArrayType.Scalar } } });
+            const st = await session.write(writeValue(p.slice(1)));
             console.log(`write ${node} ${st.name}`);
+        } else if (op === "writes") {
+            const parts = step.slice("writes:".length).split("|").map((w) => w.split(":"));
+            const st = await session.write(parts.map(writeValue));
+            parts.forEach((w, i) => console.log(`write ${w[0]} ${st[i].name}`));
         } else if (op === "wait") {
             const want = p[2], deadline = Date.now() + 1000 * Number(p[3]);
             let got = "";

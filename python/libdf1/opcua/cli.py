@@ -100,6 +100,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="a station silent this long is offline, its tags Bad (df1_poll_set_watchdog(3))")
     g.add_argument("--max-pending-writes", type=number(1, 100000), default=1000, metavar="N",
                    help="writes waiting for the line at most; more: BadTooManyOperations (default 1000)")
+    g.add_argument("--write-timeout", type=number(1, 3600000), default=30000, metavar="MS",
+                   help="a write not started on the line within MS ms: BadTimeout, never written (default 30000)")
     g = p.add_argument_group("server")
     g.add_argument("--listen", default="127.0.0.1:4840", metavar="[ADDR:]PORT",
                    help="where to listen (default 127.0.0.1:4840, this machine only)")

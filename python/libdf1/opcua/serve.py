@@ -74,7 +74,7 @@ async def serve(args, plc, poller, reopen, host: str, port: int, loopback: bool,
     queue: asyncio.Queue = asyncio.Queue()
     stations = sorted({t.station for t in tags})
     the_line = Line(reopen, loop, queue, stations)
-    writes = Writes(space, the_line, args.max_pending_writes)
+    writes = Writes(space, the_line, args.max_pending_writes, args.write_timeout)
     setup = server._setup_server_nodes
 
     async def guarded_setup() -> None:     # the policies exist from here, before anything listens
@@ -120,6 +120,7 @@ async def serve(args, plc, poller, reopen, host: str, port: int, loopback: bool,
     task = asyncio.create_task(pump())
     await stop.wait()
     sd_notify("STOPPING=1")
+    writes.close()
     log.info("stopping: writes %s", writes.counts)
     cancel = getattr(args, "cancel", None)
     # the line's cancel_fd made readable: a transaction under way ends now

@@ -6,15 +6,17 @@ CONTROL row an Object with its members), NodeIds "LINE.stationN.TAG" in the
 server's namespace. The thread of Line owns the DF1 handle (libdf1(7), thread
 rule): it runs the poll engine and hands every change to the event loop, which
 writes it into the address space, where subscriptions take it from (no read
-of the PLC per client). Writes from clients go to Poller.write() and are
-answered when the engine reports the PLC's acknowledgement.
+of the PLC per client). Writes from clients wait in Writes' FIFO, go to
+Poller.write() one at a time and are answered when the engine reports the
+PLC's acknowledgement (or BadTimeout when one never got its turn in time).
 """
 import asyncio
+import collections
 import datetime
 import logging
 import threading
 from dataclasses import dataclass, field
-from typing import Any, Callable, Dict, List, Optional, Tuple
+from typing import Any, Callable, Deque, Dict, List, Optional, Tuple
 
 from asyncua import ua
 
@@ -246,15 +248,35 @@ class Space:
                         StatusCode=ua.StatusCode(code), SourceTimestamp=_now(), ServerTimestamp=_now()))
 
 
-class Writes:
-    """The Write service for the line's Variables; every other node goes to asyncua's own."""
+@dataclass
+class _Waiting:
+    """A client's write in the FIFO of Writes, not yet handed to the line."""
+    tag: TagNode
+    value: Any
+    done: "asyncio.Future[ua.StatusCode]"
+    timer: Optional[asyncio.TimerHandle] = None
 
-    def __init__(self, space: Space, line: "Line", max_pending: int) -> None:
+
+class Writes:
+    """The Write service for the line's Variables; every other node goes to asyncua's own.
+
+    The writes wait in a FIFO here and one at a time is handed to the poll
+    engine (df1_tag_write(3)), the next once the engine has ended the one
+    before: so a write handed over goes at the engine's next free slot, and
+    one that waited longer than timeout_ms is answered BadTimeout and never
+    sent (the engine's own queue has no way back). A write handed over ends as
+    the line says, exactly once (the engine never resends it)."""
+
+    def __init__(self, space: Space, line: "Line", max_pending: int, timeout_ms: int = 30000) -> None:
         self.space = space
         self.line = line
         self.max_pending = max_pending
-        self.pending = 0
-        self.counts = {"received": 0, "written": 0, "failed": 0, "refused": 0}
+        self.timeout_ms = timeout_ms
+        self.pending = 0            # clients waiting for an answer: in the FIFO or on the line
+        self.fifo: Deque[_Waiting] = collections.deque()
+        self.busy = False           # a write handed to the engine and not ended
+        self.closed = False
+        self.counts = {"received": 0, "written": 0, "failed": 0, "refused": 0, "expired": 0}
         aservice = space.server.iserver.attribute_service
         self._orig = aservice.write
         aservice.write = self.write
@@ -281,28 +303,79 @@ class Writes:
                 (t.count > 1) != isinstance(var.Value, list):
             self.counts["refused"] += 1
             return ua.StatusCode(SC.BadTypeMismatch)
+        if self.closed:
+            self.counts["refused"] += 1
+            return ua.StatusCode(SC.BadShutdown)
         if self.pending >= self.max_pending:
             self.counts["refused"] += 1
             log.warning("write to %s refused: %d writes already wait", t.name, self.pending)
             return ua.StatusCode(SC.BadTooManyOperations)
-        try:
-            fut = self.line.write(t.id, var.Value)
-        except libdf1.Df1Error as e:
-            self.counts["refused"] += 1
-            log.info("write to %s refused: %s", t.name, e)
-            return ua.StatusCode(write_status(e))
+        loop = asyncio.get_running_loop()
+        w = _Waiting(t, var.Value, loop.create_future())
+        w.timer = loop.call_later(self.timeout_ms / 1000.0, self._expire, w)
+        self.fifo.append(w)
         self.pending += 1
         try:
-            await asyncio.wrap_future(fut)
-        except libdf1.Df1Error as e:
-            self.counts["failed"] += 1
-            log.warning("write to %s failed: %s", t.name, e)
-            return ua.StatusCode(write_status(e))
+            self._next()
+            return await w.done
         finally:
             self.pending -= 1
-        self.counts["written"] += 1
-        log.info("write to %s: written", t.name)
-        return ua.StatusCode(SC.Good)
+
+    def _answer(self, w: _Waiting, code: int) -> None:
+        if not w.done.done():       # a client gone meanwhile is not answered
+            w.done.set_result(ua.StatusCode(code))
+
+    def _expire(self, w: _Waiting) -> None:
+        """w's deadline: if still in the FIFO, answered and dropped, never sent."""
+        try:
+            self.fifo.remove(w)     # the oldest (one timeout for all): at the front
+        except ValueError:
+            return                  # handed to the line already
+        if w.done.done():
+            return
+        self.counts["expired"] += 1
+        log.warning("write to %s expired, not written: not started within %d ms", w.tag.name, self.timeout_ms)
+        self._answer(w, SC.BadTimeout)
+
+    def _next(self) -> None:
+        """Hand the oldest waiting write to the line when none is there."""
+        while not self.busy and self.fifo:
+            w = self.fifo.popleft()
+            if w.timer is not None:
+                w.timer.cancel()
+            if w.done.done():
+                continue            # its client went away: nothing sent
+            try:
+                fut = self.line.write(w.tag.id, w.value)
+            except libdf1.Df1Error as e:
+                self.counts["refused"] += 1
+                log.info("write to %s refused: %s", w.tag.name, e)
+                self._answer(w, write_status(e))
+                continue
+            self.busy = True
+            asyncio.wrap_future(fut).add_done_callback(lambda f, w=w: self._ended(w, f))
+
+    def _ended(self, w: _Waiting, f: "asyncio.Future[None]") -> None:
+        self.busy = False
+        e = None if f.cancelled() else f.exception()
+        if f.cancelled() or e is not None:
+            self.counts["failed"] += 1
+            log.warning("write to %s failed: %s", w.tag.name, e or "cancelled")
+            self._answer(w, write_status(e) if isinstance(e, libdf1.Df1Error) else SC.BadCommunicationError)
+        else:
+            self.counts["written"] += 1
+            log.info("write to %s: written", w.tag.name)
+            self._answer(w, SC.Good)
+        self._next()
+
+    def close(self) -> None:
+        """At the stop: the writes still waiting are answered BadShutdown, nothing sent."""
+        self.closed = True
+        while self.fifo:
+            w = self.fifo.popleft()
+            if w.timer is not None:
+                w.timer.cancel()
+            self._answer(w, SC.BadShutdown)
 
 
 class Line:
