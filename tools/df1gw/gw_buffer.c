@@ -67,8 +67,9 @@ static int drop_oldest(struct gw_buffer *b, uint64_t *size)
  * The bounds hold the records not handed over yet; those handed over and
  * waiting for their PUBACK (at most the replay's window, gw_replay.h) are
  * outside them and never dropped: a record the broker may be delivering
- * right now is not counted as lost. The count of drops is thus exactly the
- * records that never went to the broker. */
+ * right now is not counted as lost. A record counted as dropped is thus one
+ * the broker never acknowledged (after a rewind, one whose PUBACK the drop
+ * of the connection cut off may have reached it). */
 static int make_room(struct gw_buffer *b, uint64_t sz)
 {
 	const struct gw_buffer_limits *l = &b->lim;

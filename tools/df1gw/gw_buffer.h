@@ -17,8 +17,8 @@
  * its blob plus its key plus GW_BUFFER_REC_OVERHEAD) and max_age_ms old; the
  * oldest go first, counted. They hold the records not handed over: one
  * handed over is in flight until its acknowledgement (or a rewind) and is
- * never dropped meanwhile, so a drop is always a record that never reached
- * the broker; the caller bounds what is in flight (the replay's window,
+ * never dropped meanwhile, so a drop is always a record the broker never
+ * acknowledged; the caller bounds what is in flight (the replay's window,
  * gw_replay.h). The module never prints: notes (a file moved
  * aside, a fall back to memory) and drop counts are returned for the caller
  * to log.
