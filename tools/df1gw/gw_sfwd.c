@@ -216,6 +216,18 @@ void gw_sfwd_live_tag(struct gw *g, const struct gw_tag_out *t)
 	gw_live_open(&g->sfwd.live, &rec);
 }
 
+void gw_sfwd_live_receive(struct gw *g, const struct gw_tag_out *t, int from)
+{
+	int n;
+
+	if (!g->sfwd.b || (n = gw_buffer_tag_pack(t, blob, sizeof blob)) < 0)
+		return;
+	struct gw_buffer_rec rec = { 0, GW_BUFFER_RECEIVE, from, (int)t->st->quality, t->wall_ms, t->st->config->name,
+	                             blob, (size_t)n };
+
+	gw_live_open(&g->sfwd.live, &rec);
+}
+
 void gw_sfwd_live_mid(struct gw *g, int mid)
 {
 	gw_live_mid(&g->sfwd.live, mid);
