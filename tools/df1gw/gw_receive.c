@@ -172,8 +172,12 @@ static void rx_emit(struct gw *g, const struct gw_fmt *f, struct gw_msg *m)
 {
 	if (f->ops->stamp)
 		f->ops->stamp(f, m);
-	if (gw_mqtt_publish_qos(&g->mq, m->topic, m->body.p ? m->body.p : "", m->body.len, m->qos, m->retain) < 0)
+	int mid = 0;
+
+	if (gw_mqtt_publish_mid(&g->mq, m->topic, m->body.p ? m->body.p : "", m->body.len, m->qos, m->retain, &mid) < 0)
 		return;
+	if ((m->qos < 0 ? g->qos : m->qos) > 0)
+		gw_sfwd_live_mid(g, mid);       /* kept until its PUBACK (rx_publish) */
 	g->health.published++;
 	if (g->cli.verbose && !g->cli.quiet)
 		fprintf(stderr, "%s: > %s %.*s\n", GW_PROG, m->topic, (int)m->body.len, m->body.p ? m->body.p : "");
@@ -199,6 +203,9 @@ static void rx_publish(struct gw *g, struct gw_rx_tag *e)
 	}
 	if (!gw_mqtt_up(&g->mq))
 		return;
+	/* store and forward: a message the drop of the connection cuts off
+	 * before its PUBACK goes into the buffer, not lost */
+	gw_sfwd_live_receive(g, &t, e->from);
 	for (int i = 0; i < g->fmts.n; i++) {
 		const struct gw_fmt *f = &g->fmts.v[i];
 
@@ -208,6 +215,7 @@ static void rx_publish(struct gw *g, struct gw_rx_tag *e)
 			continue;
 		rx_emit(g, f, &g->msg);
 	}
+	gw_sfwd_live_close(g);
 }
 
 bool gw_rx_node_tag(struct gw *g, int i, struct df1_tag_state *st, struct gw_tag_out *t)
