@@ -31,6 +31,10 @@ if [ ! -x "$MOSQ" ]; then
 	exit 0
 fi
 T=$(mktemp -d "${TMPDIR:-/tmp}/df1bgw.XXXXXX") || exit 1
+# --sparkplug keeps bdSeq in the state folder: the bench's own
+XDG_STATE_HOME="$T/state"
+export XDG_STATE_HOME
+unset STATE_DIRECTORY
 pids=
 cleanup() {
 	for p in $pids; do kill "$p" 2>/dev/null; done

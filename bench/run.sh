@@ -129,6 +129,13 @@ sh bench/bench_gw.sh "$B"
 # bench_radio: reads across a simulated radio link (50 ms key-up, 9600 baud),
 # half duplex and, when the tools have it, radio modem
 sh bench/bench_radio.sh "$B"
+# python/bench_opcua.py: df1opcua with 1 000 tags on a full-speed pty, tag
+# reads a second and the latency from a read to an OPC UA subscriber (asyncua)
+if python3 -c 'import asyncua, cffi' >/dev/null 2>&1; then
+	LIBDF1_PATH="$B" DF1_BIN="$B/bin" python3 python/bench_opcua.py || exit 1
+else
+	echo "opcua bench: skipped (no asyncua: pip install './python[opcua]')"
+fi
 
 # the summary line for scripts, last: the median over the rounds of measured
 # scan / bound per case (bench_poll's comment: serial wire-time bound; for

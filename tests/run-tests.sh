@@ -6,8 +6,8 @@
 # non-zero if anything failed. Each PASS or FAIL line ends with the seconds
 # the test took, to see where a run's time goes.
 #
-# TEST_JOBS=N runs up to N tests at once (default 1: one after the other):
-# the unit test binaries first, then the integration scripts. Each script has
+# TEST_JOBS=N runs up to N integration scripts at once (default 1: one after
+# the other; the unit test binaries always run one at a time). Each script has
 # its own temporary folder, ports the kernel picks and its own processes, so
 # they can share a machine; their waits are bounded in tries scaled by
 # DF1_TEST_SLACK (tests/support/lib.sh), so a loaded machine is slower, not
@@ -41,15 +41,15 @@ if [ "${1:-}" = --one ]; then
 	run_one "$(basename "$2" .sh)" timeout 600 sh "$2"
 	exit 0
 fi
-if [ "${1:-}" = --bin ]; then
-	run_one "$(basename "$2")" "$2"
-	exit 0
-fi
 
 rm -f "$log_dir"/*.result "$log_dir"/*.fail
+# the unit tests one at a time: some time a real df1sim on a pty (unit/api,
+# unit/link/test_wire_timing), and a second test beside them is load they
+# were not written for
 for t in ${TEST_BINS:-"$B"/tests/test_*}; do
-	[ -x "$t" ] && echo "$t"
-done | xargs -r -n 1 -P "${TEST_JOBS:-1}" sh "$0" --bin
+	[ -x "$t" ] || continue
+	run_one "$(basename "$t")" "$t"
+done
 # the longest scripts first, so that the last one to start is a short one
 # (tests/integration/.order lists the long ones; the rest follow by name)
 if [ -n "${TEST_SCRIPTS:-}" ]; then

@@ -371,6 +371,9 @@ int df1_read_multi(df1_t *h, int station, struct df1_read_req *reqs, size_t n, u
 		*reads = 0;
 	if (!h)
 		return DF1_E_INVAL;
+	if (station == 255)
+		return df1_fail(h, DF1_E_INVAL, station, "station 255 is a broadcast: nobody answers "
+		                "a read there (0-254)");
 	if (station < 0 || station > 254)
 		return df1_fail(h, DF1_E_INVAL, station, "station %d out of range 0-254", station);
 	if (!reqs || n == 0 || n > 0xFFFF || (flags & ~(unsigned)DF1_READ_MULTI_STOP))

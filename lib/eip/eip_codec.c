@@ -799,6 +799,8 @@ int cip_unconnected_parse(struct cip_unconnected *u, const uint8_t *data, size_t
 	u->tick = data[0];
 	u->timeout_ticks = data[1];
 	rl = le16(data + 2);
+	if (rl > CIP_UNCONNECTED_REQ_MAX)
+		return DF1_E_TOO_LONG;  /* what no client may send (eip_codec.h) */
 	if (rl > n - 4)
 		return DF1_E_TOO_SHORT;
 	u->req = data + 4;
@@ -825,7 +827,7 @@ int cip_unconnected_build(uint8_t *out, size_t cap, uint8_t tick, uint8_t timeou
 	int hl;
 
 	if (!out || (!req && req_len) || (!route && route_len) || (route_len & 1) || route_len > 510 ||
-	    req_len > 0xFFFF)
+	    req_len > CIP_UNCONNECTED_REQ_MAX)
 		return DF1_E_INVAL;
 	hl = cip_req_build(out, cap, CIP_SVC_UNCONNECTED_SEND, &cm_path, NULL, 0);
 	if (hl < 0)

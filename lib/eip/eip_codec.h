@@ -325,8 +325,18 @@ struct cip_unconnected {
 	size_t route_len;
 };
 
+/* The longest embedded request an Unconnected Send may carry (bytes): CIP's
+ * size for an unconnected message (man/man7/df1-eip.7 CONNECTION MANAGER,
+ * Unconnected Send; doc/PROTOCOL.md names that page for the EtherNet/IP facts).
+ * A PCCC command in Execute PCCC, with the longest requester ID kept, needs
+ * 6 + EIP_REQID_MAX + 264 = 302. */
+#define CIP_UNCONNECTED_REQ_MAX 504
+
+/* DF1_E_TOO_SHORT: cut; DF1_E_TOO_LONG: bytes after the route path, or an
+ * embedded request over CIP_UNCONNECTED_REQ_MAX (refused whatever follows). */
 int cip_unconnected_parse(struct cip_unconnected *u, const uint8_t *data, size_t n);
-/* The whole request: service 0x52, path 06/01, the embedded request, pad, route. */
+/* The whole request: service 0x52, path 06/01, the embedded request, pad, route.
+ * DF1_E_INVAL for a request over CIP_UNCONNECTED_REQ_MAX (no target takes it). */
 int cip_unconnected_build(uint8_t *out, size_t cap, uint8_t tick, uint8_t timeout_ticks,
                           const uint8_t *req, size_t req_len, const uint8_t *route, size_t route_len);
 

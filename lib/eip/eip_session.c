@@ -145,10 +145,14 @@ static int cm_unconnected_send(struct cip_call *c, const struct cip_req *r, int 
 {
 	struct cip_unconnected u;
 	struct cip_path p;
+	int rc;
 
 	if (depth > 0)
 		return cip_error(c, r->service, CIP_ST_SERVICE_NOT_SUPPORTED, 0);
-	if (cip_unconnected_parse(&u, r->data, r->len) != 0)
+	rc = cip_unconnected_parse(&u, r->data, r->len);
+	if (rc == DF1_E_TOO_LONG)   /* bytes after the route, or a request over CIP_UNCONNECTED_REQ_MAX */
+		return cip_error(c, r->service, CIP_ST_TOO_MUCH_DATA, 0);
+	if (rc != 0)
 		return cip_error(c, r->service, CIP_ST_NOT_ENOUGH_DATA, 0);
 	if (cip_path_parse(&p, u.route, u.route_len) != 0 || p.class_id != CIP_NONE)
 		return cip_error(c, r->service, CIP_ST_CONNECTION_FAILURE, CIP_EXT_INVALID_SEGMENT);

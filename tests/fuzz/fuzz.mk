@@ -16,7 +16,9 @@ FUZZ_MAX_LEN ?= 4096
 FUZZ_FLAGS ?=
 FUZZ_B := build/fuzz
 FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
-FUZZ_CFLAGS = -O1 -g $(FUZZ_SAN) -fsanitize=fuzzer-no-link $(DF1_CFLAGS) -Itests/fuzz $(TEST_CPPFLAGS)
+# DF1_FUZZ_HOOKS: what the code records for a target to judge by (e.g.
+# tools/df1gw/gw_http.h gw_http_served); absent from every other build
+FUZZ_CFLAGS = -O1 -g $(FUZZ_SAN) -fsanitize=fuzzer-no-link $(DF1_CFLAGS) -DDF1_FUZZ_HOOKS -Itests/fuzz $(TEST_CPPFLAGS)
 
 FUZZ_TARGETS := frame pccc_reply pccc_command addr value net_csv map_csv table_file mon_read link poll
 FUZZ_TARGETS += eip
@@ -103,34 +105,29 @@ $(FUZZ_B)/dict/%.dict: $$(foreach d,$$(FUZZ_DICT_$$*),tests/fuzz/$$(d).dict)
 	@mkdir -p $(dir $@)
 	$(Q)cat $^ > $@
 
-# The seed corpora, generated from the spec vectors, the captures and tests/data.
-$(FUZZ_B)/seeds/.stamp: tests/fuzz/seeds.py tests/data/vectors.txt $(wildcard tests/data/*)
+# The seed corpora, generated from the spec vectors, the captures and tests/data,
+# and the inputs of past findings (tests/fuzz/found/TARGET-*.hex). Made anew
+# each time, so a seed removed from the sources leaves the corpus too.
+$(FUZZ_B)/seeds/.stamp: tests/fuzz/seeds.py tests/data/vectors.txt $(wildcard tests/data/*) $(wildcard tests/fuzz/found/*)
+	$(Q)rm -rf $(FUZZ_B)/seeds/*/
 	$(Q)python3 tests/fuzz/seeds.py $(FUZZ_B)/seeds
 	@touch $@
 
 fuzz-build: $(FUZZ_BINS) $(FUZZ_TARGETS:%=$(FUZZ_B)/dict/%.dict) $(FUZZ_B)/seeds/.stamp
 
-# Each target: its working corpus (kept between runs) and its seeds; what it
-# finds goes to build/fuzz/findings/TARGET-*, its output to build/fuzz/logs.
+# Each target (tests/fuzz/run-target.sh): every seed replayed once, then
+# FUZZ_SECONDS of fuzzing on its working corpus and its seeds; what it finds
+# goes to build/fuzz/findings/TARGET-*, its output to build/fuzz/logs, and
+# a finding's input is printed in hex with the command that reproduces it.
 fuzz:
 	@command -v $(FUZZ_CC) >/dev/null 2>&1 || { \
 		echo "make fuzz: $(FUZZ_CC) not found; install clang (apt-get install -y clang) or set FUZZ_CC"; \
 		exit 1; }
 	$(MAKE) fuzz-build
-	@mkdir -p $(FUZZ_B)/findings $(FUZZ_B)/logs; failed=""; \
+	@failed=""; \
 	for t in $(FUZZ_TARGETS); do \
-		mkdir -p $(FUZZ_B)/corpus/$$t; \
-		log=$(FUZZ_B)/logs/$$t.log; \
-		if $(FUZZ_B)/bin/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -timeout=$(FUZZ_TIMEOUT) \
-			-max_len=$(FUZZ_MAX_LEN) -dict=$(FUZZ_B)/dict/$$t.dict -artifact_prefix=$(FUZZ_B)/findings/$$t- \
-			-print_final_stats=1 $(FUZZ_FLAGS) $(FUZZ_B)/corpus/$$t $(FUZZ_B)/seeds/$$t \
-			>$$log 2>&1; then \
-			echo "fuzz $$t: ok, $$(sed -n 's/^stat::number_of_executed_units: *//p' $$log) runs in $(FUZZ_SECONDS) s, $$(ls $(FUZZ_B)/corpus/$$t | wc -l) inputs in its corpus"; \
-		else \
-			echo "fuzz $$t: FINDING (see $$log):"; \
-			grep -E '^(==[0-9]+==ERROR|fuzz: |SUMMARY|.*runtime error|artifact_prefix|Test unit written)' $$log | head -8 | sed 's/^/    /'; \
-			failed="$$failed $$t"; \
-		fi; \
+		FUZZ_B=$(FUZZ_B) FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_TIMEOUT=$(FUZZ_TIMEOUT) FUZZ_MAX_LEN=$(FUZZ_MAX_LEN) \
+			FUZZ_FLAGS="$(FUZZ_FLAGS)" sh tests/fuzz/run-target.sh $$t || failed="$$failed $$t"; \
 	done; \
 	if [ -n "$$failed" ]; then echo "make fuzz: findings in:$$failed"; exit 1; fi; \
-	echo "make fuzz: $(words $(FUZZ_TARGETS)) targets, $(FUZZ_SECONDS) s each, no finding"
+	echo "make fuzz: $(words $(FUZZ_TARGETS)) targets, their seeds replayed and $(FUZZ_SECONDS) s each, no finding"

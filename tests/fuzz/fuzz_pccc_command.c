@@ -62,6 +62,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	FUZZ_CHECK(r <= FRAME_MAX_DATA, "reply of %d bytes", r);
 	FUZZ_CHECK(reply[FRAME_MAX_DATA] == 0xEE, "reply written past its buffer");
 	if (r > 0) {
+		/* the header of a command is DST SRC CMD STS TNS (doc/PROTOCOL.md):
+		 * a reply needs all six bytes to answer it */
+		FUZZ_CHECK(size >= 6, "a reply of %d bytes to a command of %zu bytes", r, size);
 		FUZZ_CHECK(pccc_decode(reply, (size_t)r, &m) >= 0 && m.is_reply,
 		           "the reply (%d bytes) does not decode as one", r);
 		FUZZ_CHECK(m.dst == data[1] && m.src == data[0] && m.cmd == (data[2] | 0x40) &&

@@ -6,7 +6,9 @@ Built from what the tree already holds: the spec vectors (tests/data/vectors.txt
 doc/PROTOCOL.md 7), the serial-tap captures and the CSV files of
 tests/data and examples/, plus the address and value forms of doc/ARCHITECTURE.md 7 and
 df1_value_format(3). Each seed carries the target's leading option bytes (see
-the comment at the top of each tests/fuzz/fuzz_TARGET.c).
+the comment at the top of each tests/fuzz/fuzz_TARGET.c). The inputs of past
+findings are kept in tests/fuzz/found/TARGET-WHAT.hex and become seeds as
+they are.
 
 usage: seeds.py OUTDIR
 """
@@ -74,6 +76,20 @@ def pcap_payloads(path):
 def read(path):
     with open(path, "rb") as f:
         return f.read()
+
+
+def found():
+    """(target, bytes) of each tests/fuzz/found/TARGET-WHAT.hex: '#' lines are
+    comments, the rest is the input in hex (whitespace ignored)."""
+    d = os.path.join(HERE, "found")
+    out = []
+    for name in sorted(os.listdir(d)) if os.path.isdir(d) else []:
+        if not name.endswith(".hex"):
+            continue
+        with open(os.path.join(d, name)) as f:
+            text = "".join(line for line in f if not line.startswith("#"))
+        out.append((name.split("-", 1)[0], bytes.fromhex("".join(text.split()))))
+    return out
 
 
 class Corpus:
@@ -326,9 +342,10 @@ def main():
     cp.add("http", b"\r\nGET /metrics HTTP/1.1\r\nHost: a\r\n\r\n")
     cp.add("http", b"GET /metrics HTTP/9.9\r\n\r\n")
     cp.add("http", b"GET\r\n\r\n")
-    # a finding of the target's first runs: libmicrohttpd takes the method as a
-    # C string, so NULs before the space still make a HEAD (answered 200)
-    cp.add("http", b"HEAD" + b"\0" * 27 + b" /metrics HTTP/1.0\r\n\r\n")
+
+    # every input a fuzz run has reported, byte for byte (tests/fuzz/found)
+    for target, data in found():
+        cp.add(target, data)
 
     for t in sorted(cp.count):
         print("seeds: %-13s %d" % (t, cp.count[t]))

@@ -7,6 +7,10 @@
 # view), and df1read/df1write as the half-duplex master of a df1gw slave
 # station, over two pseudo-terminals joined back to back
 # (tests/support/pty_join.py).
+#  - before any write a Receive row is published as no value, UNCERTAIN,
+#    reason no_message_yet (also while only refused writes come), and a
+#    PLC's MSG read (df1sim) or a master's df1read gets zeros; after a write
+#    it is GOOD with what was written, the rest of the row zeros;
 #  - full duplex, df1gw polling df1sim meanwhile (--outstanding 1 and 4, and
 #    under df1sim's NAK, drop-ACK and corrupt-reply faults): every message
 #    lands once and in order (df1sim numbers them in N7:0), is published
@@ -23,7 +27,9 @@
 #    sender (full duplex, and as a half-duplex slave for df1write/df1read),
 #    and df1mon's decoder showing a PLC's command and its reply;
 #  - Sparkplug: the Receive tags in the DBIRTH of df1gw's own station's
-#    device, a PLC's write as DDATA and a DCMD what the PLC's MSG reads,
+#    device (a row no PLC wrote: a null metric of its datatype, Quality
+#    Uncertain, Reason no_message_yet), a PLC's write as DDATA (good, not
+#    null) and a DCMD what the PLC's MSG reads,
 #    decoded by an independent host (tests/support/spb_host.py, pysparkplug);
 #  - a mapping with Read rows in slave mode, and a Receive row at another
 #    station: refused with a clear message.
@@ -106,7 +112,11 @@ if sim_start edge --station 1 --log "$T/edge.log" --msg write,N7:0,10,0,N51:0,30
 	--msg write,N7:0,10,0,N50:5,300 --msg read,N7:20,5,0,N52:0,200; then
 	listen edge "$P/tag/#"
 	gw_run edge -d "$SIM_DEV" --map "$T/map.csv" --prefix "$P"
-	wait_for "edge: df1gw online" 50 grep -q "^$P/tag/Setpoint .*GOOD" "$T/edge.sub"
+	# before any write: no value, UNCERTAIN, no message yet (df1gw(1) RECEIVE);
+	# df1sim's MSG read of the region gets zeros (not the table's N52:n = n)
+	wait_for "edge: df1gw online" 50 grep -q "^$P/tag/Setpoint " "$T/edge.sub"
+	wait_for "edge: df1sim's MSG read of N52 gets 0 before any write" 50 \
+		grep -q "^df1sim: MSG read N7:20,5 from station 0 N52:0 (first 0): DN" "$T/edge.err"
 	before=$(grep -c "addr=N52" "$T/edge.log")
 	pub "$P/tag/Setpoint/set" '{"value":[4321,2,3,4,5],"id":"s1"}'
 	wait_for "edge: /set result" 50 grep -q "^$P/tag/Setpoint/result {\"id\":\"s1\",\"ok\":true" "$T/edge.sub"
@@ -119,6 +129,10 @@ if sim_start edge --station 1 --log "$T/edge.log" --msg write,N7:0,10,0,N51:0,30
 	sim_stop "$SIM_PID"
 	kill -TERM "$LISTEN"; lib_reap "$LISTEN"
 	check "edge: /set never reached the line (no command to df1sim names N52)" "[ \$(grep -c 'addr=N52' '$T/edge.log') -eq $before ]"
+	check "edge: Setpoint's first publication: null, UNCERTAIN, no_message_yet" \
+		"[ \"\$(grep -m1 '^$P/tag/Setpoint ' '$T/edge.sub')\" = '$P/tag/Setpoint {\"value\":null,\"quality\":\"UNCERTAIN\",\"reason\":\"no_message_yet\",\"ts\":null,\"address\":\"N52:0\",\"station\":0}' ]"
+	check "edge: Batch_Report (only refused writes) stays null, UNCERTAIN" \
+		"grep -q '^$P/tag/Batch_Report {\"value\":null,\"quality\":\"UNCERTAIN\",\"reason\":\"no_message_yet\",\"ts\":null,\"address\":\"N50:0\",\"station\":0}\$' '$T/edge.sub' && ! grep -q '^$P/tag/Batch_Report .*GOOD' '$T/edge.sub'"
 	check "edge: Setpoint published with the MQTT value, without from" \
 		"grep -q '^$P/tag/Setpoint {\"value\":\[4321,2,3,4,5\],\"quality\":\"GOOD\",.*\"station\":0}$' '$T/edge.sub'"
 	check "edge: no refused write published" "! grep -q 'Batch_Report {.*\"from\"' '$T/edge.sub'"
@@ -138,11 +152,17 @@ Flags,Receive,BOOL,3,SLC,B53:0/2,3
 EOF
 listen slave "$P/tag/#"
 gw_run slave -d "$T/la" --duplex half-slave --src 3 --plc micrologix --map "$T/slave.csv" --prefix "$P"
-wait_for "slave: online" 50 sh -c "mosquitto_sub -h 127.0.0.1 -p $MQ_PORT -t '$P/tag/Flags' -C 1 -W 2 | grep -q GOOD"
+wait_for "slave: online" 50 sh -c "mosquitto_sub -h 127.0.0.1 -p $MQ_PORT -t '$P/tag/Flags' -C 1 -W 2 | grep -q UNCERTAIN"
+check "slave: Flags before any write: null, UNCERTAIN, no_message_yet" \
+	"grep -q '^$P/tag/Flags {\"value\":null,\"quality\":\"UNCERTAIN\",\"reason\":\"no_message_yet\",\"ts\":null,\"address\":\"B53:0/2\",\"station\":3}\$' '$T/slave.sub'"
 H="--duplex half -d $T/lb --timeout 500"
+expect 0 "slave: df1read N50:0,3 before any write" -- "$BIN/df1read" $H -a 3 N50:0,3
+out_is "slave: the region starts at zero" "0
+0
+0"
 expect 0 "slave: df1write N50:2=77,88" -- "$BIN/df1write" $H -a 3 N50:2=77,88
-wait_for "slave: the write published with from 0" 50 \
-	grep -q "^$P/tag/Batch_Report {\"value\":\[0,1,77,88,4,5,6,7,8,9\],.*\"station\":3,\"from\":0}$" "$T/slave.sub"
+wait_for "slave: the write published with from 0, GOOD" 50 \
+	grep -q "^$P/tag/Batch_Report {\"value\":\[0,0,77,88,0,0,0,0,0,0\],\"quality\":\"GOOD\",.*\"station\":3,\"from\":0}$" "$T/slave.sub"
 same "slave: published once" "$(grep -c '"from":0' "$T/slave.sub")" 1
 expect 0 "slave: df1write a bit" -- "$BIN/df1write" $H -a 3 B53:0/3=1
 wait_for "slave: Flags published" 50 grep -q "^$P/tag/Flags {\"value\":\[false,true,false\],.*\"from\":0}$" "$T/slave.sub"
@@ -168,7 +188,7 @@ gw_run netslave -N "$T/slave_net.csv" -d "$T/la" --map "$T/slave.csv" --prefix "
 wait_for "Mode Slave: serving" 50 grep -q "connected" "$T/netslave.gwerr"
 expect 0 "Mode Slave: df1write N50:0=11" -- "$BIN/df1write" $H -a 3 N50:0=11
 wait_for "Mode Slave: published with from 0" 50 \
-	grep -q "tag/Batch_Report {\"value\":\[11,1,2,3,4,5,6,7,8,9\],.*\"from\":0}" "$T/netslave.gwerr"
+	grep -q "tag/Batch_Report {\"value\":\[11,0,0,0,0,0,0,0,0,0\],.*\"from\":0}" "$T/netslave.gwerr"
 expect 0 "Mode Slave: df1mon --who 3 names an SLC 5/04" -- "$BIN/df1mon" $H --who 3-3
 check "Mode Slave: SLC 5/04 in --who" "grep -qi 'SLC 5/04' '$T/out'"
 kill -TERM "$GW_PID"; lib_reap "$GW_PID"
@@ -236,8 +256,22 @@ elif sim_start spb --station 1 --msg write,N7:0,3,0,N50:0,300,seq --msg read,N7:
 	DD='[r for r in R if r["type"] == "DDATA" and r["device"] == "station0"]'
 	wait_for "Sparkplug: DBIRTH of station0 with Batch and Recipe" 100 $HOST has "$REC" 0 \
 		"{(m['name'], m['datatype']) for m in $DB[0]['metrics']} == {('Batch', 'INT16_ARRAY'), ('Recipe', 'INT16')}"
+	# Recipe: no PLC writes it (df1sim only reads it): null in the DBIRTH,
+	# Quality Uncertain (0x40000000 | 256), Reason no_message_yet
+	if $HOST has "$REC" 0 "[(m['is_null'], m['value']) for m in $DB[0]['metrics'] if m['name'] == 'Recipe'] == [(True, None)] and $DB[0]['props']['Recipe'] == {'Quality': 0x40000100, 'Reason': 'no_message_yet'}"; then
+		ok
+	else
+		bad "Sparkplug: Recipe is_null in the DBIRTH, Uncertain, no_message_yet"
+	fi
+	wait_for "Sparkplug: df1sim's MSG read of Recipe gets 0 before the DCMD" 50 \
+		grep -q "MSG read N7:20,1 from station 0 N53:0 (first 0): DN" "$T/spb.err"
 	wait_for "Sparkplug: a PLC's write as DDATA [3, 1, 2]" 100 $HOST has "$REC" 0 \
 		"any(m['name'] == 'Batch' and m['value'] == [3, 1, 2] for r in $DD for m in r['metrics'])"
+	if $HOST has "$REC" 0 "all(not m['is_null'] and 'Batch' not in r['props'] for r in $DD for m in r['metrics'] if m['name'] == 'Batch')"; then
+		ok
+	else
+		bad "Sparkplug: after the PLC's write Batch is good (no Quality property), not null"
+	fi
 	$HOST dcmd "$MQ_PORT" Plant Line1 station0 Recipe INT16 55
 	wait_for "Sparkplug: DCMD Recipe=55 is what the PLC's MSG reads" 100 \
 		grep -q "MSG read N7:20,1 from station 0 N53:0 (first 55): DN" "$T/spb.err"

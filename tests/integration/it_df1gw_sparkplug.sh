@@ -7,7 +7,9 @@
 # decoding every message on spBv1.0/#. Expected values come from the df1sim
 # --data file below and the Sparkplug 3.0 specification's rules (NBIRTH seq 0,
 # seq 0-255 continuous, bdSeq of the will, DDATA metrics born in DBIRTH),
-# never from df1gw's own output. Waits are bounded loops, never sleeps that hope.
+# never from df1gw's own output. bdSeq goes on across restarts, also a kill -9
+# without --sparkplug-state (the state folder: XDG_STATE_HOME, STATE_DIRECTORY),
+# and the killed session's will carries the old one. Waits are bounded loops, never sleeps that hope.
 . tests/support/lib.sh
 
 HOST="python3 tests/support/spb_host.py"
@@ -251,5 +253,71 @@ check "seq wrapped from 255 to 0 within the session (values from df1sim's EtherN
 check "Node Control/Rebirth never aliased" "has $M '[m for r in R if r[\"type\"] == \"NBIRTH\" for m in r[\"metrics\"] if m[\"name\"] == \"Node Control/Rebirth\" and not m[\"alias\"]]'"
 kill -TERM "$GW_PID"
 lib_reap "$GW_PID"
+
+# ---- without --sparkplug-state: bdSeq kept in the state folder, per group and edge node ----
+# XDG_STATE_HOME is the test's own (tests/support/lib.sh); XS overrides it
+# gw_plain EDGE: df1gw as an operator starts it, no --sparkplug-state
+gw_plain() {
+	env XDG_STATE_HOME="${XS:-$XDG_STATE_HOME}" "$GW" -d "$SIM_DEV" --map "$T/map.csv" \
+		--mqtt "mqtt://127.0.0.1:$MQ_PORT" --sparkplug Plant --edge-node "$1" --json no --watchdog 1500 \
+		> "$T/gw_$1.out" 2>> "$T/gw_$1.err" &
+	GW_PID=$!
+	echo "$GW_PID" >> "$T/.sims"
+}
+# bd EDGE: the bdSeq of EDGE's NBIRTHs; will EDGE: the bdSeq of its NDEATHs
+bd() { echo "[m['value'] for r in R if r['type'] == 'NBIRTH' and r['topic'].endswith('/$1') for m in r['metrics'] if m['name'] == 'bdSeq']"; }
+will() { echo "[r['bdseq'] for r in R if r['type'] == 'NDEATH' and r['topic'].endswith('/$1')]"; }
+M=$(mark)
+gw_plain Line9
+seen "state folder: NBIRTH bdSeq 0 at the first start (an empty folder)" "$M" "$(bd Line9) == [0]"
+same "state folder: the file \$XDG_STATE_HOME/df1gw/Plant@Line9.bdseq" \
+	"$(cat "$XDG_STATE_HOME/df1gw/Plant@Line9.bdseq" 2>&1)" "bdSeq 0"
+for k in 1 2; do    # (lib_reap uses n)
+	M=$(mark)
+	kill -9 "$GW_PID"
+	lib_reap "$GW_PID"
+	seen "state folder: the killed session's will carries its bdSeq $((k - 1))" "$M" "$(will Line9) == [$((k - 1))]"
+	M=$(mark)
+	gw_plain Line9
+	seen "state folder: kill -9, a restart without --sparkplug-state births with bdSeq $k" "$M" "$(bd Line9) == [$k]"
+	if has "$M" "$(will Line9)"; then bad "state folder: an NDEATH of the old session after the new NBIRTH ($k)"; else ok; fi
+done
+M=$(mark)
+kill -TERM "$GW_PID"
+lib_reap "$GW_PID"
+seen "state folder: NDEATH before a clean stop, bdSeq 2" "$M" "$(will Line9) == [2]"
+check "state folder: nothing said about it" "! grep -qi 'state folder\|bdSeq' '$T/gw_Line9.err'"
+# another edge node of the same group: a file of its own, from 0
+M=$(mark)
+gw_plain Line7
+seen "state folder: another edge node starts at 0" "$M" "$(bd Line7) == [0]"
+kill -TERM "$GW_PID"
+lib_reap "$GW_PID"
+check "state folder: a file per edge node" \
+	"[ -f '$XDG_STATE_HOME/df1gw/Plant@Line7.bdseq' ] && [ \"\$(cat '$XDG_STATE_HOME/df1gw/Plant@Line9.bdseq')\" = 'bdSeq 2' ]"
+# systemd's StateDirectory= ($STATE_DIRECTORY) comes first
+mkdir -p "$T/sd"
+M=$(mark)
+STATE_DIRECTORY="$T/sd:$T/other"
+export STATE_DIRECTORY
+gw_plain Line6
+unset STATE_DIRECTORY
+seen "STATE_DIRECTORY: NBIRTH bdSeq 0" "$M" "$(bd Line6) == [0]"
+kill -TERM "$GW_PID"
+lib_reap "$GW_PID"
+check "STATE_DIRECTORY: the file there, not in XDG_STATE_HOME" \
+	"[ -f '$T/sd/Plant@Line6.bdseq' ] && [ ! -e '$XDG_STATE_HOME/df1gw/Plant@Line6.bdseq' ]"
+# a folder that cannot be made: said once (the path, the reason), bdSeq from 0 as before
+: > "$T/notadir"
+M=$(mark)
+XS="$T/notadir" gw_plain Line5
+seen "unusable state folder: NBIRTH bdSeq 0 all the same" "$M" "$(bd Line5) == [0]"
+M=$(mark)
+kill -9 "$GW_PID"
+lib_reap "$GW_PID"
+seen "unusable state folder: the will" "$M" "$(will Line5) == [0]"
+same "unusable state folder: said once, with the path and the reason" \
+	"$(grep -c "state folder $T/notadir/df1gw: Not a directory" "$T/gw_Line5.err")" 1
+check "unusable state folder: nothing else said of it" "[ \$(grep -ci 'bdSeq' '$T/gw_Line5.err') -eq 1 ]"
 if $HOST check "$REC" > "$T/check.out"; then ok; else bad "Sparkplug rules (all sessions)"; sed 's/^/  /' "$T/check.out"; fi
 finish

@@ -6,7 +6,9 @@
 # superseded writes are answered within seconds, exactly one result per id,
 # the values left in the PLC are the last written, poll reads come between
 # every --duty-cycle writes (df1sim's --log), an EtherNet/IP read through the
-# bridge is answered meanwhile, --max-pending-writes answers busy and
+# bridge is answered meanwhile, behind at most one batch of a burst to 40
+# tags (df1sim's --log; the burst from support/mqtt_burst.py),
+# --max-pending-writes answers busy and
 # "timeout_ms" expires a write that waited too long. Expected values come from
 # the burst this script makes, never from df1gw's own output.
 . tests/support/lib.sh
@@ -113,7 +115,73 @@ kill -TERM "$GW_PID"
 lib_reap "$GW_PID"
 check "--counters: the write line" 'grep -q "^writes [0-9]* received, [0-9]* written, .* superseded, .* refused busy, .* queue high-water [0-9]*" "$T/gw.out"'
 
+# ---- the bridge behind a burst to 40 tags: its read waits behind at most one batch ----
+# A burst of /set messages to 40 tags: 60 each (2 400) under the default
+# latest-non-bool, which leaves some 40 writes, 4 batches of 10 (1.5 s each
+# at 2400 baud); 3 each (120 writes) under --write-optimize all. Once the
+# first write is on the line, an eip:// read (5 s client timeout) of N7:9,
+# which no tag reads: in df1sim's log it is the only "addr=N7:9 count=1". It
+# is executed behind at most one batch: the writes between the burst's first
+# write and it are at most --duty-cycle, and the backlog goes on after it
+# (df1gw(1), ETHERNET/IP). Before, its connect, session and request each
+# waited for a batch and its poll read: 20 writes or more.
+BDUTY=10
+{
+	echo 'Tag,Command,Type,Station,PLC_Type,Address,Count,Scan_Ms'
+	for i in $(seq 0 39); do echo "T$i,ReadWrite,INT,1,SLC,N7:$((10 + i)),1,500"; done
+} > "$T/map40.csv"
+gwb_addr() {
+	EIP=$(sed -n 's|^df1gw: EtherNet/IP on \([0-9.]*:[0-9]*\).*|\1|p' "$T/gwb.err" 2>/dev/null | head -n 1)
+	[ -n "$EIP" ]
+}
+# bridge_burst OPTIMIZE PER_TAG
+bridge_burst() {
+	bopt=$1; per=$2
+	# a prefix of its own: a tag seen GOOD is this df1gw's, so it has
+	# subscribed (it does before it publishes tags), not a retained message
+	# of the df1gw before
+	bp=$P-$bopt
+	: > "$T/gwb.err"
+	"$GW" -d "$SIM_DEV" --map "$T/map40.csv" --mqtt "mqtt://127.0.0.1:$PORT" --prefix "$bp" --keepalive 5 \
+		--write-optimize "$bopt" --duty-cycle $BDUTY --eip 127.0.0.1:0 > "$T/gwb.out" 2> "$T/gwb.err" &
+	GW_PID=$!
+	echo "$GW_PID" >> "$T/.sims"
+	wait_for "df1gw says where EtherNet/IP listens ($bopt, 40 tags)" 100 gwb_addr
+	wait_for "T39 read ($bopt)" 100 has "$bp/tag/T39" '"quality":"GOOD"'
+	from=$(wc -l < "$T/sim.log")
+	awk -v p="$bp" -v per="$per" 'BEGIN { for (k = 1; k <= per; k++) for (t = 0; t < 40; t++)
+		printf "%s/tag/T%d/set {\"value\":%d,\"id\":\"b%d-%d\"}\n", p, t, k, t, k }' > "$T/burst40.txt"
+	expect 0 "$bopt: a burst of $((per * 40)) /set messages to 40 tags" -- \
+		python3 tests/support/mqtt_burst.py "$PORT" "$T/burst40.txt"
+	# the read goes once the burst is on the line: its first write in the log
+	burst_started() { sed -n "$((from + 1)),\$p" "$T/sim.log" | grep -q 'cmd=0F/AA'; }
+	wait_for "$bopt: the burst's first write on the line" 100 burst_started
+	expect 0 "$bopt: an eip:// read just after the burst, 5 s client timeout: answered" -- \
+		"$BIN/df1read" -d "eip://$EIP" --timeout 5000 N7:9
+	out_is "$bopt: the eip:// read's value" "99"
+	# 40 writes at least: one per tag
+	burst_written() { [ "$(sed -n "$((from + 1)),\$p" "$T/sim.log" | grep -c 'cmd=0F/AA')" -ge 40 ]; }
+	wait_for "$bopt: 40 writes of the burst done" 300 burst_written
+	sed -n "$((from + 1)),\$p" "$T/sim.log" > "$T/sim40.log"
+	before=$(awk '/addr=N7:9 count=1 / { exit } /cmd=0F\/AA/ { n++ } END { print n + 0 }' "$T/sim40.log")
+	after=$(awk 'f && /cmd=0F\/AA/ { n++ } /addr=N7:9 count=1 / { f = 1 } END { print n + 0 }' "$T/sim40.log")
+	echo "  $bopt: the bridged read after $before writes of the burst, $after after it"
+	check "$bopt: the bridged read executed (df1sim's log)" 'grep -q "cmd=0F/A2 addr=N7:9 count=1 " "$T/sim40.log"'
+	check "$bopt: the bridged read behind at most one batch: $before writes of the burst before it (at most $BDUTY)" \
+		'[ "$before" -le $BDUTY ]'
+	check "$bopt: and ahead of the backlog: $after writes after it (20 at least)" '[ "$after" -ge 20 ]'
+	kill -TERM "$GW_PID"
+	lib_reap "$GW_PID"
+}
+if "$BIN/df1read" --help 2>&1 | grep -q 'eip://'; then
+	bridge_burst latest-non-bool 60
+	bridge_burst all 3
+else
+	skip "df1read without eip://"
+fi
+
 # ---- a real backlog (--write-optimize all): reads and the bridge keep their turns ----
+: > "$T/gw.err"          # never the address of the first df1gw, read before this one writes
 "$GW" -d "$SIM_DEV" --map "$T/map.csv" --mqtt "mqtt://127.0.0.1:$PORT" --prefix "$P" --keepalive 5 \
 	--write-optimize all --duty-cycle $DUTY --eip 127.0.0.1:0 > "$T/gw.out" 2> "$T/gw.err" &
 GW_PID=$!

@@ -45,6 +45,8 @@ expect 0 "write to station 255" -- "$W" -d "$SIM_DEV" $RADIO -a 255 -vv N7:1=77
 check "the broadcast drew no reply" "! grep -q 'rx  FRAME' '$T/err'"
 expect 0 "read N7:1" -- "$R" -d "$SIM_DEV" $RADIO -a 1 N7:1
 out_is "the broadcast ran" "77"
+expect 2 "a read of station 255" -- "$R" -d "$SIM_DEV" $RADIO -a 255 N7:1
+err_has "says nobody answers a broadcast read" "is a broadcast: nobody answers a read"
 expect 2 "station 255 without --duplex radio" -- "$W" -d "$SIM_DEV" -a 255 N7:1=1
 err_has "says broadcast needs radio" "needs --duplex radio"
 

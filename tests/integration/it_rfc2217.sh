@@ -73,7 +73,11 @@ expect 0 "40 echoes through ser2net" -- "$BIN/df1mon" -d "$D" -b 9600 --ping -c 
 # ---- --autoconf through ser2net: every setting tried goes to the device server ----
 said() { grep -c "termios says $1 baud" "$T/line.err"; }
 before=$(said 19200)
-expect 0 "autoconf through ser2net" -- "$BIN/df1mon" -d "$D" --autoconf --stations 1-1
+# --poll-timeout 500: each attempt stays on the line long enough for df1sim
+# to read its bytes and look at the termios they came with, on a loaded
+# machine too (it looks when bytes arrive; at the default ~85 ms a slow
+# df1sim saw the next rate already)
+expect 0 "autoconf through ser2net" -- "$BIN/df1mon" -d "$D" --autoconf --stations 1-1 --poll-timeout 500
 out_is "autoconf through ser2net: the settings" "-b 9600 -P none --check crc --duplex full"
 check "df1sim's termios followed the search (19200 first, then 9600)" \
 	"[ $(said 19200) -gt $before ] && tail -n 1 '$T/line.err' | grep -q 'termios says 9600 baud'"

@@ -5,7 +5,8 @@
 # runs it. Which source calls (or references) what another defines is read from
 # the objects' symbol tables (nm); includes from the sources. Errors (exit 1):
 #   - a cycle: files, layer folders, or lib/ or tools/ headers that call or
-#     include each other in a loop;
+#     include each other in a loop (a call to a static inline function of X.h
+#     counts as a call to X.c: nm cannot see it, the sources' text is read);
 #   - an include that is not a path from its root: every #include "..." in
 #     lib/ names a file relative to lib/, in tools/ one relative to tools/
 #     (the public df1.h, df1_catalog.h, df1_eip.h, df1_probe.h, df1_server.h excepted); a bare name found
@@ -42,6 +43,24 @@ for o in objs:
         elif len(f) == 3 and f[1] in "TDRB":
             defs[f[2]] = src
 edges = {s: sorted({defs[u] for u in us if u in defs and defs[u] != s}) for s, us in uses.items()}
+# a static inline function of a header leaves no symbol for nm: a call to it is
+# a call to the header's own .c (X.h -> X.c), read from the sources' text
+import re
+inl = {}
+for h in glob.glob("lib/**/*.h", recursive=True) + glob.glob("tools/**/*.h", recursive=True):
+    c = h[:-2] + ".c"
+    if not os.path.isfile(c):
+        continue
+    with open(h) as f:
+        for name in re.findall(r'^static\s+inline\b[^;{(]*?\b(\w+)\s*\(', f.read(), re.M):
+            inl[name] = c
+if inl:
+    called = re.compile(r'\b(' + "|".join(sorted(inl)) + r')\s*\(')
+    for s in list(edges):
+        with open(s) as f:
+            text = re.sub(r'/\*.*?\*/|//[^\n]*', ' ', f.read(), flags=re.S)
+        more = {inl[n] for n in called.findall(text) if inl[n] != s and inl[n] in edges}
+        edges[s] = sorted(set(edges[s]) | more)
 for s in sorted(edges):
     for d in edges[s] if verbose else ():
         print("%s -> %s" % (s, d))

@@ -50,6 +50,11 @@
 BIN=${DF1_BIN:-$(pwd)/build/bin}
 TEST_TIMEOUT=${TEST_TIMEOUT:-60}
 T=$(mktemp -d "${TMPDIR:-/tmp}/df1test.XXXXXX") || exit 1
+# df1gw keeps Sparkplug's bdSeq in the state folder (df1gw(1) FILES): the
+# test's own, never the user's home or a service's
+XDG_STATE_HOME="$T/state"
+export XDG_STATE_HOME
+unset STATE_DIRECTORY
 pass=0
 fail=0
 : > "$T/.sims"

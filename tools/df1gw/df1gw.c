@@ -67,12 +67,16 @@ static void map_issue(void *user, const struct df1_config_issue *is)
 		fprintf(stderr, "%s\n", is->text);
 }
 
-#define LINE_TICK_MS 20               /* the broker served this often while the line works */
+#define LINE_TICK_MS 20               /* the broker and the bridge served this often while the line works */
 
 /* Every byte the line sends or takes (df1_set_trace): a transaction on a slow
  * line lasts long, a scan or a batch of writes many of them, and all run
  * inside df1_poll(); the broker is served meanwhile (its keepalive, the
- * PUBACKs that let it send the next /set), not only between two calls. */
+ * PUBACKs that let it send the next /set), not only between two calls, and so
+ * is the EtherNet/IP bridge: a client connects, registers its session and
+ * sends its request while a batch is on the line, and the request joins the
+ * line's queue at the bridge's turn (gw_line_turns), behind that batch, not
+ * one df1_poll() per round trip later. */
 static void line_tick(void *user, enum df1_dir dir, const uint8_t *bytes, size_t n, uint64_t t_us)
 {
 	static int64_t last;
@@ -81,9 +85,14 @@ static void line_tick(void *user, enum df1_dir dir, const uint8_t *bytes, size_t
 
 	if (g->cli.verbose >= 3 && !g->cli.quiet)
 		cli_trace(&g->cli, dir, bytes, n, t_us);
-	if (g->mq_configured && now - last >= LINE_TICK_MS) {
-		last = now;
+	if (now - last < LINE_TICK_MS)
+		return;
+	last = now;
+	if (g->mq_configured)
 		gw_mqtt_turn(&g->mq, now);
+	if (g->in_line_work && g->eip.s && g->eip.h == g->h) {
+		gw_eip_process(&g->eip);
+		gw_line_turns(g, now, true);
 	}
 }
 
@@ -309,6 +318,7 @@ static void line_lost(struct gw *g, int err)
 	if (!g->cli.quiet)
 		fprintf(stderr, "%s: %s: line lost; reopening\n", GW_PROG, g->line_error);
 	gw_writes_drop(g);      /* the writes waiting: answered "not written", not kept for later */
+	gw_eip_drop(&g->eip);   /* and the bridged requests waiting for their turn: STS 30h */
 	df1_close(g->h);        /* the port's settings restored; tags kept */
 	/* and those already handed to the poll engine (at most --duty-cycle,
 	 * and bridged EtherNet/IP requests): ended "not written" now, never
@@ -344,7 +354,11 @@ static int line_gone(struct gw *g)
 
 static void line_work(struct gw *g)
 {
-	int r = df1_poll(g->h, 0);
+	int r;
+
+	g->in_line_work = true;
+	r = df1_poll(g->h, 0);
+	g->in_line_work = false;
 
 	if (r == DF1_E_INTR)
 		return;         /* a signal: the loop looks at it */
@@ -663,8 +677,8 @@ static void loop_work(struct gw *g, const struct gw_wait *w, int hup, int64_t no
 	}
 	eip_mirror(g);
 	if (wait_ready(w, w->eip))
-		gw_eip_process(&g->eip);       /* requests join the line's queue */
-	gw_writes_feed(g, now);                /* a batch of MQTT writes joins it behind them */
+		gw_eip_process(&g->eip);       /* requests wait for the bridge's turn */
+	gw_line_turns(g, now, false);          /* it and a batch of MQTT writes join the line's queue in turn */
 	if (g->line_up && g->rx.n)
 		line_serve(g, wait_ready(w, w->rx));
 	if (g->line_up && !g->rx.slave && (df1_poll_next_ms(g->h) == 0 || wait_ready(w, w->line)))

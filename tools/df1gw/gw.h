@@ -23,6 +23,7 @@
 #include "df1gw/gw_receive.h"
 #include "df1gw/gw_sfwd.h"
 #include "df1gw/gw_state.h"
+#include "df1gw/gw_turn.h"
 #include "df1gw/gw_url.h"
 #include "df1gw/gw_write.h"
 #include "df1gw/gw_wqueue.h"
@@ -80,7 +81,9 @@ struct gw {
 	/* Sparkplug B (--sparkplug; df1gw(1) SPARKPLUG) */
 	struct gw_spb_conf spb;
 	bool json_off;               /* --json no: Sparkplug alone */
-	const char *spb_state_path;  /* --sparkplug-state FILE: bdSeq kept across restarts */
+	const char *spb_state_path;  /* the bdSeq file (--sparkplug-state, or spb_state_auto); NULL: not kept */
+	char spb_state_auto[4096];   /* the default one, in the state folder (gw_bdseq.h) */
+	bool spb_state_mkdir;        /* its folder is to be made before the first write */
 	unsigned bdseq_next;         /* the bdSeq of the next connect */
 	unsigned generation;         /* the tags' configuration: a reload changes it */
 
@@ -92,6 +95,8 @@ struct gw {
 	struct gw_wq wq;             /* waiting writes; its counters are the write side's */
 	unsigned writes_since_read;  /* handed to the line since the poll engine last read */
 	uint64_t reads_seen;         /* the engine's reads + probes when last looked at */
+	enum gw_turn turn_last;      /* whose turn the line gave last: the bridge's or the writes' */
+	bool in_line_work;           /* inside df1_poll (line_tick serves the bridge too) */
 	struct gw_outbox outbox;     /* results that fell while the broker was away */
 
 	/* Receive rows: df1gw's own data table on the line (gw_receive.h) */
@@ -136,16 +141,19 @@ void gw_on_message(void *user, const char *topic, const void *payload, int len, 
  * session format's births. */
 void gw_on_connected(void *user);
 /* Before each connect (gw_mqtt_events.connecting): a session format's will
- * with the next bdSeq, kept in --sparkplug-state. */
+ * with the next bdSeq, written first to the bdSeq file (gw_bdseq.h). */
 void gw_on_connecting(void *user);
-/* The bdSeq of the first connect: one more than --sparkplug-state's (0 without). */
+/* The bdSeq of the first connect: one more than the bdSeq file's (--sparkplug-state, else the
+ * state folder's, gw_bdseq.h; 0 without one), having said once why a file cannot be used. */
 void gw_bdseq_load(struct gw *g);
 /* --counters: each format's own line. */
 void gw_publish_counters(const struct gw *g, FILE *out);
-/* The write queue: what waits handed to the line when its turn comes (a
- * batch of at most --duty-cycle, not while a due poll read has waited behind
- * as many), what expired answered. Once per turn of the loop. */
-void gw_writes_feed(struct gw *g, int64_t now);
+/* The line's turns (gw_turn.h): the bridge's waiting requests and the MQTT
+ * writes (a batch of at most --duty-cycle, not while a due poll read has
+ * waited behind as many) handed to the line in turn; what expired answered.
+ * Once per turn of the loop, and from inside the line's work (in_line: the
+ * bridge's requests only, no batch starts there). */
+void gw_line_turns(struct gw *g, int64_t now, bool in_line);
 /* The queue made from the options (gw_wqueue.h). 0, or -1 (no memory). */
 int gw_writes_init(struct gw *g);
 /* The line is gone (or replaced): every waiting write is answered "not written". */

@@ -38,6 +38,9 @@ static void fall_back(struct gw_buffer *b, const char *err)
 	char lerr[256] = "";
 	int rc = gw_buffer_sql_to_mem(b, lerr, sizeof lerr);
 	gw_buffer_sql_close(b);
+	/* what is in flight, of what the ring holds now */
+	b->drop_mark = 0;
+	gw_buffer_mem_span(b, 0, b->handed, &b->handed_n, &b->handed_bytes);
 	if (rc < 0)
 		gw_buffer_set_note(b, "%s; buffering in memory from now on, the %" PRIu64
 		                   " records of the file stay in it (%s)", why, before, lerr);
@@ -60,13 +63,21 @@ static int drop_oldest(struct gw_buffer *b, uint64_t *size)
 	return rc;
 }
 
-/* Room for a record of size sz: the oldest go while a bound would be passed. */
+/* Room for a record of size sz: the oldest go while a bound would be passed.
+ * The bounds hold the records not handed over yet; those handed over and
+ * waiting for their PUBACK (at most the replay's window, gw_replay.h) are
+ * outside them and never dropped: a record the broker may be delivering
+ * right now is not counted as lost. A record counted as dropped is thus one
+ * the broker never acknowledged (after a rewind, one whose PUBACK the drop
+ * of the connection cut off may have reached it). */
 static int make_room(struct gw_buffer *b, uint64_t sz)
 {
 	const struct gw_buffer_limits *l = &b->lim;
 
-	while (b->records && ((l->max_records && b->records + 1 > l->max_records) ||
-	                      (l->max_bytes && b->bytes + sz > l->max_bytes))) {
+	for (;;) {
+		uint64_t n = b->records - b->handed_n, bytes = b->bytes - b->handed_bytes;
+		if (!n || !((l->max_records && n + 1 > l->max_records) || (l->max_bytes && bytes + sz > l->max_bytes)))
+			break;
 		uint64_t got = 0;
 		int rc = drop_oldest(b, &got);
 		if (rc < 0)
@@ -96,8 +107,9 @@ int gw_buffer_expire(struct gw_buffer *b, int64_t now_ms)
 		fall_back(b, err);
 	}
 	for (;;) {
-		gw_buffer_ring_trim(b);
-		if (!b->n || gw_buffer_ring_at(b, 0)->r.ms >= cutoff)
+		/* as the bounds: what is in flight stays until its PUBACK */
+		const struct gw_buffer_slot *s = gw_buffer_mem_oldest_pending(b);
+		if (!s || s->r.ms >= cutoff)
 			return 0;
 		uint64_t got;
 		gw_buffer_mem_drop_oldest(b, &got);
@@ -154,13 +166,27 @@ int gw_buffer_peek(struct gw_buffer *b, size_t max, const struct gw_buffer_rec *
 
 void gw_buffer_handed(struct gw_buffer *b, uint64_t seq)
 {
-	if (seq > b->handed)
-		b->handed = seq;
+	char err[400];
+	uint64_t n = 0, bytes = 0;
+
+	if (seq <= b->handed)
+		return;
+	if (b->sql && gw_buffer_sql_span(b, b->handed, seq, &n, &bytes, err, sizeof err) < 0)
+		fall_back(b, err);
+	if (!b->sql)
+		gw_buffer_mem_span(b, b->handed, seq, &n, &bytes);
+	b->handed = seq;
+	b->handed_n += n;
+	b->handed_bytes += bytes;
 }
 
 void gw_buffer_rewind(struct gw_buffer *b)
 {
+	/* nothing in flight: all of it within the bounds again */
 	b->handed = 0;
+	b->handed_n = 0;
+	b->handed_bytes = 0;
+	b->drop_mark = 0;
 }
 
 int gw_buffer_ack(struct gw_buffer *b, uint64_t seq)
@@ -168,16 +194,27 @@ int gw_buffer_ack(struct gw_buffer *b, uint64_t seq)
 	char err[400];
 
 	if (b->sql) {
-		if (gw_buffer_sql_ack(b, seq, err, sizeof err) == 0)
+		uint64_t n = b->records, bytes = b->bytes;
+		if (gw_buffer_sql_ack(b, seq, err, sizeof err) == 0) {
+			if (seq <= b->handed) {
+				b->handed_n -= n - b->records;
+				b->handed_bytes -= bytes - b->bytes;
+			}
 			return 0;
+		}
 		fall_back(b, err);
 	}
 	struct gw_buffer_slot *s = gw_buffer_mem_find(b, seq);
 	if (s && !s->acked) {
+		uint64_t sz = gw_buffer_rec_size(&s->r);
 		s->acked = true;
 		b->records--;
-		b->bytes -= gw_buffer_rec_size(&s->r);
+		b->bytes -= sz;
 		b->acked++;
+		if (seq <= b->handed) {
+			b->handed_n--;
+			b->handed_bytes -= sz;
+		}
 		gw_buffer_ring_trim(b);
 	}
 	return 0;
@@ -188,6 +225,7 @@ void gw_buffer_stats(const struct gw_buffer *b, struct gw_buffer_stats *s)
 	memset(s, 0, sizeof *s);
 	s->records = b->records;
 	s->bytes = b->bytes;
+	s->handed = b->handed_n;
 	s->oldest_ms = b->sql ? gw_buffer_sql_oldest_ms(b) : gw_buffer_mem_oldest_ms(b);
 	s->appended = b->appended;
 	s->acked = b->acked;

@@ -15,7 +15,11 @@
  *
  * Bounds: at most max_records records, max_bytes bytes (a record's size is
  * its blob plus its key plus GW_BUFFER_REC_OVERHEAD) and max_age_ms old; the
- * oldest go first, counted. The module never prints: notes (a file moved
+ * oldest go first, counted. They hold the records not handed over: one
+ * handed over is in flight until its acknowledgement (or a rewind) and is
+ * never dropped meanwhile, so a drop is always a record the broker never
+ * acknowledged; the caller bounds what is in flight (the replay's window,
+ * gw_replay.h). The module never prints: notes (a file moved
  * aside, a fall back to memory) and drop counts are returned for the caller
  * to log.
  */
@@ -66,6 +70,7 @@ struct gw_buffer_limits {
 
 struct gw_buffer_stats {
 	uint64_t records;        /* held now (handed over or not) */
+	uint64_t handed;         /* of them, handed over and not acknowledged (in flight) */
 	uint64_t bytes;          /* their sizes */
 	int64_t oldest_ms;       /* read time of the oldest, 0 when empty */
 	uint64_t appended;       /* since open */
@@ -98,7 +103,8 @@ int gw_buffer_expire(struct gw_buffer *b, int64_t now_ms);
 /* Up to max records not handed over yet, oldest first, in *recs (storage of
  * b's, valid until the next call on b). Returns how many, or GW_BUFFER_ERR. */
 int gw_buffer_peek(struct gw_buffer *b, size_t max, const struct gw_buffer_rec **recs);
-/* The records up to seq have been handed to the broker: peek goes past them. */
+/* The records up to seq have been handed to the broker: peek goes past them,
+ * and the bounds neither count nor drop them until ack or rewind. */
 void gw_buffer_handed(struct gw_buffer *b, uint64_t seq);
 /* The connection dropped: what was handed over and not acknowledged is
  * handed out again. */

@@ -34,6 +34,10 @@ struct gw_buffer {
 	size_t outcap;
 	uint64_t next_seq;           /* the next append's */
 	uint64_t handed;             /* peek goes past the records up to it */
+	/* of records and bytes, those handed over and not acknowledged (seq up
+	 * to handed): in flight, outside the bounds, never dropped */
+	uint64_t handed_n, handed_bytes;
+	uint64_t drop_mark;          /* in memory: the records not handed over up to it are gone */
 	uint64_t records, bytes;
 	uint64_t appended, acked, dropped_size, dropped_age, dropped_pending;
 	char note[512];
@@ -53,8 +57,12 @@ void gw_buffer_slots_free(struct gw_buffer_slot *s, size_t n);
 struct gw_buffer_slot *gw_buffer_ring_at(struct gw_buffer *b, size_t i);
 /* Acknowledged slots at the head go (their storage stays for reuse). */
 void gw_buffer_ring_trim(struct gw_buffer *b);
-/* The oldest record not acknowledged goes; *size its size. 0, 1 when none. */
+/* The oldest record neither handed over nor acknowledged, or NULL. */
+struct gw_buffer_slot *gw_buffer_mem_oldest_pending(struct gw_buffer *b);
+/* That record goes; *size its size. 0, 1 when none. */
 int gw_buffer_mem_drop_oldest(struct gw_buffer *b, uint64_t *size);
+/* The records held with seq in (lo, hi]: how many (*n) and their sizes. */
+void gw_buffer_mem_span(struct gw_buffer *b, uint64_t lo, uint64_t hi, uint64_t *n, uint64_t *bytes);
 /* The slot of seq, or NULL. */
 struct gw_buffer_slot *gw_buffer_mem_find(struct gw_buffer *b, uint64_t seq);
 int64_t gw_buffer_mem_oldest_ms(const struct gw_buffer *b);
@@ -65,9 +73,14 @@ int64_t gw_buffer_mem_oldest_ms(const struct gw_buffer *b);
 int gw_buffer_sql_open(struct gw_buffer *b, const char *path, char *err, size_t errcap);
 void gw_buffer_sql_close(struct gw_buffer *b);
 int gw_buffer_sql_append(struct gw_buffer *b, const struct gw_buffer_rec *r, char *err, size_t errcap);
-/* Deletes the oldest record; *size its size. 0, 1 when empty, or GW_BUFFER_ERR. */
+/* Deletes the oldest record not handed over (seq above b->handed); *size its
+ * size. 0, 1 when there is none, or GW_BUFFER_ERR. */
 int gw_buffer_sql_drop_oldest(struct gw_buffer *b, uint64_t *size, char *err, size_t errcap);
+/* Deletes the records not handed over read before cutoff_ms. */
 int gw_buffer_sql_expire(struct gw_buffer *b, int64_t cutoff_ms, char *err, size_t errcap);
+/* The records held with seq in (lo, hi]: how many (*n) and their sizes. */
+int gw_buffer_sql_span(struct gw_buffer *b, uint64_t lo, uint64_t hi, uint64_t *n, uint64_t *bytes, char *err,
+                       size_t errcap);
 int gw_buffer_sql_peek(struct gw_buffer *b, size_t max, char *err, size_t errcap);
 int gw_buffer_sql_ack(struct gw_buffer *b, uint64_t seq, char *err, size_t errcap);
 int64_t gw_buffer_sql_oldest_ms(const struct gw_buffer *b);

@@ -126,19 +126,64 @@ void gw_buffer_ring_trim(struct gw_buffer *b)
 	}
 }
 
-/* The oldest record not acknowledged goes. *size its size; 1 when none. */
-int gw_buffer_mem_drop_oldest(struct gw_buffer *b, uint64_t *size)
+/* The index of the first slot whose seq is above seq (b->n: none); the
+ * slots' seq increases along the ring, acknowledged ones included. */
+static size_t first_after(struct gw_buffer *b, uint64_t seq)
+{
+	size_t lo = 0, hi = b->n;
+
+	while (lo < hi) {
+		size_t mid = lo + (hi - lo) / 2;
+		if (gw_buffer_ring_at(b, mid)->r.seq <= seq)
+			lo = mid + 1;
+		else
+			hi = mid;
+	}
+	return lo;
+}
+
+/* The records handed over wait for their acknowledgement ahead of it: the
+ * search starts past them and past what was dropped already (drops take
+ * the oldest first, so nothing up to drop_mark is left to drop). */
+struct gw_buffer_slot *gw_buffer_mem_oldest_pending(struct gw_buffer *b)
 {
 	gw_buffer_ring_trim(b);
-	if (!b->n)
+	for (size_t i = first_after(b, b->handed > b->drop_mark ? b->handed : b->drop_mark); i < b->n; i++) {
+		struct gw_buffer_slot *s = gw_buffer_ring_at(b, i);
+		if (!s->acked)
+			return s;
+	}
+	return NULL;
+}
+
+int gw_buffer_mem_drop_oldest(struct gw_buffer *b, uint64_t *size)
+{
+	struct gw_buffer_slot *s = gw_buffer_mem_oldest_pending(b);
+
+	if (!s)
 		return 1;
-	struct gw_buffer_slot *s = gw_buffer_ring_at(b, 0);
 	*size = gw_buffer_rec_size(&s->r);
 	s->acked = true;
+	b->drop_mark = s->r.seq;
 	b->records--;
 	b->bytes -= *size;
 	gw_buffer_ring_trim(b);
 	return 0;
+}
+
+void gw_buffer_mem_span(struct gw_buffer *b, uint64_t lo, uint64_t hi, uint64_t *n, uint64_t *bytes)
+{
+	*n = 0;
+	*bytes = 0;
+	for (size_t i = first_after(b, lo); i < b->n; i++) {
+		const struct gw_buffer_slot *s = gw_buffer_ring_at(b, i);
+		if (s->r.seq > hi)
+			break;
+		if (!s->acked) {
+			(*n)++;
+			*bytes += gw_buffer_rec_size(&s->r);
+		}
+	}
 }
 
 /* The slot of seq, or NULL (binary search: seq increases along the ring). */

@@ -42,7 +42,7 @@ struct gw_buffer_sql {
 	sqlite3 *db;
 	char *path;
 	int lockfd;
-	sqlite3_stmt *ins, *peek, *del, *drop, *expire, *oldest;
+	sqlite3_stmt *ins, *peek, *del, *drop, *expire, *oldest, *span;
 };
 
 /* err: what failed on path, with the errno text when SQLite has one. */
@@ -171,10 +171,13 @@ static int sql_schema(struct gw_buffer_sql *q, char *err, size_t errcap)
 		{ offsetof(struct gw_buffer_sql, peek),
 		  "SELECT seq,kind,id,quality,ms,key,data FROM rec WHERE seq>? ORDER BY seq LIMIT ?" },
 		{ offsetof(struct gw_buffer_sql, del), "DELETE FROM rec WHERE seq=? RETURNING size" },
+		/* drops and expiry leave what is handed over (seq up to b->handed) */
 		{ offsetof(struct gw_buffer_sql, drop),
-		  "DELETE FROM rec WHERE seq=(SELECT min(seq) FROM rec) RETURNING size" },
-		{ offsetof(struct gw_buffer_sql, expire), "DELETE FROM rec WHERE ms<? RETURNING size" },
+		  "DELETE FROM rec WHERE seq=(SELECT min(seq) FROM rec WHERE seq>?) RETURNING size" },
+		{ offsetof(struct gw_buffer_sql, expire), "DELETE FROM rec WHERE ms<? AND seq>? RETURNING size" },
 		{ offsetof(struct gw_buffer_sql, oldest), "SELECT ms FROM rec ORDER BY seq LIMIT 1" },
+		{ offsetof(struct gw_buffer_sql, span),
+		  "SELECT count(*),coalesce(sum(size),0) FROM rec WHERE seq>? AND seq<=?" },
 	};
 	for (size_t i = 0; i < sizeof stmts / sizeof stmts[0]; i++) {
 		sqlite3_stmt **st = (sqlite3_stmt **)((char *)q + stmts[i].off);
@@ -204,11 +207,11 @@ static int sql_load(struct gw_buffer *b, char *err, size_t errcap)
 
 static void sql_db_close(struct gw_buffer_sql *q)
 {
-	sqlite3_stmt *all[] = { q->ins, q->peek, q->del, q->drop, q->expire, q->oldest };
+	sqlite3_stmt *all[] = { q->ins, q->peek, q->del, q->drop, q->expire, q->oldest, q->span };
 
 	for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
 		sqlite3_finalize(all[i]);
-	q->ins = q->peek = q->del = q->drop = q->expire = q->oldest = NULL;
+	q->ins = q->peek = q->del = q->drop = q->expire = q->oldest = q->span = NULL;
 	sqlite3_close(q->db);
 	q->db = NULL;
 }
@@ -371,6 +374,7 @@ int gw_buffer_sql_drop_oldest(struct gw_buffer *b, uint64_t *size, char *err, si
 {
 	uint64_t rows;
 
+	sqlite3_bind_int64(b->sql->drop, 1, (sqlite3_int64)b->handed);
 	if (sql_delete(b, b->sql->drop, &rows, size, err, errcap) < 0)
 		return GW_BUFFER_ERR;
 	return rows ? 0 : 1;
@@ -381,7 +385,30 @@ int gw_buffer_sql_expire(struct gw_buffer *b, int64_t cutoff_ms, char *err, size
 	uint64_t rows, size;
 
 	sqlite3_bind_int64(b->sql->expire, 1, cutoff_ms);
+	sqlite3_bind_int64(b->sql->expire, 2, (sqlite3_int64)b->handed);
 	return sql_delete(b, b->sql->expire, &rows, &size, err, errcap);
+}
+
+int gw_buffer_sql_span(struct gw_buffer *b, uint64_t lo, uint64_t hi, uint64_t *n, uint64_t *bytes, char *err,
+                       size_t errcap)
+{
+	sqlite3_stmt *st = b->sql->span;
+
+	sqlite3_bind_int64(st, 1, (sqlite3_int64)lo);
+	sqlite3_bind_int64(st, 2, (sqlite3_int64)hi);
+	errno = 0;
+	int rc = sqlite3_step(st);
+	int e = errno;
+	if (rc == SQLITE_ROW) {
+		*n = (uint64_t)sqlite3_column_int64(st, 0);
+		*bytes = (uint64_t)sqlite3_column_int64(st, 1);
+	}
+	sqlite3_reset(st);
+	if (rc != SQLITE_ROW) {
+		errno = e;
+		return sql_fail(b->sql, "cannot read", err, errcap);
+	}
+	return 0;
 }
 
 int gw_buffer_sql_ack(struct gw_buffer *b, uint64_t seq, char *err, size_t errcap)

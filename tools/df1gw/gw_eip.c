@@ -4,8 +4,9 @@
  * forwarded over the DF1 line (gw_eip.h).
  *
  * A request names its station through the route path (df1-eip(7)) or gets
- * --eip-station. It joins the poll engine's queue with the tag writes of the
- * MQTT side (one FIFO: clients are served in turn); its completion answers
+ * --eip-station. It waits here until the bridge's turn (gw_turn.h: the
+ * bridge and the MQTT write batches take turns), then joins the poll
+ * engine's queue (gw_eip_hand); its completion answers
  * the client: the controller's reply with the client's TNS, error replies as
  * they are, or, when the controller gave no reply, the PCCC reply a NET-ENI
  * generates for a node that is not there (STS 30h). A write is never sent
@@ -19,11 +20,14 @@
 
 #include "common/cli.h"
 
-/* What a completion needs to answer; one per request in flight. */
+/* A request, waiting for its turn, then what its completion needs to answer. */
 struct gw_eip_req {
 	struct gw_eip *e;
 	uint32_t request;
+	int station;
 	uint8_t cmd, tns[2];
+	size_t n;
+	uint8_t pccc[];              /* the command as the client sent it (n bytes) */
 };
 
 static const struct df1_eip_identity gw_identity = {
@@ -67,7 +71,6 @@ static void gw_eip_pccc(void *user, df1_eip_server_t *s, uint32_t request, int s
 {
 	struct gw_eip *e = user;
 	struct gw_eip_req *q;
-	int r;
 
 	(void)s;
 	if (n < 4) {
@@ -78,27 +81,64 @@ static void gw_eip_pccc(void *user, df1_eip_server_t *s, uint32_t request, int s
 		gw_eip_no_answer(e, request, pccc[0], pccc + 2);
 		return;
 	}
-	q = malloc(sizeof *q);
+	q = e->nheld < GW_EIP_HELD_MAX && n <= DF1_PCCC_MAX ? malloc(sizeof *q + n) : NULL;
 	if (!q) {
+		e->busy++;
 		df1_eip_server_fail(e->s, request, GW_EIP_CIP_BUSY);
 		return;
 	}
 	q->e = e;
 	q->request = request;
+	q->station = station >= 0 ? station : e->station;
 	q->cmd = pccc[0];
 	memcpy(q->tns, pccc + 2, 2);
-	r = df1_poll_submit_pccc(e->h, station >= 0 ? station : e->station, pccc, n, gw_eip_done, q);
-	if (r == 0) {
-		e->forwarded++;
-		return;
+	q->n = n;
+	memcpy(q->pccc, pccc, n);
+	e->held[e->nheld++] = q;
+}
+
+unsigned gw_eip_waiting(const struct gw_eip *e)
+{
+	return e->nheld;
+}
+
+unsigned gw_eip_hand(struct gw_eip *e)
+{
+	unsigned handed = 0;
+
+	for (unsigned i = 0; i < e->nheld; i++) {
+		struct gw_eip_req *q = e->held[i];
+		int r = DF1_E_NOT_OPEN;
+
+		if (e->h && e->line_up)
+			r = df1_poll_submit_pccc(e->h, q->station, q->pccc, q->n, gw_eip_done, q);
+		if (r == 0) {
+			e->forwarded++;
+			handed++;
+			continue;
+		}
+		if (r == DF1_E_BUSY) {
+			e->busy++;
+			df1_eip_server_fail(e->s, q->request, GW_EIP_CIP_BUSY);
+		} else {
+			gw_eip_no_answer(e, q->request, q->cmd, q->tns);
+		}
+		free(q);
 	}
-	free(q);
-	if (r == DF1_E_BUSY) {
-		e->busy++;
-		df1_eip_server_fail(e->s, request, GW_EIP_CIP_BUSY);
-	} else {
-		gw_eip_no_answer(e, request, pccc[0], pccc + 2);
+	e->nheld = 0;
+	return handed;
+}
+
+void gw_eip_drop(struct gw_eip *e)
+{
+	for (unsigned i = 0; i < e->nheld; i++) {
+		struct gw_eip_req *q = e->held[i];
+
+		if (e->s)
+			gw_eip_no_answer(e, q->request, q->cmd, q->tns);
+		free(q);
 	}
+	e->nheld = 0;
 }
 
 void gw_eip_identify(struct gw_eip *e, df1_t *h)
@@ -214,6 +254,7 @@ void gw_eip_counters(const struct gw_eip *e, FILE *f)
 
 void gw_eip_close(struct gw_eip *e)
 {
+	gw_eip_drop(e);
 	df1_eip_server_free(e->s);
 	e->s = NULL;
 }

@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * gw_eip - df1gw's EtherNet/IP side (--eip): the server of the library
- * (df1_eip_server_*) on df1gw's one loop, each Execute PCCC request forwarded
- * to the line through the poll engine's queue (df1_poll_submit_pccc) and its
+ * (df1_eip_server_*) on df1gw's one loop, each Execute PCCC request kept until
+ * the bridge's turn (gw_turn.h), then forwarded to the line through the poll
+ * engine's queue (df1_poll_submit_pccc), and its
  * reply, or the status a NET-ENI gives when the controller does not answer,
  * sent back. df1gw.c owns the loop and the line; this file never calls back
  * into it.
@@ -24,6 +25,11 @@
 #define GW_EIP_STS_NO_ANSWER 0x30
 /* CIP general status when the queue to the line is full: resource unavailable. */
 #define GW_EIP_CIP_BUSY 0x02
+/* Requests waiting for the bridge's turn at most (the engine's queue holds as
+ * many once handed). */
+#define GW_EIP_HELD_MAX DF1_PCCC_QUEUE_MAX
+
+struct gw_eip_req;
 
 struct gw_eip {
 	/* options */
@@ -37,14 +43,26 @@ struct gw_eip {
 	bool line_up;
 	int line_gone;               /* DF1_E_CLOSED / DF1_E_NODEV seen on a command, or 0 */
 	uint64_t forwarded, answered, no_answer, busy;
+	struct gw_eip_req *held[GW_EIP_HELD_MAX];   /* received, waiting for the bridge's turn */
+	unsigned nheld;
 };
 
 /* The server on e->listen; says where it listens on stderr (and that it is a
  * network, not loopback, when it is). Returns 0 or the exit status. */
 int gw_eip_open(struct gw_eip *e, const char *prog, bool quiet);
 int gw_eip_fd(const struct gw_eip *e);
-/* Accept, read and answer what is there; requests go to e->h. */
+/* Accept, read and answer what is there; requests wait for the bridge's
+ * turn (a line that is not up answers them at once). Never blocks: df1gw
+ * calls it while the line works too. */
 void gw_eip_process(struct gw_eip *e);
+/* Requests waiting for the bridge's turn. */
+unsigned gw_eip_waiting(const struct gw_eip *e);
+/* The bridge's turn: every waiting request joins e->h's queue, in the order
+ * they came; one the line cannot take is answered at once (CIP busy, or STS
+ * 30h when the line is not up). Returns how many joined. */
+unsigned gw_eip_hand(struct gw_eip *e);
+/* Every waiting request answered STS 30h (the line lost) and forgotten. */
+void gw_eip_drop(struct gw_eip *e);
 /* Ask the controller at e->station on h for its diagnostic status and report
  * its processor type in the identity (ListIdentity's product name, "libdf1 DF1
  * bridge SLC 5/04", and the product code its type code); the plain bridge
@@ -52,7 +70,8 @@ void gw_eip_process(struct gw_eip *e);
 void gw_eip_identify(struct gw_eip *e, df1_t *h);
 /* The counters, one line, for --counters. */
 void gw_eip_counters(const struct gw_eip *e, FILE *f);
-/* After the line's handle is freed (its requests ended). NULL-safe. */
+/* After the line's handle is freed (its requests ended); waiting requests
+ * dropped. NULL-safe. */
 void gw_eip_close(struct gw_eip *e);
 
 #endif

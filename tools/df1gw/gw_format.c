@@ -123,14 +123,3 @@ bool gw_fmt_station_changed(const struct gw_fmt *f, struct gw_pub *e, const stru
 	return f->ops->station(f, s, m, key) == 0 &&
 	       gw_pub_update(e, f->slot, key->p ? key->p : "", now, force && !f->ops->session);
 }
-
-int gw_msg_json_add_int(struct gw_msg *m, const char *name, long v)
-{
-	struct gw_buf *b = &m->body;
-
-	if (b->oom || !b->len || b->p[b->len - 1] != '}')
-		return -1;
-	b->len--;
-	gw_buf_printf(b, "%s\"%s\":%ld}", b->len > 1 ? "," : "", name, v);
-	return b->oom ? -1 : 0;
-}

@@ -21,19 +21,11 @@
 
 #include "df1.h"
 #include "df1gw/gw_json.h"
+#include "df1gw/gw_msg.h"
 #include "df1gw/gw_state.h"
 
-#define GW_TOPIC_MAX 512
 #define GW_FORMATS_MAX GW_PUB_KEYS   /* formats enabled at once: a change key each */
 #define GW_WRITE_ID_MAX 128          /* bytes of a write's id as its format echoes it */
-
-/* One message for the carrier. */
-struct gw_msg {
-	char topic[GW_TOPIC_MAX];
-	struct gw_buf body;          /* the payload's bytes */
-	bool retain;
-	int qos;                     /* -1: the connection's (--qos) */
-};
 
 /* A tag's state as the gateway tells it (what it says beyond the library's). */
 struct gw_tag_out {
@@ -218,35 +210,6 @@ int gw_fmts_enable_conf(struct gw_fmts *l, const char *name, const char *prefix,
 /* Enable each of names, a comma-separated list ("json"), in its order. 0, or -1 with err. */
 int gw_fmts_enable_list(struct gw_fmts *l, const char *names, const char *prefix, char *err, size_t errcap);
 void gw_fmts_close(struct gw_fmts *l);
-
-/* A JSON object payload with one more member, "name": v, as its last (a
- * Receive tag's "from", gw_receive.c and gw_sfwd.c). 0, or -1 (not an
- * object, no memory). */
-int gw_msg_json_add_int(struct gw_msg *m, const char *name, long v);
-
-/* Inline: the formats use them, and gw_format.c's table uses the formats. */
-static inline void gw_msg_init(struct gw_msg *m)
-{
-	m->topic[0] = '\0';
-	gw_buf_init(&m->body);
-	m->retain = false;
-	m->qos = -1;
-}
-
-static inline void gw_msg_free(struct gw_msg *m)
-{
-	gw_buf_free(&m->body);
-	gw_msg_init(m);
-}
-
-/* Empty topic and body, not retained; keeps the memory. */
-static inline void gw_msg_reset(struct gw_msg *m)
-{
-	m->topic[0] = '\0';
-	gw_buf_reset(&m->body);
-	m->retain = false;
-	m->qos = -1;
-}
 
 /* f's message of tag t into m, its change key compared with the one last
  * published on e (one call of f->ops->tag, whose key lands in key): true when

@@ -48,12 +48,30 @@ static void common_headers(struct MHD_Response *r)
 	MHD_add_response_header(r, "Content-Security-Policy", GW_PAGE_CSP);
 }
 
-static enum MHD_Result answer(struct MHD_Connection *c, unsigned status, const char *type, const char *body,
-                              size_t len)
+#ifdef DF1_FUZZ_HOOKS
+struct gw_http_served gw_http_served;
+
+/* The fuzz build's record of what df1gw served (gw_http.h): the first
+ * request's method as libmicrohttpd handed it over and the status queued. */
+static void served(const char *method, unsigned status)
+{
+	if (gw_http_served.count++ == 0) {
+		snprintf(gw_http_served.method, sizeof gw_http_served.method, "%s", method);
+		gw_http_served.method_len = strlen(method);
+		gw_http_served.status = status;
+	}
+}
+#else
+#define served(method, status) ((void)(method), (void)(status))
+#endif
+
+static enum MHD_Result answer(struct MHD_Connection *c, const char *method, unsigned status, const char *type,
+                              const char *body, size_t len)
 {
 	struct MHD_Response *r = MHD_create_response_from_buffer(len, (void *)body, MHD_RESPMEM_MUST_COPY);
 	enum MHD_Result ret;
 
+	served(method, status);
 	if (!r)
 		return MHD_NO;
 	common_headers(r);
@@ -76,24 +94,24 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *c, const cha
 	if (strcmp(method, MHD_HTTP_METHOD_GET) != 0 && strcmp(method, MHD_HTTP_METHOD_HEAD) != 0) {
 		static const char msg[] = "read-only: GET and HEAD only\n";
 
-		return answer(c, MHD_HTTP_METHOD_NOT_ALLOWED, "text/plain; charset=utf-8", msg, sizeof msg - 1);
+		return answer(c, method, MHD_HTTP_METHOD_NOT_ALLOWED, "text/plain; charset=utf-8", msg, sizeof msg - 1);
 	}
 	gw_buf_reset(&s->body);
 	if (strcmp(url, "/metrics") == 0) {
 		gw_metrics_write(s->g, &s->body, false);
-		return answer(c, MHD_HTTP_OK, "text/plain; version=0.0.4; charset=utf-8", s->body.p ? s->body.p : "",
-		              s->body.len);
+		return answer(c, method, MHD_HTTP_OK, "text/plain; version=0.0.4; charset=utf-8",
+		              s->body.p ? s->body.p : "", s->body.len);
 	}
 	if (strcmp(url, "/api/status") == 0) {
 		gw_status_json(s->g, &s->body);
-		return answer(c, MHD_HTTP_OK, "application/json", s->body.p ? s->body.p : "", s->body.len);
+		return answer(c, method, MHD_HTTP_OK, "application/json", s->body.p ? s->body.p : "", s->body.len);
 	}
 	if ((f = gw_page_find(url)) != NULL)
-		return answer(c, MHD_HTTP_OK, f->type, f->body, f->len);
+		return answer(c, method, MHD_HTTP_OK, f->type, f->body, f->len);
 	{
 		static const char msg[] = "not found: /, /metrics, /api/status\n";
 
-		return answer(c, MHD_HTTP_NOT_FOUND, "text/plain; charset=utf-8", msg, sizeof msg - 1);
+		return answer(c, method, MHD_HTTP_NOT_FOUND, "text/plain; charset=utf-8", msg, sizeof msg - 1);
 	}
 }
 

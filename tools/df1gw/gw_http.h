@@ -31,4 +31,19 @@ int gw_http_wait_ms(const struct gw_http *s);
 /* Answer what is ready (never blocks). */
 void gw_http_run(struct gw_http *s);
 
+#ifdef DF1_FUZZ_HOOKS
+/* Only in the fuzz build (tests/fuzz/fuzz.mk): the first request df1gw
+ * served since count was last set to 0, as its handler saw it: the method
+ * libmicrohttpd handed over (cut to fit, with its whole length) and the
+ * status df1gw queued. tests/fuzz/fuzz_http.c judges the answers on the
+ * wire by it. */
+struct gw_http_served {
+	unsigned count;              /* requests served */
+	char method[32];
+	size_t method_len;
+	unsigned status;
+};
+extern struct gw_http_served gw_http_served;
+#endif
+
 #endif

@@ -66,7 +66,8 @@ static const struct cli_extra_opt gw_opts[] = {
 	{ "device-name", required_argument, OPT_DEVICE_NAME, "N=NAME",
 	  "--sparkplug: station N's device id (default stationN; repeatable)" },
 	{ "sparkplug-state", required_argument, OPT_SPB_STATE, "FILE",
-	  "--sparkplug: keeps bdSeq across restarts (default: bdSeq starts at 0)" },
+	  "--sparkplug: the file that keeps bdSeq across restarts (default: GROUP_ID@EDGE.bdseq in the state "
+	  "folder, $STATE_DIRECTORY, else $XDG_STATE_HOME/df1gw, else ~/.local/state/df1gw)" },
 	{ "counters", no_argument, OPT_COUNTERS, NULL,
 	  "the line's, the writes' and EtherNet/IP counters on stdout at exit" },
 	{ "write-optimize", required_argument, OPT_WRITE_OPTIMIZE, "all|latest|latest-non-bool",

@@ -9,11 +9,14 @@
  */
 #include "df1gw/gw.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 #include <time.h>
+
+#include "df1gw/gw_bdseq.h"
 
 
 int64_t gw_now_ms(void)
@@ -538,18 +541,9 @@ static void writes_reads_seen(struct gw *g)
 	}
 }
 
-void gw_writes_feed(struct gw *g, int64_t now)
+/* The writes' turn: a batch of at most --duty-cycle handed to the line. */
+static void writes_batch(struct gw *g, int64_t now)
 {
-	if (!g->wq.v)
-		return;
-	gw_wq_expire(&g->wq, now);
-	/* a batch at a time: the next when the last has ended */
-	if (!g->h || !g->line_up || g->writes_pending > 0 || g->wq.n == 0)
-		return;
-	writes_reads_seen(g);
-	/* a poll read that is due goes first once a batch has run since the last read */
-	if (g->writes_since_read >= (unsigned)g->duty_cycle && df1_poll_next_ms(g->h) == 0)
-		return;
 	for (int k = 0; k < g->duty_cycle; k++) {
 		struct gw_witem *it = gw_wq_pop(&g->wq, now);
 		struct gw_wr *w;
@@ -568,6 +562,38 @@ void gw_writes_feed(struct gw *g, int64_t now)
 		}
 		g->writes_pending++;
 		g->writes_since_read++;
+	}
+}
+
+void gw_line_turns(struct gw *g, int64_t now, bool in_line)
+{
+	if (g->wq.v)
+		gw_wq_expire(&g->wq, now);
+	if (!g->h || !g->line_up)
+		return;
+	writes_reads_seen(g);
+	/* a turn handed changes what waits: ask again, a few times at most */
+	for (int i = 0; i < 4; i++) {
+		struct gw_turn_state s = {
+			.bridge = gw_eip_waiting(&g->eip),
+			.backlog = g->wq.v ? g->wq.n : 0,
+			.batch = g->writes_pending,
+			.since_read = g->writes_since_read,
+			.duty = (unsigned)g->duty_cycle,
+			.in_line = in_line,
+			.last = g->turn_last,
+		};
+		enum gw_turn t;
+
+		s.poll_due = s.backlog > 0 && df1_poll_next_ms(g->h) == 0;
+		t = gw_turn_next(&s);
+		if (t == GW_TURN_BRIDGE)
+			gw_eip_hand(&g->eip);
+		else if (t == GW_TURN_WRITES)
+			writes_batch(g, now);
+		else
+			return;
+		g->turn_last = t;
 	}
 }
 
@@ -742,33 +768,86 @@ static bool gw_session_message(struct gw *g, const struct gw_fmt *f, const char 
 	return f->ops->message(f, &n, topic, payload, (size_t)(len < 0 ? 0 : len), retain);
 }
 
-void gw_bdseq_load(struct gw *g)
+/* The bdSeq file by default, in the state folder (gw_bdseq.h; the folder is
+ * made at the first write); NULL, having said why, when none can be named. */
+static const char *bdseq_default(struct gw *g)
 {
-	FILE *fp = g->spb_state_path ? fopen(g->spb_state_path, "r") : NULL;
-	unsigned last;
+	char dir[sizeof g->spb_state_auto - 64];
 
-	g->bdseq_next = 0;
-	if (!fp)
-		return;
-	if (fscanf(fp, "bdSeq %u", &last) == 1)
-		g->bdseq_next = (last + 1) & 0xFF;
-	fclose(fp);
+	if (gw_bdseq_dir(dir, sizeof dir) < 0) {
+		if (!g->cli.quiet)
+			fprintf(stderr, "%s: no state folder for Sparkplug's bdSeq (STATE_DIRECTORY, XDG_STATE_HOME and "
+			        "HOME are not set): bdSeq starts at 0 at every start (--sparkplug-state FILE keeps it)\n",
+			        GW_PROG);
+		return NULL;
+	}
+	if (gw_bdseq_path(dir, g->spb.group, g->spb.edge_node, g->spb_state_auto, sizeof g->spb_state_auto) < 0) {
+		if (!g->cli.quiet)
+			fprintf(stderr, "%s: state folder %s: the group and edge node ids make too long a file name: bdSeq "
+			        "is not kept (--sparkplug-state FILE keeps it)\n", GW_PROG, dir);
+		return NULL;
+	}
+	g->spb_state_mkdir = true;
+	return g->spb_state_auto;
 }
 
-/* The bdSeq of this connect, written down before it is used (a restart goes on from it). */
-static void bdseq_save(struct gw *g, unsigned bdseq)
+void gw_bdseq_load(struct gw *g)
 {
-	char tmp[4096];
-	FILE *fp;
+	unsigned last;
+	int r;
 
+	g->bdseq_next = 0;
+	if (!g->spb.group || g->once)
+		return;
+	if (!g->spb_state_path)
+		g->spb_state_path = bdseq_default(g);
 	if (!g->spb_state_path)
 		return;
-	snprintf(tmp, sizeof tmp, "%s.new", g->spb_state_path);
-	fp = fopen(tmp, "w");
-	if (!fp || fprintf(fp, "bdSeq %u\n", bdseq) < 0 || fclose(fp) != 0 || rename(tmp, g->spb_state_path) < 0) {
-		if (!g->cli.quiet)
-			fprintf(stderr, "%s: --sparkplug-state %s: cannot write it\n", GW_PROG, g->spb_state_path);
+	r = gw_bdseq_read(g->spb_state_path, &last);
+	if (r > 0)
+		g->bdseq_next = (last + 1) & 0xFF;
+	else if (r < 0 && !(g->spb_state_mkdir && errno == ENOTDIR) && !g->cli.quiet)   /* said by bdseq_folder */
+		fprintf(stderr, "%s: bdSeq file %s: %s: bdSeq starts at 0\n", GW_PROG, g->spb_state_path,
+		        errno == EINVAL ? "not a line \"bdSeq N\" (N 0-255)" : strerror(errno));
+}
+
+/* The state folder of the default bdSeq file, made if missing: 0, or -1
+ * having said why (the path, the reason). */
+static int bdseq_folder(struct gw *g)
+{
+	char dir[sizeof g->spb_state_auto];
+	char *slash;
+
+	snprintf(dir, sizeof dir, "%s", g->spb_state_auto);
+	slash = strrchr(dir, '/');
+	if (slash)
+		*slash = '\0';
+	if (!slash || gw_bdseq_mkdir(dir) == 0) {
+		g->spb_state_mkdir = false;
+		return 0;
 	}
+	if (!g->cli.quiet)
+		fprintf(stderr, "%s: state folder %s: %s: bdSeq is not kept, it starts at 0 at every start "
+		        "(--sparkplug-state FILE keeps it elsewhere)\n", GW_PROG, dir, strerror(errno));
+	return -1;
+}
+
+/* The bdSeq of this connect, written down before it is used (a restart goes
+ * on from it); a failure said once, the count then goes on in memory. */
+static void bdseq_save(struct gw *g, unsigned bdseq)
+{
+	if (!g->spb_state_path)
+		return;
+	if (g->spb_state_mkdir && bdseq_folder(g) < 0) {
+		g->spb_state_path = NULL;
+		return;
+	}
+	if (gw_bdseq_write(g->spb_state_path, bdseq) == 0)
+		return;
+	if (!g->cli.quiet)
+		fprintf(stderr, "%s: bdSeq file %s: cannot write it: %s: bdSeq is not kept for the next start\n",
+		        GW_PROG, g->spb_state_path, strerror(errno));
+	g->spb_state_path = NULL;
 }
 
 void gw_on_connecting(void *user)

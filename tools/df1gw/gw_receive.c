@@ -139,6 +139,13 @@ int gw_rx_load(struct gw *g, df1_t *h)
 		gw_rx_free(&g->rx);
 		return CLI_EXIT_USAGE;
 	}
+	/* no PLC has sent a value yet: the regions hold zeros, not the table's
+	 * initial pattern, and are told as no message yet (gw_rx_table.h) */
+	if (g->rx.n && (r = gw_rx_zero(&g->rx)) < 0) {
+		fprintf(stderr, "%s: %s: the Receive rows' table: %s\n", GW_PROG, g->map_path, df1_strerror(r));
+		gw_rx_free(&g->rx);
+		return CLI_EXIT_USAGE;
+	}
 	return 0;
 }
 
@@ -165,32 +172,15 @@ static void rx_emit(struct gw *g, const struct gw_fmt *f, struct gw_msg *m)
 {
 	if (f->ops->stamp)
 		f->ops->stamp(f, m);
-	if (gw_mqtt_publish_qos(&g->mq, m->topic, m->body.p ? m->body.p : "", m->body.len, m->qos, m->retain) < 0)
+	int mid = 0;
+
+	if (gw_mqtt_publish_mid(&g->mq, m->topic, m->body.p ? m->body.p : "", m->body.len, m->qos, m->retain, &mid) < 0)
 		return;
+	if ((m->qos < 0 ? g->qos : m->qos) > 0)
+		gw_sfwd_live_mid(g, mid);       /* kept until its PUBACK (rx_publish) */
 	g->health.published++;
 	if (g->cli.verbose && !g->cli.quiet)
 		fprintf(stderr, "%s: > %s %.*s\n", GW_PROG, m->topic, (int)m->body.len, m->body.p ? m->body.p : "");
-}
-
-/* Tag e's state as the table holds it now, into *st (values: vals). */
-static int rx_state(struct gw_rx *rx, struct gw_rx_tag *e, struct df1_tag_state *st, struct df1_value *vals)
-{
-	int n = df1_table_read_addr(rx->t, &e->c.addr, vals, (size_t)e->c.count);
-
-	if (n < 0)
-		return n;
-	memset(st, 0, sizeof *st);
-	st->id = rx->g->ntags + (int)(e - rx->v);        /* Sparkplug's record of what it told */
-	st->config = &e->shown;
-	st->count = (size_t)n;
-	st->values = vals;
-	st->value = vals[0];
-	st->has_value = true;
-	st->quality = DF1_QUALITY_GOOD;
-	st->reason = DF1_REASON_NONE;
-	st->last_good_wall_ms = e->wall_ms;
-	st->age_ms = -1;
-	return 0;
 }
 
 /* Tag e by every format (JSON: with "from"; Sparkplug: a DDATA of the
@@ -200,10 +190,11 @@ static void rx_publish(struct gw *g, struct gw_rx_tag *e)
 	static struct df1_value vals[DF1_TABLE_ELEMENTS_MAX];
 	struct df1_tag_state st;
 	struct gw_tag_out t;
+	const char *reason;
 
-	if (rx_state(&g->rx, e, &st, vals) < 0)
+	if (gw_rx_row_state(&g->rx, g->ntags, e, true, &st, vals, &reason) < 0)
 		return;
-	t = (struct gw_tag_out){ .st = &st, .quality = -1, .wall_ms = rx_wall_ms() };
+	t = (struct gw_tag_out){ .st = &st, .reason = reason, .quality = -1, .wall_ms = rx_wall_ms() };
 	if (gw_sfwd_capturing(g)) {
 		/* the broker away, or a backlog before it: in the buffer, in order
 		 * (df1gw(1), STORE AND FORWARD) */
@@ -212,6 +203,9 @@ static void rx_publish(struct gw *g, struct gw_rx_tag *e)
 	}
 	if (!gw_mqtt_up(&g->mq))
 		return;
+	/* store and forward: a message the drop of the connection cuts off
+	 * before its PUBACK goes into the buffer, not lost */
+	gw_sfwd_live_receive(g, &t, e->from);
 	for (int i = 0; i < g->fmts.n; i++) {
 		const struct gw_fmt *f = &g->fmts.v[i];
 
@@ -221,15 +215,17 @@ static void rx_publish(struct gw *g, struct gw_rx_tag *e)
 			continue;
 		rx_emit(g, f, &g->msg);
 	}
+	gw_sfwd_live_close(g);
 }
 
 bool gw_rx_node_tag(struct gw *g, int i, struct df1_tag_state *st, struct gw_tag_out *t)
 {
 	static struct df1_value vals[DF1_TABLE_ELEMENTS_MAX];
+	const char *reason;
 
-	if (i < 0 || (size_t)i >= g->rx.n || rx_state(&g->rx, &g->rx.v[i], st, vals) < 0)
+	if (i < 0 || (size_t)i >= g->rx.n || gw_rx_row_state(&g->rx, g->ntags, &g->rx.v[i], true, st, vals, &reason) < 0)
 		return false;
-	*t = (struct gw_tag_out){ .st = st, .quality = -1, .wall_ms = rx_wall_ms() };
+	*t = (struct gw_tag_out){ .st = st, .reason = reason, .quality = -1, .wall_ms = rx_wall_ms() };
 	return true;
 }
 
@@ -317,6 +313,7 @@ static int rx_op_write(void *user, int station, const struct df1_addr *a, const 
 
 		if (e->c.addr.type != a->type || e->c.addr.file != a->file || e->hi <= lo || e->lo >= hi)
 			continue;
+		e->written = true;
 		e->from = df1_server_source(g->h);
 		e->wall_ms = rx_wall_ms();
 		rx->received++;
@@ -387,12 +384,15 @@ static const char *rx_set(struct gw *g, const struct gw_fmt *f, struct gw_rx_tag
 {
 	static struct df1_value cur[DF1_TABLE_ELEMENTS_MAX], vals[DF1_TABLE_ELEMENTS_MAX];
 	struct df1_tag_state st;
+	const char *reason;
 	size_t n = 0;
 	int r;
 
 	if (retain)
 		return "a retained message is not a write: publish .../set without the retain flag";
-	if ((r = rx_state(&g->rx, e, &st, cur)) < 0)
+	/* the values the table holds (zeros before a first write): a write of
+	 * some elements or members keeps the others */
+	if ((r = gw_rx_row_state(&g->rx, g->ntags, e, false, &st, cur, &reason)) < 0)
 		return df1_strerror(r);
 	if (f->ops->write_values(f, in, &e->shown, &st, vals, DF1_TABLE_ELEMENTS_MAX, &n, err, cap) < 0)
 		return err;
@@ -417,6 +417,7 @@ bool gw_rx_write(struct gw *g, const struct gw_fmt *f, const char *name, struct 
 	why = rx_set(g, f, e, in, retain, err, sizeof err);
 	rx_result(g, f, name, in->id, why);
 	if (!why) {
+		e->written = true;      /* a value someone sent: GOOD from now on */
 		e->from = -1;           /* the table's value, not a PLC's message */
 		e->wall_ms = rx_wall_ms();
 		rx_publish(g, e);

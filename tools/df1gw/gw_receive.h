@@ -7,41 +7,25 @@
  * through df1_serve() on a half-duplex slave handle (--duplex half-slave,
  * Mode Slave). Each write a PLC makes into a region is published on its
  * tag's topic at once, with the sending station; a write from MQTT to such a
- * tag changes the table only, never the line.
+ * tag changes the table only, never the line. The rows as data (struct
+ * gw_rx, a row's state as told) are gw_rx_table.h's.
  */
 #ifndef DF1_TOOLS_GW_RECEIVE_H
 #define DF1_TOOLS_GW_RECEIVE_H
 
 #include <stdbool.h>
 #include <stdint.h>
-#include <string.h>
 
 #include "df1.h"
+#include "df1gw/gw_rx_table.h"
 
 #define GW_RX_TICK_MS 50     /* the loop's longest wait while the table serves */
 
 struct gw;
 struct gw_fmt;
+struct gw_tag_out;
+struct gw_station_out;
 struct gw_write_in;
-
-/* One Receive row. */
-struct gw_rx_tag {
-	struct df1_tag_config c;
-	struct df1_tag_config shown; /* c as the formats see it: read-write (Sparkplug's metric) */
-	size_t lo, hi;               /* its bytes in its file: [lo, hi) */
-	int from;                    /* the station of the last write, -1: none yet */
-	int64_t wall_ms;             /* when it was written (ms since the epoch), 0: never */
-};
-
-struct gw_rx {
-	struct gw_rx_tag *v;
-	size_t n;
-	struct df1_table *t;         /* the regions' files; kept across reopens */
-	bool slave;                  /* the line is a half-duplex slave: df1_serve, no df1_poll */
-	uint64_t received;           /* writes from the line that landed in a region */
-	int station;                 /* df1gw's own (--src, the network file's Station) */
-	struct gw *g;
-};
 
 /* The Receive rows of the mapping file into g->rx, checked (Station is our
  * own, names are topic levels and not also polled tags of h), and the table
@@ -67,22 +51,5 @@ bool gw_rx_node_station(struct gw *g, int stn, struct gw_station_out *s, struct 
  * result. false when name is not a Receive tag (nothing done, in kept). */
 bool gw_rx_write(struct gw *g, const struct gw_fmt *f, const char *name, struct gw_write_in *in, bool retain);
 void gw_rx_free(struct gw_rx *rx);
-
-/* Receive tag name's configuration and id as the formats know it (ids after
- * the ntags polled ones), in cur; false: no such Receive tag. Inline: store
- * and forward's replay (gw_sfwd.c) uses it, and this file's code uses that. */
-static inline bool gw_rx_tag_state(const struct gw_rx *rx, int ntags, const char *name, struct df1_tag_state *cur)
-{
-	for (size_t i = 0; i < rx->n; i++) {
-		if (strcmp(rx->v[i].c.name, name) != 0)
-			continue;
-		memset(cur, 0, sizeof *cur);
-		cur->id = ntags + (int)i;
-		cur->config = &rx->v[i].shown;
-		cur->count = (size_t)rx->v[i].c.count;
-		return true;
-	}
-	return false;
-}
 
 #endif

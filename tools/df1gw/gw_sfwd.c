@@ -16,6 +16,7 @@
 #include "df1gw/gw.h"
 #include "df1gw/gw_buffer_rec.h"
 #include "df1gw/gw_buffer_tag.h"
+#include "df1gw/gw_rx_table.h"
 
 #define EXPIRE_EVERY_MS 1000         /* --buffer-max-age: a look a second */
 
@@ -149,7 +150,9 @@ bool gw_sfwd_capturing(const struct gw *g)
 	return g->mq.ever_up && (!gw_mqtt_up(&g->mq) || !sessions_ready(g));
 }
 
-/* Drops since the last look: the first of an outage said (once), counted. */
+/* Drops since the last look: the first of an outage said (once), counted;
+ * how many is said at the reconnection (outage_end), and those after it
+ * (the bound passed while the replay goes on) once the backlog drains. */
 static void drops_look(struct gw *g)
 {
 	struct gw_sfwd *s = &g->sfwd;
@@ -160,7 +163,9 @@ static void drops_look(struct gw *g)
 	if (!d)
 		return;
 	s->outage_dropped += d;
-	if (!s->full_said) {
+	/* said while the broker (or a session's host) is away: during the
+	 * replay they are counted for the line said when it has drained */
+	if (!s->full_said && (!gw_mqtt_up(&g->mq) || !sessions_ready(g))) {
 		bound_text(s, bound, sizeof bound);
 		say(g, "buffer: full (%s%s): the oldest records are dropped; how many is said when the broker "
 		    "is back", bound, s->lim.max_age_ms ? ", or older than --buffer-max-age" : "");
@@ -208,6 +213,18 @@ void gw_sfwd_live_tag(struct gw *g, const struct gw_tag_out *t)
 		return;
 	struct gw_buffer_rec rec = { 0, GW_BUFFER_TAG, t->st->id, t->quality >= 0 ? t->quality : (int)t->st->quality,
 	                             t->wall_ms, t->st->config->name, blob, (size_t)n };
+
+	gw_live_open(&g->sfwd.live, &rec);
+}
+
+void gw_sfwd_live_receive(struct gw *g, const struct gw_tag_out *t, int from)
+{
+	int n;
+
+	if (!g->sfwd.b || (n = gw_buffer_tag_pack(t, blob, sizeof blob)) < 0)
+		return;
+	struct gw_buffer_rec rec = { 0, GW_BUFFER_RECEIVE, from, (int)t->st->quality, t->wall_ms, t->st->config->name,
+	                             blob, (size_t)n };
 
 	gw_live_open(&g->sfwd.live, &rec);
 }
@@ -461,6 +478,11 @@ void gw_sfwd_turn(struct gw *g, int64_t now)
 			s->draining = false;
 			g->republish = true;
 			s->status_due = true;
+			if (s->outage_dropped)
+				say(g, "buffer: %" PRIu64 " more records dropped before the backlog drained (bounds: "
+				    "--buffer-max, --buffer-max-age)", s->outage_dropped);
+			s->outage_dropped = 0;
+			s->full_said = false;
 			if (g->cli.verbose)
 				say(g, "buffer: backlog replayed (%" PRIu64 " records so far)", s->r.replayed);
 		}

@@ -69,6 +69,9 @@ void gw_sfwd_station(struct gw *g, const struct gw_station_out *s);
  * the PUBACK of every QoS 1 message (_mid) published before _close; what is
  * not acknowledged when the connection drops goes into the buffer. */
 void gw_sfwd_live_tag(struct gw *g, const struct gw_tag_out *t);
+/* The same for a Receive tag as station from's write left it (gw_receive.c):
+ * cut off, it is replayed as gw_sfwd_receive's record. */
+void gw_sfwd_live_receive(struct gw *g, const struct gw_tag_out *t, int from);
 void gw_sfwd_live_mid(struct gw *g, int mid);
 void gw_sfwd_live_close(struct gw *g);
 /* A write's result of format f while the broker is away: 0 buffered, -1

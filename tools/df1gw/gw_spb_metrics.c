@@ -107,8 +107,8 @@ static void tag_quality(const struct gw_tag_out *t, bool *has_quality, int32_t *
 	if (q == DF1_QUALITY_GOOD)
 		return;
 	*has_quality = true;
-	if (q == DF1_QUALITY_UNCERTAIN)
-		*quality = GW_SPB_Q_UNCERTAIN_LAST_KNOWN;
+	if (q == DF1_QUALITY_UNCERTAIN)       /* no value: a Receive row no PLC wrote yet */
+		*quality = st->has_value ? GW_SPB_Q_UNCERTAIN_LAST_KNOWN : GW_SPB_Q_UNCERTAIN;
 	else if (strcmp(why, "line_lost") == 0 || st->reason == DF1_REASON_STATION_OFFLINE)
 		*quality = GW_SPB_Q_BAD_NOT_CONNECTED;
 	else if (st->reason == DF1_REASON_COMM_FAILURE)

@@ -22,11 +22,12 @@
 /* Quality codes of the property "Quality": Ignition 8's QualityCode as Int32,
  * as Cirrus Link's modules send it (df1gw(1) SPARKPLUG): the level in the top
  * two bits (Bad 0x80000000, Uncertain 0x40000000) over the subcode (Bad 512,
- * Bad_Stale 516, Bad_NotConnected 522, Uncertain_LastKnownValue 257). Good,
- * 192, is never sent: a metric without the property is good. */
+ * Bad_Stale 516, Bad_NotConnected 522, Uncertain 256, Uncertain_LastKnownValue
+ * 257). Good, 192, is never sent: a metric without the property is good. */
 #define GW_SPB_Q_BAD ((int32_t)(0x80000000u | 512u))
 #define GW_SPB_Q_BAD_STALE ((int32_t)(0x80000000u | 516u))
 #define GW_SPB_Q_BAD_NOT_CONNECTED ((int32_t)(0x80000000u | 522u))
+#define GW_SPB_Q_UNCERTAIN ((int32_t)(0x40000000u | 256u))
 #define GW_SPB_Q_UNCERTAIN_LAST_KNOWN ((int32_t)(0x40000000u | 257u))
 
 /* Metrics being made, with the text and bytes they point to. */

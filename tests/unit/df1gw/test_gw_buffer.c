@@ -4,7 +4,8 @@
  * gw_buffer_sql.c) on real SQLite files in a temporary folder and in memory:
  * order, acknowledgement, restart and a crash (a child that appends and
  * _exit()s without closing), the bounds with exact drop counts, a full disk
- * (RLIMIT_FSIZE in a child), an unusable path, a corrupt and a foreign file
+ * (RLIMIT_FSIZE in a child), records in flight (handed over, awaiting their
+ * PUBACK) outside the bounds and never dropped, an unusable path, a corrupt and a foreign file
  * moved aside, a second opener refused; the parsers of --buffer-max and
  * --buffer-max-age.
  */
@@ -365,6 +366,189 @@ static void test_disk_full_falls_back(void **state)
 	assert_int_equal(WEXITSTATUS(st), 0);
 }
 
+/* A record handed over is in flight until its PUBACK: the bounds (records,
+ * bytes, age) neither count nor drop it, so that a drop is always a record
+ * that never went to the broker. 20 records at most, 7 handed over (the
+ * window of this test): appends while they wait drop only records not
+ * handed over; the acknowledgements find every handed record still there. */
+static void inflight_kept(const char *path, const struct gw_buffer_limits *lim)
+{
+	struct gw_buffer *b = open_ok(path, lim);
+	struct gw_buffer_stats s;
+	const struct gw_buffer_rec *r;
+	uint64_t handed[7];
+
+	for (int i = 0; i < 30; i++)
+		assert_int_equal(put(b, i, 100), 0);
+	gw_buffer_stats(b, &s);
+	assert_int_equal(s.records, 20);
+	assert_int_equal(s.dropped_size, 10);
+	assert_int_equal(gw_buffer_take_dropped(b), 10);
+	/* the replay hands over 11..17; the PUBACKs are slow */
+	assert_int_equal(gw_buffer_peek(b, 7, &r), 7);
+	for (int i = 0; i < 7; i++)
+		handed[i] = r[i].seq;
+	assert_int_equal(handed[0], 11);
+	gw_buffer_handed(b, handed[6]);
+	gw_buffer_stats(b, &s);
+	assert_int_equal(s.handed, 7);
+	/* live changes join the backlog meanwhile: 7 fit beside those in
+	 * flight (13 + 7 = 20 not handed over), the 8th drops 18, the oldest
+	 * not handed over, not 11 */
+	for (int i = 30; i < 38; i++)
+		assert_int_equal(put(b, i, 100), 0);
+	gw_buffer_stats(b, &s);
+	assert_int_equal(s.records, 27);
+	assert_int_equal(s.handed, 7);
+	assert_int_equal(s.dropped_size, 11);
+	assert_int_equal(gw_buffer_take_dropped(b), 1);
+	const struct gw_buffer_rec *next;
+	assert_int_equal(gw_buffer_peek(b, 1, &next), 1);
+	assert_int_equal(next->seq, 19);
+	/* each PUBACK finds its record: deleted, acknowledged, not dropped */
+	for (int i = 0; i < 7; i++) {
+		assert_int_equal(gw_buffer_ack(b, handed[i]), 0);
+		gw_buffer_stats(b, &s);
+		assert_int_equal(s.acked, (uint64_t)i + 1);
+		assert_int_equal(s.records, 26 - (uint64_t)i);
+		assert_int_equal(s.handed, 6 - (uint64_t)i);
+	}
+	/* nothing in flight: 20 held, the bound's; the next append drops 19 */
+	assert_int_equal(put(b, 38, 100), 0);
+	gw_buffer_stats(b, &s);
+	assert_int_equal(s.records, 20);
+	assert_int_equal(s.dropped_size, 12);
+	assert_int_equal(gw_buffer_peek(b, 1, &next), 1);
+	assert_int_equal(next->seq, 20);
+	gw_buffer_close(b);
+}
+
+static void test_inflight_kept(void **state)
+{
+	/* a record is 7 + 2 + 32 = 41 bytes: 820 bytes hold 20 */
+	struct gw_buffer_limits recs = { .max_records = 20 }, bytes = { .max_bytes = 820 };
+
+	(void)state;
+	inflight_kept(file("flight-r.db"), &recs);
+	inflight_kept(NULL, &recs);
+	inflight_kept(file("flight-b.db"), &bytes);
+	inflight_kept(NULL, &bytes);
+}
+
+/* Too old while in flight: kept until its PUBACK; after a rewind (the
+ * connection dropped, nothing in flight) the bounds hold it again. */
+static void inflight_age_rewind(const char *path)
+{
+	struct gw_buffer_limits lim = { .max_records = 4, .max_age_ms = 1000 };
+	struct gw_buffer *b = open_ok(path, &lim);
+	struct gw_buffer_stats s;
+	const struct gw_buffer_rec *r;
+	int got[16];
+
+	for (int i = 0; i < 4; i++)
+		put(b, i, i * 100);
+	assert_int_equal(gw_buffer_peek(b, 2, &r), 2);
+	gw_buffer_handed(b, r[1].seq);
+	/* at 1250 ms 0..200 are too old: 1 and 2 are in flight, 3 goes */
+	assert_int_equal(gw_buffer_expire(b, 1250), 0);
+	gw_buffer_stats(b, &s);
+	assert_int_equal(s.dropped_age, 1);
+	assert_int_equal(s.records, 3);
+	assert_int_equal(gw_buffer_ack(b, 1), 0);
+	/* the connection drops with 2 in flight: handed out again, bounded again */
+	gw_buffer_rewind(b);
+	gw_buffer_stats(b, &s);
+	assert_int_equal(s.handed, 0);
+	for (int i = 4; i < 8; i++)
+		put(b, i, 2000);
+	gw_buffer_stats(b, &s);
+	/* 2 (read at 100 ms) and 4 (at 300 ms) expired by the appends at 2000 ms */
+	assert_int_equal(s.dropped_age, 3);
+	assert_int_equal(s.dropped_size, 0);
+	assert_int_equal(ids(b, got, 16), 4);
+	assert_int_equal(got[0], 4);
+	put(b, 8, 2000);
+	gw_buffer_stats(b, &s);
+	assert_int_equal(s.dropped_size, 1);
+	assert_int_equal(ids(b, got, 16), 4);
+	assert_int_equal(got[0], 5);
+	gw_buffer_close(b);
+}
+
+static void test_inflight_age_rewind(void **state)
+{
+	(void)state;
+	inflight_age_rewind(file("flight-a.db"));
+	inflight_age_rewind(NULL);
+}
+
+/* A replay against a slow broker: an append every step, a window of 8
+ * records handed over every third step, each PUBACK 7 steps later, the
+ * connection dropped twice (what is in flight handed out again). Every
+ * acknowledgement finds its record (never dropped while in flight), and at
+ * the end the drops are exactly the records that never reached the broker:
+ * appended = acknowledged + dropped, no record acknowledged twice. */
+static void slow_replay(const char *path)
+{
+	struct gw_buffer_limits lim = { .max_records = 20 };
+	struct gw_buffer *b = open_ok(path, &lim);
+	struct gw_buffer_stats s;
+	const struct gw_buffer_rec *r;
+	static unsigned char seen[2000];
+	struct { uint64_t seq; int due; } fl[64];
+	int nfl = 0, delivered = 0, appended = 0;
+
+	memset(seen, 0, sizeof seen);
+	for (int step = 0; step < 1200 || nfl || (gw_buffer_stats(b, &s), s.records); step++) {
+		if (step == 400 || step == 800) {
+			gw_buffer_rewind(b);
+			nfl = 0;
+		}
+		if (step < 1200 && put(b, step, 100) == 0)
+			appended++;
+		for (int i = 0; i < nfl;) {
+			if (fl[i].due > step) {
+				i++;
+				continue;
+			}
+			gw_buffer_stats(b, &s);
+			uint64_t before = s.records;
+			assert_int_equal(gw_buffer_ack(b, fl[i].seq), 0);
+			gw_buffer_stats(b, &s);
+			assert_int_equal(s.records, before - 1);
+			assert_int_equal(seen[fl[i].seq], 0);
+			seen[fl[i].seq] = 1;
+			delivered++;
+			fl[i] = fl[--nfl];
+		}
+		if (step % 3 == 0 && nfl < 8) {
+			int n = gw_buffer_peek(b, (size_t)(8 - nfl), &r);
+			for (int i = 0; i < n; i++, nfl++) {
+				fl[nfl].seq = r[i].seq;
+				fl[nfl].due = step + 7;
+			}
+			if (n > 0)
+				gw_buffer_handed(b, r[n - 1].seq);
+		}
+		gw_buffer_stats(b, &s);
+		assert_true(s.records - s.handed <= 20);
+		assert_true(s.handed <= 8);
+	}
+	gw_buffer_stats(b, &s);
+	assert_int_equal(appended, 1200);
+	assert_true(s.dropped_size > 0);
+	assert_int_equal(s.dropped_size + (uint64_t)delivered, (uint64_t)appended);
+	assert_int_equal(s.acked, (uint64_t)delivered);
+	gw_buffer_close(b);
+}
+
+static void test_slow_replay_counts_exact(void **state)
+{
+	(void)state;
+	slow_replay(file("slow.db"));
+	slow_replay(NULL);
+}
+
 static void test_unwritable_path(void **state)
 {
 	struct gw_buffer_limits lim = { .max_records = 3 };
@@ -532,6 +716,9 @@ int main(void)
 		cmocka_unit_test(test_memory_default_bound),
 		cmocka_unit_test(test_bounds_age),
 		cmocka_unit_test(test_disk_full_falls_back),
+		cmocka_unit_test(test_inflight_kept),
+		cmocka_unit_test(test_inflight_age_rewind),
+		cmocka_unit_test(test_slow_replay_counts_exact),
 		cmocka_unit_test(test_unwritable_path),
 		cmocka_unit_test(test_corrupt_moved_aside),
 		cmocka_unit_test(test_foreign_moved_aside),

@@ -625,6 +625,83 @@ static void test_eip_session_errors(void **state)
 	assert_int_equal(out[24 + 6 + 32], 3);     /* the name "sim" */
 }
 
+/* SendRRData (session 01020304h) carrying an Unconnected Send whose embedded
+ * request, claimed and given, is req_len bytes: Execute PCCC with a 7-byte
+ * requester ID and a read, zeros after it; route port 2 link 3. Returns the
+ * message's length in out. Laid out by hand from df1-eip(7). */
+static size_t unconnected_rr(uint8_t *out, size_t cap, size_t req_len)
+{
+	static const uint8_t head[] = { 0x4B, 0x02, 0x20, 0x67, 0x24, 0x01, 0x07, 0x4D, 0x00, 0x78, 0x56,
+	                                0x34, 0x12, 0x0F, 0x00, 0x34, 0x12, 0xA2, 0x04, 0x07, 0x89, 0x00, 0x00 };
+	size_t cip = 6 + 4 + req_len + (req_len & 1) + 2 + 2, n;
+
+	assert_true(24 + 16 + cip <= cap && req_len >= sizeof head);
+	memset(out, 0, 24 + 16 + cip);
+	n = hex("6F 00 00 00 | 04 03 02 01 | 00 00 00 00 | 11 22 33 44 55 66 77 88 | 00 00 00 00 |"
+	        " 00 00 00 00 | 0A 00 | 02 00 | 00 00 00 00 | B2 00 00 00 |"
+	        " 52 02 20 06 24 01 | 05 0A", out, cap);
+	out[2] = (uint8_t)((16 + cip) & 0xFF);
+	out[3] = (uint8_t)((16 + cip) >> 8);
+	out[38] = (uint8_t)(cip & 0xFF);
+	out[39] = (uint8_t)(cip >> 8);
+	out[n++] = (uint8_t)(req_len & 0xFF);
+	out[n++] = (uint8_t)(req_len >> 8);
+	memcpy(out + n, head, sizeof head);
+	n += req_len + (req_len & 1);
+	out[n++] = 0x01;                 /* route path: one word, reserved */
+	out[n++] = 0x00;
+	out[n++] = 0x02;                 /* port 2, link 3 */
+	out[n++] = 0x03;
+	assert_int_equal(n, 24 + 16 + cip);
+	return n;
+}
+
+/* An Unconnected Send's embedded request is at most 504 bytes
+ * (CIP_UNCONNECTED_REQ_MAX, df1-eip(7) CONNECTION MANAGER): 504 is taken,
+ * 505 and more are refused by the parser (DF1_E_TOO_LONG, whatever follows),
+ * never built, and answered by the session with 0x15 (too much data). The
+ * 2290-byte one is what fuzz_eip found parsed (tests/fuzz/found). */
+static void test_cip_unconnected_send_request_bound(void **state)
+{
+	static const size_t over[] = { 505, 506, 2290 };
+	static uint8_t in[2400], out[2400];
+	struct cip_unconnected u;
+	struct cip_req r;
+	struct eip_session s;
+	struct eip_pending p;
+	size_t n, len;
+	(void)state;
+
+	len = unconnected_rr(in, sizeof in, 504);
+	assert_int_equal(cip_req_parse(&r, in + 40, len - 40), 0);
+	assert_int_equal(cip_unconnected_parse(&u, r.data, r.len), 0);
+	assert_int_equal(u.req_len, 504);
+	assert_int_equal(u.route_len, 2);
+	assert_int_equal(cip_unconnected_build(out, sizeof out, 5, 10, u.req, u.req_len, u.route, u.route_len),
+	                 (int)(len - 40));
+	assert_memory_equal(out, in + 40, len - 40);
+	assert_int_equal(cip_unconnected_build(out, sizeof out, 5, 10, u.req, 505, u.route, u.route_len), DF1_E_INVAL);
+	eip_session_init(&s, 0x01020304);
+	assert_int_equal(feed(&s, "65 00 04 00 00 00 00 00 00 00 00 00 11 22 33 44 55 66 77 88 00 00 00 00 01 00 00 00",
+	                      out, &n, &p), EIP_SEND);
+	assert_int_equal(eip_session_input(&s, &sess_id, false, in, len, out, sizeof out, &n, &p), EIP_PCCC);
+	assert_true(p.routed);
+	assert_int_equal(p.station, 3);
+	assert_int_equal(p.len, 504 - 6 - 7);
+	assert_bytes(p.pccc, 10, "0F 00 34 12 A2 04 07 89 00 00");
+
+	for (size_t i = 0; i < sizeof over / sizeof over[0]; i++) {
+		len = unconnected_rr(in, sizeof in, over[i]);
+		assert_int_equal(cip_req_parse(&r, in + 40, len - 40), 0);
+		assert_int_equal(cip_unconnected_parse(&u, r.data, r.len), DF1_E_TOO_LONG);
+		/* claimed but not there: refused as too long all the same */
+		assert_int_equal(cip_unconnected_parse(&u, r.data, 30), DF1_E_TOO_LONG);
+		assert_int_equal(eip_session_input(&s, &sess_id, false, in, len, out, sizeof out, &n, &p), EIP_SEND);
+		assert_int_equal(n, 24 + 16 + 4);
+		assert_bytes(out + 40, 4, "D2 00 15 00");
+	}
+}
+
 static void test_eip_pccc_writes_by_command(void **state)
 {
 	(void)state;
@@ -810,6 +887,7 @@ int main(void)
 		cmocka_unit_test(test_cip_identity_attributes),
 		cmocka_unit_test(test_eip_session_register_and_pccc),
 		cmocka_unit_test(test_eip_session_errors),
+		cmocka_unit_test(test_cip_unconnected_send_request_bound),
 		cmocka_unit_test(test_eip_pccc_writes_by_command),
 		cmocka_unit_test(test_eip_server_deferred_reply_and_counters),
 	};
