@@ -354,7 +354,8 @@ enum df1_option {
 	 * @since 0.5 */
 	DF1_OPT_APP_RETRIES,
 	/* DF1_DUP_AUTO (default), 0 or 1: radio modem, drop a packet that repeats one of the
-	 * last 20 received (DST SRC CMD STS TNS); auto: on while a forward table is set. @since 0.5 */
+	 * last 20 received (DST SRC CMD STS TNS); auto: on while a forward table is set and on a
+	 * node that executes commands (df1_serve, df1_set_responder). @since 0.5 */
 	DF1_OPT_RADIO_DUP_DETECT,
 	/* bool, default 0: radio modem, key the radio with RTS and send only once CTS is
 	 * up (at most 1 s, else the packet is discarded, counted undelivered). @since 0.5 */

@@ -152,6 +152,7 @@ struct df1 {
 	struct radio_dup radio_dups; /* radio modem: the last packets heard (radio_dup.c) */
 	struct df1_radio_stats radio_st;
 	bool modem_noted;            /* radio modem: "no modem lines" said once */
+	bool radio_served;           /* radio modem: df1_serve ran (this node executes commands) */
 	const struct own_link_ops *own_link; /* a scheme's own link (eip://), else NULL */
 	void *own_link_data;         /* its state (lib/eip/eip_link.c: the session) */
 

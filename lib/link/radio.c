@@ -63,9 +63,15 @@
 #define RADIO_CTS_WAIT_MS 1000   /* doc/PROTOCOL.md 2.6: CTS within 1 s */
 #define RADIO_LINE_STEP_MS 2     /* the modem lines are read this often while waited for */
 
+/* Automatic: on for a relay (a forward table, doc/PROTOCOL.md 2.6) and for
+ * any node that executes commands (df1_serve, a responder): two relays in
+ * parallel deliver every packet twice, and a command must run once. A pure
+ * master takes replies by TNS, so a second copy is stale anyway. */
 static bool radio_dup_on(const struct df1 *h)
 {
-	return h->cfg.radio_dup == DF1_DUP_AUTO ? h->cfg.forward_set : h->cfg.radio_dup != 0;
+	if (h->cfg.radio_dup != DF1_DUP_AUTO)
+		return h->cfg.radio_dup != 0;
+	return h->cfg.forward_set || h->peer_fn || h->radio_served;
 }
 
 /* A station this node answers as: its own, or one a responder serves. */
@@ -444,6 +450,8 @@ int radio_transact(struct df1 *h, const uint8_t *cmd, size_t n, uint8_t *reply, 
 int radio_serve(struct df1 *h, link_handler_fn fn, void *ctx, int64_t deadline_ms)
 {
 	int served = 0;
+
+	h->radio_served = true;
 
 	for (;;) {
 		struct df1_symbol s;

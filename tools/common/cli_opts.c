@@ -86,7 +86,7 @@ const struct cli_common_opt cli_common_opts[] = {
 	{ CLI_OPT_APP_RETRIES, "app-retries", required_argument, LONG_ONLY(CLI_OPT_APP_RETRIES), "N",
 	  "radio: send a command again after no reply 0-10 (default 0)" },
 	{ CLI_OPT_RADIO_DUP, "dup-detect", required_argument, LONG_ONLY(CLI_OPT_RADIO_DUP), "yes|no|auto",
-	  "radio: drop repeats of the last 20 packets (default auto: with --forward)" },
+	  "radio: drop repeats of the last 20 packets (default auto: a relay or a node that serves)" },
 	{ CLI_OPT_RADIO_RTS, "radio-rts", required_argument, LONG_ONLY(CLI_OPT_RADIO_RTS), "yes|no",
 	  "radio: key with RTS, send once CTS is up (default no)" },
 	{ CLI_OPT_RTS_SEND, "rts-send-delay", required_argument, LONG_ONLY(CLI_OPT_RTS_SEND), "MS",

@@ -375,13 +375,22 @@ static void test_serve_duplicate_command(void **state)
 {
 	struct df1 *h = *state;
 
-	assert_int_equal(df1_set_option(h, DF1_OPT_RADIO_DUP_DETECT, 1), 0);
+	/* the default (auto) on a node that serves, no forward table: on, so
+	 * two relays in parallel cannot make it run a command twice */
 	mock_port_feed_hex(RD_WIRE);
 	mock_port_feed_hex(RD_WIRE); /* a relayed copy: not run, not answered */
 	assert_int_equal(serve_script(h), 1);
 	assert_int_equal(handler_calls, 1);
 	assert_int_equal(mock_port_writes(), 1);
 	assert_int_equal(stats(h).duplicates, 1);
+	/* forced off (the manuals' node without a table): each copy runs */
+	assert_int_equal(df1_set_option(h, DF1_OPT_RADIO_DUP_DETECT, 0), 0);
+	mock_port_clear_written();
+	mock_port_feed_hex(RD_WIRE);
+	mock_port_feed_hex(RD_WIRE);
+	assert_int_equal(serve_script(h), 2);
+	assert_int_equal(handler_calls, 3);
+	assert_int_equal(mock_port_writes(), 2);
 }
 
 static void test_serve_delayed_reply(void **state)
@@ -407,7 +416,9 @@ static void test_serve_reply_faults(void **state)
 {
 	struct df1 *h = *state;
 
-	/* a bad check on the reply; then a copy with TNS - 2 before the reply */
+	/* a bad check on the reply; then a copy with TNS - 2 before the reply
+	 * (the same command twice: duplicate detection off, so each is run) */
+	assert_int_equal(df1_set_option(h, DF1_OPT_RADIO_DUP_DETECT, 0), 0);
 	assert_int_equal(df1_server_set_fault(h, DF1_FAULT_CORRUPT_REPLY, 1000, 0), 0);
 	mock_port_feed_hex(RD_WIRE);
 	assert_int_equal(serve_script(h), 1);
