@@ -14,9 +14,15 @@
 #
 # `sh tests/run-tests.sh --one SCRIPT` runs one integration script as the
 # runner does (its log, its PASS or FAIL line, its result in the log folder).
+#
+# For a build of another CPU run under qemu-user (scripts/cross-check.sh):
+# TEST_WRAP is put before each test binary ("qemu-aarch64"),
+# TEST_TOOLS_DIR replaces $B/bin as DF1_BIN (a folder of wrappers that run
+# the tools under qemu), and IT_SCRIPTS names the integration scripts to run
+# ("none": none; unset: every tests/integration/*.sh).
 B=${B:-build}
 export B
-export DF1_BIN="$(cd "$B" && pwd)/bin"
+export DF1_BIN="${TEST_TOOLS_DIR:-$(cd "$B" && pwd)/bin}"
 export DF1_SHARED="${DF1_SHARED:-$(cd "$(dirname "$0")/../../shared" 2>/dev/null && pwd)}"
 log_dir="$B/test-logs"
 mkdir -p "$log_dir"
@@ -44,9 +50,14 @@ fi
 rm -f "$log_dir"/*.result "$log_dir"/*.fail
 for t in ${TEST_BINS:-"$B"/tests/test_*}; do
 	[ -x "$t" ] || continue
-	run_one "$(basename "$t")" "$t"
+	# shellcheck disable=SC2086
+	run_one "$(basename "$t")" ${TEST_WRAP:-} "$t"
 done
-ls tests/integration/*.sh 2>/dev/null | xargs -r -n 1 -P "${TEST_JOBS:-1}" sh "$0" --one
+if [ -z "${IT_SCRIPTS+set}" ]; then
+	ls tests/integration/*.sh 2>/dev/null
+elif [ "$IT_SCRIPTS" != none ]; then
+	printf '%s\n' $IT_SCRIPTS
+fi | xargs -r -n 1 -P "${TEST_JOBS:-1}" sh "$0" --one
 
 passed=0
 failed=0
