@@ -24,8 +24,9 @@
 # are not published for s390x, and the target's library must be the same
 # version as the machine's own), df1gw is left out and the output says so.
 #
-# --quick (CI): only the library, df1sim (the unit tests that start a peer
-# run it) and the unit tests, without df1gw's; no integration script.
+# --quick (CI): only the static library, the tools the unit tests start
+# (df1sim, df1write, df1mon; df1read with them) and the unit tests, without
+# df1gw's; no integration script.
 #
 # Missing packages are installed as scripts/deps.sh does (root, or sudo
 # without a password: dpkg --add-architecture ARCH, apt-get update, apt-get
@@ -113,10 +114,10 @@ for f in tests/unit/*/test_*.c; do
 	n=${f##*/}
 	tests="$tests $B/tests/${n%.c}"
 done
-if [ "$QUICK" = 1 ]; then
-	targets="$B/libdf1.a $B/bin/df1sim"
-else
-	targets="$B/libdf1.a $SO $B/bin/df1read $B/bin/df1write $B/bin/df1mon $B/bin/df1sim"
+# the unit tests start df1sim, df1write and df1mon (tests/support/simproc.c)
+targets="$B/libdf1.a $B/bin/df1read $B/bin/df1write $B/bin/df1mon $B/bin/df1sim"
+if [ "$QUICK" = 0 ]; then
+	targets="$targets $SO"
 	[ "$GW" = 1 ] && targets="$targets $B/bin/df1gw"
 fi
 echo "cross-check: $ARCH: building with $TRIPLET-gcc into $B"
