@@ -30,7 +30,11 @@
 #
 # Missing packages are installed as scripts/deps.sh does (root, or sudo
 # without a password: dpkg --add-architecture ARCH, apt-get update, apt-get
-# install), else the exact commands are printed and it fails.
+# install), else the exact commands are printed and it fails with status 3
+# (nothing was built or run; 1: the build or a test failed). A target's
+# library must be the same version as the machine's own (Multi-Arch: same):
+# while the machine has a security update that the target's archive lacks
+# (bookworm's s390x), apt-get refuses it.
 # Usage: sh scripts/cross-check.sh ARCH [--quick]     (B=... for another folder)
 set -u
 cd "$(dirname "$0")/.." || exit 2
@@ -85,7 +89,7 @@ if [ -n "$base_missing" ]; then
 		echo "cross-check: missing:$base_missing" >&2
 		echo "cross-check: run: ${sudo}dpkg --add-architecture $ARCH && ${sudo}apt-get update &&" \
 			"${sudo}apt-get install$base_missing" >&2
-		exit 1
+		exit 3
 	fi
 	rm -f "${TMPDIR:-/tmp}/cross-check-apt.$$"
 fi
