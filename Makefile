@@ -18,9 +18,18 @@ MULTIARCH ?= $(shell $(CC) -print-multiarch 2>/dev/null)
 WIRESHARK_PLUGINDIR ?= $(PREFIX)/lib/$(if $(MULTIARCH),$(MULTIARCH)/)wireshark/plugins
 
 CC ?= cc
+# a cross build names the target's tools: CC=aarch64-linux-gnu-gcc
+# AR=aarch64-linux-gnu-ar PKG_CONFIG=aarch64-linux-gnu-pkg-config (as
+# scripts/cross-check.sh and dh_auto_build do); make's own AR is ar
+PKG_CONFIG ?= pkg-config
 CFLAGS ?= -O2 -g
 WERROR ?=
-DF1_CFLAGS = -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE -Wall -Wextra -Wshadow -Wstrict-prototypes \
+# _FILE_OFFSET_BITS=64: 64-bit off_t, ino_t and directory offsets on 32-bit
+# targets too (armhf: readdir fails with EOVERFLOW on a 64-bit kernel's
+# directory offsets without it); no off_t is in the public headers. time_t
+# stays the platform's default (df1_recv_raw takes a struct timespec, which
+# a program built for the same distribution must see the same).
+DF1_CFLAGS = -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE -D_FILE_OFFSET_BITS=64 -Wall -Wextra -Wshadow -Wstrict-prototypes \
 	-Wmissing-prototypes -Wpointer-arith -Wformat=2 -Wno-format-nonliteral -Wundef -Wvla \
 	-fvisibility=hidden -Iinclude $(WERROR)
 SAN_FLAGS = -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
@@ -43,7 +52,7 @@ TOOL_CPPFLAGS = -Itools
 TEST_CPPFLAGS = -Ilib -Itools -Itests
 
 LIBS = -lcsv -lm
-CMOCKA_LIBS = $(shell pkg-config --libs cmocka 2>/dev/null || echo -lcmocka)
+CMOCKA_LIBS = $(shell $(PKG_CONFIG) --libs cmocka 2>/dev/null || echo -lcmocka)
 
 LIB_SRCS := $(sort $(wildcard lib/*.c lib/*/*.c))
 LIB_OBJS := $(LIB_SRCS:%.c=$(B)/%.o)
@@ -57,14 +66,14 @@ TOOL_SRCS_df1write := tools/df1write.c
 TOOL_SRCS_df1mon := $(sort $(wildcard tools/df1mon/*.c))
 TOOL_SRCS_df1sim := $(sort $(wildcard tools/df1sim/*.c))
 TOOL_SRCS_df1gw := $(sort $(wildcard tools/df1gw/*.c))
-TOOL_LIBS_df1gw := $(shell pkg-config --libs libmosquitto 2>/dev/null || echo -lmosquitto)
+TOOL_LIBS_df1gw := $(shell $(PKG_CONFIG) --libs libmosquitto 2>/dev/null || echo -lmosquitto)
 # OpenSSL (optional): why the broker's certificate did not verify (gw_mqtt.c)
-ifeq ($(shell pkg-config --exists openssl 2>/dev/null && echo 1),1)
-  TOOL_LIBS_df1gw += $(shell pkg-config --libs openssl)
+ifeq ($(shell $(PKG_CONFIG) --exists openssl 2>/dev/null && echo 1),1)
+  TOOL_LIBS_df1gw += $(shell $(PKG_CONFIG) --libs openssl)
   $(B)/tools/df1gw/gw_mqtt.o: TOOL_CPPFLAGS += -DGW_HAVE_OPENSSL
 endif
 # --http (tools/df1gw/gw_http.c): libmicrohttpd, and its headers' flags
-TOOL_LIBS_df1gw += $(shell pkg-config --libs libmicrohttpd 2>/dev/null || echo -lmicrohttpd) -lm
+TOOL_LIBS_df1gw += $(shell $(PKG_CONFIG) --libs libmicrohttpd 2>/dev/null || echo -lmicrohttpd) -lm
 # df1gw's modules that need no broker library, linked into its unit tests
 GW_PURE_OBJS := $(patsubst %.c,$(B)/%.o,$(filter-out tools/df1gw/df1gw.c tools/df1gw/gw_mqtt.c tools/df1gw/gw_pub.c,$(TOOL_SRCS_df1gw)))
 # ... and not the health side that reads the broker's state and serves HTTP
@@ -78,13 +87,13 @@ GW_PURE_OBJS := $(filter-out $(B)/tools/df1gw/gw_sfwd.o,$(GW_PURE_OBJS))
 # only file that includes it, and df1gw's unit tests link it too.
 SPB_GEN_DIR := $(B)/gen/df1gw
 SPB_GEN_OBJ := $(SPB_GEN_DIR)/spb.pb-c.o
-PROTOBUF_C_CFLAGS := $(shell pkg-config --cflags libprotobuf-c 2>/dev/null)
-PROTOBUF_C_LIBS := $(shell pkg-config --libs libprotobuf-c 2>/dev/null || echo -lprotobuf-c)
+PROTOBUF_C_CFLAGS := $(shell $(PKG_CONFIG) --cflags libprotobuf-c 2>/dev/null)
+PROTOBUF_C_LIBS := $(shell $(PKG_CONFIG) --libs libprotobuf-c 2>/dev/null || echo -lprotobuf-c)
 TOOL_LIBS_df1gw += $(SPB_GEN_OBJ) $(PROTOBUF_C_LIBS)
 GW_PURE_OBJS += $(SPB_GEN_OBJ)
 GW_TEST_LIBS := $(PROTOBUF_C_LIBS)
 # store and forward (tools/df1gw/gw_buffer*.c): SQLite, in df1gw and its tests
-SQLITE3_LIBS := $(shell pkg-config --libs sqlite3 2>/dev/null || echo -lsqlite3)
+SQLITE3_LIBS := $(shell $(PKG_CONFIG) --libs sqlite3 2>/dev/null || echo -lsqlite3)
 TOOL_LIBS_df1gw += $(SQLITE3_LIBS)
 GW_TEST_LIBS += $(SQLITE3_LIBS)
 TOOL_COMMON_SRCS := $(sort $(wildcard tools/common/*.c))
@@ -132,7 +141,7 @@ endif
 .SECONDARY:
 
 .PHONY: all check test-run tests install uninstall install-wireshark uninstall-wireshark clean demo bench \
-	lint-man lint-code check-exports deps fuzz fuzz-build
+	lint-man lint-code check-exports deps fuzz fuzz-build cross-check
 all: $(STATIC) $(SHARED) $(TOOLS) $(B)/libdf1.pc
 
 # V=1 shows the full commands
@@ -159,7 +168,7 @@ $(B)/pic/lib/%.o: lib/%.c $(LIB_HDRS)
 $(STATIC): $(LIB_OBJS)
 	@rm -f $@
 	@$(if $(Q),echo "  AR      $@")
-	$(Q)ar rcs $@ $^
+	$(Q)$(AR) rcs $@ $^
 
 $(SHARED): $(LIB_PIC_OBJS) lib/libdf1.map
 	@$(if $(Q),echo "  LD      $@")
@@ -171,7 +180,7 @@ $(SHARED): $(LIB_PIC_OBJS) lib/libdf1.map
 $(TOOL_COMMON_LIB): $(TOOL_COMMON_SRCS:%.c=$(B)/%.o)
 	@rm -f $@
 	@$(if $(Q),echo "  AR      $@")
-	$(Q)ar rcs $@ $^
+	$(Q)$(AR) rcs $@ $^
 
 # each program: its own objects, the tools' archive, libdf1
 define TOOL_RULE
@@ -225,6 +234,12 @@ test-run: tests
 
 deps:
 	@sh scripts/deps.sh
+
+# The tree built for ARCH (arm64, armhf, s390x) with the target's compiler and
+# libraries into build/cross-ARCH, its tests run under qemu-user
+# (scripts/cross-check.sh; QUICK=1: the unit tests only, as CI runs them)
+cross-check:
+	@B=build/cross-$(ARCH) sh scripts/cross-check.sh "$(ARCH)" $(if $(filter 1,$(QUICK)),--quick)
 
 check: deps
 	$(MAKE) lint-man lint-code check-exports

@@ -14,7 +14,15 @@
 #      unpacked libdf1-dev reads it too;
 #   6. with --install (as root, CI): `apt-get install ./*.deb` for real, the
 #      same run against /usr, then the packages removed again.
-# Usage: sh scripts/test-debian.sh [--install] [--keep DIR]
+# With --arch ARCH (arm64, armhf, ...: a cross build), step 3 is
+# `dpkg-buildpackage -a ARCH -Pcross,nocheck -us -uc -b` (no tests at build
+# time: make cross-check ARCH=... runs them under qemu), every .deb must say
+# Architecture: ARCH (dpkg-deb -f) and its df1read be the target's machine
+# code, and step 5 runs the unpacked tools and the pkg-config program (built
+# with ARCH's cross compiler) under qemu-user; --install is for the build
+# machine's own architecture only. Needs what make cross-check ARCH=...
+# installs, and Build-Depends for ARCH (dpkg-checkbuilddeps -a ARCH -P cross,nocheck).
+# Usage: sh scripts/test-debian.sh [--install] [--keep DIR] [--arch ARCH]
 #        sh scripts/test-debian.sh --update-symbols   (rewrite the symbols file
 #        from the built library, with the version of each symbol's "@since"
 #        in include/df1*.h, 0.1.0 where none is given; run after adding API)
@@ -24,15 +32,32 @@ cd "$(dirname "$0")/.." || exit 2
 MODE=test
 INSTALL=0
 KEEP=
+ARCH=
 while [ $# -gt 0 ]; do
 	case $1 in
 	--update-symbols) MODE=symbols ;;
 	--install) INSTALL=1 ;;
 	--keep) KEEP=$2; shift ;;
-	*) echo "usage: $0 [--install] [--keep DIR] | --update-symbols" >&2; exit 2 ;;
+	--arch) ARCH=${2:-}; shift ;;
+	*) echo "usage: $0 [--install] [--keep DIR] [--arch ARCH] | --update-symbols" >&2; exit 2 ;;
 	esac
 	shift
 done
+BUILD_ARCH=$(dpkg-architecture -qDEB_BUILD_ARCH)
+[ "$ARCH" = "$BUILD_ARCH" ] && ARCH=
+RUN=            # what runs a program of the packages' architecture
+XCC=${CC:-cc}   # what compiles one
+if [ -n "$ARCH" ]; then
+	TRIPLET=$(dpkg-architecture -a "$ARCH" -qDEB_HOST_GNU_TYPE 2> /dev/null) ||
+		{ echo "test-debian: unknown architecture $ARCH" >&2; exit 2; }
+	case $ARCH in
+	arm64) RUN=qemu-aarch64 ;;
+	armhf | armel) RUN=qemu-arm ;;
+	*) RUN=qemu-$(dpkg-architecture -a "$ARCH" -qDEB_HOST_GNU_CPU) ;;
+	esac
+	XCC=$TRIPLET-gcc
+	[ "$INSTALL" = 1 ] && { echo "test-debian: --install installs the build machine's packages only" >&2; exit 2; }
+fi
 fails=0
 fail() { echo "test-debian: FAIL: $*"; fails=$((fails + 1)); }
 pass() { echo "test-debian: ok: $*"; }
@@ -124,9 +149,12 @@ SRC="$T/libdf1-$VERSION"
 mkdir -p "$SRC"
 git ls-files -z --cached --others --exclude-standard | (cd "$SRC" && xargs -0 -I{} sh -c 'mkdir -p "$(dirname "{}")"' ) 2>/dev/null
 git ls-files -z --cached --others --exclude-standard | xargs -0 sh -c 'for f; do [ -e "$f" ] || [ -L "$f" ] && cp -P "$f" "'"$SRC"'/$f"; done' sh
-echo "test-debian: dpkg-buildpackage -us -uc -b (DEB_BUILD_OPTIONS=${DEB_BUILD_OPTIONS:-})"
+DPKG_BP="dpkg-buildpackage -us -uc -b"
+[ -n "$ARCH" ] && DPKG_BP="dpkg-buildpackage -a $ARCH -Pcross,nocheck -us -uc -b"
+echo "test-debian: $DPKG_BP (DEB_BUILD_OPTIONS=${DEB_BUILD_OPTIONS:-})"
 start=$(date +%s)
-if (cd "$SRC" && dpkg-buildpackage -us -uc -b) > "$T/build.log" 2>&1; then
+# shellcheck disable=SC2086
+if (cd "$SRC" && $DPKG_BP) > "$T/build.log" 2>&1; then
 	pass "dpkg-buildpackage in $(( $(date +%s) - start )) s"
 else
 	fail "dpkg-buildpackage (last lines of its log:)"
@@ -135,6 +163,13 @@ else
 fi
 grep -E "^[0-9]+ passed, [0-9]+ failed$" "$T/build.log" | sed 's/^/test-debian: build-time tests: /'
 ls "$T"/*.deb | sed 's|.*/|test-debian: built |'
+if [ -n "$ARCH" ]; then
+	for d in "$T"/*.deb; do
+		a=$(dpkg-deb -f "$d" Architecture)
+		[ "$a" = "$ARCH" ] || fail "${d##*/} says Architecture: $a, not $ARCH"
+	done
+	pass "every .deb says Architecture: $ARCH (dpkg-deb -f)"
+fi
 
 # 4. lintian
 lintian --tag-display-limit 0 "$T"/libdf1_"$VERSION"_*.changes > "$T/lintian.txt" 2>&1
@@ -149,7 +184,12 @@ grep -E '^[WI]:' "$T/lintian.txt" | sed 's/^/test-debian: lintian: /'
 # 5. unpacked into a scratch root
 ROOT="$T/root"
 for d in "$T"/*.deb; do dpkg -x "$d" "$ROOT"; done
-MA=$(dpkg-architecture -qDEB_HOST_MULTIARCH)
+MA=$(dpkg-architecture ${ARCH:+-a "$ARCH"} -qDEB_HOST_MULTIARCH 2> /dev/null)
+if [ -n "$ARCH" ]; then
+	m=$(file -b "$ROOT/usr/bin/df1read" 2> /dev/null | cut -d, -f1-2)
+	[ -n "$m" ] && echo "test-debian: /usr/bin/df1read: $m"
+	command -v "$RUN" > /dev/null 2>&1 || { fail "$RUN (qemu-user) is missing: apt-get install qemu-user"; RUN=false; }
+fi
 for f in usr/lib/"$MA"/libdf1.so.0 usr/include/df1.h usr/lib/"$MA"/pkgconfig/libdf1.pc \
 	usr/bin/df1read usr/bin/df1gw usr/share/man/man1/df1read.1.gz usr/share/man/man3/df1_open.3.gz \
 	lib/systemd/system/df1gw@.service usr/lib/"$MA"/wireshark/plugins/df1.lua; do
@@ -159,7 +199,8 @@ try_installed() { # PREFIXROOT LIBPATH: df1read and a pkg-config program against
 	r=$1
 	rm -f "$T/sim.out"
 	mkfifo "$T/sim.out"
-	LD_LIBRARY_PATH=$2 "$r/usr/bin/df1sim" --pty "$T/plc" --data "$T/data" > "$T/sim.out" 2> "$T/sim.err" &
+	# shellcheck disable=SC2086
+	LD_LIBRARY_PATH=$2 $RUN "$r/usr/bin/df1sim" --pty "$T/plc" --data "$T/data" > "$T/sim.out" 2> "$T/sim.err" &
 	sim=$!
 	line=
 	IFS= read -r line < "$T/sim.out" || line=
@@ -167,16 +208,23 @@ try_installed() { # PREFIXROOT LIBPATH: df1read and a pkg-config program against
 		fail "installed df1sim did not start: $(cat "$T/sim.err")"
 		return
 	fi
-	got=$(LD_LIBRARY_PATH=$2 "$r/usr/bin/df1read" -d "$T/plc" N7:0 N7:1)
+	# shellcheck disable=SC2086
+	got=$(LD_LIBRARY_PATH=$2 $RUN "$r/usr/bin/df1read" -d "$T/plc" N7:0 N7:1)
 	[ "$got" = "$(printf '1234\n-5')" ] && pass "$3: df1read reads df1sim" \
 		|| fail "$3: df1read printed '$got'"
-	LD_LIBRARY_PATH=$2 ldd "$r/usr/bin/df1read" | grep -q "libdf1.so.0 => $2" \
-		&& pass "$3: df1read uses libdf1-0's library" || fail "$3: df1read does not load $2/libdf1.so.0"
+	if [ -n "$RUN" ]; then  # ldd is the build machine's: the guest's loader lists the libraries
+		$RUN -E LD_TRACE_LOADED_OBJECTS=1 -E LD_LIBRARY_PATH="$2" "$r/usr/bin/df1read" 2>&1 | grep -q "libdf1.so.0 => $2" \
+			&& pass "$3: df1read uses libdf1-0's library" || fail "$3: df1read does not load $2/libdf1.so.0"
+	else
+		LD_LIBRARY_PATH=$2 ldd "$r/usr/bin/df1read" | grep -q "libdf1.so.0 => $2" \
+			&& pass "$3: df1read uses libdf1-0's library" || fail "$3: df1read does not load $2/libdf1.so.0"
+	fi
 	if [ "$r" = / ]; then pc="pkg-config"; else
 		pc="env PKG_CONFIG_SYSROOT_DIR=$r PKG_CONFIG_LIBDIR=$r/usr/lib/$MA/pkgconfig pkg-config"; fi
 	# shellcheck disable=SC2046
-	if ${CC:-cc} -std=c11 -o "$T/read_n7" examples/read_n7.c $($pc --cflags --libs libdf1) 2> "$T/cc.err"; then
-		out=$(LD_LIBRARY_PATH=$2 "$T/read_n7" "$T/plc" 1 2>&1)
+	if $XCC -std=c11 -o "$T/read_n7" examples/read_n7.c $($pc --cflags --libs libdf1) 2> "$T/cc.err"; then
+		# shellcheck disable=SC2086
+		out=$(LD_LIBRARY_PATH=$2 $RUN "$T/read_n7" "$T/plc" 1 2>&1)
 		echo "$out" | grep -q "1234" && pass "$3: a program built with pkg-config libdf1 reads df1sim" \
 			|| fail "$3: read_n7 printed: $out"
 	else

@@ -16,9 +16,15 @@
 #
 # `sh tests/run-tests.sh --one SCRIPT` runs one integration script as the
 # runner does (its log, its PASS or FAIL line, its result in the log folder).
+#
+# For a build of another CPU run under qemu-user (scripts/cross-check.sh):
+# TEST_WRAP is put before each test binary ("qemu-aarch64"),
+# TEST_TOOLS_DIR replaces $B/bin as DF1_BIN (a folder of wrappers that run
+# the tools under qemu), and TEST_SCRIPTS names the integration scripts to
+# run ("none": none).
 B=${B:-build}
 export B
-export DF1_BIN="$(cd "$B" && pwd)/bin"
+export DF1_BIN="${TEST_TOOLS_DIR:-$(cd "$B" && pwd)/bin}"
 log_dir="$B/test-logs"
 mkdir -p "$log_dir"
 
@@ -48,12 +54,14 @@ rm -f "$log_dir"/*.result "$log_dir"/*.fail
 # were not written for
 for t in ${TEST_BINS:-"$B"/tests/test_*}; do
 	[ -x "$t" ] || continue
-	run_one "$(basename "$t")" "$t"
+	# shellcheck disable=SC2086
+	run_one "$(basename "$t")" ${TEST_WRAP:-} "$t"
 done
 # the longest scripts first, so that the last one to start is a short one
 # (tests/integration/.order lists the long ones; the rest follow by name)
 if [ -n "${TEST_SCRIPTS:-}" ]; then
 	scripts=$TEST_SCRIPTS
+	[ "$scripts" = none ] && scripts=
 else
 	scripts=$( { grep -v '^#' tests/integration/.order 2>/dev/null | sed 's|^|tests/integration/|'
 		ls tests/integration/*.sh; } | awk '!seen[$0]++' | while read -r s; do [ -f "$s" ] && echo "$s"; done)

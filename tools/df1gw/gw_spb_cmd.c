@@ -177,9 +177,13 @@ static int array_from(const struct gw_spb_metric *m, enum df1_value_kind k, size
 		else if (k == DF1_VAL_INT32)
 			out[i].v.i32 = (int32_t)((uint32_t)b[4 * i] | (uint32_t)b[4 * i + 1] << 8 |
 			                         (uint32_t)b[4 * i + 2] << 16 | (uint32_t)b[4 * i + 3] << 24);
-		else if (k == DF1_VAL_FLOAT)
-			memcpy(&out[i].v.f, b + 4 * i, 4);
-		else
+		else if (k == DF1_VAL_FLOAT) {
+			/* the IEEE 754 bits, little-endian like the integers (not the host's order) */
+			uint32_t u = (uint32_t)b[4 * i] | (uint32_t)b[4 * i + 1] << 8 |
+			             (uint32_t)b[4 * i + 2] << 16 | (uint32_t)b[4 * i + 3] << 24;
+
+			memcpy(&out[i].v.f, &u, 4);
+		} else
 			out[i].v.bit = (b[4 + i / 8] >> (7 - i % 8)) & 1;
 		if (k == DF1_VAL_FLOAT && !isfinite(out[i].v.f)) {
 			snprintf(err, errcap, "element %zu is not a finite float", i);

@@ -214,9 +214,13 @@ static void array_value(struct gw_spb_list *l, struct gw_spb_metric *m, enum df1
 			put_le(b + 2 * i, (uint16_t)v[i].v.i16, 2);
 		else if (k == DF1_VAL_INT32)
 			put_le(b + 4 * i, (uint32_t)v[i].v.i32, 4);
-		else if (k == DF1_VAL_FLOAT)
-			memcpy(b + 4 * i, &v[i].v.f, 4);     /* little-endian hosts (Debian's) */
-		else if (v[i].v.bit)
+		else if (k == DF1_VAL_FLOAT) {
+			/* the IEEE 754 bits, little-endian whatever the host's order */
+			uint32_t u;
+
+			memcpy(&u, &v[i].v.f, 4);
+			put_le(b + 4 * i, u, 4);
+		} else if (v[i].v.bit)
 			b[4 + i / 8] |= (uint8_t)(0x80 >> (i % 8));
 	}
 	if (b && k == DF1_VAL_BIT)
