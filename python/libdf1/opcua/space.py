@@ -398,6 +398,8 @@ class Line:
 
     def start(self, plc, poller) -> None:
         self._first = (plc, poller)
+        with self._lock:        # a write that comes before the thread first runs finds the line open
+            self._poller = poller
         self._thread.start()
 
     def stop(self, cancel: Optional[Callable[[], None]] = None) -> None:
