@@ -619,6 +619,12 @@ struct df1_net_config {
 	bool handshake;         /* default No */
 	bool duplex_half;       /* Mode Master/Slave on a multidrop line: half duplex; Peer: full */
 	bool port_given;        /* the file set Com_Port (port[] is not just the default) */
+	/* Columns beyond the seed's (@since 0.5; libdf1(7) "Network file"): Link
+	 * Full | Half | Radio (empty: from Mode), Store_Forward a station list
+	 * (df1_forward_parse; Link Radio only). */
+	bool radio;             /* Link Radio: DF1_RADIO_MODEM */
+	bool forward_set;       /* Store_Forward given: forward[] is the table */
+	uint8_t forward[32];    /* df1_set_forward(3)'s table */
 };
 
 /* Report of one problem in a configuration file. */

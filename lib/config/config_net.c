@@ -32,9 +32,16 @@
  *   Parity       None | Even | Odd (or N E O), default None
  *   Timeout      0-360000 ms, default 1000;  TX_Delay 0-65535 ms, default 0
  *   Handshake    Yes | No (or Y N), default No
- * The last seven have no catalog ID: they are reported with catalog_id 0 and a
+ * Two columns beyond the seed's table (extensions, since 0.5; libdf1(7)):
+ *   Link         Full | Half | Radio, default from Mode: the link mode, Radio
+ *                the DF1 Radio Modem (doc/PROTOCOL.md 2.6); Half needs Mode
+ *                Master or Slave
+ *   Store_Forward a station list (1,3-5,255; none), Link Radio only: the
+ *                stations whose packets this node relays (df1_forward_parse)
+ * The last nine have no catalog ID: they are reported with catalog_id 0 and a
  * text in the seed's style naming the field and the valid values. Mode Master or
- * Slave sets duplex_half (half duplex, multidrop), Peer clears it (full duplex).
+ * Slave sets duplex_half (half duplex, multidrop), Peer clears it (full duplex);
+ * Link, when given, decides instead.
  */
 #include "config/config_int.h"
 #include "scheme.h"
@@ -47,13 +54,13 @@
 enum cfg_net_field {
 	NF_STATION, NF_MODE, NF_PLC_TYPE, NF_ERROR_CODE, NF_NAK_RETRIES, NF_ENQ_RETRIES,
 	NF_CMD_TIMEOUT, NF_COM_PORT, NF_BAUD, NF_DATA_BITS, NF_STOP_BITS, NF_PARITY,
-	NF_TIMEOUT, NF_TX_DELAY, NF_HANDSHAKE, NF_COUNT
+	NF_TIMEOUT, NF_TX_DELAY, NF_HANDSHAKE, NF_LINK, NF_STORE_FORWARD, NF_COUNT
 };
 
 static const char *const cfg_net_names[NF_COUNT] = {
 	"Station", "Mode", "PLC_Type", "Error_Code", "NAK_Retries", "ENQ_Retries",
 	"Cmd_Timeout", "Com_Port", "Baud", "Data_Bits", "Stop_Bits", "Parity",
-	"Timeout", "TX_Delay", "Handshake",
+	"Timeout", "TX_Delay", "Handshake", "Link", "Store_Forward",
 };
 
 void df1_net_config_defaults(struct df1_net_config *c)
@@ -304,6 +311,42 @@ static void cfg_net_line(struct cfg_load *l, struct cfg_row *row, struct df1_net
 	}
 }
 
+/* Link, Store_Forward: the link mode, and a radio node's relaying (the
+ * extension columns, after Mode has set its default). */
+static void cfg_net_link(struct cfg_load *l, struct cfg_row *row, struct df1_net_config *c)
+{
+	const char *v = cfg_value(l, row, NF_LINK);
+	int line = row->line;
+
+	if (*v) {
+		if (cfg_ieq(v, "Full")) {
+			c->duplex_half = false;
+		} else if (cfg_ieq(v, "Radio")) {
+			c->duplex_half = false;
+			c->radio = true;
+		} else if (cfg_ieq(v, "Half")) {
+			c->duplex_half = true;
+			if (c->mode == DF1_MODE_PEER)
+				cfg_report(l, 0, l->item, line, "Link Half needs Mode Master or Slave (a "
+				           "half-duplex line has one master and its slaves), not Peer");
+		} else {
+			cfg_report(l, 0, l->item, line,
+			           "Invalid Link (%.64s), should be one of Full, Half, or Radio", v);
+		}
+	}
+	v = cfg_value(l, row, NF_STORE_FORWARD);
+	if (!*v)
+		return;
+	if (df1_forward_parse(v, c->forward) < 0)
+		cfg_report(l, 0, l->item, line, "Invalid Store_Forward (%.64s), should be a list of "
+		           "stations 0-255 such as 1,3-5,255, or none", v);
+	else if (!c->radio)
+		cfg_report(l, 0, l->item, line, "Store_Forward (%.64s) needs Link Radio (store and "
+		           "forward is the radio modem's)", v);
+	else
+		c->forward_set = true;
+}
+
 /* The first data row configures the module; every invalid value is reported,
  * in the order of the fields. */
 static void cfg_net_row(struct cfg_load *l, struct cfg_row *row)
@@ -317,6 +360,7 @@ static void cfg_net_row(struct cfg_load *l, struct cfg_row *row)
 	cfg_net_retries(l, row, c);
 	cfg_net_where(l, row, c);
 	cfg_net_line(l, row, c);
+	cfg_net_link(l, row, c);
 }
 
 int df1_net_config_load(const char *path, struct df1_net_config *c, df1_config_issue_fn fn,
@@ -359,7 +403,9 @@ int df1_apply_net_config(df1_t *h, const struct df1_net_config *c)
 
 	if (!h || !c)
 		return DF1_E_INVAL;
-	if (c->mode == DF1_MODE_PEER || !c->duplex_half)
+	if (c->radio)
+		duplex = DF1_RADIO_MODEM;
+	else if (c->mode == DF1_MODE_PEER || !c->duplex_half)
 		duplex = DF1_FULL_DUPLEX;
 	else if (c->mode == DF1_MODE_SLAVE)
 		duplex = DF1_HALF_DUPLEX_SLAVE;
@@ -384,5 +430,7 @@ int df1_apply_net_config(df1_t *h, const struct df1_net_config *c)
 		rc = df1_set_retries(h, c->nak_retries, c->enq_retries);
 	if (rc >= 0)
 		rc = df1_set_tx_delay_ms(h, c->tx_delay_ms);
+	if (rc >= 0 && c->radio)
+		rc = df1_set_forward(h, c->forward_set ? c->forward : NULL);
 	return rc < 0 ? rc : 0;
 }

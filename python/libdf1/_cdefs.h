@@ -420,6 +420,9 @@ struct df1_net_config {
 	_Bool handshake;
 	_Bool duplex_half;
 	_Bool port_given;
+	_Bool radio;
+	_Bool forward_set;
+	uint8_t forward[32];
 };
 struct df1_config_issue {
 	int catalog_id;

@@ -40,6 +40,16 @@ expect 0 "read them back" -- "$R" -d "$SIM_DEV" $RADIO -a 1 N7:2 N7:8
 out_is "both written" "5
 6"
 
+# a network file's Link column (an extension, libdf1(7)): Radio is the radio
+# modem; a Store_Forward without it is refused, naming the column
+printf 'Station,Mode,Error_Code,Com_Port,Baud,Link,Cmd_Timeout\n0,Master,CRC,%s,19200,Radio,500\n' "$SIM_DEV" > "$T/net.csv"
+expect 0 "df1read -N with Link Radio" -- "$R" -N "$T/net.csv" -a 1 -o 500 -vv N7:0
+out_is "N7:0 through the network file" "1234"
+check "Link Radio: no DLE ACK, NAK or ENQ either way" "! grep -Eq '  (ACK|NAK|ENQ|EOT)  ' '$T/err'"
+printf 'Station,Link,Store_Forward\n0,Full,3\n' > "$T/badnet.csv"
+expect 2 "Store_Forward without Link Radio" -- "$R" -N "$T/badnet.csv" -d "$SIM_DEV" -a 1 N7:0
+err_has "names the column" "Store_Forward (3) needs Link Radio"
+
 # 2. a broadcast write: executed, never answered (the master is done at once)
 expect 0 "write to station 255" -- "$W" -d "$SIM_DEV" $RADIO -a 255 -vv N7:1=77
 check "the broadcast drew no reply" "! grep -q 'rx  FRAME' '$T/err'"

@@ -57,6 +57,7 @@ int cli_load_net(struct cli *c)
 	TAKE(CLI_OPT_PARITY, parity, k->parity);
 	TAKE(CLI_OPT_HANDSHAKE, handshake, k->handshake);
 	TAKE(CLI_OPT_DUPLEX, half_duplex, k->duplex_half);
+	TAKE(CLI_OPT_DUPLEX, radio, k->radio);
 	/* Mode Slave: the tool is a slave station where it can be one (df1gw) */
 	TAKE(CLI_OPT_DUPLEX, half_slave, c->tool->half_slave && k->mode == DF1_MODE_SLAVE);
 	TAKE(CLI_OPT_PLC, plc, k->plc);
@@ -65,6 +66,11 @@ int cli_load_net(struct cli *c)
 	TAKE(CLI_OPT_NAK_RETRIES, nak_retries, k->nak_retries);
 	TAKE(CLI_OPT_ENQ_RETRIES, enq_retries, k->enq_retries);
 	TAKE(CLI_OPT_TX_DELAY, tx_delay_ms, k->tx_delay_ms);
+	/* Store_Forward (Link Radio): the --forward of the file, unless given */
+	if (!(c->given & CLI_ACCEPT(CLI_OPT_FORWARD)) && k->forward_set && c->radio) {
+		memcpy(c->forward, k->forward, sizeof c->forward);
+		c->have_forward = true;
+	}
 	/* a decoder's AUTO default is kept: the file's check only replaces a link default */
 	if (!(c->given & CLI_ACCEPT(CLI_OPT_CHECK)) && c->check != DF1_CHECK_AUTO)
 		c->check = k->check;

@@ -408,6 +408,56 @@ static void test_config_net_handshake_and_mode_duplex(void **state)
 	assert_true(c.duplex_half);
 }
 
+/* The extension columns Link and Store_Forward (libdf1(7) "Network file"). */
+static void test_config_net_link_and_store_forward(void **state)
+{
+	struct df1_net_config c;
+	struct issues is;
+	df1_t *h = NULL;
+	uint8_t t[32];
+
+	(void)state;
+	/* absent: from Mode, as before */
+	assert_int_equal(net_load_text("Mode\nMaster\n", &c, &is), 0);
+	assert_false(c.radio);
+	assert_false(c.forward_set);
+	assert_int_equal(net_load_text("Mode,Link\nMaster,Full\n", &c, &is), 0);
+	assert_false(c.duplex_half);
+	assert_false(c.radio);
+	assert_int_equal(net_load_text("Mode,Link\nSlave,half\n", &c, &is), 0);
+	assert_true(c.duplex_half);
+	assert_int_equal(net_load_text("Mode,Link,Store_Forward\nPeer,Radio,\"1,3-4\"\n", &c, &is), 0);
+	assert_true(c.radio);
+	assert_false(c.duplex_half);
+	assert_true(c.forward_set);
+	/* bit s%8 of byte s/8 (df1_set_forward(3)): stations 1, 3 and 4 */
+	assert_int_equal(c.forward[0], 0x1A);
+	for (int i = 1; i < 32; i++)
+		assert_int_equal(c.forward[i], 0);
+
+	/* each bad value named, catalog ID 0 (no seed ID fits) */
+	assert_int_equal(net_load_text("Link\nSatellite\n", &c, &is), DF1_E_CONFIG);
+	assert_int_equal(is.n, 1);
+	assert_int_equal(is.v[0].catalog_id, 0);
+	assert_non_null(strstr(is.v[0].text, "Invalid Link (Satellite), should be one of Full, Half, or Radio"));
+	assert_int_equal(net_load_text("Mode,Link\nPeer,Half\n", &c, &is), DF1_E_CONFIG);
+	assert_non_null(strstr(is.v[0].text, "Link Half needs Mode Master or Slave"));
+	assert_int_equal(net_load_text("Link,Store_Forward\nRadio,1-300\n", &c, &is), DF1_E_CONFIG);
+	assert_non_null(strstr(is.v[0].text, "Invalid Store_Forward (1-300)"));
+	assert_int_equal(net_load_text("Link,Store_Forward\nFull,2\n", &c, &is), DF1_E_CONFIG);
+	assert_non_null(strstr(is.v[0].text, "Store_Forward (2) needs Link Radio"));
+
+	/* applied: the radio modem and its forward table on the handle */
+	assert_int_equal(net_load_text("Link,Store_Forward\nRadio,\"2,255\"\n", &c, &is), 0);
+	assert_int_equal(df1_new(&h), 0);
+	assert_int_equal(df1_apply_net_config(h, &c), 0);
+	assert_int_equal(h->cfg.duplex, DF1_RADIO_MODEM);
+	assert_int_equal(df1_get_forward(h, t), 1);
+	assert_int_equal(t[0], 0x04);
+	assert_int_equal(t[31], 0x80);
+	df1_free(h);
+}
+
 static void test_config_net_com_port_forms(void **state)
 {
 	static const struct {
@@ -1192,6 +1242,7 @@ int main(void)
 		cmocka_unit_test(test_config_net_header_only_is_an_error),
 		cmocka_unit_test(test_config_net_boundary_values_accepted),
 		cmocka_unit_test(test_config_net_handshake_and_mode_duplex),
+		cmocka_unit_test(test_config_net_link_and_store_forward),
 		cmocka_unit_test(test_config_net_com_port_forms),
 		cmocka_unit_test(test_config_net_each_invalid_value_reported_with_id),
 		cmocka_unit_test(test_config_net_all_invalid_all_reported),
