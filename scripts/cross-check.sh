@@ -125,6 +125,7 @@ if [ "$QUICK" = 0 ]; then
 	[ "$GW" = 1 ] && targets="$targets $B/bin/df1gw"
 fi
 echo "cross-check: $ARCH: building with $TRIPLET-gcc into $B"
+mkdir -p "$B"   # its log sits beside it: a fresh clone has no build/ yet
 # shellcheck disable=SC2086
 make -j"${JOBS:-2}" B="$B" CC="$TRIPLET-gcc" AR="$TRIPLET-ar" PKG_CONFIG="$TRIPLET-pkg-config" \
 	WERROR=-Werror $targets $tests > "$B.log" 2>&1 || {

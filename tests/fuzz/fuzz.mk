@@ -14,6 +14,9 @@ FUZZ_TIMEOUT ?= 10
 FUZZ_MAX_LEN ?= 4096
 # extra libFuzzer flags for every run, e.g. FUZZ_FLAGS=-jobs=2
 FUZZ_FLAGS ?=
+# targets run at once (each on one core; a target's output is printed whole
+# when it ends)
+FUZZ_JOBS ?= 2
 FUZZ_B := build/fuzz
 FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
 # DF1_FUZZ_HOOKS: what the code records for a target to judge by (e.g.
@@ -124,10 +127,9 @@ fuzz:
 		echo "make fuzz: $(FUZZ_CC) not found; install clang (apt-get install -y clang) or set FUZZ_CC"; \
 		exit 1; }
 	$(MAKE) fuzz-build
-	@failed=""; \
-	for t in $(FUZZ_TARGETS); do \
-		FUZZ_B=$(FUZZ_B) FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_TIMEOUT=$(FUZZ_TIMEOUT) FUZZ_MAX_LEN=$(FUZZ_MAX_LEN) \
-			FUZZ_FLAGS="$(FUZZ_FLAGS)" sh tests/fuzz/run-target.sh $$t || failed="$$failed $$t"; \
-	done; \
-	if [ -n "$$failed" ]; then echo "make fuzz: findings in:$$failed"; exit 1; fi; \
+	@mkdir -p $(FUZZ_B); rm -f $(FUZZ_B)/failed; \
+	printf '%s\n' $(FUZZ_TARGETS) | FUZZ_B=$(FUZZ_B) FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_TIMEOUT=$(FUZZ_TIMEOUT) \
+		FUZZ_MAX_LEN=$(FUZZ_MAX_LEN) FUZZ_FLAGS="$(FUZZ_FLAGS)" xargs -r -P $(FUZZ_JOBS) -I{} sh -c \
+		'o=$$(sh tests/fuzz/run-target.sh {} 2>&1) || echo {} >> $(FUZZ_B)/failed; printf "%s\n" "$$o"'; \
+	if [ -s $(FUZZ_B)/failed ]; then echo "make fuzz: findings in:" $$(cat $(FUZZ_B)/failed); exit 1; fi; \
 	echo "make fuzz: $(words $(FUZZ_TARGETS)) targets, their seeds replayed and $(FUZZ_SECONDS) s each, no finding"
