@@ -57,7 +57,7 @@ FUZZ_COMMON_OBJS := $(FUZZ_B)/tests/fuzz/fuzz_file.o
 # df1mon's --read: the pcap/raw reader, the pcap format, its stream and the decoded lines
 # (and the tools' shared cli code: the decoder takes the link options from it)
 FUZZ_MON_OBJS := $(patsubst %.c,$(FUZZ_B)/%.o,tools/df1mon/mon_read.c tools/df1mon/mon_pcap.c \
-	tools/df1mon/mon_stream.c \
+	tools/df1mon/mon_stream.c tools/df1mon/mon_radio.c \
 	$(TOOL_COMMON_SRCS))
 FUZZ_EXTRA_mon_read := $(FUZZ_MON_OBJS)
 # the link and the poll engine run against the scripted port of the unit tests
