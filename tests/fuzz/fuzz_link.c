@@ -1,14 +1,16 @@
 /* SPDX-License-Identifier: MPL-2.0 */
 /*
  * fuzz_link - the link layer as master (lib/link: full duplex, half-duplex
- * master) and the client above it (lib/client: every PLC type's commands and
+ * master, radio modem) and the client above it (lib/client: every PLC type's commands and
  * reply decoding) fed hostile bytes by a responder on the mock port
  * (fuzz_peer.h).
  *
  * Input: byte 0 the line (bit 0 half duplex, bit 1 BCC, bits 2-4 PLC type,
  * bit 5 half-duplex BCC with STX, bit 6 no embedded responses, bit 7 no
  * duplicate detection); byte 1 the operation; byte 2 its count; byte 3 the
- * station and more options; then the responder's chunks.
+ * station and more options (bit 7: the radio modem, then bit 0 of byte 0 a
+ * forward table of every station and bit 7 of byte 0 duplicate detection off);
+ * then the responder's chunks.
  * Properties: a call returns what it was asked for or a DF1_E_* code with a
  * name, never more values than asked, strings within their bounds, and the
  * handle's last error is a terminated text. An SLC read of N7:0 that succeeds
@@ -164,6 +166,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	h->cfg.eot_bcc = (opt & 0x10) != 0;
 	h->cfg.slc_io_82 = (opt & 0x20) != 0;
 	h->cfg.max_packet = (opt & 0x40) ? 20 : 0;
+	if (opt & 0x80) {
+		/* the radio modem: a relay of every station, or a plain master */
+		uint8_t all[32];
+
+		memset(all, 0xFF, sizeof all);
+		h->cfg.duplex = DF1_RADIO_MODEM;
+		df1_set_option(h, DF1_OPT_RADIO_DUP_DETECT, (line & 0x80) ? 0 : DF1_DUP_AUTO);
+		if (line & 1)
+			df1_set_forward(h, all);
+	}
 	h->cfg.timeout_ms = 50;
 	h->cfg.cmd_timeout_ms = 500;
 	h->next_tns = (uint16_t)(cnt * 0x0101);   /* 1010h among them: a stuffed TNS */
