@@ -677,6 +677,7 @@ int link_take_reply(struct df1 *h, const uint8_t *cmd, const struct df1_symbol *
 {
 	const uint8_t *d = s->data;
 	uint16_t tns = (uint16_t)(d[4] | d[5] << 8);
+	int r;
 
 	df1_count(h, DF1_ID_CNT_MSG_PACKETS_RCVD);
 	if (!(d[2] & 0x40)) {
@@ -691,6 +692,18 @@ int link_take_reply(struct df1 *h, const uint8_t *cmd, const struct df1_symbol *
 		df1_log(h, DF1_ID_ERR_WRONG_MESSAGE, (int)d[1], (int)d[0], (int)tns);
 		return 0;
 	}
+	r = link_reply_copy(h, cmd, s, reply, cap);
+	if (r < 0)
+		return r;
+	*len = (size_t)r;
+	return 1;
+}
+
+int link_reply_copy(struct df1 *h, const uint8_t *cmd, const struct df1_symbol *s, uint8_t *reply,
+                    size_t cap)
+{
+	const uint8_t *d = s->data;
+
 	if (d[2] != (uint8_t)(cmd[2] | 0x40)) {
 		df1_count(h, DF1_ID_CNT_INVALID_MSGS_RCVD);
 		df1_log(h, DF1_ID_ERR_BAD_FUNCTION_CODE, (int)cmd[0], (int)d[2],
@@ -706,8 +719,7 @@ int link_take_reply(struct df1 *h, const uint8_t *cmd, const struct df1_symbol *
 		return df1_fail(h, DF1_E_NOSPACE, cmd[0], "reply of %zu bytes, buffer holds %zu",
 		                s->len, cap);
 	memcpy(reply, d, s->len);
-	*len = s->len;
-	return 1;
+	return (int)s->len;
 }
 
 /* ------------------------------------------------------------------------

@@ -59,6 +59,10 @@ int link_serve_screen(struct df1 *h, uint8_t key, const struct df1_symbol *s);
  * 0 = stale / unsolicited (counted, dropped; always when cmd is NULL), DF1_E_*. */
 int link_take_reply(struct df1 *h, const uint8_t *cmd, const struct df1_symbol *s,
                     uint8_t *reply, size_t cap, size_t *len);
+/* The reply to cmd (station and TNS already matched): its CMD checked, counted,
+ * copied; its length, or DF1_E_BAD_FUNCTION / DF1_E_NOSPACE. Every mode's. */
+int link_reply_copy(struct df1 *h, const uint8_t *cmd, const struct df1_symbol *s, uint8_t *reply,
+                    size_t cap);
 
 /* faults */
 bool link_fault(struct link_responder *r, enum df1_fault f);

@@ -355,21 +355,7 @@ static int radio_take(struct df1 *h, const uint8_t *cmd, const struct df1_symbol
 		radio_stale(h, d);
 		return 0;
 	}
-	if (d[2] != (uint8_t)(cmd[2] | 0x40)) {
-		df1_count(h, DF1_ID_CNT_INVALID_MSGS_RCVD);
-		df1_log(h, DF1_ID_ERR_BAD_FUNCTION_CODE, (int)cmd[0], (int)d[2], (int)(cmd[2] | 0x40));
-		return df1_fail(h, DF1_E_BAD_FUNCTION, cmd[0],
-		                "reply with command code 0x%02X, expected 0x%02X", d[2], cmd[2] | 0x40);
-	}
-	df1_count(h, DF1_ID_CNT_REPLY_MSGS_RCVD);
-	if (d[3] != 0)
-		df1_count(h, DF1_ID_CNT_ERROR_MSGS_RCVD);
-	df1_log(h, DF1_ID_NTC_REPLY_MSG_RCVD, (int)cmd[0]);
-	if (s->len > cap)
-		return df1_fail(h, DF1_E_NOSPACE, cmd[0], "reply of %zu bytes, buffer holds %zu",
-		                s->len, cap);
-	memcpy(reply, d, s->len);
-	return (int)s->len;
+	return link_reply_copy(h, cmd, s, reply, cap);
 }
 
 /* The peer's commands while ours waits: df1_set_responder's handler. */
