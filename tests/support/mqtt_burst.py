@@ -11,6 +11,8 @@ import socket
 import struct
 import sys
 
+from mqtt_wire import read_packet
+
 
 def varint(n):
     b = bytearray()
@@ -29,28 +31,6 @@ def packet(kind, body):
 def string(s):
     s = s.encode()
     return struct.pack(">H", len(s)) + s
-
-
-def read_exact(s, n):
-    b = b""
-    while len(b) < n:
-        c = s.recv(n - len(b))
-        if not c:
-            raise EOFError
-        b += c
-    return b
-
-
-def read_packet(s):
-    h = read_exact(s, 1)[0]
-    mult, length = 1, 0
-    while True:
-        d = read_exact(s, 1)[0]
-        length += (d & 0x7F) * mult
-        mult *= 128
-        if not d & 0x80:
-            break
-    return h, read_exact(s, length) if length else b""
 
 
 def main():

@@ -15,27 +15,7 @@ import sys
 import threading
 import time
 
-
-def read_exact(s, n):
-    b = b""
-    while len(b) < n:
-        c = s.recv(n - len(b))
-        if not c:
-            raise EOFError
-        b += c
-    return b
-
-
-def packet(s):
-    h = read_exact(s, 1)[0]
-    mult, length = 1, 0
-    while True:
-        d = read_exact(s, 1)[0]
-        length += (d & 0x7F) * mult
-        mult *= 128
-        if not d & 0x80:
-            break
-    return h, read_exact(s, length) if length else b""
+from mqtt_wire import read_packet as packet
 
 
 def client_id(body):
